@@ -1,0 +1,85 @@
+# SPDX-License-Identifier: MIT
+#
+# ecmxf top-level Makefile.  Userspace builds with CMake underneath; the
+# kernel module with Kbuild.  Every target installs missing Debian
+# packages first (scripts/install-deps.sh), so on a fresh Debian bookworm
+# machine, as root, `make check` and `make demo` work alone.
+
+BUILD      ?= build
+ASAN_BUILD ?= build-asan
+FUZZ_BUILD ?= build-fuzz
+BENCH_BUILD ?= build-bench
+PREFIX     ?= /usr/local
+JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
+WERROR     ?= ON
+CMAKE_ARGS ?=
+FUZZ_SECONDS ?= 60
+# Kernel headers: the running kernel's if installed, else the newest
+# Debian headers under /lib/modules.
+KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
+	$(lastword $(sort $(wildcard /lib/modules/*/build))))
+
+DEPS := scripts/install-deps.sh
+
+.PHONY: all deps configure check check-asan fuzz demo bench kmod kmod-clean \
+	install clean help
+
+all: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+deps:
+	@$(DEPS)
+
+configure: deps
+	cmake -S . -B $(BUILD) -DECMXF_WERROR=$(WERROR) -DCMAKE_INSTALL_PREFIX=$(PREFIX) $(CMAKE_ARGS)
+
+check: all
+	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+# The same tests with AddressSanitizer + UndefinedBehaviorSanitizer.
+check-asan: deps
+	cmake -S . -B $(ASAN_BUILD) -DECMXF_WERROR=$(WERROR) -DECMXF_SANITIZE=address,undefined \
+		-DCMAKE_BUILD_TYPE=Debug $(CMAKE_ARGS)
+	cmake --build $(ASAN_BUILD) -j $(JOBS)
+	ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS)
+
+# libFuzzer targets (clang), each run for FUZZ_SECONDS.
+fuzz:
+	@$(DEPS) --ci
+	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DECMXF_BUILD_FUZZ=ON \
+		-DECMXF_BUILD_TESTS=OFF -DECMXF_WERROR=$(WERROR) -DCMAKE_BUILD_TYPE=RelWithDebInfo
+	cmake --build $(FUZZ_BUILD) -j $(JOBS)
+	tests/fuzz/run-fuzzers.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
+
+bench:
+	@$(DEPS) --bench
+	cmake -S . -B $(BENCH_BUILD) -DECMXF_BUILD_BENCH=ON -DECMXF_BUILD_TESTS=OFF \
+		-DECMXF_WERROR=$(WERROR) -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(BENCH_BUILD) -j $(JOBS)
+	$(BENCH_BUILD)/tests/bench/bench-core
+
+demo: all
+	$(BUILD)/utils/ecmxf-util commands
+
+kmod:
+	@$(DEPS) --kernel
+	@test -n "$(KDIR)" || { echo "make kmod: no kernel headers found; set KDIR=" >&2; exit 1; }
+	$(MAKE) -C $(KDIR) M=$(CURDIR)/kmod W=1 modules
+
+kmod-clean:
+	@test -z "$(KDIR)" || $(MAKE) -C $(KDIR) M=$(CURDIR)/kmod clean
+
+install: all
+	cmake --install $(BUILD)
+
+clean: kmod-clean
+	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) $(BENCH_BUILD)
+
+help:
+	@echo "make [all]     build the library, ecmxf-util and the tests"
+	@echo "make check     build and run every test (ctest)"
+	@echo "make demo      run the demo"
+	@echo "make bench     build and run the benchmarks"
+	@echo "make kmod      build kmod/ecmxf.ko (KDIR=/path/to/headers)"
+	@echo "make install   install to PREFIX (default /usr/local)"
+	@echo "make clean     remove build trees"

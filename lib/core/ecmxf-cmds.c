@@ -1,0 +1,277 @@
+// SPDX-License-Identifier: GPL-2.0-only OR MIT
+/*
+ * ecmxf-cmds.c - the command table of ECM-XF manual ver. 038 and ver. 050
+ *
+ * Names, immediate/async kind, the partner that fetches the result or
+ * reads back a setting, and the default time the engine allows.  The async
+ * set is the one fixed in the protocol digest (shared/spec/ecm-xf.md);
+ * RECV_MAILBOX is async only with command parameter 0.
+ *
+ * Copyright (C) 2026 The ecmxf authors
+ */
+#include "ecmxf-proto.h"
+
+#define ECMXF_CMD_ROW(c, n, f, p, t) \
+	{ .code = (c), .flags = (f), .partner = (p), .timeout_ms = (t), \
+	  .name = (n) }
+
+static const struct ecmxf_cmd_info ecmxf_cmds[] = {
+	ECMXF_CMD_ROW(0, "INFO_UPDATE_OP",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(1, "ECAT_INIT_OP",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 10000),
+	ECMXF_CMD_ROW(2, "ECAT_RECONFIG_OP",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 5000),
+	ECMXF_CMD_ROW(3, "ECAT_INIT_DC_OP",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 5000),
+	ECMXF_CMD_ROW(4, "ECAT_PDO_WC_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(5, "ECAT_PDO_DATA_FIFO_OP",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      -1, 100),
+	ECMXF_CMD_ROW(6, "ECAT_PDO_DATA_OP",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      -1, 100),
+	ECMXF_CMD_ROW(7, "ECAT_PDO_CONFIG_SET",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      9, 3000),
+	ECMXF_CMD_ROW(8, "ECAT_PDO_CONFIG_REQ",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      9, 3000),
+	ECMXF_CMD_ROW(9, "ECAT_PDO_CONFIG_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(10, "ECAT_SDO_REQ",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      11, 5000),
+	ECMXF_CMD_ROW(11, "ECAT_SDO_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(12, "ECAT_STATE_SET",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      13, 10000),
+	ECMXF_CMD_ROW(13, "ECAT_STATE_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(15, "ECAT_SLV_INFO_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(16, "ECAT_SLV_CNT_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(18, "FIFO_ENABLE",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 100),
+	ECMXF_CMD_ROW(19, "FIFO_PACK_SIZE_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(20, "SPI_PACK_SIZE_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(23, "SPI_RECONFIG_OP",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_DESTRUCTIVE,
+		      20, 1000),
+	ECMXF_CMD_ROW(24, "CRC_ERR_CNT_CLR",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      -1, 100),
+	ECMXF_CMD_ROW(25, "CRC_TYPE_SET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_DESTRUCTIVE,
+		      -1, 100),
+	ECMXF_CMD_ROW(26, "402_CONFIG_SET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 100),
+	ECMXF_CMD_ROW(27, "402_STATE_SET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      28, 100),
+	ECMXF_CMD_ROW(28, "402_STATE_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(29, "402_CTL_SET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      30, 100),
+	ECMXF_CMD_ROW(30, "402_CTL_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(31, "GPIO_CONFIG_SET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      -1, 100),
+	ECMXF_CMD_ROW(32, "GPIO_FUNC_OP",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      -1, 100),
+	ECMXF_CMD_ROW(33, "QEI_FUNC_OP",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      -1, 100),
+	ECMXF_CMD_ROW(34, "DAC_FUNC_OP",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      -1, 100),
+	ECMXF_CMD_ROW(35, "ADC_FUNC_OP",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      -1, 100),
+	ECMXF_CMD_ROW(38, "EEPROM_REQ",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_DESTRUCTIVE,
+		      39, 3000),
+	ECMXF_CMD_ROW(39, "EEPROM_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(41, "ECAT_STATE_CHECK",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      13, 10000),
+	ECMXF_CMD_ROW(50, "ECAT_DCSYNC",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 3000),
+	ECMXF_CMD_ROW(51, "FIFO_CLR_OP",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 100),
+	ECMXF_CMD_ROW(52, "FIFO_SET_TX_CNT",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      53, 100),
+	ECMXF_CMD_ROW(53, "FIFO_GET_TX_CNT",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(54, "FIFO_SET_RX_CNT",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      55, 100),
+	ECMXF_CMD_ROW(55, "FIFO_GET_RX_CNT",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(56, "FW_VERSION_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(57, "ECAT_STATE_UPDATE",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      13, 3000),
+	ECMXF_CMD_ROW(58, "ECAT_INT_SET_ENABLE",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      59, 100),
+	ECMXF_CMD_ROW(59, "ECAT_INT_GET_ENABLE",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(66, "FIFO_INIT",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 100),
+	ECMXF_CMD_ROW(69, "ECAT_SDO_ABORTCODE_GET",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(70, "ECAT_SET_FIFO_TH",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 100),
+	ECMXF_CMD_ROW(71, "ECAT_CONFIG_SM",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 100),
+	ECMXF_CMD_ROW(72, "ECAT_CONFIG_FMMU",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS | ECMXF_CMDF_OBSOLETE,
+		      -1, 100),
+	ECMXF_CMD_ROW(73, "ECAT_CONFIG_MAP",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 5000),
+	ECMXF_CMD_ROW(74, "402_GET_STATUSWORD",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(75, "ASYNCCMD_RESET",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 100),
+	ECMXF_CMD_ROW(81, "MDIO",
+		      ECMXF_CMDF_V050,
+		      -1, 100),
+	ECMXF_CMD_ROW(82, "DIRECT_ASSIGN",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 100),
+	ECMXF_CMD_ROW(83, "COE_EMERGENCY",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(127, "WARM_RESET",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V050 | ECMXF_CMDF_DESTRUCTIVE,
+		      -1, 5000),
+	ECMXF_CMD_ROW(130, "ECAT_WKC_CONTI_ERR_CNT_GET",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(131, "ECAT_WKC_CONTI_ERR_MAX_GET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(132, "ECAT_WKC_CONTI_ERR_MAX_SET",
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      131, 100),
+	ECMXF_CMD_ROW(137, "RAW_ECAT_FUNC_REQ",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      138, 1000),
+	ECMXF_CMD_ROW(138, "RAW_ECAT_FUNC_GET",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+	ECMXF_CMD_ROW(139, "FOE_FUNC_REQ",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V050 | ECMXF_CMDF_DESTRUCTIVE,
+		      140, 30000),
+	ECMXF_CMD_ROW(140, "FOE_FUNC_GET",
+		      ECMXF_CMDF_V050,
+		      -1, 100),
+	ECMXF_CMD_ROW(142, "ENABLE_LRW",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      -1, 100),
+	ECMXF_CMD_ROW(143, "RECV_MAILBOX",
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_ASYNC_PARAM0 | ECMXF_CMDF_V050,
+		      -1, 3000),
+	ECMXF_CMD_ROW(144, "MBX_STAT",
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
+		      -1, 100),
+};
+
+#define ECMXF_NCMDS (sizeof(ecmxf_cmds) / sizeof(ecmxf_cmds[0]))
+
+/**
+ * ecmxf_cmd_lookup() - find a command's row
+ * @code: command code
+ *
+ * Return: the row, or NULL for a code neither manual documents.
+ */
+const struct ecmxf_cmd_info *ecmxf_cmd_lookup(unsigned int code)
+{
+	size_t lo = 0, hi = ECMXF_NCMDS;
+
+	/* the table is sorted by code */
+	while (lo < hi) {
+		size_t mid = lo + (hi - lo) / 2;
+
+		if (ecmxf_cmds[mid].code == code)
+			return &ecmxf_cmds[mid];
+		if (ecmxf_cmds[mid].code < code)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	return NULL;
+}
+
+/**
+ * ecmxf_cmd_table() - the whole table, sorted by code
+ * @count: set to the number of rows
+ *
+ * Return: the first row.
+ */
+const struct ecmxf_cmd_info *ecmxf_cmd_table(size_t *count)
+{
+	if (count)
+		*count = ECMXF_NCMDS;
+	return ecmxf_cmds;
+}
+
+/**
+ * ecmxf_cmd_is_async() - does the chip run this command asynchronously
+ * @code: command code
+ * @param: command parameter (RECV_MAILBOX is async only with 0)
+ *
+ * Return: true when the chip answers at once but stays busy until done.
+ */
+bool ecmxf_cmd_is_async(unsigned int code, unsigned int param)
+{
+	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(code);
+
+	if (!ci || !(ci->flags & ECMXF_CMDF_ASYNC))
+		return false;
+	if (ci->flags & ECMXF_CMDF_ASYNC_PARAM0)
+		return param == 0;
+	return true;
+}

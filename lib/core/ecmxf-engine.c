@@ -1,0 +1,636 @@
+// SPDX-License-Identifier: GPL-2.0-only OR MIT
+/*
+ * ecmxf-engine.c - the exchange rules of the ECM-XF link, sans I/O
+ *
+ * The owner of the link calls, for every SPI exchange:
+ *
+ *	ecmxf_engine_next(e, now, tx, ecmxf_engine_pkt_size(e));
+ *	... clock tx out and rx in, in one full-duplex transfer ...
+ *	events = ecmxf_engine_input(e, now, rx, same size);
+ *
+ * and submits commands with ecmxf_engine_submit() whenever
+ * ecmxf_engine_can_submit() allows.  The engine applies the rules of
+ * the manuals (see Documentation/protocol-core.rst):
+ *
+ * - every response answers the packet sent one exchange earlier;
+ * - each new command gets a fresh index, so its (index, code) differs
+ *   from the previous packet's, and a command is polled by re-sending
+ *   the identical (index, code), which the chip runs as INFO_UPDATE;
+ * - the first packet of a fresh engine is an INFO_UPDATE "sync", so a
+ *   first command can never repeat whatever the chip saw last;
+ * - async commands are answered at once and then tracked through the
+ *   busy bit of every header; one runs at a time, immediate commands
+ *   may run meanwhile; the error bit decides their outcome;
+ * - bad packets (start/end word, check word, "not ready") are retried up
+ *   to a bound, then whatever waits fails with the fault's errno;
+ * - every command has a deadline.
+ *
+ * Copyright (C) 2026 The ecmxf authors
+ */
+#include "ecmxf-proto.h"
+
+enum {
+	ECMXF_XS_IDLE = 0,
+	ECMXF_XS_QUEUED,	/* in e->cur, not yet sent */
+	ECMXF_XS_SENT,		/* in e->cur, sent, awaiting its answer */
+	ECMXF_XS_RUNNING,	/* in e->async, chip busy */
+	ECMXF_XS_DONE,
+};
+
+#define ECMXF_U64_MAX	(~(u64)0)
+
+/**
+ * ecmxf_engine_init() - reset an engine to its power-on state
+ * @e: engine
+ * @data_size: data section size in force on the chip (32..1408)
+ * @check: check type in force on the chip
+ *
+ * An invalid @data_size is replaced by the default 112.
+ */
+void ecmxf_engine_init(struct ecmxf_engine *e, unsigned int data_size,
+		       enum ecmxf_check check)
+{
+	memset(e, 0, sizeof(*e));
+	e->data_size = (u16)(ecmxf_data_size_valid(data_size) ?
+			     data_size : ECMXF_DATA_DEFAULT);
+	e->check = (u8)((unsigned int)check <= ECMXF_CHECK_CRC32 ?
+			check : ECMXF_CHECK_FIXED);
+	e->prev_check = e->check;
+	e->max_retries = ECMXF_ENGINE_DEFAULT_RETRIES;
+	e->last_fault = ECMXF_FAULT_NONE;
+}
+
+/**
+ * ecmxf_engine_set_format() - tell the engine the chip's packet format
+ * @e: engine
+ * @data_size: data section size (32..1408)
+ * @check: check type
+ *
+ * The engine follows SPI_RECONFIG_OP, CRC_TYPE_SET and WARM_RESET by
+ * itself; this is for an owner that changed the chip some other way.
+ *
+ * Return: 0 or -EINVAL.
+ */
+int ecmxf_engine_set_format(struct ecmxf_engine *e, unsigned int data_size,
+			    enum ecmxf_check check)
+{
+	if (!ecmxf_data_size_valid(data_size) ||
+	    (unsigned int)check > ECMXF_CHECK_CRC32)
+		return -EINVAL;
+	e->data_size = (u16)data_size;
+	e->prev_check = e->check;
+	e->check = (u8)check;
+	return 0;
+}
+
+/**
+ * ecmxf_engine_set_retries() - bound on consecutive bad packets
+ * @e: engine
+ * @max: bad packets tolerated in a row (1..255) before failing
+ */
+void ecmxf_engine_set_retries(struct ecmxf_engine *e, unsigned int max)
+{
+	if (max < 1)
+		max = 1;
+	if (max > 255)
+		max = 255;
+	e->max_retries = (u8)max;
+}
+
+/**
+ * ecmxf_engine_pkt_size() - size of the next exchange
+ * @e: engine
+ *
+ * Call before every exchange: SPI_RECONFIG_OP and WARM_RESET change it.
+ *
+ * Return: packet size in bytes.
+ */
+size_t ecmxf_engine_pkt_size(const struct ecmxf_engine *e)
+{
+	return ECMXF_PKT_SIZE(e->data_size);
+}
+
+static bool ecmxf_xfer_async(const struct ecmxf_xfer *x)
+{
+	return ecmxf_cmd_is_async(x->hdr.code, x->hdr.param);
+}
+
+/**
+ * ecmxf_engine_can_submit() - may @x be submitted now
+ * @e: engine
+ * @x: the command
+ *
+ * Return: true when no command waits for its answer and, for an async
+ * command, no async command is running.
+ */
+bool ecmxf_engine_can_submit(const struct ecmxf_engine *e,
+			     const struct ecmxf_xfer *x)
+{
+	if (e->cur)
+		return false;
+	return !(x && ecmxf_xfer_async(x) && e->async);
+}
+
+/**
+ * ecmxf_engine_submit() - hand a command to the engine
+ * @e: engine
+ * @x: the command; it must stay valid until its status is final
+ * @now_ns: current time
+ *
+ * Return: 0; -EBUSY when ecmxf_engine_can_submit() says no; -EINVAL for
+ * a bad argument; -EMSGSIZE when @x->tx_len exceeds the data section.
+ */
+int ecmxf_engine_submit(struct ecmxf_engine *e, struct ecmxf_xfer *x,
+			u64 now_ns)
+{
+	const struct ecmxf_cmd_info *ci;
+	u64 timeout_ns;
+
+	if (!x || (x->tx_len && !x->tx_data) || (x->rx_size && !x->rx_buf))
+		return -EINVAL;
+	if (x->tx_len > e->data_size)
+		return -EMSGSIZE;
+	if (x->hdr.code == ECMXF_CMD_SPI_RECONFIG_OP &&
+	    !ecmxf_data_size_valid(x->hdr.len))
+		return -EINVAL;
+	if (x->hdr.code == ECMXF_CMD_CRC_TYPE_SET &&
+	    x->hdr.param > ECMXF_CHECK_CRC32)
+		return -EINVAL;
+	if (!ecmxf_engine_can_submit(e, x))
+		return -EBUSY;
+
+	ci = ecmxf_cmd_lookup(x->hdr.code);
+	timeout_ns = x->timeout_us ? (u64)x->timeout_us * 1000u :
+		     (u64)(ci ? ci->timeout_ms : 100u) * 1000000u;
+
+	x->async = ecmxf_xfer_async(x);
+	x->status = -EINPROGRESS;
+	x->fault = ECMXF_FAULT_NONE;
+	x->rx_len = 0;
+	memset(&x->rsp, 0, sizeof(x->rsp));
+	x->started_ns = now_ns;
+	x->deadline_ns = now_ns + timeout_ns;
+	x->state = ECMXF_XS_QUEUED;
+	e->cur = x;
+	e->cur_sent = false;
+	return 0;
+}
+
+static void ecmxf_finish(struct ecmxf_xfer *x, int status)
+{
+	x->status = status;
+	x->state = ECMXF_XS_DONE;
+}
+
+/* Finish the current command; returns the event to report. */
+static unsigned int ecmxf_finish_cur(struct ecmxf_engine *e, int status)
+{
+	ecmxf_finish(e->cur, status);
+	e->cur = NULL;
+	e->cur_sent = false;
+	return ECMXF_EV_CMD_DONE;
+}
+
+static unsigned int ecmxf_finish_async(struct ecmxf_engine *e, int status)
+{
+	ecmxf_finish(e->async, status);
+	e->async = NULL;
+	return ECMXF_EV_ASYNC_DONE;
+}
+
+/**
+ * ecmxf_engine_cancel() - withdraw a command
+ * @e: engine
+ * @x: a command submitted to @e
+ *
+ * The command finishes with -ECANCELED.  An async command may still run
+ * on the chip; its busy bit then delays the next async command.
+ *
+ * Return: 0, or -ENOENT when @x is not in the engine.
+ */
+int ecmxf_engine_cancel(struct ecmxf_engine *e, struct ecmxf_xfer *x)
+{
+	if (x && x == e->cur) {
+		ecmxf_finish_cur(e, -ECANCELED);
+		return 0;
+	}
+	if (x && x == e->async) {
+		ecmxf_finish_async(e, -ECANCELED);
+		return 0;
+	}
+	return -ENOENT;
+}
+
+/**
+ * ecmxf_engine_clear_errors() - clear error-status bits on the chip
+ * @e: engine
+ * @control_bits: %ECMXF_CTL_* bits, sent in the control byte of the
+ *	next new packet
+ */
+void ecmxf_engine_clear_errors(struct ecmxf_engine *e, u8 control_bits)
+{
+	e->control_pending |= control_bits;
+}
+
+/**
+ * ecmxf_engine_clear_ints() - clear interrupt flags on the chip
+ * @e: engine
+ * @int_clear: %ECMXF_INT_* bits
+ * @gpio_clear_lo: GPIO 0-7 interrupt flags to clear
+ * @gpio_clear_hi: GPIO 8-15 interrupt flags to clear
+ *
+ * The bits go out in the next new packet.
+ */
+void ecmxf_engine_clear_ints(struct ecmxf_engine *e, u32 int_clear,
+			     u8 gpio_clear_lo, u8 gpio_clear_hi)
+{
+	e->int_clear_pending |= int_clear;
+	e->gpio_int_clear_pending[0] |= gpio_clear_lo;
+	e->gpio_int_clear_pending[1] |= gpio_clear_hi;
+}
+
+/* Move the pending clears into a header that is sent for the first time. */
+static void ecmxf_take_pending(struct ecmxf_engine *e,
+			       struct ecmxf_cmd_hdr *h)
+{
+	h->control |= e->control_pending;
+	h->int_clear |= e->int_clear_pending;
+	h->gpio_int_clear[0] |= e->gpio_int_clear_pending[0];
+	h->gpio_int_clear[1] |= e->gpio_int_clear_pending[1];
+	e->control_pending = 0;
+	e->int_clear_pending = 0;
+	e->gpio_int_clear_pending[0] = 0;
+	e->gpio_int_clear_pending[1] = 0;
+}
+
+static u8 ecmxf_fresh_index(struct ecmxf_engine *e)
+{
+	u8 idx = e->next_index;
+
+	if (e->last_valid && idx == e->last_index)
+		idx++;
+	e->next_index = (u8)(idx + 1);
+	return idx;
+}
+
+/* After a chip reset the chip is back in its power-on format. */
+static void ecmxf_power_on_format(struct ecmxf_engine *e, u64 now_ns)
+{
+	e->data_size = ECMXF_DATA_DEFAULT;
+	e->prev_check = e->check;
+	e->check = ECMXF_CHECK_FIXED;
+	e->not_before_ns = now_ns + ECMXF_RECONFIG_HOLDOFF_NS;
+}
+
+/**
+ * ecmxf_engine_next() - the packet for the next exchange
+ * @e: engine
+ * @now_ns: current time
+ * @pkt: output buffer
+ * @pkt_len: must equal ecmxf_engine_pkt_size()
+ *
+ * Always produces a packet: the current command (first send or a
+ * re-send to poll for its answer), or an INFO_UPDATE that refreshes the
+ * header and polls a running async command.
+ *
+ * Return: 0; -EINVAL for a wrong @pkt_len; -EAGAIN before
+ * ecmxf_engine_not_before().
+ */
+int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
+		      u8 *pkt, size_t pkt_len)
+{
+	struct ecmxf_cmd_hdr h;
+	struct ecmxf_xfer *x = e->cur;
+	enum ecmxf_check check = (enum ecmxf_check)e->check;
+	const void *data = NULL;
+	size_t data_len = 0;
+	int ret;
+
+	if (!pkt || pkt_len != ecmxf_engine_pkt_size(e))
+		return -EINVAL;
+	if (now_ns < e->not_before_ns)
+		return -EAGAIN;
+
+	if (!e->last_valid || !x) {
+		/* sync packet, or INFO_UPDATE poll / header refresh */
+		memset(&h, 0, sizeof(h));
+		h.code = ECMXF_CMD_INFO_UPDATE_OP;
+		h.index = e->last_valid ? e->last_index : ecmxf_fresh_index(e);
+		ecmxf_take_pending(e, &h);
+	} else {
+		h = x->hdr;
+		data = x->tx_data;
+		data_len = x->tx_len;
+		if (!e->cur_sent) {
+			h.index = ecmxf_fresh_index(e);
+			x->hdr.index = h.index;
+			ecmxf_take_pending(e, &h);
+		} else {
+			/*
+			 * A re-send: same (index, code), so the chip runs it
+			 * as INFO_UPDATE.  One-shot bits are not repeated:
+			 * a second interrupt clear could swallow a new event.
+			 */
+			h.control = 0;
+			h.int_clear = 0;
+			h.gpio_int_clear[0] = 0;
+			h.gpio_int_clear[1] = 0;
+		}
+		if (h.code == ECMXF_CMD_SPI_RECONFIG_OP && !e->cur_sent)
+			check = ECMXF_CHECK_FIXED;	/* as the manual asks */
+	}
+
+	ret = ecmxf_encode_cmd(pkt, pkt_len, check, &h, data, data_len);
+	if (ret)
+		return ret;
+
+	if (x && e->last_valid && !e->cur_sent) {
+		e->cur_sent = true;
+		x->state = ECMXF_XS_SENT;
+		switch (h.code) {
+		case ECMXF_CMD_SPI_RECONFIG_OP:
+			/* the next exchange is at the new size, 100 ms on */
+			e->data_size = h.len;
+			e->not_before_ns = now_ns + ECMXF_RECONFIG_HOLDOFF_NS;
+			break;
+		case ECMXF_CMD_CRC_TYPE_SET:
+			e->prev_check = e->check;
+			e->check = h.param;
+			break;
+		case ECMXF_CMD_WARM_RESET:
+			ecmxf_power_on_format(e, now_ns);
+			break;
+		default:
+			break;
+		}
+	}
+	e->last_index = h.index;
+	e->last_code = h.code;
+	e->last_valid = true;
+	return 0;
+}
+
+/* Fail whatever waits, after the retry bound ran out. */
+static unsigned int ecmxf_exhausted(struct ecmxf_engine *e)
+{
+	int err = ecmxf_fault_errno(e->last_fault);
+	unsigned int ev = 0;
+
+	if (e->cur) {
+		e->cur->fault = e->last_fault;
+		ev |= ecmxf_finish_cur(e, err);
+		e->stats.exhausted++;
+	}
+	if (e->async) {
+		e->async->fault = e->last_fault;
+		ev |= ecmxf_finish_async(e, err);
+		e->stats.exhausted++;
+	}
+	e->bad_in_row = 0;
+	return ev;
+}
+
+/* An async command ended (busy clear): its outcome is the error bit. */
+static int ecmxf_async_outcome(struct ecmxf_engine *e, struct ecmxf_xfer *x,
+			       const struct ecmxf_rsp_hdr *h)
+{
+	if (!(h->err_status & ECMXF_ERR_ASYNC))
+		return 0;
+	e->stats.async_errors++;
+	if (!(x->flags & ECMXF_XF_NO_AUTO_CLEAR))
+		e->control_pending |= ECMXF_CTL_CLR_ASYNC_ERR;
+	return -EREMOTEIO;
+}
+
+/* The answer to the current async command arrived (or was lost). */
+static unsigned int ecmxf_async_answered(struct ecmxf_engine *e,
+					 const struct ecmxf_rsp_hdr *h,
+					 u8 new_err)
+{
+	struct ecmxf_xfer *x = e->cur;
+
+	if (new_err & ECMXF_ERR_CMD) {
+		/* refused: another async command is running on the chip */
+		e->stats.busy_rejects++;
+		if (!(x->flags & ECMXF_XF_NO_AUTO_CLEAR))
+			e->control_pending |= ECMXF_CTL_CLR_CMD_ERR;
+		return ecmxf_finish_cur(e, -EBUSY);
+	}
+	if (h->ecm_status & ECMXF_STS_BUSY) {
+		e->async = x;
+		x->state = ECMXF_XS_RUNNING;
+		e->cur = NULL;
+		e->cur_sent = false;
+		return 0;
+	}
+	return ecmxf_finish_cur(e, ecmxf_async_outcome(e, x, h));
+}
+
+static unsigned int ecmxf_match_cur(struct ecmxf_engine *e,
+				    const struct ecmxf_rsp_hdr *h,
+				    const u8 *data, u8 new_err)
+{
+	struct ecmxf_xfer *x = e->cur;
+	const struct ecmxf_cmd_info *ci;
+	u16 n;
+
+	if (h->index != x->hdr.index) {
+		e->stats.polls++;	/* not answered yet: re-send */
+		return 0;
+	}
+
+	if (h->code != x->hdr.code) {
+		/*
+		 * Our index with another code: the chip answered a re-send
+		 * as INFO_UPDATE, so the real answer was lost on the wire.
+		 * The command did run.
+		 */
+		e->stats.lost_answers++;
+		x->rsp = *h;
+		if (x->async)
+			return ecmxf_async_answered(e, h, new_err);
+		ci = ecmxf_cmd_lookup(x->hdr.code);
+		if (ci && (ci->flags & ECMXF_CMDF_IDEMPOTENT)) {
+			e->stats.retries++;
+			e->cur_sent = false;	/* again, with a fresh index */
+			x->state = ECMXF_XS_QUEUED;
+			return 0;
+		}
+		x->fault = e->last_fault;
+		return ecmxf_finish_cur(e, -EPROTO);
+	}
+
+	x->rsp = *h;
+	n = h->len;			/* <= data section: decode checked it */
+	if (x->rx_buf) {
+		if (n > x->rx_size)
+			n = x->rx_size;
+		memcpy(x->rx_buf, data, n);
+		x->rx_len = n;
+	}
+	if (x->async)
+		return ecmxf_async_answered(e, h, new_err);
+	if (x->rx_buf && h->len > x->rx_size)
+		return ecmxf_finish_cur(e, -EMSGSIZE);
+	return ecmxf_finish_cur(e, 0);
+}
+
+static unsigned int ecmxf_chip_reset(struct ecmxf_engine *e)
+{
+	unsigned int ev = ECMXF_EV_CHIP_RESET;
+
+	e->stats.chip_resets++;
+	e->seen_valid = false;
+	e->err_seen = 0;
+	if (e->cur && e->cur_sent)
+		ev |= ecmxf_finish_cur(e, e->cur->hdr.code ==
+				       ECMXF_CMD_WARM_RESET ? 0 : -ECONNRESET);
+	if (e->async)
+		ev |= ecmxf_finish_async(e, e->async->hdr.code ==
+					 ECMXF_CMD_WARM_RESET ? 0 : -ECONNRESET);
+	/*
+	 * The NOP was readable in the format in force, so the chip speaks
+	 * it: the format is left alone (WARM_RESET switched it when sent).
+	 */
+	return ev;
+}
+
+/**
+ * ecmxf_engine_input() - feed the packet received in an exchange
+ * @e: engine
+ * @now_ns: current time
+ * @pkt: received bytes
+ * @pkt_len: their number: the size the exchange had
+ *
+ * Validates the packet, updates the header snapshot, matches it to the
+ * command waiting for it, tracks the running async command and applies
+ * the deadlines.
+ *
+ * Return: %ECMXF_EV_* bits.
+ */
+unsigned int ecmxf_engine_input(struct ecmxf_engine *e, u64 now_ns,
+				const u8 *pkt, size_t pkt_len)
+{
+	struct ecmxf_rsp_hdr h;
+	enum ecmxf_fault fault;
+	const u8 *data = NULL;
+	unsigned int ev = 0;
+	u8 new_err;
+
+	e->stats.exchanges++;
+	fault = ecmxf_decode_rsp(pkt, pkt_len, (enum ecmxf_check)e->check,
+				 &h, &data);
+	if (fault == ECMXF_FAULT_CHECK && e->prev_check != e->check)
+		fault = ecmxf_decode_rsp(pkt, pkt_len,
+					 (enum ecmxf_check)e->prev_check,
+					 &h, &data);
+	if (fault != ECMXF_FAULT_NONE) {
+		e->stats.faults[fault]++;
+		e->last_fault = fault;
+		ev |= ECMXF_EV_BAD_PACKET;
+		if (e->cur_sent || e->async)
+			e->stats.retries++;
+		if (++e->bad_in_row > e->max_retries)
+			ev |= ecmxf_exhausted(e);
+		return ev | ecmxf_engine_poll_time(e, now_ns);
+	}
+
+	e->bad_in_row = 0;
+	e->prev_check = e->check;
+	e->last = h;
+	e->have_last = true;
+	ev |= ECMXF_EV_HEADER;
+
+	new_err = (u8)(h.err_status & ECMXF_ERR_FAULT_MASK & ~e->err_seen);
+	e->err_seen = h.err_status & ECMXF_ERR_FAULT_MASK;
+	if (new_err)
+		ev |= ECMXF_EV_ERR_STATUS;
+
+	if (h.ecm_status & ECMXF_STS_NOP) {
+		if (e->seen_valid)
+			ev |= ecmxf_chip_reset(e);
+		return ev | ecmxf_engine_poll_time(e, now_ns);
+	}
+	e->seen_valid = true;
+
+	if (e->async) {
+		/* running async command: done when busy clears */
+		if (!(h.ecm_status & ECMXF_STS_BUSY)) {
+			e->async->rsp = h;
+			ev |= ecmxf_finish_async(e, ecmxf_async_outcome(e,
+							e->async, &h));
+		}
+	}
+	if (e->cur && e->cur_sent)
+		ev |= ecmxf_match_cur(e, &h, data, new_err);
+
+	return ev | ecmxf_engine_poll_time(e, now_ns);
+}
+
+/**
+ * ecmxf_engine_poll_time() - apply deadlines
+ * @e: engine
+ * @now_ns: current time
+ *
+ * Called by ecmxf_engine_input(); call it also when a wait for the
+ * chip (INT0) ends without an exchange.
+ *
+ * Return: %ECMXF_EV_CMD_DONE and/or %ECMXF_EV_ASYNC_DONE for commands
+ * that timed out (-ETIMEDOUT).
+ */
+unsigned int ecmxf_engine_poll_time(struct ecmxf_engine *e, u64 now_ns)
+{
+	unsigned int ev = 0;
+
+	if (e->cur && now_ns >= e->cur->deadline_ns) {
+		e->stats.timeouts++;
+		e->cur->fault = e->last_fault;
+		ev |= ecmxf_finish_cur(e, -ETIMEDOUT);
+	}
+	if (e->async && now_ns >= e->async->deadline_ns) {
+		e->stats.timeouts++;
+		ev |= ecmxf_finish_async(e, -ETIMEDOUT);
+	}
+	return ev;
+}
+
+/**
+ * ecmxf_engine_deadline() - the earliest deadline of a waiting command
+ * @e: engine
+ *
+ * Return: a time in ns, or U64_MAX when nothing waits.
+ */
+u64 ecmxf_engine_deadline(const struct ecmxf_engine *e)
+{
+	u64 d = ECMXF_U64_MAX;
+
+	if (e->cur)
+		d = e->cur->deadline_ns;
+	if (e->async && e->async->deadline_ns < d)
+		d = e->async->deadline_ns;
+	return d;
+}
+
+/**
+ * ecmxf_engine_not_before() - earliest time for the next exchange
+ * @e: engine
+ *
+ * Non-zero for 100 ms after SPI_RECONFIG_OP and WARM_RESET.
+ *
+ * Return: a time in ns (0 when there is no hold-off).
+ */
+u64 ecmxf_engine_not_before(const struct ecmxf_engine *e)
+{
+	return e->not_before_ns;
+}
+
+/**
+ * ecmxf_engine_idle() - nothing submitted is waiting
+ * @e: engine
+ *
+ * Return: true when no command waits for an answer or a completion.
+ */
+bool ecmxf_engine_idle(const struct ecmxf_engine *e)
+{
+	return !e->cur && !e->async;
+}

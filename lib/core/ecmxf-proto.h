@@ -1,0 +1,478 @@
+/* SPDX-License-Identifier: GPL-2.0-only OR MIT */
+/*
+ * ecmxf-proto.h - the ECM-XF host protocol core (sans-I/O)
+ *
+ * One C module, compiled into the kernel module (kmod/) and into the
+ * userspace library (lib/): packet framing, check words, response
+ * validation, the command table and the exchange engine.  It performs no
+ * I/O, allocates nothing, never sleeps and reads no clock: the caller
+ * passes buffers in and the current time (in nanoseconds, any monotonic
+ * origin) where time matters.
+ *
+ * Copyright (C) 2026 The ecmxf authors
+ */
+#ifndef ECMXF_PROTO_H
+#define ECMXF_PROTO_H
+
+#include "ecmxf-compat.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---------------------------------------------------------------------- */
+/* Packet geometry                                                        */
+/* ---------------------------------------------------------------------- */
+
+#define ECMXF_HDR_SIZE		24u
+#define ECMXF_TRAILER_SIZE	8u	/* check word + end word */
+#define ECMXF_DATA_MIN		32u
+#define ECMXF_DATA_MAX		1408u
+#define ECMXF_DATA_DEFAULT	112u
+#define ECMXF_PKT_SIZE(n)	(ECMXF_HDR_SIZE + (n) + ECMXF_TRAILER_SIZE)
+#define ECMXF_PKT_MAX		ECMXF_PKT_SIZE(ECMXF_DATA_MAX)
+
+#define ECMXF_START_WORD	0xA1A2A3A4u
+#define ECMXF_END_WORD		0x56575859u
+#define ECMXF_FIXED_CHECK	0x12345678u
+#define ECMXF_NOT_READY_WORD	0x87654321u
+
+/**
+ * enum ecmxf_check - check word type (ECM status bits 1-0, CRC_TYPE_SET)
+ * @ECMXF_CHECK_FIXED: the constant 0x12345678
+ * @ECMXF_CHECK_CRC8: CRC-8, poly 0x07, init 0 (ver. 038 only)
+ * @ECMXF_CHECK_CCITT: CRC-CCITT-FALSE, poly 0x1021, init 0xFFFF (038 only)
+ * @ECMXF_CHECK_CRC32: CRC-32 (zlib/Ethernet)
+ *
+ * CRC values are stored zero-extended in the 32-bit little-endian check
+ * word and cover every byte before it (header and data section).
+ */
+enum ecmxf_check {
+	ECMXF_CHECK_FIXED = 0,
+	ECMXF_CHECK_CRC8 = 1,
+	ECMXF_CHECK_CCITT = 2,
+	ECMXF_CHECK_CRC32 = 3,
+};
+
+/* Command header 0x08 "reserved" word */
+#define ECMXF_RSV_LRW		(1u << 11)	/* INIT_OP: enable LRW */
+#define ECMXF_RSV_BUS_SHIFT	(1u << 12)	/* INIT_OP: bus shift mode */
+#define ECMXF_RSV_GPIO_OUT	(1u << 15)	/* 0x16/0x17 GPIO outputs valid */
+
+/* Command header 0x0A control byte (ver. 050) */
+#define ECMXF_CTL_REFRESH_STATE		(1u << 0)
+#define ECMXF_CTL_CLR_CRC_CNT		(1u << 1)
+#define ECMXF_CTL_CLR_ASYNC_ERR		(1u << 3)
+#define ECMXF_CTL_CLR_SPI_ERR		(1u << 4)
+#define ECMXF_CTL_CLR_FIFO_ERR		(1u << 5)
+#define ECMXF_CTL_CLR_SPI_CRC_ERR	(1u << 6)
+#define ECMXF_CTL_CLR_CMD_ERR		(1u << 7)
+
+/* Response header 0x09 error status (ver. 050) */
+#define ECMXF_ERR_LINK_HW	(1u << 0)
+#define ECMXF_ERR_LINK_SW	(1u << 1)
+#define ECMXF_ERR_ASYNC		(1u << 3)
+#define ECMXF_ERR_SPI		(1u << 4)
+#define ECMXF_ERR_FIFO		(1u << 5)
+#define ECMXF_ERR_SPI_CRC	(1u << 6)
+#define ECMXF_ERR_CMD		(1u << 7)
+/* the bits that report a fault (bits 0/1 report link presence) */
+#define ECMXF_ERR_FAULT_MASK	0xF8u
+
+/* Response header 0x0A ECM status */
+#define ECMXF_STS_CHECK_MASK	0x03u
+#define ECMXF_STS_DC_STABLE	(1u << 2)
+#define ECMXF_STS_ETH_INIT	(1u << 3)
+#define ECMXF_STS_PDO_CONFIGURED (1u << 4)
+#define ECMXF_STS_NOP		(1u << 5)
+#define ECMXF_STS_FIFO_EN	(1u << 6)
+#define ECMXF_STS_BUSY		(1u << 7)
+
+/* Interrupt flag / clear / enable bits (0x10..0x13) */
+#define ECMXF_INT_ECAT_PKT	(1u << 31)
+#define ECMXF_INT_ENCODER	(1u << 29)
+#define ECMXF_INT_RXFIFO_LOW	(1u << 25)
+#define ECMXF_INT_TXFIFO_HIGH	(1u << 24)
+#define ECMXF_INT_CRC_ERR	(1u << 23)
+#define ECMXF_INT_WKC_ERR	(1u << 22)
+
+/* ECAT states (response 0x08, STATE_SET/GET) */
+#define ECMXF_ECAT_NONE		0x00u
+#define ECMXF_ECAT_INIT		0x01u
+#define ECMXF_ECAT_PREOP	0x02u
+#define ECMXF_ECAT_BOOT		0x03u
+#define ECMXF_ECAT_SAFEOP	0x04u
+#define ECMXF_ECAT_OP		0x08u
+#define ECMXF_ECAT_ERROR	0x10u
+
+/**
+ * struct ecmxf_cmd_hdr - command header fields (host to chip)
+ * @data: parametric data 0..3 (0x04..0x07)
+ * @reserved: the 16-bit word at 0x08 (%ECMXF_RSV_*)
+ * @control: control byte at 0x0A (%ECMXF_CTL_*)
+ * @index: host-chosen tag at 0x0B
+ * @code: command code at 0x0C
+ * @param: command parameter at 0x0D
+ * @len: data length field at 0x0E; for some commands a parameter
+ * @int_clear: interrupt clear at 0x10 (%ECMXF_INT_*)
+ * @gpio_int_clear: GPIO interrupt clear low/high (0x14, 0x15)
+ * @gpio_out: GPIO outputs low/high (0x16, 0x17)
+ */
+struct ecmxf_cmd_hdr {
+	u8 data[4];
+	u16 reserved;
+	u8 control;
+	u8 index;
+	u8 code;
+	u8 param;
+	u16 len;
+	u32 int_clear;
+	u8 gpio_int_clear[2];
+	u8 gpio_out[2];
+};
+
+/**
+ * struct ecmxf_rsp_hdr - response header fields (chip to host)
+ * @crc_err_cnt: SPI CRC error count (0x04)
+ * @wkc_err_cnt: WKC error count (0x05)
+ * @tx_fifo_cnt: TxPDOs in the chip's TxFIFO not yet read (0x06)
+ * @rx_fifo_cnt: RxPDOs in the chip's RxFIFO not yet sent (0x07)
+ * @ecat_state: EtherCAT state (0x08, %ECMXF_ECAT_*)
+ * @err_status: error status (0x09, %ECMXF_ERR_*)
+ * @ecm_status: ECM status (0x0A, %ECMXF_STS_*)
+ * @index: index of the command answered (0x0B)
+ * @code: command code answered (0x0C)
+ * @ret: return value (0x0D)
+ * @len: valid data length (0x0E); never more than the data section
+ * @int_flags: interrupt flags (0x10)
+ * @gpio_int_flag: GPIO interrupt flags low/high (0x14, 0x15)
+ * @gpio_in: GPIO inputs low/high (0x16, 0x17)
+ */
+struct ecmxf_rsp_hdr {
+	u8 crc_err_cnt;
+	u8 wkc_err_cnt;
+	u8 tx_fifo_cnt;
+	u8 rx_fifo_cnt;
+	u8 ecat_state;
+	u8 err_status;
+	u8 ecm_status;
+	u8 index;
+	u8 code;
+	u8 ret;
+	u16 len;
+	u32 int_flags;
+	u8 gpio_int_flag[2];
+	u8 gpio_in[2];
+};
+
+/**
+ * enum ecmxf_fault - why a received packet was rejected
+ * @ECMXF_FAULT_NONE: the packet is valid
+ * @ECMXF_FAULT_NOT_READY: check word reads 0x87654321 (chip not ready)
+ * @ECMXF_FAULT_START: wrong start word
+ * @ECMXF_FAULT_END: wrong end word
+ * @ECMXF_FAULT_CHECK: check word does not match
+ * @ECMXF_FAULT_LENGTH: data length field exceeds the data section
+ * @ECMXF_FAULT_SIZE: buffer length is not the configured packet size
+ *	(a caller error, not a chip error)
+ */
+enum ecmxf_fault {
+	ECMXF_FAULT_NONE = 0,
+	ECMXF_FAULT_NOT_READY,
+	ECMXF_FAULT_START,
+	ECMXF_FAULT_END,
+	ECMXF_FAULT_CHECK,
+	ECMXF_FAULT_LENGTH,
+	ECMXF_FAULT_SIZE,
+	ECMXF_FAULT_COUNT
+};
+
+/* ---------------------------------------------------------------------- */
+/* Check words                                                            */
+/* ---------------------------------------------------------------------- */
+
+u8 ecmxf_crc8(const void *buf, size_t len);
+u16 ecmxf_crc_ccitt(const void *buf, size_t len);
+u32 ecmxf_crc32(const void *buf, size_t len);
+u32 ecmxf_check_word(enum ecmxf_check check, const void *buf, size_t len);
+
+/* ---------------------------------------------------------------------- */
+/* Codec                                                                  */
+/* ---------------------------------------------------------------------- */
+
+bool ecmxf_data_size_valid(unsigned int data_size);
+int ecmxf_encode_cmd(u8 *pkt, size_t pkt_len, enum ecmxf_check check,
+		     const struct ecmxf_cmd_hdr *hdr,
+		     const void *data, size_t data_len);
+enum ecmxf_fault ecmxf_decode_rsp(const u8 *pkt, size_t pkt_len,
+				  enum ecmxf_check check,
+				  struct ecmxf_rsp_hdr *hdr,
+				  const u8 **data);
+int ecmxf_encode_rsp(u8 *pkt, size_t pkt_len, enum ecmxf_check check,
+		     const struct ecmxf_rsp_hdr *hdr,
+		     const void *data, size_t data_len);
+enum ecmxf_fault ecmxf_decode_cmd(const u8 *pkt, size_t pkt_len,
+				  enum ecmxf_check check,
+				  struct ecmxf_cmd_hdr *hdr,
+				  const u8 **data);
+int ecmxf_fault_errno(enum ecmxf_fault fault);
+const char *ecmxf_fault_name(enum ecmxf_fault fault);
+
+/* ---------------------------------------------------------------------- */
+/* Command table                                                          */
+/* ---------------------------------------------------------------------- */
+
+/* enum ecmxf_cmd_code - every command code of manual ver. 038 and ver. 050 */
+enum ecmxf_cmd_code {
+	ECMXF_CMD_INFO_UPDATE_OP = 0,
+	ECMXF_CMD_ECAT_INIT_OP = 1,
+	ECMXF_CMD_ECAT_RECONFIG_OP = 2,
+	ECMXF_CMD_ECAT_INIT_DC_OP = 3,
+	ECMXF_CMD_ECAT_PDO_WC_GET = 4,
+	ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP = 5,
+	ECMXF_CMD_ECAT_PDO_DATA_OP = 6,
+	ECMXF_CMD_ECAT_PDO_CONFIG_SET = 7,
+	ECMXF_CMD_ECAT_PDO_CONFIG_REQ = 8,
+	ECMXF_CMD_ECAT_PDO_CONFIG_GET = 9,
+	ECMXF_CMD_ECAT_SDO_REQ = 10,
+	ECMXF_CMD_ECAT_SDO_GET = 11,
+	ECMXF_CMD_ECAT_STATE_SET = 12,
+	ECMXF_CMD_ECAT_STATE_GET = 13,
+	ECMXF_CMD_ECAT_SLV_INFO_GET = 15,
+	ECMXF_CMD_ECAT_SLV_CNT_GET = 16,
+	ECMXF_CMD_FIFO_ENABLE = 18,
+	ECMXF_CMD_FIFO_PACK_SIZE_GET = 19,
+	ECMXF_CMD_SPI_PACK_SIZE_GET = 20,
+	ECMXF_CMD_SPI_RECONFIG_OP = 23,
+	ECMXF_CMD_CRC_ERR_CNT_CLR = 24,
+	ECMXF_CMD_CRC_TYPE_SET = 25,
+	ECMXF_CMD_402_CONFIG_SET = 26,
+	ECMXF_CMD_402_STATE_SET = 27,
+	ECMXF_CMD_402_STATE_GET = 28,
+	ECMXF_CMD_402_CTL_SET = 29,
+	ECMXF_CMD_402_CTL_GET = 30,
+	ECMXF_CMD_GPIO_CONFIG_SET = 31,
+	ECMXF_CMD_GPIO_FUNC_OP = 32,
+	ECMXF_CMD_QEI_FUNC_OP = 33,
+	ECMXF_CMD_DAC_FUNC_OP = 34,
+	ECMXF_CMD_ADC_FUNC_OP = 35,
+	ECMXF_CMD_EEPROM_REQ = 38,
+	ECMXF_CMD_EEPROM_GET = 39,
+	ECMXF_CMD_ECAT_STATE_CHECK = 41,
+	ECMXF_CMD_ECAT_DCSYNC = 50,
+	ECMXF_CMD_FIFO_CLR_OP = 51,
+	ECMXF_CMD_FIFO_SET_TX_CNT = 52,
+	ECMXF_CMD_FIFO_GET_TX_CNT = 53,
+	ECMXF_CMD_FIFO_SET_RX_CNT = 54,
+	ECMXF_CMD_FIFO_GET_RX_CNT = 55,
+	ECMXF_CMD_FW_VERSION_GET = 56,
+	ECMXF_CMD_ECAT_STATE_UPDATE = 57,
+	ECMXF_CMD_ECAT_INT_SET_ENABLE = 58,
+	ECMXF_CMD_ECAT_INT_GET_ENABLE = 59,
+	ECMXF_CMD_FIFO_INIT = 66,
+	ECMXF_CMD_ECAT_SDO_ABORTCODE_GET = 69,
+	ECMXF_CMD_ECAT_SET_FIFO_TH = 70,
+	ECMXF_CMD_ECAT_CONFIG_SM = 71,
+	ECMXF_CMD_ECAT_CONFIG_FMMU = 72,
+	ECMXF_CMD_ECAT_CONFIG_MAP = 73,
+	ECMXF_CMD_402_GET_STATUSWORD = 74,
+	ECMXF_CMD_ASYNCCMD_RESET = 75,
+	ECMXF_CMD_MDIO = 81,
+	ECMXF_CMD_DIRECT_ASSIGN = 82,
+	ECMXF_CMD_COE_EMERGENCY = 83,
+	ECMXF_CMD_WARM_RESET = 127,
+	ECMXF_CMD_ECAT_WKC_CONTI_ERR_CNT_GET = 130,
+	ECMXF_CMD_ECAT_WKC_CONTI_ERR_MAX_GET = 131,
+	ECMXF_CMD_ECAT_WKC_CONTI_ERR_MAX_SET = 132,
+	ECMXF_CMD_RAW_ECAT_FUNC_REQ = 137,
+	ECMXF_CMD_RAW_ECAT_FUNC_GET = 138,
+	ECMXF_CMD_FOE_FUNC_REQ = 139,
+	ECMXF_CMD_FOE_FUNC_GET = 140,
+	ECMXF_CMD_ENABLE_LRW = 142,
+	ECMXF_CMD_RECV_MAILBOX = 143,
+	ECMXF_CMD_MBX_STAT = 144,
+};
+
+/* struct ecmxf_cmd_info flags */
+#define ECMXF_CMDF_ASYNC	(1u << 0)	/* async ("blocking") command */
+#define ECMXF_CMDF_ASYNC_PARAM0	(1u << 1)	/* async only when param == 0 */
+#define ECMXF_CMDF_V038		(1u << 2)	/* documented in ver. 038 */
+#define ECMXF_CMDF_V050		(1u << 3)	/* documented in ver. 050 */
+#define ECMXF_CMDF_IDEMPOTENT	(1u << 4)	/* a pure read: safe to re-issue */
+#define ECMXF_CMDF_OBSOLETE	(1u << 5)	/* kept for old firmware only */
+#define ECMXF_CMDF_DESTRUCTIVE	(1u << 6)	/* resets or rewrites the chip */
+#define ECMXF_CMDF_BUS		(1u << 7)	/* changes the bus or its slaves */
+
+/**
+ * struct ecmxf_cmd_info - one row of the command table
+ * @code: command code
+ * @flags: %ECMXF_CMDF_* bits
+ * @partner: the command that fetches this one's result or reads back
+ *	what it set (*_REQ -> *_GET, *_SET -> *_GET), or -1 for none
+ * @timeout_ms: default time the engine allows for the command, including
+ *	async completion
+ * @name: the manual's name without the ECM_CMD_ prefix
+ */
+struct ecmxf_cmd_info {
+	u8 code;
+	u8 flags;
+	s16 partner;
+	u32 timeout_ms;
+	const char *name;
+};
+
+const struct ecmxf_cmd_info *ecmxf_cmd_lookup(unsigned int code);
+const struct ecmxf_cmd_info *ecmxf_cmd_table(size_t *count);
+bool ecmxf_cmd_is_async(unsigned int code, unsigned int param);
+
+/* ---------------------------------------------------------------------- */
+/* Exchange engine                                                        */
+/* ---------------------------------------------------------------------- */
+
+/* struct ecmxf_xfer flags */
+#define ECMXF_XF_NO_AUTO_CLEAR	(1u << 0) /* leave ERR_ASYNC/ERR_CMD set */
+
+/**
+ * struct ecmxf_xfer - one command travelling through the engine
+ * @hdr: command header; @hdr.index and the engine's own control bits are
+ *	filled in by the engine, everything else is sent as given
+ * @tx_data: bytes for the data section (may be NULL when @tx_len is 0)
+ * @tx_len: number of bytes at @tx_data, at most the data section size
+ * @rx_buf: where the response data is copied (may be NULL)
+ * @rx_size: capacity of @rx_buf
+ * @timeout_us: time allowed from submission to completion (async: to
+ *	the end of the chip's busy phase); 0 selects the table default
+ * @flags: %ECMXF_XF_* bits
+ * @rsp: the answering response header (valid once @status is final)
+ * @rx_len: response data bytes copied to @rx_buf
+ * @status: -EINPROGRESS until done, then 0 or a negative errno:
+ *	-ETIMEDOUT (no answer or no completion in time), -EBADMSG / -EPROTO /
+ *	-EIO (transport retries exhausted; see @fault), -EBUSY (the chip
+ *	refused an async command because another one runs), -EREMOTEIO
+ *	(async command finished with the error bit set), -ECONNRESET (the
+ *	chip reset), -EMSGSIZE (answer longer than @rx_size; @rx_len bytes
+ *	were copied), -ECANCELED (withdrawn by ecmxf_engine_cancel())
+ * @fault: for transport failures, the last packet fault seen
+ * @async: set by the engine when the command runs asynchronously
+ * @started_ns: private: submission time
+ * @deadline_ns: private: time at which the command times out
+ * @state: private: where the command is in the engine
+ */
+struct ecmxf_xfer {
+	struct ecmxf_cmd_hdr hdr;
+	const void *tx_data;
+	u16 tx_len;
+	void *rx_buf;
+	u16 rx_size;
+	u32 timeout_us;
+	u32 flags;
+
+	struct ecmxf_rsp_hdr rsp;
+	u16 rx_len;
+	int status;
+	enum ecmxf_fault fault;
+	bool async;
+
+	u64 started_ns;
+	u64 deadline_ns;
+	u8 state;
+};
+
+/**
+ * struct ecmxf_engine_stats - counters kept by the engine
+ * @exchanges: packets handed to ecmxf_engine_input()
+ * @faults: rejected packets, by &enum ecmxf_fault
+ * @retries: packets re-sent because the previous answer was unusable
+ * @polls: re-sends because the answer had not arrived yet
+ * @exhausted: commands failed because retries ran out
+ * @timeouts: commands failed by timeout
+ * @async_errors: async commands that finished with the error bit
+ * @busy_rejects: async commands the chip refused as busy
+ * @lost_answers: answers overwritten by INFO_UPDATE (re-issued or failed)
+ * @chip_resets: NOP responses after valid ones (the chip restarted)
+ */
+struct ecmxf_engine_stats {
+	u64 exchanges;
+	u64 faults[ECMXF_FAULT_COUNT];
+	u64 retries;
+	u64 polls;
+	u64 exhausted;
+	u64 timeouts;
+	u64 async_errors;
+	u64 busy_rejects;
+	u64 lost_answers;
+	u64 chip_resets;
+};
+
+/* events returned by ecmxf_engine_input() and ecmxf_engine_poll_time() */
+#define ECMXF_EV_CMD_DONE	(1u << 0) /* the current command finished */
+#define ECMXF_EV_ASYNC_DONE	(1u << 1) /* the running async command finished */
+#define ECMXF_EV_ERR_STATUS	(1u << 2) /* new bits in the error status */
+#define ECMXF_EV_CHIP_RESET	(1u << 3) /* NOP response after valid ones */
+#define ECMXF_EV_BAD_PACKET	(1u << 4) /* a packet was rejected */
+#define ECMXF_EV_HEADER		(1u << 5) /* a valid header arrived */
+
+/**
+ * struct ecmxf_engine - exchange state of one link to one chip
+ *
+ * All fields are private to ecmxf-engine.c except where a function says
+ * otherwise; the caller allocates the structure and calls
+ * ecmxf_engine_init() on it.
+ */
+struct ecmxf_engine {
+	u16 data_size;
+	u8 check;
+	u8 prev_check;		/* accepted for one exchange after a change */
+	u8 max_retries;
+	u8 next_index;
+	u8 last_index;		/* (index, code) of the last packet sent */
+	u8 last_code;
+	bool last_valid;
+	bool seen_valid;	/* a non-NOP response has been seen */
+	bool cur_sent;
+	u8 bad_in_row;
+	enum ecmxf_fault last_fault;
+	u8 control_pending;	/* control bits for the next packet */
+	u8 err_seen;		/* fault bits of the last valid header */
+	u16 pending_size;	/* SPI_RECONFIG_OP in flight: the new size */
+	u64 not_before_ns;	/* next exchange not before (reconfig hold-off) */
+	u32 int_clear_pending;
+	u8 gpio_int_clear_pending[2];
+	struct ecmxf_xfer *cur;	/* sent or to be sent, awaiting its answer */
+	struct ecmxf_xfer *async; /* accepted async command, chip busy */
+	struct ecmxf_rsp_hdr last;	/* last valid response header */
+	bool have_last;
+	struct ecmxf_engine_stats stats;
+};
+
+#define ECMXF_ENGINE_DEFAULT_RETRIES	8u
+#define ECMXF_RECONFIG_HOLDOFF_NS	100000000ull	/* 100 ms */
+
+void ecmxf_engine_init(struct ecmxf_engine *e, unsigned int data_size,
+		       enum ecmxf_check check);
+int ecmxf_engine_set_format(struct ecmxf_engine *e, unsigned int data_size,
+			    enum ecmxf_check check);
+void ecmxf_engine_set_retries(struct ecmxf_engine *e, unsigned int max);
+size_t ecmxf_engine_pkt_size(const struct ecmxf_engine *e);
+bool ecmxf_engine_can_submit(const struct ecmxf_engine *e,
+			     const struct ecmxf_xfer *x);
+int ecmxf_engine_submit(struct ecmxf_engine *e, struct ecmxf_xfer *x,
+			u64 now_ns);
+int ecmxf_engine_cancel(struct ecmxf_engine *e, struct ecmxf_xfer *x);
+void ecmxf_engine_clear_errors(struct ecmxf_engine *e, u8 control_bits);
+void ecmxf_engine_clear_ints(struct ecmxf_engine *e, u32 int_clear,
+			     u8 gpio_clear_lo, u8 gpio_clear_hi);
+int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
+		      u8 *pkt, size_t pkt_len);
+unsigned int ecmxf_engine_input(struct ecmxf_engine *e, u64 now_ns,
+				const u8 *pkt, size_t pkt_len);
+unsigned int ecmxf_engine_poll_time(struct ecmxf_engine *e, u64 now_ns);
+u64 ecmxf_engine_deadline(const struct ecmxf_engine *e);
+u64 ecmxf_engine_not_before(const struct ecmxf_engine *e);
+bool ecmxf_engine_idle(const struct ecmxf_engine *e);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ECMXF_PROTO_H */

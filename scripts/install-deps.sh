@@ -1,0 +1,44 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+#
+# Install what ecmxf needs from Debian bookworm, idempotently.
+#
+#   scripts/install-deps.sh            build + test dependencies
+#   scripts/install-deps.sh --ci       also clang (fuzzing, sanitizers)
+#   scripts/install-deps.sh --bench    also Google Benchmark
+#   scripts/install-deps.sh --kernel   also Debian's kernel headers (make kmod)
+#
+# It asks dpkg first and calls apt-get only for what is missing, so
+# running it on every `make` costs a few milliseconds.
+set -eu
+
+pkgs="build-essential cmake pkg-config catch2 libgpiod-dev libmnl-dev"
+for arg in "$@"; do
+	case "$arg" in
+	--ci) pkgs="$pkgs clang libclang-rt-14-dev llvm" ;;
+	--bench) pkgs="$pkgs libbenchmark-dev" ;;
+	--kernel) pkgs="$pkgs linux-headers-amd64 kmod sparse" ;;
+	*) echo "install-deps.sh: unknown option '$arg'" >&2; exit 2 ;;
+	esac
+done
+
+missing=""
+for p in $pkgs; do
+	status=$(dpkg-query -W -f='${db:Status-Abbrev}' "$p" 2>/dev/null || true)
+	case "$status" in
+	ii*) ;;
+	*) missing="$missing $p" ;;
+	esac
+done
+[ -z "$missing" ] && exit 0
+
+if [ "$(id -u)" -ne 0 ]; then
+	echo "install-deps.sh: missing packages:$missing" >&2
+	echo "install-deps.sh: run as root (or: sudo apt-get install$missing)" >&2
+	exit 1
+fi
+echo "install-deps.sh: installing$missing"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+# shellcheck disable=SC2086
+apt-get install -y -qq --no-install-recommends $missing
