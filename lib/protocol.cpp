@@ -5,8 +5,6 @@
 
 #include "ecmxf-proto.h"
 
-#define ECMXF_EXPORT __attribute__((visibility("default")))
-
 namespace ecmxf {
 
 namespace {

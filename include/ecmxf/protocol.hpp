@@ -16,10 +16,12 @@
 #include <span>
 #include <string_view>
 
+#include <ecmxf/export.hpp>
+
 namespace ecmxf {
 
 /// Library version, "MAJOR.MINOR.PATCH".
-[[nodiscard]] std::string_view version() noexcept;
+[[nodiscard]] ECMXF_EXPORT std::string_view version() noexcept;
 
 /// Check word types (ECM status bits 1-0, CRC_TYPE_SET parameter).
 enum class CheckType : std::uint8_t {
@@ -42,11 +44,11 @@ inline constexpr std::size_t kDataDefault = 112;
 }
 
 /// CRC-8 (poly 0x07, init 0).
-[[nodiscard]] std::uint8_t crc8(std::span<const std::uint8_t> bytes) noexcept;
+[[nodiscard]] ECMXF_EXPORT std::uint8_t crc8(std::span<const std::uint8_t> bytes) noexcept;
 /// CRC-CCITT-FALSE (poly 0x1021, init 0xFFFF).
-[[nodiscard]] std::uint16_t crcCcitt(std::span<const std::uint8_t> bytes) noexcept;
+[[nodiscard]] ECMXF_EXPORT std::uint16_t crcCcitt(std::span<const std::uint8_t> bytes) noexcept;
 /// CRC-32 as zlib computes it.
-[[nodiscard]] std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept;
+[[nodiscard]] ECMXF_EXPORT std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept;
 
 /// One row of the command table (both manual versions).
 struct CommandInfo {
@@ -62,12 +64,12 @@ struct CommandInfo {
 };
 
 /// The row for @p code, or std::nullopt when neither manual has it.
-[[nodiscard]] std::optional<CommandInfo> commandInfo(std::uint8_t code) noexcept;
+[[nodiscard]] ECMXF_EXPORT std::optional<CommandInfo> commandInfo(std::uint8_t code) noexcept;
 
 /// Number of commands in the table.
-[[nodiscard]] std::size_t commandCount() noexcept;
+[[nodiscard]] ECMXF_EXPORT std::size_t commandCount() noexcept;
 
 /// The @p i-th row in code order (@p i < commandCount()).
-[[nodiscard]] CommandInfo commandAt(std::size_t i) noexcept;
+[[nodiscard]] ECMXF_EXPORT CommandInfo commandAt(std::size_t i) noexcept;
 
 } // namespace ecmxf

@@ -219,7 +219,7 @@ static const struct ecmxf_cmd_info ecmxf_cmds[] = {
 		      -1, 100),
 };
 
-#define ECMXF_NCMDS (sizeof(ecmxf_cmds) / sizeof(ecmxf_cmds[0]))
+#define ECMXF_NCMDS ARRAY_SIZE(ecmxf_cmds)
 
 /**
  * ecmxf_cmd_lookup() - find a command's row

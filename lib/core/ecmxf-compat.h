@@ -14,8 +14,20 @@
 #ifdef __KERNEL__
 #include <linux/types.h>
 #include <linux/errno.h>
+#include <linux/kernel.h>
 #include <linux/string.h>
-#if __has_include(<linux/unaligned.h>)
+/*
+ * <linux/unaligned.h> since 6.12, <asm/unaligned.h> before.  The nested
+ * test keeps tools without __has_include (sparse 0.6.4) on the old path;
+ * the quoted form searches the same include path and is not misread by
+ * checkpatch.pl as '<' and '>' operators.
+ */
+#if defined(__has_include)
+#if __has_include("linux/unaligned.h")
+#define ECMXF_HAVE_LINUX_UNALIGNED_H
+#endif
+#endif
+#ifdef ECMXF_HAVE_LINUX_UNALIGNED_H
 #include <linux/unaligned.h>
 #else
 #include <asm/unaligned.h>
@@ -34,6 +46,10 @@ typedef uint64_t u64;
 typedef int16_t s16;
 
 #ifndef __cplusplus	/* helpers for the C sources only */
+#ifndef ARRAY_SIZE
+#define ARRAY_SIZE(a)	(sizeof(a) / sizeof((a)[0]))
+#endif
+
 static inline u16 get_unaligned_le16(const void *p)
 {
 	const u8 *b = (const u8 *)p;

@@ -10,6 +10,7 @@
  */
 #include "ecmxf-proto.h"
 #include "ecmxf-crc-tables.h"
+#include "ecmxf-crc-simd.h"
 
 #ifdef __KERNEL__
 #include <linux/crc32.h>
@@ -66,6 +67,15 @@ u32 ecmxf_crc32(const void *buf, size_t len)
 	const u8 *p = buf;
 	u32 crc = ~0u;
 
+#ifdef ECMXF_HAVE_CRC32_CLMUL
+	if (len >= 64 && ecmxf_crc32_clmul_usable()) {
+		size_t block = len & ~(size_t)15;
+
+		crc = ecmxf_crc32_clmul(crc, p, block);
+		p += block;
+		len -= block;
+	}
+#endif
 	while (len && ((uintptr_t)p & 7)) {
 		crc = (crc >> 8) ^ ecmxf_crc32_table[0][(crc ^ *p++) & 0xFF];
 		len--;

@@ -153,6 +153,12 @@ int ecmxf_engine_submit(struct ecmxf_engine *e, struct ecmxf_xfer *x,
 	if (x->hdr.code == ECMXF_CMD_SPI_RECONFIG_OP &&
 	    !ecmxf_data_size_valid(x->hdr.len))
 		return -EINVAL;
+	/* re-sends go out in the format these commands switch to */
+	if (x->hdr.code == ECMXF_CMD_SPI_RECONFIG_OP && x->tx_len > x->hdr.len)
+		return -EMSGSIZE;
+	if (x->hdr.code == ECMXF_CMD_WARM_RESET &&
+	    x->tx_len > ECMXF_DATA_DEFAULT)
+		return -EMSGSIZE;
 	if (x->hdr.code == ECMXF_CMD_CRC_TYPE_SET &&
 	    x->hdr.param > ECMXF_CHECK_CRC32)
 		return -EINVAL;
@@ -311,8 +317,13 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 	if (now_ns < e->not_before_ns)
 		return -EAGAIN;
 
-	if (!e->last_valid || !x) {
-		/* sync packet, or INFO_UPDATE poll / header refresh */
+	if (!e->last_valid || !x ||
+	    (e->cur_sent && x->hdr.code == ECMXF_CMD_WARM_RESET)) {
+		/*
+		 * Sync packet, INFO_UPDATE poll / header refresh.  WARM_RESET
+		 * is never re-sent: a chip that has just restarted remembers
+		 * no previous packet and would run it again.
+		 */
 		memset(&h, 0, sizeof(h));
 		h.code = ECMXF_CMD_INFO_UPDATE_OP;
 		h.index = e->last_valid ? e->last_index : ecmxf_fresh_index(e);
@@ -520,10 +531,15 @@ unsigned int ecmxf_engine_input(struct ecmxf_engine *e, u64 now_ns,
 	e->stats.exchanges++;
 	fault = ecmxf_decode_rsp(pkt, pkt_len, (enum ecmxf_check)e->check,
 				 &h, &data);
-	if (fault == ECMXF_FAULT_CHECK && e->prev_check != e->check)
+	if (fault == ECMXF_FAULT_NONE) {
+		/* the chip speaks the new check type: forget the old one */
+		e->prev_check = e->check;
+	} else if (fault == ECMXF_FAULT_CHECK && e->prev_check != e->check) {
+		/* answers prepared before a CRC_TYPE_SET took effect */
 		fault = ecmxf_decode_rsp(pkt, pkt_len,
 					 (enum ecmxf_check)e->prev_check,
 					 &h, &data);
+	}
 	if (fault != ECMXF_FAULT_NONE) {
 		e->stats.faults[fault]++;
 		e->last_fault = fault;
@@ -536,7 +552,6 @@ unsigned int ecmxf_engine_input(struct ecmxf_engine *e, u64 now_ns,
 	}
 
 	e->bad_in_row = 0;
-	e->prev_check = e->check;
 	e->last = h;
 	e->have_last = true;
 	ev |= ECMXF_EV_HEADER;

@@ -175,6 +175,7 @@ struct ecmxf_rsp_hdr {
  * @ECMXF_FAULT_LENGTH: data length field exceeds the data section
  * @ECMXF_FAULT_SIZE: buffer length is not the configured packet size
  *	(a caller error, not a chip error)
+ * @ECMXF_FAULT_COUNT: number of fault kinds (array size, not a fault)
  */
 enum ecmxf_fault {
 	ECMXF_FAULT_NONE = 0,
@@ -420,9 +421,10 @@ struct ecmxf_engine_stats {
  * ecmxf_engine_init() on it.
  */
 struct ecmxf_engine {
+	/* private: */
 	u16 data_size;
 	u8 check;
-	u8 prev_check;		/* accepted for one exchange after a change */
+	u8 prev_check;		/* accepted until a response uses the new one */
 	u8 max_retries;
 	u8 next_index;
 	u8 last_index;		/* (index, code) of the last packet sent */

@@ -1,1 +1,607 @@
+// SPDX-License-Identifier: MIT
+// The exchange engine against a scripted fake chip (fake_chip.hpp).
+
 #include <catch2/catch.hpp>
+
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "ecmxf-proto.h"
+#include "fake_chip.hpp"
+
+namespace {
+
+constexpr std::uint64_t kStepNs = 200'000; // 200 us per exchange
+
+struct Link {
+	ecmxf_engine e{};
+	fake::Chip chip;
+	std::uint64_t now = 1'000'000;
+	unsigned events = 0;
+
+	Link() { ecmxf_engine_init(&e, ECMXF_DATA_DEFAULT, ECMXF_CHECK_FIXED); }
+
+	// One exchange; returns the events of this exchange.
+	unsigned exchange()
+	{
+		if (now < ecmxf_engine_not_before(&e))
+			now = ecmxf_engine_not_before(&e);
+		const std::size_t n = ecmxf_engine_pkt_size(&e);
+		std::vector<std::uint8_t> tx(n);
+		REQUIRE(ecmxf_engine_next(&e, now, tx.data(), n) == 0);
+		std::vector<std::uint8_t> rx = chip.exchange(tx);
+		REQUIRE(rx.size() == n);
+		now += kStepNs;
+		const unsigned ev = ecmxf_engine_input(&e, now, rx.data(), rx.size());
+		events |= ev;
+		return ev;
+	}
+
+	// Exchanges until @x is final; returns the number of exchanges.
+	int run(ecmxf_xfer &x, int max = 100000)
+	{
+		int n = 0;
+		while (x.status == -EINPROGRESS && n < max) {
+			exchange();
+			n++;
+		}
+		return n;
+	}
+
+	int submit(ecmxf_xfer &x) { return ecmxf_engine_submit(&e, &x, now); }
+
+	const ecmxf_cmd_hdr &lastMosi() const { return chip.cmdLog.back(); }
+};
+
+ecmxf_xfer command(std::uint8_t code, std::uint8_t param = 0)
+{
+	ecmxf_xfer x{};
+	x.hdr.code = code;
+	x.hdr.param = param;
+	return x;
+}
+
+} // namespace
+
+TEST_CASE("engine: the first packet is an INFO_UPDATE sync, and the answer arrives one exchange late",
+	  "[engine]")
+{
+	Link l;
+	std::uint8_t buf[16];
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_STATE_GET, 0xFF);
+	x.rx_buf = buf;
+	x.rx_size = sizeof(buf);
+	REQUIRE(l.submit(x) == 0);
+	CHECK(x.status == -EINPROGRESS);
+
+	// 1: sync INFO_UPDATE (answer: power-on NOP)
+	CHECK(l.exchange() == ECMXF_EV_HEADER);
+	REQUIRE(l.chip.cmdLog.size() == 1);
+	CHECK(l.chip.cmdLog[0].code == ECMXF_CMD_INFO_UPDATE_OP);
+	CHECK(x.status == -EINPROGRESS);
+
+	// 2: the command goes out; the answer is the sync's
+	l.exchange();
+	CHECK(l.lastMosi().code == ECMXF_CMD_ECAT_STATE_GET);
+	CHECK(l.lastMosi().param == 0xFF);
+	CHECK(x.status == -EINPROGRESS);
+
+	// 3: re-sent with the same (index, code); its answer arrives now
+	const unsigned ev = l.exchange();
+	CHECK(l.lastMosi().code == ECMXF_CMD_ECAT_STATE_GET);
+	CHECK(l.chip.cmdLog[2].index == l.chip.cmdLog[1].index);
+	CHECK((ev & ECMXF_EV_CMD_DONE) != 0);
+	CHECK(x.status == 0);
+	CHECK(x.rsp.code == ECMXF_CMD_ECAT_STATE_GET);
+	CHECK(x.rsp.ret == ECMXF_CMD_ECAT_STATE_GET + 1);
+	CHECK(x.rsp.index == x.hdr.index);
+	// the chip executed the command once: the re-send ran as INFO_UPDATE
+	CHECK(l.chip.executed.size() == 1);
+	CHECK(ecmxf_engine_idle(&l.e));
+}
+
+TEST_CASE("engine: response data is copied, clipped to the buffer with -EMSGSIZE", "[engine]")
+{
+	Link l;
+	l.chip.handler = [](const ecmxf_cmd_hdr &, const std::uint8_t *) {
+		return fake::Answer{ 0, { 1, 2, 3, 4, 5, 6 } };
+	};
+	std::uint8_t big[8] = {};
+	ecmxf_xfer x = command(ECMXF_CMD_FW_VERSION_GET);
+	x.rx_buf = big;
+	x.rx_size = sizeof(big);
+	REQUIRE(l.submit(x) == 0);
+	l.run(x);
+	CHECK(x.status == 0);
+	CHECK(x.rx_len == 6);
+	CHECK(big[0] == 1);
+	CHECK(big[5] == 6);
+	CHECK(big[6] == 0);
+
+	std::uint8_t small[4] = {};
+	ecmxf_xfer y = command(ECMXF_CMD_FW_VERSION_GET);
+	y.rx_buf = small;
+	y.rx_size = sizeof(small);
+	REQUIRE(l.submit(y) == 0);
+	l.run(y);
+	CHECK(y.status == -EMSGSIZE);
+	CHECK(y.rx_len == 4);
+	CHECK(y.rsp.len == 6);
+	CHECK(small[3] == 4);
+}
+
+TEST_CASE("engine: every new command gets a fresh index, wrapping after 255", "[engine]")
+{
+	Link l;
+	std::vector<std::uint8_t> indices;
+	for (int i = 0; i < 300; i++) {
+		ecmxf_xfer x = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+		REQUIRE(l.submit(x) == 0);
+		l.run(x);
+		REQUIRE(x.status == 0);
+		indices.push_back(x.hdr.index);
+	}
+	// consecutive commands differ in index (same code!), and the index wraps
+	bool wrapped = false;
+	for (std::size_t i = 1; i < indices.size(); i++) {
+		CHECK(indices[i] != indices[i - 1]);
+		CHECK(indices[i] == static_cast<std::uint8_t>(indices[i - 1] + 1));
+		if (indices[i - 1] == 255 && indices[i] == 0)
+			wrapped = true;
+	}
+	CHECK(wrapped);
+	// every one of them was executed by the chip, none taken for a repeat
+	CHECK(l.chip.executed.size() == 300);
+}
+
+TEST_CASE("engine: a late answer is polled by re-sending the same packet", "[engine]")
+{
+	Link l;
+	l.chip.answerLag = 4;
+	ecmxf_xfer x = command(ECMXF_CMD_402_STATE_GET, 1);
+	REQUIRE(l.submit(x) == 0);
+	const int n = l.run(x);
+	CHECK(x.status == 0);
+	CHECK(x.rsp.ret == ECMXF_CMD_402_STATE_GET + 1);
+	CHECK(n == 3 + 4);
+	CHECK(l.e.stats.polls >= 4);
+	// all packets after the first send were identical re-sends
+	std::size_t sends = 0;
+	for (const auto &c : l.chip.cmdLog) {
+		if (c.code != ECMXF_CMD_402_STATE_GET)
+			continue;
+		sends++;
+		CHECK(c.index == x.hdr.index);
+		CHECK(c.param == 1);
+	}
+	CHECK(sends == static_cast<std::size_t>(n - 1));
+	CHECK(l.chip.executed.size() == 1);
+}
+
+TEST_CASE("engine: an async command is tracked through the busy bit to completion", "[engine]")
+{
+	Link l;
+	l.chip.asyncBusyExchanges = 6;
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_STATE_SET, 0xFF);
+	x.hdr.data[0] = ECMXF_ECAT_PREOP;
+	REQUIRE(l.submit(x) == 0);
+	CHECK(x.async);
+
+	// accepted: the slot frees while the chip is busy
+	while (l.e.cur)
+		l.exchange();
+	CHECK(x.status == -EINPROGRESS);
+	CHECK(l.e.async == &x);
+
+	// an immediate command runs meanwhile
+	ecmxf_xfer y = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(ecmxf_engine_can_submit(&l.e, &y));
+	REQUIRE(l.submit(y) == 0);
+	l.run(y);
+	CHECK(y.status == 0);
+	CHECK(x.status == -EINPROGRESS);
+
+	// a second async command must wait its turn
+	ecmxf_xfer z = command(ECMXF_CMD_ECAT_SDO_REQ);
+	CHECK_FALSE(ecmxf_engine_can_submit(&l.e, &z));
+	CHECK(l.submit(z) == -EBUSY);
+
+	l.events = 0;
+	l.run(x);
+	CHECK(x.status == 0);
+	CHECK((l.events & ECMXF_EV_ASYNC_DONE) != 0);
+	CHECK((x.rsp.ecm_status & ECMXF_STS_BUSY) == 0);
+	CHECK(ecmxf_engine_idle(&l.e));
+	CHECK(l.submit(z) == 0);
+}
+
+TEST_CASE("engine: an async command that fails reports -EREMOTEIO and the error bit is cleared",
+	  "[engine]")
+{
+	Link l;
+	l.chip.asyncBusyExchanges = 3;
+	l.chip.asyncFails = true;
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_SDO_REQ);
+	REQUIRE(l.submit(x) == 0);
+	l.run(x);
+	CHECK(x.status == -EREMOTEIO);
+	CHECK((x.rsp.err_status & ECMXF_ERR_ASYNC) != 0);
+	CHECK(l.e.stats.async_errors == 1);
+	CHECK((l.events & ECMXF_EV_ERR_STATUS) != 0);
+
+	// the next new packet carries "clear async-command error"
+	ecmxf_xfer y = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(y) == 0);
+	l.run(y);
+	CHECK((l.chip.cmdLog[l.chip.cmdLog.size() - 2].control & ECMXF_CTL_CLR_ASYNC_ERR) != 0);
+	CHECK((l.chip.errStatus & ECMXF_ERR_ASYNC) == 0);
+
+	// and a following async command succeeds
+	l.chip.asyncFails = false;
+	ecmxf_xfer z = command(ECMXF_CMD_ECAT_SDO_REQ);
+	REQUIRE(l.submit(z) == 0);
+	l.run(z);
+	CHECK(z.status == 0);
+}
+
+TEST_CASE("engine: an async command refused because the chip is busy gives -EBUSY", "[engine]")
+{
+	Link l;
+	// an async command the engine does not know about is running
+	l.chip.busyLeft = 50;
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_INIT_OP);
+	REQUIRE(l.submit(x) == 0);
+	l.run(x);
+	CHECK(x.status == -EBUSY);
+	CHECK(l.e.stats.busy_rejects == 1);
+	CHECK((x.rsp.err_status & ECMXF_ERR_CMD) != 0);
+
+	// the command error bit is cleared with the next new packet
+	ecmxf_xfer y = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(y) == 0);
+	l.run(y);
+	CHECK((l.chip.errStatus & ECMXF_ERR_CMD) == 0);
+}
+
+TEST_CASE("engine: ECMXF_XF_NO_AUTO_CLEAR leaves the error bits for the caller", "[engine]")
+{
+	Link l;
+	l.chip.asyncFails = true;
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_SDO_REQ);
+	x.flags = ECMXF_XF_NO_AUTO_CLEAR;
+	REQUIRE(l.submit(x) == 0);
+	l.run(x);
+	CHECK(x.status == -EREMOTEIO);
+	ecmxf_xfer y = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(y) == 0);
+	l.run(y);
+	CHECK((l.chip.errStatus & ECMXF_ERR_ASYNC) != 0);
+
+	// cleared when asked
+	ecmxf_engine_clear_errors(&l.e, ECMXF_CTL_CLR_ASYNC_ERR);
+	ecmxf_xfer z = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(z) == 0);
+	l.run(z);
+	CHECK((l.chip.errStatus & ECMXF_ERR_ASYNC) == 0);
+}
+
+TEST_CASE("engine: bad packets are retried and the command still succeeds", "[engine]")
+{
+	using fake::Fault;
+	Link l;
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(x) == 0);
+	l.exchange(); // sync
+	l.exchange(); // first send
+	l.chip.faults = { Fault::CheckWord, Fault::StartWord, Fault::NotReady, Fault::EndWord };
+	l.run(x);
+	// the answer was destroyed by the first fault; the re-sends got INFO_UPDATE
+	// answers with our index, so the (idempotent) command was re-issued
+	CHECK(x.status == 0);
+	CHECK(l.e.stats.faults[ECMXF_FAULT_CHECK] == 1);
+	CHECK(l.e.stats.faults[ECMXF_FAULT_START] == 1);
+	CHECK(l.e.stats.faults[ECMXF_FAULT_NOT_READY] == 1);
+	CHECK(l.e.stats.faults[ECMXF_FAULT_END] == 1);
+	CHECK(l.e.stats.retries >= 4);
+}
+
+TEST_CASE("engine: consecutive bad packets beyond the bound fail the command with the fault's errno",
+	  "[engine]")
+{
+	using fake::Fault;
+	struct Case {
+		Fault fault;
+		int err;
+		ecmxf_fault why;
+	};
+	const Case cases[] = {
+		{ Fault::CheckWord, -EBADMSG, ECMXF_FAULT_CHECK },
+		{ Fault::DataByte, -EBADMSG, ECMXF_FAULT_CHECK },
+		{ Fault::StartWord, -EPROTO, ECMXF_FAULT_START },
+		{ Fault::EndWord, -EPROTO, ECMXF_FAULT_END },
+		{ Fault::NotReady, -EIO, ECMXF_FAULT_NOT_READY },
+	};
+	for (const Case &c : cases) {
+		Link l;
+		l.chip.check = ECMXF_CHECK_CRC32;
+		ecmxf_engine_init(&l.e, ECMXF_DATA_DEFAULT, ECMXF_CHECK_CRC32);
+		ecmxf_engine_set_retries(&l.e, 5);
+		ecmxf_xfer x = command(ECMXF_CMD_ECAT_STATE_GET);
+		REQUIRE(l.submit(x) == 0);
+		l.exchange(); // sync
+		for (int i = 0; i < 10; i++)
+			l.chip.faults.push_back(c.fault);
+		const int n = l.run(x);
+		INFO("fault " << static_cast<int>(c.fault));
+		CHECK(x.status == c.err);
+		CHECK(x.fault == c.why);
+		CHECK(n == 6); // five tolerated, the sixth fails it
+		CHECK(l.e.stats.exhausted == 1);
+	}
+}
+
+TEST_CASE("engine: a command the chip never answers times out at its deadline", "[engine]")
+{
+	Link l;
+	l.chip.silent = true;
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_SLV_INFO_GET);
+	x.timeout_us = 5000; // 5 ms = 25 exchanges of 200 us
+	REQUIRE(l.submit(x) == 0);
+	const std::uint64_t start = l.now;
+	CHECK(ecmxf_engine_deadline(&l.e) == start + 5'000'000);
+	l.run(x);
+	CHECK(x.status == -ETIMEDOUT);
+	CHECK(l.now >= start + 5'000'000);
+	CHECK(l.now < start + 5'000'000 + 2 * kStepNs);
+	CHECK(l.e.stats.timeouts == 1);
+	CHECK(ecmxf_engine_deadline(&l.e) == ~std::uint64_t{ 0 });
+}
+
+TEST_CASE("engine: deadlines apply without exchanges too (ecmxf_engine_poll_time)", "[engine]")
+{
+	Link l;
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_SLV_INFO_GET);
+	x.timeout_us = 1000;
+	REQUIRE(l.submit(x) == 0);
+	CHECK(ecmxf_engine_poll_time(&l.e, l.now + 999'999) == 0);
+	CHECK(ecmxf_engine_poll_time(&l.e, l.now + 1'000'000) == ECMXF_EV_CMD_DONE);
+	CHECK(x.status == -ETIMEDOUT);
+}
+
+TEST_CASE("engine: an async command that stays busy times out", "[engine]")
+{
+	Link l;
+	l.chip.asyncBusyExchanges = 1000;
+	ecmxf_xfer x = command(ECMXF_CMD_EEPROM_REQ);
+	x.timeout_us = 10'000;
+	REQUIRE(l.submit(x) == 0);
+	l.run(x);
+	CHECK(x.status == -ETIMEDOUT);
+	CHECK(ecmxf_engine_idle(&l.e));
+}
+
+TEST_CASE("engine: a lost answer of a non-idempotent command is reported, not repeated",
+	  "[engine]")
+{
+	using fake::Fault;
+	Link l;
+	ecmxf_xfer x = command(ECMXF_CMD_FIFO_ENABLE, 1);
+	REQUIRE(l.submit(x) == 0);
+	l.exchange(); // sync
+	l.exchange(); // first send
+	l.chip.faults = { Fault::CheckWord };
+	l.run(x);
+	CHECK(x.status == -EPROTO);
+	CHECK(l.e.stats.lost_answers == 1);
+	// executed exactly once
+	std::size_t n = 0;
+	for (const auto &c : l.chip.executed)
+		n += c.code == ECMXF_CMD_FIFO_ENABLE;
+	CHECK(n == 1);
+}
+
+TEST_CASE("engine: a NOP response after valid ones means the chip reset", "[engine]")
+{
+	Link l;
+	ecmxf_xfer a = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(a) == 0);
+	l.run(a);
+	REQUIRE(a.status == 0);
+
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(x) == 0);
+	l.chip.resetPending = true;
+	l.events = 0;
+	l.run(x);
+	CHECK(x.status == -ECONNRESET);
+	CHECK((l.events & ECMXF_EV_CHIP_RESET) != 0);
+	CHECK(l.e.stats.chip_resets == 1);
+}
+
+TEST_CASE("engine: SPI_RECONFIG_OP goes out with the fixed check word and switches the size",
+	  "[engine]")
+{
+	Link l;
+	l.chip.check = ECMXF_CHECK_CRC32;
+	ecmxf_engine_init(&l.e, ECMXF_DATA_DEFAULT, ECMXF_CHECK_CRC32);
+
+	ecmxf_xfer x = command(ECMXF_CMD_SPI_RECONFIG_OP);
+	x.hdr.len = 1408;
+	REQUIRE(l.submit(x) == 0);
+	l.exchange(); // sync
+	const std::uint64_t before = l.now;
+	l.exchange(); // RECONFIG first send
+	const auto &sent = l.chip.mosiLog.back();
+	REQUIRE(sent.size() == ECMXF_PKT_SIZE(112));
+	// the check word of that packet is the fixed value
+	CHECK(sent[24 + 112] == 0x78);
+	CHECK(sent[24 + 112 + 3] == 0x12);
+	// the engine now speaks 1440-byte packets, after a 100 ms hold-off
+	CHECK(ecmxf_engine_pkt_size(&l.e) == ECMXF_PKT_SIZE(1408));
+	CHECK(ecmxf_engine_not_before(&l.e) == before + ECMXF_RECONFIG_HOLDOFF_NS);
+	std::vector<std::uint8_t> tx(ECMXF_PKT_SIZE(1408));
+	CHECK(ecmxf_engine_next(&l.e, before + 1000, tx.data(), tx.size()) == -EAGAIN);
+	l.run(x);
+	CHECK(x.status == 0);
+	CHECK(l.chip.mosiLog.back().size() == ECMXF_PKT_SIZE(1408));
+
+	// sizes are validated at submission
+	ecmxf_xfer bad = command(ECMXF_CMD_SPI_RECONFIG_OP);
+	bad.hdr.len = 31;
+	CHECK(l.submit(bad) == -EINVAL);
+	bad.hdr.len = 1409;
+	CHECK(l.submit(bad) == -EINVAL);
+}
+
+TEST_CASE("engine: CRC_TYPE_SET switches the check word of both directions", "[engine]")
+{
+	Link l;
+	ecmxf_xfer x = command(ECMXF_CMD_CRC_TYPE_SET, ECMXF_CHECK_CRC32);
+	REQUIRE(l.submit(x) == 0);
+	l.run(x);
+	CHECK(x.status == 0);
+	CHECK(l.e.check == ECMXF_CHECK_CRC32);
+
+	ecmxf_xfer y = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(y) == 0);
+	l.run(y);
+	CHECK(y.status == 0);
+	const auto &p = l.chip.mosiLog.back();
+	const std::size_t n = p.size() - 8;
+	const std::uint32_t word = static_cast<std::uint32_t>(p[n]) |
+				   static_cast<std::uint32_t>(p[n + 1]) << 8 |
+				   static_cast<std::uint32_t>(p[n + 2]) << 16 |
+				   static_cast<std::uint32_t>(p[n + 3]) << 24;
+	CHECK(word == ecmxf_crc32(p.data(), n));
+	CHECK(l.chip.mosiBad == 0);
+
+	ecmxf_xfer bad = command(ECMXF_CMD_CRC_TYPE_SET, 4);
+	CHECK(l.submit(bad) == -EINVAL);
+}
+
+TEST_CASE("engine: new error-status bits are surfaced once and cleared when asked", "[engine]")
+{
+	Link l;
+	l.chip.errStatus = ECMXF_ERR_SPI_CRC | ECMXF_ERR_LINK_HW;
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(x) == 0);
+	l.run(x);
+	CHECK((l.events & ECMXF_EV_ERR_STATUS) != 0);
+	CHECK((l.e.last.err_status & ECMXF_ERR_SPI_CRC) != 0);
+
+	// not reported again while it stays set
+	l.events = 0;
+	ecmxf_xfer y = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(y) == 0);
+	l.run(y);
+	CHECK((l.events & ECMXF_EV_ERR_STATUS) == 0);
+
+	ecmxf_engine_clear_errors(&l.e, ECMXF_CTL_CLR_SPI_CRC_ERR);
+	ecmxf_xfer z = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(z) == 0);
+	l.run(z);
+	CHECK((l.chip.errStatus & ECMXF_ERR_SPI_CRC) == 0);
+	// the control bit went out exactly once: re-sends do not repeat it
+	int with = 0;
+	for (const auto &c : l.chip.cmdLog)
+		with += (c.control & ECMXF_CTL_CLR_SPI_CRC_ERR) != 0;
+	CHECK(with == 1);
+}
+
+TEST_CASE("engine: interrupt clears go out once, in a new packet", "[engine]")
+{
+	Link l;
+	ecmxf_engine_clear_ints(&l.e, ECMXF_INT_ECAT_PKT, 0x01, 0x80);
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(x) == 0);
+	l.run(x);
+	int with = 0;
+	for (const auto &c : l.chip.cmdLog) {
+		if (c.int_clear) {
+			with++;
+			CHECK(c.int_clear == ECMXF_INT_ECAT_PKT);
+			CHECK(c.gpio_int_clear[0] == 0x01);
+			CHECK(c.gpio_int_clear[1] == 0x80);
+		}
+	}
+	CHECK(with == 1);
+}
+
+TEST_CASE("engine: submission checks its arguments", "[engine]")
+{
+	Link l;
+	std::uint8_t data[200] = {};
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_SDO_REQ);
+	x.tx_data = data;
+	x.tx_len = 113; // > 112-byte data section
+	CHECK(l.submit(x) == -EMSGSIZE);
+	x.tx_len = 4;
+	x.tx_data = nullptr;
+	CHECK(l.submit(x) == -EINVAL);
+	x.tx_data = data;
+	x.rx_size = 4; // without a buffer
+	CHECK(l.submit(x) == -EINVAL);
+	x.rx_size = 0;
+	CHECK(l.submit(x) == 0);
+	ecmxf_xfer y = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	CHECK(l.submit(y) == -EBUSY); // one command in the slot at a time
+	std::vector<std::uint8_t> tx(ECMXF_PKT_SIZE(112) + 1);
+	CHECK(ecmxf_engine_next(&l.e, l.now, tx.data(), tx.size()) == -EINVAL);
+}
+
+TEST_CASE("engine: cancel withdraws a command", "[engine]")
+{
+	Link l;
+	ecmxf_xfer x = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(x) == 0);
+	CHECK(ecmxf_engine_cancel(&l.e, &x) == 0);
+	CHECK(x.status == -ECANCELED);
+	CHECK(ecmxf_engine_cancel(&l.e, &x) == -ENOENT);
+	CHECK(ecmxf_engine_idle(&l.e));
+}
+
+TEST_CASE("engine: WARM_RESET switches to the power-on format and completes on the NOP",
+	  "[engine]")
+{
+	Link l;
+	l.chip.check = ECMXF_CHECK_CRC32;
+	ecmxf_engine_init(&l.e, ECMXF_DATA_DEFAULT, ECMXF_CHECK_CRC32);
+	ecmxf_xfer x = command(ECMXF_CMD_WARM_RESET);
+	REQUIRE(l.submit(x) == 0);
+	l.exchange(); // sync
+	l.chip.resetPending = true; // the chip restarts on receiving it
+	l.exchange(); // WARM_RESET
+	CHECK(l.e.check == ECMXF_CHECK_FIXED);
+	l.run(x);
+	CHECK(x.status == 0);
+	CHECK((l.events & ECMXF_EV_CHIP_RESET) != 0);
+	// WARM_RESET went out once; the chip was polled with INFO_UPDATE after
+	// it, since a restarted chip would run a repeated WARM_RESET again
+	std::size_t resets = 0;
+	for (const auto &c : l.chip.cmdLog)
+		resets += c.code == ECMXF_CMD_WARM_RESET;
+	CHECK(resets == 1);
+	CHECK(l.chip.cmdLog.back().code == ECMXF_CMD_INFO_UPDATE_OP);
+}
+
+TEST_CASE("engine: data that would not fit the format a command switches to is refused",
+	  "[engine]")
+{
+	Link l;
+	ecmxf_engine_init(&l.e, 300, ECMXF_CHECK_FIXED);
+	std::uint8_t data[300] = {};
+	ecmxf_xfer x = command(ECMXF_CMD_SPI_RECONFIG_OP);
+	x.hdr.len = 64;
+	x.tx_data = data;
+	x.tx_len = 65; // fits 300 now, not the 64 it switches to
+	CHECK(l.submit(x) == -EMSGSIZE);
+	x.tx_len = 64;
+	CHECK(l.submit(x) == 0);
+	CHECK(ecmxf_engine_cancel(&l.e, &x) == 0);
+
+	ecmxf_xfer w = command(ECMXF_CMD_WARM_RESET);
+	w.tx_data = data;
+	w.tx_len = 113; // the power-on data section is 112 bytes
+	CHECK(l.submit(w) == -EMSGSIZE);
+}
