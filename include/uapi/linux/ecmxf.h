@@ -1,0 +1,477 @@
+/* SPDX-License-Identifier: GPL-2.0-only WITH Linux-syscall-note */
+/*
+ * <linux/ecmxf.h> - userspace ABI of the NEXTW ECM-XF SPI EtherCAT master
+ *
+ * One character device per chip, /dev/ecmxfN.  Commands go to the chip
+ * synchronously (%ECMXF_IOC_CMD) or asynchronously (%ECMXF_IOC_SUBMIT, with
+ * completions read() from the file descriptor); process data travels through
+ * two mmap()ed single-producer/single-consumer rings whose layout the kernel
+ * reports as offsets (%ECMXF_IOC_RING_SETUP), in the style of io_uring.
+ *
+ * Rules that hold for every structure in this file:
+ *  - sizes are multiples of 8 and identical on 32- and 64-bit ABIs; there
+ *    are no implicit holes, every byte is a named field;
+ *  - 64-bit fields and user pointers are __aligned_u64;
+ *  - fields named padding or reserved must be zero on input (the kernel
+ *    returns -EINVAL otherwise) and are zeroed by the kernel on output, so
+ *    that later versions can give them a meaning.
+ *
+ * ABI version 1.  See Documentation/uapi.rst.
+ *
+ * Copyright (C) 2026 The ecmxf authors
+ */
+#ifndef _UAPI_LINUX_ECMXF_H
+#define _UAPI_LINUX_ECMXF_H
+
+#include <linux/ioctl.h>
+#include <linux/types.h>
+
+/**
+ * ECMXF_UAPI_VERSION - version of the ABI described by this header
+ *
+ * Reported by %ECMXF_IOC_GET_VERSION and in &struct ecmxf_devinfo.uapi_version.
+ * Raised when a reserved field or flag gains a meaning; an existing layout
+ * never changes.
+ */
+#define ECMXF_UAPI_VERSION		1
+
+/*
+ * ECMXF_IOC_MAGIC - ioctl type byte of /dev/ecmxfN, sequence numbers 0x00-0x1F.
+ *
+ * Not listed in Documentation/userspace-api/ioctl/ioctl-number.rst as far as
+ * we know (0xE5 is linux/fuse.h, 0xEC is cros_ec_dev.h; 0xE9 is free there).
+ */
+#define ECMXF_IOC_MAGIC			0xE9
+
+/**
+ * struct ecmxf_cmd_header - command header fields that userspace chooses
+ * @data: parametric data 0..3 (packet offsets 0x04..0x07)
+ * @rsv_word: the 16-bit word at 0x08 that the manual calls "reserved";
+ *	despite its name it is sent as given and not checked: bit 11 enables
+ *	LRW and bit 12 bus shift mode for ECAT_INIT_OP, bit 15 marks @gpio_out
+ *	valid
+ * @control: control byte at 0x0A (manual ver. 050: refresh state, clear
+ *	error bits); the kernel may OR in clear bits of its own
+ * @padding: the index byte at 0x0B, which the kernel allocates; must be zero
+ * @code: command code at 0x0C
+ * @param: command parameter at 0x0D
+ * @len: data length field at 0x0E, sent as given (for most commands the
+ *	number of data bytes, for some a parameter)
+ * @int_clear: interrupt clear bits at 0x10
+ * @gpio_int_clear: GPIO interrupt clear low/high (0x14, 0x15)
+ * @gpio_out: GPIO outputs low/high (0x16, 0x17), valid when @rsv_word bit 15
+ *	is set
+ * @reserved: must be zero
+ *
+ * The field at offset n is the packet byte at n + 4: the structure mirrors
+ * packet bytes 0x04..0x17; start word, data, check word and end word are the
+ * kernel's.
+ */
+struct ecmxf_cmd_header {
+	__u8 data[4];
+	__u16 rsv_word;
+	__u8 control;
+	__u8 padding;
+	__u8 code;
+	__u8 param;
+	__u16 len;
+	__u32 int_clear;
+	__u8 gpio_int_clear[2];
+	__u8 gpio_out[2];
+	__u32 reserved;
+};
+
+/**
+ * struct ecmxf_rsp_header - the response header that answered a command
+ * @crc_err_cnt: SPI CRC error count (0x04)
+ * @wkc_err_cnt: WKC error count (0x05)
+ * @tx_fifo_cnt: TxPDO frames waiting in the chip's TxFIFO (0x06)
+ * @rx_fifo_cnt: RxPDO frames waiting in the chip's RxFIFO (0x07)
+ * @ecat_state: EtherCAT state (0x08): 0 none, 1 INIT, 2 PRE_OP, 3 BOOT,
+ *	4 SAFE_OP, 8 OP, 0x10 ERROR
+ * @err_status: error status bits (0x09)
+ * @ecm_status: ECM status bits (0x0A); bit 7 async command busy
+ * @index: index of the command answered (0x0B), the kernel's
+ * @code: command code answered (0x0C)
+ * @ret: return value (0x0D)
+ * @len: valid data length (0x0E)
+ * @int_flags: interrupt flags (0x10)
+ * @gpio_int_flag: GPIO interrupt flags low/high (0x14, 0x15)
+ * @gpio_in: GPIO inputs low/high (0x16, 0x17)
+ * @padding: zeroed by the kernel
+ *
+ * Like &struct ecmxf_cmd_header, field offset n is packet byte n + 4.
+ * For an async command it is the header that reported the end of the busy
+ * phase, not the one that accepted the command.
+ */
+struct ecmxf_rsp_header {
+	__u8 crc_err_cnt;
+	__u8 wkc_err_cnt;
+	__u8 tx_fifo_cnt;
+	__u8 rx_fifo_cnt;
+	__u8 ecat_state;
+	__u8 err_status;
+	__u8 ecm_status;
+	__u8 index;
+	__u8 code;
+	__u8 ret;
+	__u16 len;
+	__u32 int_flags;
+	__u8 gpio_int_flag[2];
+	__u8 gpio_in[2];
+	__u32 padding;
+};
+
+/*
+ * &struct ecmxf_cmd.flags and &struct ecmxf_submit.flags
+ *
+ * ECMXF_CMD_F_NO_AUTO_CLEAR: when the command fails with the chip's
+ * async-command error or command error bit, leave the bit set instead of
+ * clearing it with the next packet's control byte.
+ */
+#define ECMXF_CMD_F_NO_AUTO_CLEAR	(1U << 0)
+
+/**
+ * struct ecmxf_cmd - one synchronous command (%ECMXF_IOC_CMD)
+ * @hdr: command header; the kernel allocates the index
+ * @tx_ptr: user pointer to the data section bytes to send (may be 0 when
+ *	@tx_len is 0)
+ * @rx_ptr: user pointer to a buffer for the response data (may be 0 when
+ *	@rx_size is 0)
+ * @tx_len: bytes at @tx_ptr, at most &struct ecmxf_devinfo.data_size; the
+ *	rest of the data section is sent as zeros
+ * @rx_size: capacity of @rx_ptr in bytes
+ * @timeout_us: time allowed from the ioctl until the answer (for async
+ *	commands: until the chip's busy phase ends), in microseconds; 0 selects
+ *	the command's default
+ * @flags: %ECMXF_CMD_F_* bits; unknown bits are rejected
+ * @rsp: output: the response header that answered the command
+ * @rx_len: output: response data bytes copied to @rx_ptr
+ * @status: output: 0, or the negative errno of the command: -ETIMEDOUT,
+ *	-EBUSY (the chip refused an async command while another ran),
+ *	-EREMOTEIO (async command ended with the error bit), -EBADMSG,
+ *	-EPROTO or -EIO (transport retries exhausted), -ECONNRESET (the chip
+ *	reset), -EMSGSIZE (answer longer than @rx_size, @rx_len bytes copied),
+ *	-ECANCELED (abandoned by %ECMXF_IOC_RESET)
+ * @reserved: must be zero
+ *
+ * The ioctl returns 0 whenever the command reached the link; the outcome of
+ * the command itself is in @status.
+ */
+struct ecmxf_cmd {
+	struct ecmxf_cmd_header hdr;
+	__aligned_u64 tx_ptr;
+	__aligned_u64 rx_ptr;
+	__u32 tx_len;
+	__u32 rx_size;
+	__u32 timeout_us;
+	__u32 flags;
+	struct ecmxf_rsp_header rsp;
+	__u32 rx_len;
+	__s32 status;
+	__u32 reserved[6];
+};
+
+/**
+ * struct ecmxf_submit - one asynchronous command (%ECMXF_IOC_SUBMIT)
+ * @hdr: command header; the kernel allocates the index
+ * @tx_ptr: user pointer to the data section bytes; copied during the ioctl
+ * @rx_ptr: user pointer to a buffer for the response data; written when the
+ *	completion record is read(), in the reader's address space
+ * @tx_len: bytes at @tx_ptr, at most &struct ecmxf_devinfo.data_size
+ * @rx_size: capacity of @rx_ptr in bytes
+ * @timeout_us: as &struct ecmxf_cmd.timeout_us, counted from the submit
+ * @flags: %ECMXF_CMD_F_* bits
+ * @cookie: any value; returned in &struct ecmxf_completion.cookie
+ * @reserved: must be zero
+ *
+ * The first 56 bytes are laid out as in &struct ecmxf_cmd.
+ */
+struct ecmxf_submit {
+	struct ecmxf_cmd_header hdr;
+	__aligned_u64 tx_ptr;
+	__aligned_u64 rx_ptr;
+	__u32 tx_len;
+	__u32 rx_size;
+	__u32 timeout_us;
+	__u32 flags;
+	__aligned_u64 cookie;
+	__u32 reserved[6];
+};
+
+/**
+ * struct ecmxf_completion - record read() from /dev/ecmxfN
+ * @cookie: &struct ecmxf_submit.cookie of the finished command
+ * @status: 0 or negative errno, as &struct ecmxf_cmd.status
+ * @rx_len: response data bytes copied to the submit's rx_ptr
+ * @rsp: the response header that answered the command
+ * @reserved: zeroed by the kernel
+ *
+ * read() returns whole records only; a buffer shorter than one record gives
+ * -EINVAL.  Completions of one file descriptor are read in completion order.
+ */
+struct ecmxf_completion {
+	__aligned_u64 cookie;
+	__s32 status;
+	__u32 rx_len;
+	struct ecmxf_rsp_header rsp;
+	__u32 reserved[6];
+};
+
+/* &struct ecmxf_devinfo.flags */
+#define ECMXF_DEVINFO_F_INT0		(1U << 0)	/* INT0 (ready) line wired */
+#define ECMXF_DEVINFO_F_INT1		(1U << 1)	/* INT1 (event) line wired */
+#define ECMXF_DEVINFO_F_FW_VERSION	(1U << 2)	/* fw_version, fw_info valid */
+#define ECMXF_DEVINFO_F_CLAIMED		(1U << 3)	/* someone holds the claim */
+#define ECMXF_DEVINFO_F_CLAIM_MINE	(1U << 4)	/* this fd holds the claim */
+#define ECMXF_DEVINFO_F_RINGS		(1U << 5)	/* PDO rings are set up */
+
+/**
+ * struct ecmxf_devinfo - the chip and the link (%ECMXF_IOC_DEVINFO)
+ * @uapi_version: %ECMXF_UAPI_VERSION of the running kernel module
+ * @flags: %ECMXF_DEVINFO_F_* bits
+ * @data_size: packet data section size in bytes (32..1408)
+ * @check_type: check word type: 0 fixed, 1 CRC-8, 2 CRC-CCITT, 3 CRC-32
+ * @fw_version: return value of ECM_CMD_FW_VERSION_GET
+ * @fw_info: the 20 data bytes of ECM_CMD_FW_VERSION_GET: byte 1 extended
+ *	version, byte 3 master series (XF, XFL, XFU, XM), bytes 4..19 build
+ *	identifier
+ * @slave_count: slaves found by the last bus scan the kernel saw, 0 if unknown
+ * @max_open: how many file descriptors may have the device open at once
+ * @open_count: how many have it open now
+ * @claim_pid: process that holds the cyclic claim (%ECMXF_IOC_CLAIM), in the
+ *	caller's pid namespace; 0 if none or not visible there
+ * @queue_depth: submitted commands a file descriptor may have in flight
+ * @spi_speed_hz: SPI clock of the link
+ * @reserved: zeroed by the kernel
+ */
+struct ecmxf_devinfo {
+	__u32 uapi_version;
+	__u32 flags;
+	__u16 data_size;
+	__u8 check_type;
+	__u8 fw_version;
+	__u8 fw_info[20];
+	__u32 slave_count;
+	__u32 max_open;
+	__u32 open_count;
+	__u32 claim_pid;
+	__u32 queue_depth;
+	__u32 spi_speed_hz;
+	__u32 reserved[10];
+};
+
+/**
+ * struct ecmxf_counters - link statistics since probe (%ECMXF_IOC_COUNTERS)
+ * @exchanges: SPI exchanges (one packet each way)
+ * @bad_not_ready: received packets whose check word read 0x87654321
+ * @bad_start: received packets with a wrong start word
+ * @bad_end: received packets with a wrong end word
+ * @bad_check: received packets whose check word did not match
+ * @bad_length: received packets whose data length exceeded the data section
+ * @retries: packets re-sent because the answer was unusable
+ * @polls: packets re-sent because the answer had not arrived yet
+ * @exhausted: commands failed because retries ran out
+ * @timeouts: commands failed with -ETIMEDOUT
+ * @async_errors: async commands that ended with the error bit (-EREMOTEIO)
+ * @busy_rejects: async commands the chip refused as busy (-EBUSY)
+ * @lost_answers: answers overwritten before they were read (re-issued or
+ *	failed)
+ * @chip_resets: times the chip was seen to restart
+ * @wkc_errors: increments of the chip's WKC error count
+ * @out_ring_underruns: pump cycles that found the output ring empty while
+ *	the chip's RxFIFO wanted a frame
+ * @in_ring_overruns: input frames dropped because the input ring was full
+ * @rx_fifo_underruns: responses in which the chip's RxFIFO (outputs) was
+ *	empty while the pump was running
+ * @rx_fifo_overruns: output frames the chip refused because its RxFIFO was
+ *	full
+ * @tx_fifo_overruns: times the chip's TxFIFO (inputs) was seen full, so the
+ *	chip dropped its oldest frames
+ * @int0_irqs: INT0 (ready) interrupts handled
+ * @int1_irqs: INT1 (event) interrupts handled
+ * @reserved: zeroed by the kernel
+ */
+struct ecmxf_counters {
+	__aligned_u64 exchanges;
+	__aligned_u64 bad_not_ready;
+	__aligned_u64 bad_start;
+	__aligned_u64 bad_end;
+	__aligned_u64 bad_check;
+	__aligned_u64 bad_length;
+	__aligned_u64 retries;
+	__aligned_u64 polls;
+	__aligned_u64 exhausted;
+	__aligned_u64 timeouts;
+	__aligned_u64 async_errors;
+	__aligned_u64 busy_rejects;
+	__aligned_u64 lost_answers;
+	__aligned_u64 chip_resets;
+	__aligned_u64 wkc_errors;
+	__aligned_u64 out_ring_underruns;
+	__aligned_u64 in_ring_overruns;
+	__aligned_u64 rx_fifo_underruns;
+	__aligned_u64 rx_fifo_overruns;
+	__aligned_u64 tx_fifo_overruns;
+	__aligned_u64 int0_irqs;
+	__aligned_u64 int1_irqs;
+	__aligned_u64 reserved[10];
+};
+
+/*
+ * &struct ecmxf_reset.flags: exactly one must be set.
+ *
+ * ECMXF_RESET_F_ASYNC_CMD: send ECM_CMD_ASYNCCMD_RESET with parameter
+ *	&struct ecmxf_reset.param (%ECMXF_RESET_ASYNC_*).
+ * ECMXF_RESET_F_WARM: send ECM_CMD_WARM_RESET; the chip restarts, the kernel
+ *	returns to the default packet format, fails every pending command with
+ *	-ECONNRESET and stops the rings.
+ * ECMXF_RESET_F_LINK: send nothing special; forget the link state (index,
+ *	pending answer, packet format) and resynchronise with the chip.
+ */
+#define ECMXF_RESET_F_ASYNC_CMD		(1U << 0)
+#define ECMXF_RESET_F_WARM		(1U << 1)
+#define ECMXF_RESET_F_LINK		(1U << 2)
+
+/* &struct ecmxf_reset.param for %ECMXF_RESET_F_ASYNC_CMD (ASYNCCMD_RESET) */
+#define ECMXF_RESET_ASYNC_CLEAR_BUSY	(1U << 0)	/* clear a stuck busy bit */
+#define ECMXF_RESET_ASYNC_SKIP_LINK	(1U << 1)	/* skip the link wait */
+#define ECMXF_RESET_ASYNC_ABANDON	(1U << 2)	/* abandon the async command */
+
+/**
+ * struct ecmxf_reset - recover the chip or the link (%ECMXF_IOC_RESET)
+ * @flags: one %ECMXF_RESET_F_* value
+ * @param: for %ECMXF_RESET_F_ASYNC_CMD, %ECMXF_RESET_ASYNC_* bits (the
+ *	command parameter); must be zero otherwise
+ * @timeout_us: time allowed for the reset, in microseconds; 0 selects the
+ *	default
+ * @reserved: must be zero
+ */
+struct ecmxf_reset {
+	__u32 flags;
+	__u32 param;
+	__u32 timeout_us;
+	__u32 reserved[5];
+};
+
+/*
+ * mmap() offsets of the two rings (the offset argument; length is
+ * &struct ecmxf_ring_offsets.mmap_size).  ECMXF_RING_OFF_OUT maps the output
+ * ring (host to chip, RxPDO frames), ECMXF_RING_OFF_IN the input ring (chip
+ * to host, TxPDO frames).
+ */
+#define ECMXF_RING_OFF_OUT		0x00000000ULL
+#define ECMXF_RING_OFF_IN		0x10000000ULL
+
+/* &struct ecmxf_ring_setup.flags */
+#define ECMXF_RING_F_POLL_OUT	(1U << 0)	/* EPOLLOUT: output ring has room */
+#define ECMXF_RING_F_POLL_IN	(1U << 1)	/* EPOLLRDBAND: input ring has frames */
+
+/* bits of the ring's flags word (in ring memory, written by the kernel) */
+#define ECMXF_RING_S_ACTIVE	(1U << 0)	/* the pump is moving frames */
+#define ECMXF_RING_S_ERROR	(1U << 1)	/* the pump stopped on an error */
+
+/**
+ * struct ecmxf_ring_offsets - where a ring's parts are in its mapping
+ * @head: offset of the __u32 consumer index
+ * @tail: offset of the __u32 producer index
+ * @mask: offset of the __u32 index mask (entries - 1)
+ * @entries: offset of the __u32 number of frame slots
+ * @flags: offset of the __u32 %ECMXF_RING_S_* word
+ * @dropped: offset of the __u32 count of frames dropped at this ring
+ * @frames: offset of the first frame slot
+ * @frame_size: value: bytes of process data in a frame (the chip's RxPDO
+ *	size for the output ring, TxPDO size for the input ring)
+ * @frame_stride: value: bytes from one frame slot to the next, a multiple
+ *	of 8 and at least @frame_size
+ * @mmap_size: value: length to pass to mmap(), a multiple of the page size
+ * @reserved: zeroed by the kernel
+ *
+ * Slot i is at @frames + (i & mask) * @frame_stride.  Indices run freely
+ * and wrap at 2^32; the ring is empty when head == tail and full when
+ * tail - head == entries.  Each index has one writer: the producer stores
+ * tail with release after writing the frame, the consumer loads it with
+ * acquire; the consumer stores head with release after reading the frame,
+ * the producer loads it with acquire.  Userspace produces the output ring
+ * and consumes the input ring.
+ */
+struct ecmxf_ring_offsets {
+	__u32 head;
+	__u32 tail;
+	__u32 mask;
+	__u32 entries;
+	__u32 flags;
+	__u32 dropped;
+	__u32 frames;
+	__u32 frame_size;
+	__u32 frame_stride;
+	__u32 mmap_size;
+	__u32 reserved[2];
+};
+
+/**
+ * struct ecmxf_ring_setup - create the PDO rings (%ECMXF_IOC_RING_SETUP)
+ * @out_entries: frame slots of the output ring, a power of two
+ * @in_entries: frame slots of the input ring, a power of two
+ * @flags: %ECMXF_RING_F_* bits
+ * @padding: must be zero
+ * @out: output: layout of the output ring (mmap at %ECMXF_RING_OFF_OUT)
+ * @in: output: layout of the input ring (mmap at %ECMXF_RING_OFF_IN)
+ * @reserved: must be zero
+ *
+ * Needs the cyclic claim.  Frame sizes come from the chip's PDO
+ * configuration at the time of the call.
+ */
+struct ecmxf_ring_setup {
+	__u32 out_entries;
+	__u32 in_entries;
+	__u32 flags;
+	__u32 padding;
+	struct ecmxf_ring_offsets out;
+	struct ecmxf_ring_offsets in;
+	__u32 reserved[4];
+};
+
+/**
+ * ECMXF_IOC_GET_VERSION - read %ECMXF_UAPI_VERSION of the module (a __u32);
+ * its number never changes, so it also works across versions
+ */
+#define ECMXF_IOC_GET_VERSION	_IOR(ECMXF_IOC_MAGIC, 0x00, __u32)
+/**
+ * ECMXF_IOC_DEVINFO - fill &struct ecmxf_devinfo
+ */
+#define ECMXF_IOC_DEVINFO	_IOR(ECMXF_IOC_MAGIC, 0x01, struct ecmxf_devinfo)
+/**
+ * ECMXF_IOC_CMD - run one command and wait for its answer (for async
+ * commands, for the end of the busy phase); &struct ecmxf_cmd
+ */
+#define ECMXF_IOC_CMD		_IOWR(ECMXF_IOC_MAGIC, 0x02, struct ecmxf_cmd)
+/**
+ * ECMXF_IOC_SUBMIT - queue one command; its &struct ecmxf_completion is
+ * read() later; &struct ecmxf_submit
+ */
+#define ECMXF_IOC_SUBMIT	_IOW(ECMXF_IOC_MAGIC, 0x03, struct ecmxf_submit)
+/**
+ * ECMXF_IOC_COUNTERS - fill &struct ecmxf_counters
+ */
+#define ECMXF_IOC_COUNTERS	_IOR(ECMXF_IOC_MAGIC, 0x04, struct ecmxf_counters)
+/**
+ * ECMXF_IOC_RESET - recover the chip or the link; &struct ecmxf_reset
+ */
+#define ECMXF_IOC_RESET		_IOW(ECMXF_IOC_MAGIC, 0x05, struct ecmxf_reset)
+/**
+ * ECMXF_IOC_CLAIM - take the exclusive cyclic-path claim for this file
+ * descriptor (no argument); -EBUSY if another one holds it
+ */
+#define ECMXF_IOC_CLAIM		_IO(ECMXF_IOC_MAGIC, 0x06)
+/**
+ * ECMXF_IOC_RELEASE - give the claim back and tear the rings down (no
+ * argument); closing the file descriptor does the same
+ */
+#define ECMXF_IOC_RELEASE	_IO(ECMXF_IOC_MAGIC, 0x07)
+/**
+ * ECMXF_IOC_RING_SETUP - create the two PDO rings; &struct ecmxf_ring_setup
+ */
+#define ECMXF_IOC_RING_SETUP	_IOWR(ECMXF_IOC_MAGIC, 0x08, struct ecmxf_ring_setup)
+
+#endif /* _UAPI_LINUX_ECMXF_H */
