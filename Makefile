@@ -21,8 +21,8 @@ KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
 
 DEPS := scripts/install-deps.sh
 
-.PHONY: all deps configure check check-asan fuzz demo bench kmod kmod-clean \
-	install clean help
+.PHONY: all deps configure check check-asan fuzz demo bench kmod kmod-deps \
+	kmod-check checkpatch kernel-lint kmod-clean install clean help
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -61,10 +61,27 @@ bench:
 demo: all
 	$(BUILD)/utils/ecmxf-util commands
 
-kmod:
+kmod-deps:
 	@$(DEPS) --kernel
-	@test -n "$(KDIR)" || { echo "make kmod: no kernel headers found; set KDIR=" >&2; exit 1; }
+	@test -n "$(KDIR)" || { echo "make: no kernel headers found; set KDIR=" >&2; exit 1; }
+
+# The module (see Documentation/kernel-build.rst).  `make kmod C=2` adds
+# sparse: command-line variables reach Kbuild through MAKEFLAGS.
+kmod: kmod-deps
 	$(MAKE) -C $(KDIR) M=$(CURDIR)/kmod W=1 modules
+
+# From scratch with W=1 and sparse (C=2), then kernel-doc over lib/core
+# and kmod, headers included; fails on any warning.
+kmod-check: kmod-deps
+	MAKE="$(MAKE)" scripts/kmod-check.sh $(KDIR)
+
+# checkpatch.pl --strict over lib/core and kmod; the script fetches it
+# from Debian's linux-source-6.1 into ECMXF_CACHE (default /var/cache/ecmxf).
+checkpatch:
+	scripts/checkpatch.sh
+
+# Everything the kernel asks of kernel code, before review.
+kernel-lint: checkpatch kmod-check
 
 kmod-clean:
 	@test -z "$(KDIR)" || $(MAKE) -C $(KDIR) M=$(CURDIR)/kmod clean
@@ -81,5 +98,7 @@ help:
 	@echo "make demo      run the demo"
 	@echo "make bench     build and run the benchmarks"
 	@echo "make kmod      build kmod/ecmxf.ko (KDIR=/path/to/headers)"
+	@echo "make kernel-lint  checkpatch --strict, W=1, sparse and kernel-doc"
+	@echo "               over lib/core and kmod (also: make checkpatch, make kmod-check)"
 	@echo "make install   install to PREFIX (default /usr/local)"
 	@echo "make clean     remove build trees"
