@@ -1,0 +1,87 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+#
+# Run every libFuzzer binary of a build for a while.
+#
+#   tests/fuzz/run-fuzzers.sh BUILD_DIR SECONDS
+#
+# Each BUILD_DIR/tests/fuzz/fuzz-* runs for SECONDS on a scratch copy of
+# its seed corpus (tests/fuzz/corpus/<name>/ if it exists, else
+# tests/fuzz/corpus/), so new corpus entries never land in the source
+# tree.  A crash, leak, timeout or out-of-memory makes libFuzzer exit
+# non-zero; the reproducer is kept under the scratch directory, whose path
+# is printed, and this script exits 1.  Exit 0 when all fuzzers ran clean.
+set -u
+
+if [ $# -ne 2 ]; then
+	echo "usage: $0 BUILD_DIR SECONDS" >&2
+	exit 2
+fi
+build=$1
+seconds=$2
+case "$seconds" in
+''|*[!0-9]*) echo "run-fuzzers.sh: SECONDS must be a number" >&2; exit 2 ;;
+esac
+
+srcdir=$(cd "$(dirname "$0")" && pwd)
+bindir="$build/tests/fuzz"
+fuzzers=$(find "$bindir" -maxdepth 1 -type f -name 'fuzz-*' -perm -u+x 2>/dev/null | sort)
+if [ -z "$fuzzers" ]; then
+	echo "run-fuzzers.sh: no fuzz-* binaries in $bindir (configure with -DECMXF_BUILD_FUZZ=ON)" >&2
+	exit 1
+fi
+
+scratch=$(mktemp -d "${TMPDIR:-/tmp}/ecmxf-fuzz.XXXXXX")
+failed=0
+summary=""
+
+for bin in $fuzzers; do
+	name=$(basename "$bin")
+	short=${name#fuzz-}
+	seeds="$srcdir/corpus/$short"
+	[ -d "$seeds" ] || seeds="$srcdir/corpus"
+	work="$scratch/$name"
+	mkdir -p "$work/corpus" "$work/artifacts"
+	# seed files only (not the subdirectories of other targets)
+	find "$seeds" -maxdepth 1 -type f -exec cp {} "$work/corpus/" \;
+	nseeds=$(find "$work/corpus" -type f | wc -l)
+
+	echo "==> $name: $seconds s, $nseeds seeds, log $work/log"
+	"$bin" -max_total_time="$seconds" -print_final_stats=1 -timeout=10 \
+		-max_len=8192 -rss_limit_mb=2048 \
+		-artifact_prefix="$work/artifacts/" \
+		"$work/corpus" >"$work/log" 2>&1
+	rc=$?
+
+	execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$work/log" | tail -n 1)
+	rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$work/log" | tail -n 1)
+	cov=$(grep -o 'cov: [0-9]*' "$work/log" | tail -n 1 | sed 's/cov: //')
+	ft=$(grep -o 'ft: [0-9]*' "$work/log" | tail -n 1 | sed 's/ft: //')
+	corp=$(find "$work/corpus" -type f | wc -l)
+	stats="execs ${execs:-?} (${rate:-?}/s), cov ${cov:-?}, ft ${ft:-?}, corpus $nseeds -> $corp"
+
+	if [ "$rc" -eq 0 ]; then
+		line="$name: OK, $stats"
+	else
+		failed=1
+		line="$name: FAILED (exit $rc), $stats"
+		echo "---- last lines of $work/log:"
+		tail -n 60 "$work/log"
+		for a in "$work"/artifacts/*; do
+			[ -e "$a" ] && echo "---- reproducer: $a (replay: $bin $a)"
+		done
+	fi
+	echo "$line"
+	summary="$summary$line
+"
+done
+
+echo "==== fuzz summary (${seconds}s each)"
+printf '%s' "$summary"
+if [ "$failed" -ne 0 ]; then
+	echo "run-fuzzers.sh: FAILED; logs and reproducers kept in $scratch"
+	exit 1
+fi
+rm -rf "$scratch"
+echo "run-fuzzers.sh: all fuzzers ran clean"
+exit 0
