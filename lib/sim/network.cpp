@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: MIT
+//
+// network.cpp - a bus of slave models, and its text file format:
+//
+//   # comment
+//   name 2x EST-584 + digital I/O
+//   slave EST-584 alias=1
+//   slave EST-584
+//   slave dio count=126
+//
+// One "slave" line per slave (or per "count" equal slaves), in bus order.
+// Options are key=value words; values may be double-quoted. The format is
+// documented in Documentation/simulator.rst.
+
+#include <ecmxf/sim_network.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "slaves/factory.hpp"
+
+namespace ecmxf::sim {
+
+namespace {
+
+constexpr std::size_t kMaxSlaves = 128; // the chip's limit
+
+std::string lower(std::string s)
+{
+	std::transform(s.begin(), s.end(), s.begin(),
+		       [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+	return s;
+}
+
+// Split a line into words; "quoted words" keep their spaces.
+std::vector<std::string> words(const std::string &line, const std::string &where)
+{
+	std::vector<std::string> out;
+	std::string cur;
+	bool quoted = false, have = false;
+	for (char c : line) {
+		if (c == '"') {
+			quoted = !quoted;
+			have = true;
+		} else if (!quoted && std::isspace(static_cast<unsigned char>(c))) {
+			if (have)
+				out.push_back(cur);
+			cur.clear();
+			have = false;
+		} else {
+			cur += c;
+			have = true;
+		}
+	}
+	if (quoted)
+		throw std::invalid_argument(where + ": unterminated quote");
+	if (have)
+		out.push_back(cur);
+	return out;
+}
+
+const char *const kDefaultNetwork = "name 2x EST-584 + digital I/O\n"
+				    "slave EST-584\n"
+				    "slave EST-584\n"
+				    "slave dio\n";
+
+} // namespace
+
+Network::Network() = default;
+Network::~Network() = default;
+Network::Network(Network &&) noexcept = default;
+Network &Network::operator=(Network &&) noexcept = default;
+
+std::unique_ptr<Slave> Network::makeSlave(const std::string &type, unsigned position,
+					  const std::map<std::string, std::string> &options)
+{
+	const std::string t = lower(type);
+	if (t == "est-584" || t == "est584")
+		return makeEst584(position, options);
+	if (t == "servo" || t == "akd2g")
+		return makeServo(position, options);
+	if (t == "dio" || t == "io")
+		return makeDio(position, options);
+	throw std::invalid_argument("unknown slave type '" + type +
+				    "' (known: EST-584, servo, dio)");
+}
+
+Network Network::fromText(const std::string &text, const std::string &origin)
+{
+	Network net;
+	std::istringstream in(text);
+	std::string line;
+	unsigned lineNo = 0;
+	while (std::getline(in, line)) {
+		lineNo++;
+		const std::string where = origin + ":" + std::to_string(lineNo);
+		const auto hash = line.find('#');
+		if (hash != std::string::npos)
+			line.erase(hash);
+		const auto w = words(line, where);
+		if (w.empty())
+			continue;
+		const std::string kw = lower(w[0]);
+		if (kw == "name") {
+			std::string name;
+			for (std::size_t i = 1; i < w.size(); i++)
+				name += (i > 1 ? " " : "") + w[i];
+			net.setName(name);
+			continue;
+		}
+		if (kw != "slave")
+			throw std::invalid_argument(where + ": unknown keyword '" + w[0] +
+						    "' (expected 'slave' or 'name')");
+		if (w.size() < 2)
+			throw std::invalid_argument(where + ": 'slave' needs a type");
+		std::map<std::string, std::string> opts;
+		unsigned long count = 1;
+		for (std::size_t i = 2; i < w.size(); i++) {
+			const auto eq = w[i].find('=');
+			if (eq == std::string::npos || eq == 0)
+				throw std::invalid_argument(where + ": option '" + w[i] +
+							    "' is not key=value");
+			const std::string key = lower(w[i].substr(0, eq));
+			const std::string value = w[i].substr(eq + 1);
+			if (key == "count") {
+				std::size_t used = 0;
+				try {
+					count = std::stoul(value, &used, 0);
+				} catch (const std::exception &) {
+					used = 0;
+				}
+				if (used != value.size() || count == 0 || count > kMaxSlaves)
+					throw std::invalid_argument(where + ": count '" + value +
+								    "' is not 1.." +
+								    std::to_string(kMaxSlaves));
+				continue;
+			}
+			if (!opts.emplace(key, value).second)
+				throw std::invalid_argument(where + ": option '" + key +
+							    "' given twice");
+		}
+		for (unsigned long n = 0; n < count; n++) {
+			if (net.size() >= kMaxSlaves)
+				throw std::invalid_argument(where + ": more than " +
+							    std::to_string(kMaxSlaves) +
+							    " slaves (the chip's limit)");
+			try {
+				net.add(makeSlave(w[1], static_cast<unsigned>(net.size()), opts));
+			} catch (const std::invalid_argument &e) {
+				throw std::invalid_argument(where + ": " + e.what());
+			}
+		}
+	}
+	if (net.name().empty())
+		net.setName(origin);
+	return net;
+}
+
+Network Network::fromFile(const std::string &path)
+{
+	std::ifstream f(path);
+	if (!f)
+		throw std::runtime_error("cannot open network file '" + path + "'");
+	std::ostringstream ss;
+	ss << f.rdbuf();
+	return fromText(ss.str(), path);
+}
+
+Network Network::defaultNetwork()
+{
+	return fromText(kDefaultNetwork, "default network");
+}
+
+std::size_t Network::size() const
+{
+	return slaves_.size();
+}
+
+Slave &Network::at(std::size_t position)
+{
+	return *slaves_.at(position);
+}
+
+const Slave &Network::at(std::size_t position) const
+{
+	return *slaves_.at(position);
+}
+
+void Network::add(std::unique_ptr<Slave> slave)
+{
+	if (!slave)
+		throw std::invalid_argument("Network::add: null slave");
+	if (slaves_.size() >= kMaxSlaves)
+		throw std::invalid_argument("Network::add: more than 128 slaves");
+	slaves_.push_back(std::move(slave));
+}
+
+const std::string &Network::name() const
+{
+	return name_;
+}
+
+void Network::setName(std::string name)
+{
+	name_ = std::move(name);
+}
+
+} // namespace ecmxf::sim
