@@ -1,0 +1,331 @@
+// SPDX-License-Identifier: MIT
+/*
+ * ecmxf-sim - serve the simulated ECM-XF over a byte pipe.
+ *
+ * Standard input/output by default, or a Unix stream socket (--socket),
+ * with the framing of Documentation/simulator.rst ("ecmxf-sim wire
+ * protocol"): one request, one reply, in order.
+ *
+ *   request                              reply
+ *   'X' u16 n, n bytes MOSI              'X' u16 n, n bytes MISO
+ *   'L'                                  'L' u8 lines (bit0 INT0, bit1 INT1,
+ *                                            bit2 ready)
+ *   'A' u64 ns                           'A' u64 now_ns   (advance time)
+ *   'T'                                  'T' u64 now_ns   (read time)
+ *   'F' u8 fault, u32 value              'F' u8 0
+ *   'Q'                                  'Q'              (then exit/close)
+ *   anything malformed                   'E' u16 n, n bytes of message
+ *
+ * All integers are little-endian.
+ */
+#include <cerrno>
+#include <csignal>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <ecmxf/protocol.hpp>
+#include <ecmxf/sim.hpp>
+
+namespace {
+
+// Fault identifiers of the 'F' request.
+enum FaultId : std::uint8_t {
+	kFaultMosiBitErrors = 1,
+	kFaultMisoBitErrors = 2,
+	kFaultNotReady = 3,
+	kFaultInt0StuckBusy = 4,
+	kFaultLinkLost = 5,
+	kFaultSlaveDropped = 6,
+	kFaultSdoAbort = 7,
+	kFaultAsyncStuck = 8,
+};
+
+class Pipe
+{
+public:
+	Pipe(int in, int out) : in_(in), out_(out) {}
+
+	// Read exactly n bytes; false at a clean end of input.
+	bool read(void *buf, std::size_t n)
+	{
+		auto *p = static_cast<std::uint8_t *>(buf);
+		while (n) {
+			const ssize_t r = ::read(in_, p, n);
+			if (r == 0)
+				return false;
+			if (r < 0) {
+				if (errno == EINTR)
+					continue;
+				throw std::runtime_error(std::string("read: ") + std::strerror(errno));
+			}
+			p += r;
+			n -= static_cast<std::size_t>(r);
+		}
+		return true;
+	}
+
+	void write(const void *buf, std::size_t n)
+	{
+		const auto *p = static_cast<const std::uint8_t *>(buf);
+		while (n) {
+			const ssize_t r = ::write(out_, p, n);
+			if (r < 0) {
+				if (errno == EINTR)
+					continue;
+				throw std::runtime_error(std::string("write: ") + std::strerror(errno));
+			}
+			p += r;
+			n -= static_cast<std::size_t>(r);
+		}
+	}
+
+	void writeU8(std::uint8_t v) { write(&v, 1); }
+	void writeU16(std::uint16_t v)
+	{
+		const std::uint8_t b[2] = { static_cast<std::uint8_t>(v),
+					    static_cast<std::uint8_t>(v >> 8) };
+		write(b, 2);
+	}
+	void writeU64(std::uint64_t v)
+	{
+		std::uint8_t b[8];
+		for (int i = 0; i < 8; i++)
+			b[i] = static_cast<std::uint8_t>(v >> (8 * i));
+		write(b, 8);
+	}
+
+private:
+	int in_;
+	int out_;
+};
+
+std::uint64_t le(const std::uint8_t *b, int n)
+{
+	std::uint64_t v = 0;
+	for (int i = n - 1; i >= 0; i--)
+		v = (v << 8) | b[i];
+	return v;
+}
+
+void error(Pipe &p, const std::string &msg)
+{
+	p.writeU8('E');
+	p.writeU16(static_cast<std::uint16_t>(msg.size()));
+	p.write(msg.data(), msg.size());
+}
+
+// Serve one client until 'Q' or end of input. Returns false after 'Q'.
+bool serve(ecmxf::sim::Chip &chip, Pipe &p)
+{
+	std::vector<std::uint8_t> mosi, miso;
+	std::uint8_t type;
+
+	while (p.read(&type, 1)) {
+		switch (type) {
+		case 'X': {
+			std::uint8_t b[2];
+			if (!p.read(b, 2))
+				return true;
+			const std::size_t n = le(b, 2);
+			mosi.resize(n);
+			miso.assign(n, 0);
+			if (!p.read(mosi.data(), n))
+				return true;
+			if (n < ecmxf::packetSize(ecmxf::kDataMin) ||
+			    n > ecmxf::packetSize(ecmxf::kDataMax)) {
+				error(p, "exchange of " + std::to_string(n) +
+						 " bytes: packets are 56..1440 bytes");
+				break;
+			}
+			chip.exchange(mosi, miso);
+			p.writeU8('X');
+			p.writeU16(static_cast<std::uint16_t>(n));
+			p.write(miso.data(), n);
+			break;
+		}
+		case 'L':
+			p.writeU8('L');
+			p.writeU8(static_cast<std::uint8_t>((chip.int0() ? 1 : 0) |
+							    (chip.int1() ? 2 : 0) |
+							    (chip.ready() ? 4 : 0)));
+			break;
+		case 'A': {
+			std::uint8_t b[8];
+			if (!p.read(b, 8))
+				return true;
+			const std::uint64_t ns = le(b, 8);
+			if (ns > 3'600'000'000'000ULL) {
+				error(p, "advance of more than one hour refused");
+				break;
+			}
+			chip.advance(std::chrono::nanoseconds(static_cast<std::int64_t>(ns)));
+			p.writeU8('A');
+			p.writeU64(static_cast<std::uint64_t>(chip.now().count()));
+			break;
+		}
+		case 'T':
+			p.writeU8('T');
+			p.writeU64(static_cast<std::uint64_t>(chip.now().count()));
+			break;
+		case 'F': {
+			std::uint8_t b[5];
+			if (!p.read(b, 5))
+				return true;
+			const auto v = static_cast<std::uint32_t>(le(b + 1, 4));
+			auto &f = chip.faults();
+			switch (b[0]) {
+			case kFaultMosiBitErrors:
+				f.mosiBitErrors = v;
+				break;
+			case kFaultMisoBitErrors:
+				f.misoBitErrors = v;
+				break;
+			case kFaultNotReady:
+				f.notReady = v;
+				break;
+			case kFaultInt0StuckBusy:
+				f.int0StuckBusy = v != 0;
+				break;
+			case kFaultLinkLost:
+				f.linkLost = v != 0;
+				break;
+			case kFaultSlaveDropped:
+				f.slaveDropped = static_cast<int>(v == 0xFFFFFFFFu ? -1 : static_cast<int>(v));
+				break;
+			case kFaultSdoAbort:
+				f.forcedSdoAbort = v;
+				break;
+			case kFaultAsyncStuck:
+				f.asyncStuckBusy = v != 0;
+				break;
+			default:
+				error(p, "unknown fault id " + std::to_string(b[0]));
+				continue;
+			}
+			p.writeU8('F');
+			p.writeU8(0);
+			break;
+		}
+		case 'Q':
+			p.writeU8('Q');
+			return false;
+		default:
+			error(p, "unknown request type 0x" + std::to_string(type));
+			return true;	// the stream is out of step: drop it
+		}
+	}
+	return true;
+}
+
+void usage(std::FILE *out)
+{
+	std::fprintf(out,
+		     "Usage: ecmxf-sim [--network FILE] [--paced] [--socket PATH]\n"
+		     "\n"
+		     "Serve a simulated ECM-XF over standard input/output, or over a Unix\n"
+		     "stream socket (one client at a time). The wire protocol is described in\n"
+		     "Documentation/simulator.rst.\n"
+		     "\n"
+		     "  -n, --network FILE  network description (default: 2x EST-584 + I/O)\n"
+		     "  -p, --paced         follow the wall clock instead of virtual time\n"
+		     "  -s, --socket PATH   listen on a Unix socket at PATH\n"
+		     "  -h, --help          show this help\n");
+}
+
+int run(int argc, char **argv)
+{
+	std::string network, socketPath;
+	ecmxf::sim::ChipConfig cfg;
+
+	for (int i = 1; i < argc; i++) {
+		const std::string_view a = argv[i];
+		auto value = [&](const char *what) -> std::string {
+			if (i + 1 >= argc)
+				throw std::invalid_argument(std::string(what) + " needs a value");
+			return argv[++i];
+		};
+		if (a == "-h" || a == "--help") {
+			usage(stdout);
+			return 0;
+		} else if (a == "-n" || a == "--network") {
+			network = value("--network");
+		} else if (a == "-p" || a == "--paced") {
+			cfg.timeMode = ecmxf::sim::TimeMode::Paced;
+		} else if (a == "-s" || a == "--socket") {
+			socketPath = value("--socket");
+		} else {
+			throw std::invalid_argument("unknown option '" + std::string(a) +
+						    "' (try --help)");
+		}
+	}
+
+	ecmxf::sim::Chip chip(network, cfg);
+
+	if (socketPath.empty()) {
+		Pipe p(STDIN_FILENO, STDOUT_FILENO);
+		serve(chip, p);
+		return 0;
+	}
+
+	const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+	if (fd < 0)
+		throw std::runtime_error(std::string("socket: ") + std::strerror(errno));
+	sockaddr_un addr{};
+	addr.sun_family = AF_UNIX;
+	if (socketPath.size() >= sizeof(addr.sun_path))
+		throw std::invalid_argument("socket path too long: " + socketPath);
+	std::memcpy(addr.sun_path, socketPath.c_str(), socketPath.size() + 1);
+	::unlink(socketPath.c_str());
+	if (::bind(fd, reinterpret_cast<sockaddr *>(&addr), sizeof(addr)) < 0 ||
+	    ::listen(fd, 1) < 0) {
+		const int e = errno;
+		::close(fd);
+		throw std::runtime_error("listen on " + socketPath + ": " + std::strerror(e));
+	}
+	for (;;) {
+		const int c = ::accept4(fd, nullptr, nullptr, SOCK_CLOEXEC);
+		if (c < 0) {
+			if (errno == EINTR)
+				continue;
+			const int e = errno;
+			::close(fd);
+			throw std::runtime_error(std::string("accept: ") + std::strerror(e));
+		}
+		Pipe p(c, c);
+		bool more = true;
+		try {
+			more = serve(chip, p);
+		} catch (const std::exception &ex) {
+			std::fprintf(stderr, "ecmxf-sim: client dropped: %s\n", ex.what());
+		}
+		::close(c);
+		if (!more)
+			break;
+	}
+	::close(fd);
+	::unlink(socketPath.c_str());
+	return 0;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+	std::signal(SIGPIPE, SIG_IGN);
+	try {
+		return run(argc, argv);
+	} catch (const std::exception &e) {
+		std::fprintf(stderr, "ecmxf-sim: %s\n", e.what());
+		return 1;
+	}
+}
