@@ -57,6 +57,7 @@ bench:
 		-DECMXF_WERROR=$(WERROR) -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(BENCH_BUILD) -j $(JOBS)
 	$(BENCH_BUILD)/tests/bench/bench-core
+	$(BENCH_BUILD)/tests/bench/bench-sim
 
 demo: all
 	$(BUILD)/utils/ecmxf-util commands
