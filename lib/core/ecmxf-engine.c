@@ -649,3 +649,63 @@ bool ecmxf_engine_idle(const struct ecmxf_engine *e)
 {
 	return !e->cur && !e->async;
 }
+
+/**
+ * ecmxf_engine_running() - is @x an accepted async command the chip runs
+ * @e: engine
+ * @x: a command submitted to @e
+ *
+ * Return: true from the answer that accepted @x until its completion; the
+ * engine's command slot is free meanwhile.
+ */
+bool ecmxf_engine_running(const struct ecmxf_engine *e,
+			  const struct ecmxf_xfer *x)
+{
+	return x && e->async == x && e->cur != x;
+}
+
+/**
+ * ecmxf_engine_last_header() - the latest valid response header
+ * @e: engine
+ *
+ * Return: the header, or NULL before the first valid response.
+ */
+const struct ecmxf_rsp_hdr *
+ecmxf_engine_last_header(const struct ecmxf_engine *e)
+{
+	return e->have_last ? &e->last : NULL;
+}
+
+/**
+ * ecmxf_engine_get_stats() - the engine's counters
+ * @e: engine
+ *
+ * Return: the counters, valid as long as @e.
+ */
+const struct ecmxf_engine_stats *
+ecmxf_engine_get_stats(const struct ecmxf_engine *e)
+{
+	return &e->stats;
+}
+
+/**
+ * ecmxf_engine_data_size() - data section size of the next exchange
+ * @e: engine
+ *
+ * Return: 32..1408.
+ */
+unsigned int ecmxf_engine_data_size(const struct ecmxf_engine *e)
+{
+	return e->data_size;
+}
+
+/**
+ * ecmxf_engine_retries() - bad packets tolerated in a row
+ * @e: engine
+ *
+ * Return: the bound set by ecmxf_engine_set_retries() (default 8).
+ */
+unsigned int ecmxf_engine_retries(const struct ecmxf_engine *e)
+{
+	return e->max_retries;
+}

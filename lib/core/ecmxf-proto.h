@@ -472,6 +472,14 @@ unsigned int ecmxf_engine_poll_time(struct ecmxf_engine *e, u64 now_ns);
 u64 ecmxf_engine_deadline(const struct ecmxf_engine *e);
 u64 ecmxf_engine_not_before(const struct ecmxf_engine *e);
 bool ecmxf_engine_idle(const struct ecmxf_engine *e);
+bool ecmxf_engine_running(const struct ecmxf_engine *e,
+			  const struct ecmxf_xfer *x);
+const struct ecmxf_rsp_hdr *
+ecmxf_engine_last_header(const struct ecmxf_engine *e);
+const struct ecmxf_engine_stats *
+ecmxf_engine_get_stats(const struct ecmxf_engine *e);
+unsigned int ecmxf_engine_data_size(const struct ecmxf_engine *e);
+unsigned int ecmxf_engine_retries(const struct ecmxf_engine *e);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,349 @@
+// SPDX-License-Identifier: MIT
+// Device: the protocol core's exchange engine (lib/core) run over a
+// Transport, with a synchronous raw command call and its errors
+// (see include/ecmxf/device.hpp and Documentation/library.rst).
+
+#include <ecmxf/device.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/protocol.hpp>
+#include <ecmxf/sim_transport.hpp>
+#include <ecmxf/transport.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <span>
+#include <string>
+#include <thread>
+#include <utility>
+
+#include "ecmxf-proto.h"
+
+namespace ecmxf {
+
+// ---------------------------------------------------------------------------
+// Error, Transport: the out-of-line parts
+// ---------------------------------------------------------------------------
+
+Error::Error(const std::string &message, int errnoValue, std::optional<std::uint8_t> errorStatus)
+	: std::runtime_error(message), errno_(errnoValue), errorStatus_(errorStatus)
+{
+}
+
+Error::~Error() = default;
+
+Transport::~Transport() = default;
+
+void Transport::sleepFor(std::chrono::nanoseconds duration)
+{
+	if (duration > std::chrono::nanoseconds::zero())
+		std::this_thread::sleep_for(duration);
+}
+
+namespace {
+
+using std::chrono::nanoseconds;
+
+/// How long one wait for INT0 lasts before the engine's deadlines are
+/// applied without an exchange.
+constexpr nanoseconds kReadyWait = std::chrono::milliseconds(10);
+/// Pause between polls of a running async command (the chip is ready
+/// for exchanges all along; there is no point in asking non-stop).
+constexpr nanoseconds kAsyncPoll = std::chrono::microseconds(100);
+
+std::string commandName(std::uint8_t code)
+{
+	if (const auto info = commandInfo(code))
+		return std::string(info->name);
+	char buf[32];
+	std::snprintf(buf, sizeof(buf), "command 0x%02X", code);
+	return buf;
+}
+
+std::string hex8(unsigned v)
+{
+	char buf[8];
+	std::snprintf(buf, sizeof(buf), "0x%02X", v & 0xFFu);
+	return buf;
+}
+
+/// "10000 ms", or "250 us" for timeouts that are not whole milliseconds.
+std::string duration(std::uint64_t ns)
+{
+	char buf[48];
+	if (ns % 1'000'000u == 0)
+		std::snprintf(buf, sizeof(buf), "%" PRIu64 " ms", ns / 1'000'000u);
+	else
+		std::snprintf(buf, sizeof(buf), "%" PRIu64 " us", ns / 1'000u);
+	return buf;
+}
+
+/// Bit numbers of the fault bits in @p status, "bit 3" / "bits 3, 7".
+std::string bitList(std::uint8_t status)
+{
+	std::string bits;
+	unsigned n = 0;
+	for (unsigned b = 0; b < 8; b++) {
+		if (!(status & (1u << b)))
+			continue;
+		bits += (n++ ? ", " : "") + std::to_string(b);
+	}
+	return (n == 1 ? "bit " : "bits ") + bits;
+}
+
+ResponseHeader toHeader(const ecmxf_rsp_hdr &h)
+{
+	ResponseHeader r;
+	r.crcErrCnt = h.crc_err_cnt;
+	r.wkcErrCnt = h.wkc_err_cnt;
+	r.txFifoCnt = h.tx_fifo_cnt;
+	r.rxFifoCnt = h.rx_fifo_cnt;
+	r.ecatState = h.ecat_state;
+	r.errStatus = h.err_status;
+	r.ecmStatus = h.ecm_status;
+	r.index = h.index;
+	r.code = h.code;
+	r.ret = h.ret;
+	r.len = h.len;
+	r.intFlags = h.int_flags;
+	r.gpioIntFlag = { h.gpio_int_flag[0], h.gpio_int_flag[1] };
+	r.gpioIn = { h.gpio_in[0], h.gpio_in[1] };
+	return r;
+}
+
+} // namespace
+
+// ---------------------------------------------------------------------------
+// Device
+// ---------------------------------------------------------------------------
+
+class Device::Impl
+{
+public:
+	explicit Impl(std::unique_ptr<Transport> t) : transport(std::move(t))
+	{
+		if (!transport)
+			throw Error("ecmxf::Device: no transport given", EINVAL);
+		ecmxf_engine_init(&engine, ECMXF_DATA_DEFAULT, ECMXF_CHECK_FIXED);
+	}
+
+	Response command(const Command &c);
+
+	std::unique_ptr<Transport> transport;
+	ecmxf_engine engine{};
+	// one packet each way and the answer's data, at the largest size, so
+	// that exchanges allocate nothing
+	std::array<std::uint8_t, ECMXF_PKT_MAX> tx{};
+	std::array<std::uint8_t, ECMXF_PKT_MAX> rx{};
+	std::array<std::uint8_t, ECMXF_DATA_MAX> rxData{};
+	/// The current command was answered and ran on the chip (async).
+	bool ranAsync = false;
+
+private:
+	std::uint64_t nowNs() const
+	{
+		const auto t = transport->now().count();
+		return t > 0 ? static_cast<std::uint64_t>(t) : 0;
+	}
+	void step(ecmxf_xfer &x);
+	[[noreturn]] void fail(const Command &c, const ecmxf_xfer &x, std::uint64_t exhaustedBefore) const;
+};
+
+/// One turn of the owner loop of Documentation/protocol-core.rst.
+void Device::Impl::step(ecmxf_xfer &x)
+{
+	std::uint64_t now = nowNs();
+
+	// the command was answered and runs on the chip: poll it at a pace
+	if (ecmxf_engine_running(&engine, &x)) {
+		const std::uint64_t deadline = ecmxf_engine_deadline(&engine);
+		if (deadline > now)
+			transport->sleepFor(nanoseconds(
+				static_cast<std::int64_t>(std::min<std::uint64_t>(
+					deadline - now, static_cast<std::uint64_t>(kAsyncPoll.count())))));
+		now = nowNs();
+	}
+
+	// the hold-off after SPI_RECONFIG_OP / WARM_RESET
+	const std::uint64_t notBefore = ecmxf_engine_not_before(&engine);
+	if (now < notBefore) {
+		transport->sleepFor(nanoseconds(static_cast<std::int64_t>(notBefore - now)));
+		return;
+	}
+
+	const std::uint64_t deadline = ecmxf_engine_deadline(&engine);
+	const std::uint64_t left = deadline > now ? deadline - now : 0;
+	const nanoseconds wait(static_cast<std::int64_t>(
+		std::min<std::uint64_t>(left, static_cast<std::uint64_t>(kReadyWait.count()))));
+	if (!transport->waitReady(wait)) {
+		ecmxf_engine_poll_time(&engine, nowNs());
+		return;
+	}
+
+	const std::size_t n = ecmxf_engine_pkt_size(&engine);
+	const int r = ecmxf_engine_next(&engine, nowNs(), tx.data(), n);
+	if (r == -EAGAIN)
+		return; // hold-off: the next turn sleeps
+	if (r < 0)
+		throw Error("ecmxf::Device: the protocol engine refused to build a packet (errno " +
+				    std::to_string(-r) + ")",
+			    -r);
+	transport->exchange(std::span<const std::uint8_t>(tx.data(), n), std::span<std::uint8_t>(rx.data(), n));
+	ecmxf_engine_input(&engine, nowNs(), rx.data(), n);
+	if (ecmxf_engine_running(&engine, &x))
+		ranAsync = true;
+}
+
+void Device::Impl::fail(const Command &c, const ecmxf_xfer &x, std::uint64_t exhaustedBefore) const
+{
+	const std::string name = commandName(c.code) + ": ";
+	const std::uint8_t status = x.rsp.err_status;
+	const std::uint8_t faultBits = static_cast<std::uint8_t>(status & ECMXF_ERR_FAULT_MASK);
+
+	switch (x.status) {
+	case -ETIMEDOUT: {
+		const std::string after = duration(x.deadline_ns - x.started_ns);
+		throw Error(name + "timed out after " + after +
+				    (ranAsync ? " waiting for the async command to complete"
+					      : " waiting for the chip's answer"),
+			    ETIMEDOUT);
+	}
+	case -EBADMSG:
+	case -EPROTO:
+	case -EIO:
+		if (ecmxf_engine_get_stats(&engine)->exhausted > exhaustedBefore)
+			throw Error(name + std::to_string(ecmxf_engine_retries(&engine) + 1u) + " bad packets in a row (" +
+					    ecmxf_fault_name(x.fault) + ")",
+				    -x.status);
+		throw Error(name + "the answer was lost on the wire and the command is not safe to "
+				   "send again (it may have run)",
+			    -x.status);
+	case -EBUSY:
+		throw Error(name + "chip refused: another async command is running (error status " +
+				    hex8(faultBits) + ")",
+			    EBUSY, status);
+	case -EREMOTEIO:
+		throw Error(name + "the async command failed (error status " +
+				    bitList(faultBits ? faultBits : ECMXF_ERR_ASYNC) + ")",
+			    EREMOTEIO, status);
+	case -ECONNRESET:
+		throw Error(name + "the chip reset while the command was in flight", ECONNRESET);
+	case -EMSGSIZE:
+		throw Error(name + "the answer (" + std::to_string(x.rsp.len) +
+				    " bytes) is larger than the receive buffer (" + std::to_string(x.rx_size) +
+				    " bytes)",
+			    EMSGSIZE);
+	case -ECANCELED:
+		throw Error(name + "the command was cancelled", ECANCELED);
+	default:
+		throw Error(name + "failed (errno " + std::to_string(-x.status) + ")", -x.status);
+	}
+}
+
+Response Device::Impl::command(const Command &c)
+{
+	ecmxf_xfer x{};
+	x.hdr.code = c.code;
+	x.hdr.param = c.param;
+	std::copy(c.data.begin(), c.data.end(), x.hdr.data);
+	x.hdr.reserved = c.reserved;
+	x.hdr.control = c.control;
+	const std::string name = commandName(c.code) + ": ";
+	if (c.payload.size() > ecmxf_engine_data_size(&engine))
+		throw Error(name + "payload of " + std::to_string(c.payload.size()) +
+				    " bytes does not fit the data section (" + std::to_string(ecmxf_engine_data_size(&engine)) +
+				    " bytes)",
+			    EMSGSIZE);
+	x.tx_data = c.payload.empty() ? nullptr : c.payload.data();
+	x.tx_len = static_cast<std::uint16_t>(c.payload.size());
+	x.hdr.len = c.len.value_or(x.tx_len);
+	x.rx_buf = rxData.data();
+	x.rx_size = static_cast<std::uint16_t>(rxData.size());
+	const auto us = c.timeout.count();
+	x.timeout_us = us <= 0 ? 0u : static_cast<std::uint32_t>(std::min<std::int64_t>(us, UINT32_MAX));
+
+	const int r = ecmxf_engine_submit(&engine, &x, nowNs());
+	switch (r) {
+	case 0:
+		break;
+	case -EBUSY:
+		throw Error(name + "another async command is still running in this device", EBUSY);
+	case -EMSGSIZE:
+		throw Error(name + "payload does not fit the data section", EMSGSIZE);
+	default:
+		throw Error(name + "invalid command (e.g. a data size outside 32..1408 or an unknown "
+				   "check type)",
+			    -r);
+	}
+
+	const std::uint64_t exhaustedBefore = ecmxf_engine_get_stats(&engine)->exhausted;
+	ranAsync = false;
+	try {
+		while (x.status == -EINPROGRESS)
+			step(x);
+	} catch (...) {
+		// a transport failure: nothing may keep pointing at x
+		ecmxf_engine_cancel(&engine, &x);
+		throw;
+	}
+	if (x.status != 0)
+		fail(c, x, exhaustedBefore);
+
+	Response rsp;
+	rsp.header = toHeader(x.rsp);
+	rsp.data.assign(rxData.begin(), rxData.begin() + x.rx_len);
+	rsp.ret = x.rsp.ret;
+	return rsp;
+}
+
+std::unique_ptr<Device> Device::open(std::string_view uri)
+{
+	constexpr std::string_view kSim = "sim:";
+	const std::string quoted = "\"" + std::string(uri) + "\"";
+
+	if (uri.substr(0, kSim.size()) == kSim) {
+		const std::string file(uri.substr(kSim.size()));
+		std::unique_ptr<Transport> t;
+		try {
+			t = std::make_unique<SimTransport>(file);
+		} catch (const Error &) {
+			throw;
+		} catch (const std::exception &ex) {
+			throw Error("cannot open " + quoted + ": " + ex.what(), EINVAL);
+		}
+		return std::make_unique<Device>(std::move(t));
+	}
+	const bool planned = uri.substr(0, 5) == "/dev/" || uri.substr(0, 7) == "spidev:";
+	throw Error("cannot open " + quoted + (planned ? ": not supported yet" : ": unknown device URI") +
+			    "; supported so far: \"sim:\" and \"sim:<network file>\" (the in-process "
+			    "simulator); /dev/ecmxfN and spidev: transports are not implemented yet",
+		    planned ? EOPNOTSUPP : EINVAL);
+}
+
+Device::Device(std::unique_ptr<Transport> transport) : impl_(std::make_unique<Impl>(std::move(transport)))
+{
+}
+
+Device::~Device() = default;
+
+Response Device::command(const Command &c)
+{
+	return impl_->command(c);
+}
+
+ResponseHeader Device::lastHeader() const
+{
+	const ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&impl_->engine);
+	return h ? toHeader(*h) : ResponseHeader{};
+}
+
+Transport &Device::transport() noexcept
+{
+	return *impl_->transport;
+}
+
+} // namespace ecmxf
