@@ -117,7 +117,7 @@ std::vector<std::uint8_t> exchange(int to, int from, const std::vector<std::uint
 	writeAll(to, exchangeMsg(mosi));
 	auto head = readN(from, 3);
 	REQUIRE(head[0] == 'X');
-	const std::size_t n = head[1] | (head[2] << 8);
+	const auto n = static_cast<std::size_t>(head[1] | (head[2] << 8));
 	REQUIRE(n == mosi.size());
 	return readN(from, n);
 }
@@ -184,7 +184,7 @@ TEST_CASE("ecmxf-sim: malformed requests are answered with an error message", "[
 	writeAll(c.to, { 'X', 10, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10 });
 	auto e = readN(c.from, 3);
 	REQUIRE(e[0] == 'E');
-	const std::size_t n = e[1] | (e[2] << 8);
+	const auto n = static_cast<std::size_t>(e[1] | (e[2] << 8));
 	auto msg = readN(c.from, n);
 	CHECK(std::string(msg.begin(), msg.end()).find("56..1440") != std::string::npos);
 
