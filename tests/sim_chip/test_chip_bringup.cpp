@@ -168,3 +168,38 @@ TEST_CASE("chip bring-up: slaves128.net (128 slaves) reaches OP at 8 kHz with th
 	REQUIRE(chip.network().size() == 128);
 	bringUp(chip, 125'000, ECMXF_DATA_MAX);
 }
+
+TEST_CASE("chip bring-up: a slave that drops out in OP falls to SAFE-OP+E with 0x001B (SM watchdog) "
+	  "and the master shows ERROR while it is gone",
+	  "[chip][bringup][faults]")
+{
+	sim::Chip chip; // 2 x EST-584 + digital I/O
+	Host h(chip);
+	h.sync();
+	REQUIRE_FALSE(h.async(initOp(1'000'000, 0x0300)).asyncError());
+	REQUIRE_FALSE(h.async(stateSet(0xFF, ECMXF_ECAT_PREOP)).asyncError());
+	REQUIRE_FALSE(h.async(stateSet(0xFF, ECMXF_ECAT_SAFEOP)).asyncError());
+	const unsigned rxSize = h.cmd(Cmd(ECMXF_CMD_FIFO_PACK_SIZE_GET, 0)).u16();
+	h.cmd(Cmd(ECMXF_CMD_ECAT_PDO_DATA_OP).d(0x05).payload(std::vector<std::uint8_t>(rxSize, 0)));
+	REQUIRE(h.async(stateSet(0xFF, ECMXF_ECAT_OP)).h.ecat_state == ECMXF_ECAT_OP);
+	chip.advance(50ms);
+	CHECK(h.info().h.wkc_err_cnt == 0);
+
+	// slave 1 stops receiving frames for longer than its 100 ms watchdog
+	chip.faults().slaveDropped = 1;
+	chip.advance(300ms);
+	const Rsp during = h.info();
+	CHECK(during.h.ecat_state == ECMXF_ECAT_ERROR);
+	CHECK(during.h.wkc_err_cnt > 0);
+	chip.faults().slaveDropped = -1;
+	chip.advance(10ms);
+
+	// back on the bus: it fell to SAFE-OP with the error bit and 0x001B
+	const sim::Slave &s = chip.network().at(1);
+	CHECK(s.alStatus() == (0x04 | 0x10));
+	CHECK(s.alStatusCode() == 0x001B);
+	CHECK(h.cmd(Cmd(ECMXF_CMD_ECAT_SLV_INFO_GET, 1).d(7)).u16() == 0x001B);
+	// the other slaves stayed in OP
+	CHECK(chip.network().at(0).alStatus() == 0x08);
+	CHECK(chip.network().at(2).alStatus() == 0x08);
+}
