@@ -61,6 +61,8 @@ bench:
 
 demo: all
 	$(BUILD)/utils/ecmxf-util commands
+	$(BUILD)/utils/ecmxf-util info
+	$(BUILD)/utils/ecmxf-util slaves -v
 
 kmod-deps:
 	@$(DEPS) --kernel

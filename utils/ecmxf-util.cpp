@@ -1,33 +1,45 @@
 // SPDX-License-Identifier: MIT
 /*
- * ecmxf-util - command-line tool for the ECM-XF.
+ * ecmxf-util - command-line tool for the ECM-XF, in the manner of IgH's
+ * `ethercat` tool:
  *
- * This first version knows the protocol's static parts; the commands that
- * talk to a chip (slaves, upload, download, states, cia402, monitor...)
- * arrive with the library and the simulator.
+ *   ecmxf-util [-d URI] [--json] COMMAND [ARGS]
+ *
+ * Each command is its own unit (ecmxf-util-<command>.cpp) with its own
+ * help text; unambiguous prefixes of command names are accepted. Errors
+ * go to stderr as "ecmxf-util: <reason>": exit code 1 for failures, 2 for
+ * bad usage.
  */
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include <ecmxf/error.hpp>
 #include <ecmxf/protocol.hpp>
+
+#include "ecmxf-util.hpp"
+
+using namespace ecmxf_util;
 
 namespace {
 
-void usage(std::FILE *out)
-{
-	std::fprintf(out,
-		     "Usage: ecmxf-util [-h] [-V] COMMAND [ARGS]\n"
-		     "\n"
-		     "Commands:\n"
-		     "  commands [--json]   list the ECM-XF command codes (ver. 038 and 050)\n"
-		     "  version             print the version\n"
-		     "\n"
-		     "Options:\n"
-		     "  -h, --help          show this help\n"
-		     "  -V, --version       print the version\n");
-}
+const char *const kCommandsHelp =
+	"Usage: ecmxf-util [global options] commands [--json]\n"
+	"\n"
+	"List the ECM-XF command codes of both manuals (ver. 038 and 050): code,\n"
+	"name, immediate or async, the manuals that document it, the *_GET that\n"
+	"fetches its result and the default timeout. Needs no device.\n"
+	"\n"
+	"Options:\n"
+	"  --json      a JSON array instead of the table\n"
+	"  -h, --help  show this help\n";
+
+const char *const kVersionHelp = "Usage: ecmxf-util version\n"
+				 "\n"
+				 "Print the version of ecmxf-util and libecmxf.\n";
 
 std::string partnerName(const ecmxf::CommandInfo &ci)
 {
@@ -37,11 +49,13 @@ std::string partnerName(const ecmxf::CommandInfo &ci)
 	return p ? std::string(p->name) : std::to_string(*ci.partner);
 }
 
-int cmdCommands(bool json)
+int cmdCommands(Globals &g, const Args &args)
 {
+	if (parseFlags("commands", args, g, kCommandsHelp, {}))
+		return 0;
 	const std::size_t n = ecmxf::commandCount();
 
-	if (json) {
+	if (g.json) {
 		std::printf("[");
 		for (std::size_t i = 0; i < n; i++) {
 			const auto ci = ecmxf::commandAt(i);
@@ -71,37 +85,121 @@ int cmdCommands(bool json)
 	return 0;
 }
 
+void printVersion()
+{
+	std::printf("ecmxf-util %.*s\n", static_cast<int>(ecmxf::version().size()),
+		    ecmxf::version().data());
+}
+
+int cmdVersion(Globals &g, const Args &args)
+{
+	if (parseFlags("version", args, g, kVersionHelp, {}))
+		return 0;
+	printVersion();
+	return 0;
+}
+
+const CommandDesc kCommands[] = {
+	{ "commands", "list the ECM-XF command codes (ver. 038 and 050)", kCommandsHelp, cmdCommands },
+	{ "info", "firmware, packet format, status bits and counters of the chip", kInfoHelp, cmdInfo },
+	{ "slaves", "list the slaves on the bus (scans a fresh simulator first)", kSlavesHelp,
+	  cmdSlaves },
+	{ "version", "print the version", kVersionHelp, cmdVersion },
+};
+
+void usage(std::FILE *out)
+{
+	std::fprintf(out, "Usage: ecmxf-util [global options] COMMAND [ARGS]\n"
+			  "\n"
+			  "Commands (unambiguous prefixes are accepted):\n");
+	for (const CommandDesc &c : kCommands)
+		std::fprintf(out, "  %-10.*s %.*s\n", static_cast<int>(c.name.size()), c.name.data(),
+			     static_cast<int>(c.summary.size()), c.summary.data());
+	std::fprintf(out,
+		     "\n"
+		     "Global options:\n"
+		     "  -d, --device URI  the chip: \"sim:\" (default; the in-process simulator\n"
+		     "                    with its default network) or \"sim:<network file>\"\n"
+		     "  --json            JSON output for scripts\n"
+		     "  -h, --help        show this help\n"
+		     "  -V, --version     print the version\n"
+		     "\n"
+		     "'ecmxf-util COMMAND --help' describes one command.\n");
+}
+
+const CommandDesc &findCommand(std::string_view name)
+{
+	std::vector<const CommandDesc *> matches;
+	for (const CommandDesc &c : kCommands) {
+		if (c.name == name)
+			return c;
+		if (c.name.starts_with(name))
+			matches.push_back(&c);
+	}
+	if (matches.size() == 1)
+		return *matches.front();
+	if (matches.empty())
+		throw UsageError("unknown command '" + std::string(name) + "' (try --help)");
+	std::string names;
+	for (const CommandDesc *c : matches)
+		names += (names.empty() ? "" : ", ") + std::string(c->name);
+	throw UsageError("ambiguous command '" + std::string(name) + "': " + names);
+}
+
+int run(int argc, char **argv)
+{
+	Globals g;
+	int i = 1;
+	for (; i < argc; i++) {
+		const std::string_view a = argv[i];
+		if (a == "-h" || a == "--help") {
+			usage(stdout);
+			return 0;
+		}
+		if (a == "-V" || a == "--version") {
+			printVersion();
+			return 0;
+		}
+		if (a == "--json") {
+			g.json = true;
+		} else if (a == "-d" || a == "--device") {
+			if (i + 1 >= argc)
+				throw UsageError("option '" + std::string(a) + "' needs a device URI");
+			g.device = argv[++i];
+		} else if (a.starts_with("--device=")) {
+			g.device = std::string(a.substr(std::strlen("--device=")));
+		} else if (a.size() > 2 && a.starts_with("-d")) {
+			g.device = std::string(a.substr(2));
+		} else if (a.starts_with("-")) {
+			throw UsageError("unknown option '" + std::string(a) + "' (try --help)");
+		} else {
+			break;
+		}
+	}
+	if (i >= argc) {
+		usage(stderr);
+		return 2;
+	}
+	if (std::string_view(argv[i]) == "help") {
+		usage(stdout);
+		return 0;
+	}
+	const CommandDesc &cmd = findCommand(argv[i]);
+	const Args args(argv + i + 1, argv + argc);
+	return cmd.run(g, args);
+}
+
 } // namespace
 
 int main(int argc, char **argv)
 {
-	if (argc < 2) {
-		usage(stderr);
+	try {
+		return run(argc, argv);
+	} catch (const UsageError &e) {
+		std::fprintf(stderr, "ecmxf-util: %s\n", e.what());
 		return 2;
+	} catch (const std::exception &e) {
+		std::fprintf(stderr, "ecmxf-util: %s\n", e.what());
+		return 1;
 	}
-	const std::string_view cmd = argv[1];
-	if (cmd == "-h" || cmd == "--help" || cmd == "help") {
-		usage(stdout);
-		return 0;
-	}
-	if (cmd == "-V" || cmd == "--version" || cmd == "version") {
-		std::printf("ecmxf-util %.*s\n", static_cast<int>(ecmxf::version().size()),
-			    ecmxf::version().data());
-		return 0;
-	}
-	if (std::string_view("commands").starts_with(cmd)) {
-		bool json = false;
-		for (int i = 2; i < argc; i++) {
-			if (std::strcmp(argv[i], "--json") == 0) {
-				json = true;
-			} else {
-				std::fprintf(stderr, "ecmxf-util commands: unknown argument '%s'\n",
-					     argv[i]);
-				return 2;
-			}
-		}
-		return cmdCommands(json);
-	}
-	std::fprintf(stderr, "ecmxf-util: unknown command '%s' (try --help)\n", argv[1]);
-	return 2;
 }

@@ -1,0 +1,442 @@
+// SPDX-License-Identifier: MIT
+// ecmxf-util run as a separate program: global options, command prefixes,
+// exit codes, and `info` / `slaves` against the simulator's default
+// network (2 x EST-584 + 1 x dio). The expected values come from the
+// simulator's documentation and public constants (ChipConfig defaults,
+// sim_slaves.hpp identities, Documentation/sim-slaves.rst), not from the
+// tool's own output.
+
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <ecmxf/sim.hpp>
+#include <ecmxf/sim_slaves.hpp>
+
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+
+namespace {
+
+struct Result {
+	int status = -1; ///< exit code
+	std::string out, err;
+};
+
+/// Runs ecmxf-util with @p args (no shell metacharacters) and collects
+/// its exit code, stdout and stderr.
+Result run(const std::string &args)
+{
+	static int serial = 0;
+	const auto errFile = std::filesystem::temp_directory_path() /
+			     ("ecmxf-test-cli-" + std::to_string(getpid()) + "-" +
+			      std::to_string(serial++) + ".err");
+	const std::string cmd = std::string(ECMXF_UTIL_PATH) + " " + args + " 2>" + errFile.string();
+	Result r;
+	std::FILE *p = popen(cmd.c_str(), "r");
+	REQUIRE(p != nullptr);
+	char buf[4096];
+	std::size_t n;
+	while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0)
+		r.out.append(buf, n);
+	const int st = pclose(p);
+	REQUIRE(WIFEXITED(st));
+	r.status = WEXITSTATUS(st);
+	std::ifstream f(errFile);
+	std::stringstream ss;
+	ss << f.rdbuf();
+	r.err = ss.str();
+	std::filesystem::remove(errFile);
+	return r;
+}
+
+std::vector<std::string> lines(const std::string &s)
+{
+	std::vector<std::string> v;
+	std::istringstream in(s);
+	for (std::string l; std::getline(in, l);)
+		v.push_back(l);
+	return v;
+}
+
+/// A minimal JSON value and a strict recursive-descent parser (RFC 8259
+/// grammar, no extensions); parse() throws std::runtime_error on any
+/// deviation, trailing garbage included.
+struct Json {
+	enum Kind { Null, Bool, Number, String, Array, Object } kind = Null;
+	bool b = false;
+	double num = 0;
+	std::string str;
+	std::vector<Json> arr;
+	std::map<std::string, Json> obj;
+
+	const Json &operator[](const std::string &k) const
+	{
+		auto it = obj.find(k);
+		if (kind != Object || it == obj.end())
+			throw std::runtime_error("no key " + k);
+		return it->second;
+	}
+};
+
+class Parser
+{
+public:
+	explicit Parser(const std::string &s) : s_(s) {}
+
+	Json parse()
+	{
+		Json v = value();
+		ws();
+		if (i_ != s_.size())
+			fail("trailing characters");
+		return v;
+	}
+
+private:
+	[[noreturn]] void fail(const std::string &what)
+	{
+		throw std::runtime_error("JSON: " + what + " at offset " + std::to_string(i_));
+	}
+	void ws()
+	{
+		while (i_ < s_.size() && (s_[i_] == ' ' || s_[i_] == '\n' || s_[i_] == '\t' || s_[i_] == '\r'))
+			i_++;
+	}
+	char peek()
+	{
+		ws();
+		if (i_ >= s_.size())
+			fail("unexpected end");
+		return s_[i_];
+	}
+	void expect(char c)
+	{
+		if (peek() != c)
+			fail(std::string("expected '") + c + "'");
+		i_++;
+	}
+	bool literal(const char *w)
+	{
+		const std::string lit(w);
+		if (s_.compare(i_, lit.size(), lit) != 0)
+			return false;
+		i_ += lit.size();
+		return true;
+	}
+	std::string string()
+	{
+		expect('"');
+		std::string out;
+		while (true) {
+			if (i_ >= s_.size())
+				fail("unterminated string");
+			const char c = s_[i_++];
+			if (c == '"')
+				return out;
+			if (static_cast<unsigned char>(c) < 0x20)
+				fail("control character in string");
+			if (c != '\\') {
+				out += c;
+				continue;
+			}
+			if (i_ >= s_.size())
+				fail("bad escape");
+			const char e = s_[i_++];
+			switch (e) {
+			case '"': case '\\': case '/': out += e; break;
+			case 'b': out += '\b'; break;
+			case 'f': out += '\f'; break;
+			case 'n': out += '\n'; break;
+			case 'r': out += '\r'; break;
+			case 't': out += '\t'; break;
+			case 'u':
+				for (int k = 0; k < 4; k++)
+					if (i_ >= s_.size() || !std::isxdigit(static_cast<unsigned char>(s_[i_++])))
+						fail("bad \\u escape");
+				out += '?';
+				break;
+			default: fail("bad escape");
+			}
+		}
+	}
+	Json value()
+	{
+		Json v;
+		const char c = peek();
+		if (c == '{') {
+			v.kind = Json::Object;
+			i_++;
+			if (peek() == '}') {
+				i_++;
+				return v;
+			}
+			while (true) {
+				const std::string k = string();
+				expect(':');
+				if (!v.obj.emplace(k, value()).second)
+					fail("duplicate key " + k);
+				if (peek() == ',') {
+					i_++;
+					continue;
+				}
+				expect('}');
+				return v;
+			}
+		}
+		if (c == '[') {
+			v.kind = Json::Array;
+			i_++;
+			if (peek() == ']') {
+				i_++;
+				return v;
+			}
+			while (true) {
+				v.arr.push_back(value());
+				if (peek() == ',') {
+					i_++;
+					continue;
+				}
+				expect(']');
+				return v;
+			}
+		}
+		if (c == '"') {
+			v.kind = Json::String;
+			v.str = string();
+			return v;
+		}
+		if (literal("true")) {
+			v.kind = Json::Bool;
+			v.b = true;
+			return v;
+		}
+		if (literal("false")) {
+			v.kind = Json::Bool;
+			return v;
+		}
+		if (literal("null"))
+			return v;
+		// number: -?(0|[1-9][0-9]*)(.[0-9]+)?([eE][+-]?[0-9]+)?
+		const std::size_t start = i_;
+		if (s_[i_] == '-')
+			i_++;
+		auto digits = [&] {
+			const std::size_t d = i_;
+			while (i_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[i_])))
+				i_++;
+			if (i_ == d)
+				fail("digit expected");
+		};
+		if (i_ < s_.size() && s_[i_] == '0')
+			i_++;
+		else
+			digits();
+		if (i_ < s_.size() && s_[i_] == '.') {
+			i_++;
+			digits();
+		}
+		if (i_ < s_.size() && (s_[i_] == 'e' || s_[i_] == 'E')) {
+			i_++;
+			if (i_ < s_.size() && (s_[i_] == '+' || s_[i_] == '-'))
+				i_++;
+			digits();
+		}
+		v.kind = Json::Number;
+		v.num = std::strtod(s_.substr(start, i_ - start).c_str(), nullptr);
+		return v;
+	}
+
+	const std::string &s_;
+	std::size_t i_ = 0;
+};
+
+Json parseJson(const std::string &s)
+{
+	return Parser(s).parse();
+}
+
+} // namespace
+
+TEST_CASE("the test's JSON parser rejects what is not JSON", "[cli][json]")
+{
+	CHECK_NOTHROW(parseJson(R"({"a": [1, -2.5e3, true, null, "x\"y"]})"));
+	CHECK_THROWS(parseJson("{\"a\": 1,}"));
+	CHECK_THROWS(parseJson("[0x10]"));
+	CHECK_THROWS(parseJson("{\"a\": 1} x"));
+	CHECK_THROWS(parseJson("{'a': 1}"));
+}
+
+TEST_CASE("info reports the simulator's power-on firmware, format, status and counters",
+	  "[cli][info]")
+{
+	const Result r = run("info");
+	REQUIRE(r.status == 0);
+	CHECK(r.err.empty());
+	const unsigned fw = ecmxf::sim::ChipConfig{}.fwVersion; // 0x30
+	char buf[64];
+	std::snprintf(buf, sizeof(buf), "firmware version:  %u (0x%02x)\n", fw, fw);
+	CHECK_THAT(r.out, Contains(buf));
+	CHECK_THAT(r.out, Contains("series:            0 (ECM-XF)\n"));
+	CHECK_THAT(r.out, Contains("build id:          ecmxf-simulator\n"));
+	CHECK_THAT(r.out, Contains("data size:         112\n"));
+	CHECK_THAT(r.out, Contains("check type:        fixed\n"));
+	// before INIT_OP: no network; link present (bit 0); FIFO enabled at power-on
+	CHECK_THAT(r.out, Contains("ECAT state:        NONE (0x00)\n"));
+	CHECK_THAT(r.out, Contains("error status:      0x01 (link)\n"));
+	CHECK_THAT(r.out, Contains("ECM status:        0x40 (FIFO enabled)\n"));
+	CHECK_THAT(r.out, Contains("SPI CRC errors:    0\n"));
+	CHECK_THAT(r.out, Contains("WKC errors:        0\n"));
+	CHECK_THAT(r.out, Contains("slaves:            0\n"));
+}
+
+TEST_CASE("info --json (and the global --json) is one JSON object with the same values",
+	  "[cli][info][json]")
+{
+	for (const char *args : { "info --json", "--json info" }) {
+		const Result r = run(args);
+		REQUIRE(r.status == 0);
+		const Json j = parseJson(r.out);
+		REQUIRE(j.kind == Json::Object);
+		CHECK(j["firmware_version"].num == ecmxf::sim::ChipConfig{}.fwVersion);
+		CHECK(j["series"].num == 0);
+		CHECK(j["build_id"].str == "ecmxf-simulator");
+		CHECK(j["data_size"].num == 112);
+		CHECK(j["check_type"].str == "fixed");
+		CHECK(j["ecat_state"].num == 0);
+		CHECK(j["error_status"].num == 1);
+		REQUIRE(j["error_bits"].arr.size() == 1);
+		CHECK(j["error_bits"].arr[0].str == "link");
+		CHECK(j["ecm_status"].num == 0x40);
+		CHECK(j["spi_crc_errors"].num == 0);
+		CHECK(j["wkc_errors"].num == 0);
+		CHECK(j["slaves"].num == 0);
+		CHECK(j["device"].str == "sim:");
+	}
+}
+
+TEST_CASE("slaves scans the default network and lists 3 slaves in INIT in bus order",
+	  "[cli][slaves]")
+{
+	const Result r = run("slaves");
+	REQUIRE(r.status == 0);
+	CHECK(r.err.empty()); // the scan is mentioned only with -v
+	const auto l = lines(r.out);
+	REQUIRE(l.size() == 3);
+	// position, alias:relative position, state, no error, vendor:product, name
+	CHECK(l[0] == "0    0:0      INIT   +  0x00000e5c:0x00000584  EST-584");
+	CHECK(l[1] == "1    0:1      INIT   +  0x00000e5c:0x00000584  EST-584");
+	CHECK(l[2] == "2    0:2      INIT   +  0x00000e5c:0x00001088  Digital I/O 8 out / 8 in");
+}
+
+TEST_CASE("slaves -v adds revision, station address, AL status code and process data sizes",
+	  "[cli][slaves]")
+{
+	const Result r = run("slaves -v");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.err, Contains("ECAT_INIT_OP"));
+	const auto l = lines(r.out);
+	REQUIRE(l.size() == 4);
+	CHECK_THAT(l[0], StartsWith("POS  ALIAS"));
+	CHECK_THAT(l[0], Contains("REVISION"));
+	// stations 0x1001 + position; EST-584 12/17 bytes, dio 1/1 (sim-slaves.rst)
+	CHECK(l[1] == "0    0:0      INIT   +  0x00000e5c:0x00000584  0x00010000  0x1001  0x0000     12    17  EST-584");
+	CHECK(l[2] == "1    0:1      INIT   +  0x00000e5c:0x00000584  0x00010000  0x1002  0x0000     12    17  EST-584");
+	CHECK(l[3] == "2    0:2      INIT   +  0x00000e5c:0x00001088  0x00010000  0x1003  0x0000      1     1  Digital I/O 8 out / 8 in");
+}
+
+TEST_CASE("slaves --json is an array of 3 objects with the models' identities", "[cli][slaves][json]")
+{
+	namespace m = ecmxf::sim::model;
+	const Result r = run("slaves --json");
+	REQUIRE(r.status == 0);
+	const Json j = parseJson(r.out);
+	REQUIRE(j.kind == Json::Array);
+	REQUIRE(j.arr.size() == 3);
+	const std::uint32_t product[] = { m::kEst584Product, m::kEst584Product, m::kDioProduct };
+	const std::uint32_t revision[] = { m::kEst584Revision, m::kEst584Revision, m::kDioRevision };
+	const unsigned out[] = { 12, 12, 1 }, in[] = { 17, 17, 1 };
+	for (std::size_t i = 0; i < 3; i++) {
+		const Json &s = j.arr[i];
+		CHECK(s["position"].num == static_cast<double>(i));
+		CHECK(s["vendor_id"].num == m::kVendorId);
+		CHECK(s["product_code"].num == product[i]);
+		CHECK(s["revision"].num == revision[i]);
+		CHECK(s["state"].str == "INIT");
+		CHECK(s["al_state"].num == 1);
+		CHECK(s["error"].kind == Json::Bool);
+		CHECK_FALSE(s["error"].b);
+		CHECK(s["alias"].num == 0);
+		CHECK(s["station_address"].num == 0x1001 + static_cast<double>(i));
+		CHECK(s["al_status_code"].num == 0);
+		CHECK(s["output_bytes"].num == out[i]);
+		CHECK(s["input_bytes"].num == in[i]);
+	}
+	CHECK(j.arr[0]["name"].str == "EST-584");
+	CHECK(j.arr[2]["name"].str == "Digital I/O 8 out / 8 in");
+}
+
+TEST_CASE("a device URI whose network file does not exist fails with exit code 1 naming the file",
+	  "[cli][errors]")
+{
+	const Result r = run("-d sim:/nonexistent.net info");
+	CHECK(r.status == 1);
+	CHECK(r.out.empty());
+	CHECK_THAT(r.err, StartsWith("ecmxf-util: "));
+	CHECK_THAT(r.err, Contains("/nonexistent.net"));
+}
+
+TEST_CASE("usage errors exit with code 2: unknown command, option or argument", "[cli][errors]")
+{
+	Result r = run("frobnicate");
+	CHECK(r.status == 2);
+	CHECK_THAT(r.err, StartsWith("ecmxf-util: unknown command 'frobnicate'"));
+	r = run("--frob info");
+	CHECK(r.status == 2);
+	r = run("info --frob");
+	CHECK(r.status == 2);
+	CHECK_THAT(r.err, Contains("'--frob'"));
+	r = run("");
+	CHECK(r.status == 2);
+}
+
+TEST_CASE("unambiguous prefixes select a command", "[cli]")
+{
+	const Result full = run("slaves");
+	const Result prefix = run("sl");
+	REQUIRE(prefix.status == 0);
+	CHECK(prefix.out == full.out);
+	const Result i = run("in --json");
+	REQUIRE(i.status == 0);
+	CHECK(parseJson(i.out)["data_size"].num == 112);
+}
+
+TEST_CASE("--help and COMMAND --help print usage and exit 0", "[cli][help]")
+{
+	Result r = run("--help");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, StartsWith("Usage: ecmxf-util"));
+	CHECK_THAT(r.out, Contains("info"));
+	CHECK_THAT(r.out, Contains("slaves"));
+	r = run("info --help");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, StartsWith("Usage: ecmxf-util [global options] info"));
+	r = run("slaves --help");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, StartsWith("Usage: ecmxf-util [global options] slaves"));
+	r = run("-V");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, StartsWith("ecmxf-util "));
+}
