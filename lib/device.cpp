@@ -303,7 +303,10 @@ Response Device::Impl::command(const Command &c)
 std::unique_ptr<Device> Device::open(std::string_view uri)
 {
 	constexpr std::string_view kSim = "sim:";
-	const std::string quoted = "\"" + std::string(uri) + "\"";
+	// built by append: GCC 12 warns falsely (-Wrestrict, PR 105651) about
+	// "literal" + std::string at -O3
+	std::string quoted(1, '"');
+	quoted.append(uri).push_back('"');
 
 	if (uri.substr(0, kSim.size()) == kSim) {
 		const std::string file(uri.substr(kSim.size()));
