@@ -133,13 +133,7 @@ void Est584::buildDictionary(std::uint32_t maxSpeed, std::uint16_t window)
 			.def(1)
 			.asCommand()
 			.onCheck([this](std::uint64_t v) { return storeCommand(v); });
-	od.sub(0x1018, 1, "Vendor ID", DT::U32, A::RO).def(cfg_.identity.vendorId);
-	od.sub(0x1018, 2, "Product code", DT::U32, A::RO).def(cfg_.identity.productCode);
-	od.sub(0x1018, 3, "Revision", DT::U32, A::RO).def(cfg_.identity.revision);
-	od.sub(0x1018, 4, "Serial number", DT::U32, A::RO).def(cfg_.identity.serial);
-	const std::uint8_t smTypes[] = { 1, 2, 3, 4 };
-	for (std::uint8_t s = 1; s <= 4; s++)
-		od.sub(0x1C00, s, "Sync manager type", DT::U8, A::RO).def(smTypes[s - 1]);
+	addIdentityObjects();
 
 	// ---- PDO mapping, 5.4.1 (sub-indices renumbered 1..n, see the doc) ----
 	addPdoMapping(0x1600, true, { 0x60400010, 0x607A0020, 0x60B00020, 0x60B80010 });

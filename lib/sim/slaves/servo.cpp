@@ -190,13 +190,7 @@ void Servo::buildDictionary(std::uint32_t maxSpeed, std::uint32_t window)
 			log("defaults restored (next power-on)");
 			return 0;
 		});
-	od.sub(0x1018, 1, "Vendor ID", DT::U32, A::RO).def(cfg_.identity.vendorId);
-	od.sub(0x1018, 2, "Product code", DT::U32, A::RO).def(cfg_.identity.productCode);
-	od.sub(0x1018, 3, "Revision", DT::U32, A::RO).def(cfg_.identity.revision);
-	od.sub(0x1018, 4, "Serial number", DT::U32, A::RO).def(cfg_.identity.serial);
-	const std::uint8_t smTypes[] = { 1, 2, 3, 4 };
-	for (std::uint8_t s = 1; s <= 4; s++)
-		od.sub(0x1C00, s, "Sync manager type", DT::U8, A::RO).def(smTypes[s - 1]);
+	addIdentityObjects();
 
 	// RxPDO 13 bytes, TxPDO 15 bytes by default; three more free PDOs each.
 	addPdoMapping(0x1600, true,

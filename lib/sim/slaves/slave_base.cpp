@@ -142,6 +142,19 @@ void SlaveBase::addPdoMapping(std::uint16_t index, bool rx,
 	}
 }
 
+void SlaveBase::addIdentityObjects()
+{
+	using DT = DataType;
+	using A = Access;
+	od_.sub(0x1018, 1, "Vendor ID", DT::U32, A::RO).def(cfg_.identity.vendorId);
+	od_.sub(0x1018, 2, "Product code", DT::U32, A::RO).def(cfg_.identity.productCode);
+	od_.sub(0x1018, 3, "Revision", DT::U32, A::RO).def(cfg_.identity.revision);
+	od_.sub(0x1018, 4, "Serial number", DT::U32, A::RO).def(cfg_.identity.serial);
+	const std::uint8_t smTypes[] = { 1, 2, 3, 4 };
+	for (std::uint8_t s = 1; s <= 4; s++)
+		od_.sub(0x1C00, s, "Sync manager type", DT::U8, A::RO).def(smTypes[s - 1]);
+}
+
 void SlaveBase::addPdoAssignment(bool rx, const std::vector<std::uint16_t> &defaults)
 {
 	PdoAssign &a = rx ? rxAssign_ : txAssign_;

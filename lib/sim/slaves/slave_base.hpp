@@ -149,6 +149,9 @@ protected:
 	/// of the most derived constructor.
 	void finishSetup();
 
+	/// Define the identity object 0x1018 (from the configured identity) and
+	/// the sync manager types 0x1C00 (mailbox out/in, process data out/in).
+	void addIdentityObjects();
 	/// Define a PDO mapping object with its default entries (0xIIIISSBB).
 	void addPdoMapping(std::uint16_t index, bool rx, const std::vector<std::uint32_t> &defaults);
 	/// Define 0x1C12 (@p rx) or 0x1C13 with the default assignment. Call
