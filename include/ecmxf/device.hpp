@@ -24,6 +24,9 @@
 #include <vector>
 
 #include <ecmxf/export.hpp>
+#include <ecmxf/types_bus.hpp>
+#include <ecmxf/types_chip.hpp>
+#include <ecmxf/types_cia402.hpp>
 
 namespace ecmxf {
 
@@ -106,6 +109,20 @@ public:
 	/// command's timeout plus one exchange. Throws ecmxf::Error when the
 	/// command fails; nothing is left in flight afterwards.
 	Response command(const Command &c);
+
+	// ==== typed commands: chip, link, peripherals, EEPROM, FoE, raw,
+	// ==== MDIO, mailbox, interrupts, resets (lib/commands_chip.cpp)
+	// ==== end chip
+
+	// ==== typed commands: bus bring-up, states, slaves, PDO, FIFO, SDO
+	// ==== (lib/commands_bus.cpp, lib/sdo.cpp)
+	// ==== end bus
+
+	// ==== typed commands: the chip's CiA-402 engine (lib/cia402_chip.cpp)
+	// ==== end cia402
+
+	// ==== packet trace (lib/trace.cpp)
+	// ==== end trace
 
 	/// The latest valid response header of any exchange (ECAT state,
 	/// error status, FIFO counts...); all zero before the first one.
