@@ -27,6 +27,7 @@
 #include <ecmxf/types_bus.hpp>
 #include <ecmxf/types_chip.hpp>
 #include <ecmxf/types_cia402.hpp>
+#include <ecmxf/types_pdo.hpp>
 
 namespace ecmxf {
 
@@ -117,6 +118,10 @@ public:
 	// ==== typed commands: bus bring-up, states, slaves, PDO, FIFO, SDO
 	// ==== (lib/commands_bus.cpp, lib/sdo.cpp)
 	// ==== end bus
+
+	// ==== typed commands: process data, FIFO, cyclic exchange
+	// ==== (lib/commands_pdo.cpp, lib/cyclic.cpp)
+	// ==== end pdo
 
 	// ==== typed commands: the chip's CiA-402 engine (lib/cia402_chip.cpp)
 	// ==== end cia402
