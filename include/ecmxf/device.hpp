@@ -124,6 +124,35 @@ public:
 	// ==== end pdo
 
 	// ==== typed commands: the chip's CiA-402 engine (lib/cia402_chip.cpp)
+	// Motors are numbered 0..127. With the engine on, the chip owns
+	// controlword bits 0-3 and 7 of the motor in every frame. A command the
+	// chip refuses (command error) throws ecmxf::Error (EREMOTEIO) saying
+	// why it can be refused; bad arguments throw EINVAL.
+
+	/// 402_CONFIG_SET: @p motor is the drive at @p config.slave, with its
+	/// controlword and statusword at the given byte offsets of that
+	/// slave's process data, and the engine's control byte. Needs the bus
+	/// initialized (ECAT_INIT_OP).
+	void chip402Configure(unsigned motor, const Chip402Config &config);
+	/// 402_STATE_SET: the state the engine walks @p motor to: SWITCH ON
+	/// DISABLED, READY TO SWITCH ON, SWITCHED ON, OPERATION ENABLED or
+	/// QUICK STOP ACTIVE (else EINVAL).
+	void chip402RequestState(unsigned motor, Cia402State target);
+	/// 402_STATE_GET: the motor's state as the chip reads its statusword.
+	[[nodiscard]] Chip402State chip402State(unsigned motor);
+	/// 402_CTL_SET: the control byte, total motor count and slave.
+	void chip402SetControl(unsigned motor, const Chip402Control &control);
+	/// 402_CTL_GET: the control byte (bit 3 reads 0 again once a single
+	/// fault reset is done).
+	[[nodiscard]] Chip402Flags chip402Control(unsigned motor);
+	/// 402_GET_STATUSWORD: the motor's statusword as the chip last read it.
+	[[nodiscard]] std::uint16_t chip402Statusword(unsigned motor);
+	/// Polls 402_STATE_GET (every @p poll on the transport's clock) until
+	/// @p motor is in @p target; throws ecmxf::Error (ETIMEDOUT) naming
+	/// the awaited state, the state the motor stays in and its statusword
+	/// after @p timeout.
+	Cia402State chip402AwaitState(unsigned motor, Cia402State target, std::chrono::nanoseconds timeout,
+				      std::chrono::nanoseconds poll = std::chrono::milliseconds(1));
 	// ==== end cia402
 
 	// ==== packet trace (lib/trace.cpp)
