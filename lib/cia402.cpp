@@ -117,8 +117,8 @@ std::optional<Cia402Command> cia402NextCommand(Cia402State from, Cia402State tar
 		const Cia402State s = queue[head++];
 		if (s == target)
 			return first[idx(s)];
-		if (s == Cia402State::OperationEnabled && s != from)
-			continue;
+		if (s == Cia402State::OperationEnabled && s != from && target != Cia402State::QuickStopActive)
+			continue; // QUICK STOP ACTIVE is reached only from there
 		for (const Cia402Transition &t : kCia402Transitions) {
 			if (!t.from || *t.from != s || !t.command || *t.command == Cia402Command::FaultReset)
 				continue;
@@ -174,6 +174,8 @@ Cia402Step Cia402Stepper::step(std::uint16_t statusword, nanoseconds now, std::u
 	auto fail = [&](Why why) {
 		progress_ = Cia402Progress::Failed;
 		why_ = why;
+		failSw_ = statusword;
+		failState_ = st;
 	};
 
 	if (progress_ == Cia402Progress::Done && st != target_)
@@ -184,6 +186,8 @@ Cia402Step Cia402Stepper::step(std::uint16_t statusword, nanoseconds now, std::u
 		fail(Why::Unstable);
 	if (progress_ == Cia402Progress::Busy && st == Cia402State::Fault && !opt_.faultReset)
 		fail(Why::FaultNoReset);
+	if (progress_ == Cia402Progress::Busy && now - since_ >= opt_.timeout)
+		fail(Why::Timeout);
 
 	std::uint16_t bits = lastBits_;
 	if (progress_ == Cia402Progress::Idle) {
@@ -220,9 +224,6 @@ Cia402Step Cia402Stepper::step(std::uint16_t statusword, nanoseconds now, std::u
 		}
 	}
 
-	if (progress_ == Cia402Progress::Busy && now - since_ >= opt_.timeout)
-		fail(Why::Timeout);
-
 	lastBits_ = bits;
 	Cia402Step r;
 	r.controlword = static_cast<std::uint16_t>((controlword & ~cia402::kCwStateBits) | bits);
@@ -235,7 +236,7 @@ std::string Cia402Stepper::failureMessage() const
 	if (progress_ != Cia402Progress::Failed)
 		return {};
 	std::string m = slaveText(slave_);
-	const std::string sw = cia402Hex16(statusword_);
+	const std::string sw = cia402Hex16(failSw_);
 	const std::string target(cia402StateName(target_));
 	switch (why_) {
 	case Why::Timeout: {
@@ -244,7 +245,7 @@ std::string Cia402Stepper::failureMessage() const
 		m.append(cia402StateName(awaited));
 		if (awaited != target_)
 			m.append(" on the way to ").append(target);
-		m.append(": stays in ").append(stateText(state_)).append(" (statusword ").append(sw).append(")");
+		m.append(": stays in ").append(stateText(failState_)).append(" (statusword ").append(sw).append(")");
 		break;
 	}
 	case Why::FaultNoReset:
@@ -258,7 +259,7 @@ std::string Cia402Stepper::failureMessage() const
 		m.append("CiA-402 drive left ")
 			.append(target)
 			.append(": now ")
-			.append(stateText(state_))
+			.append(stateText(failState_))
 			.append(" (statusword ")
 			.append(sw)
 			.append(")");
@@ -269,7 +270,7 @@ std::string Cia402Stepper::failureMessage() const
 			.append(": ")
 			.append(std::to_string(changes_))
 			.append(" state changes, now ")
-			.append(stateText(state_))
+			.append(stateText(failState_))
 			.append(" (statusword ")
 			.append(sw)
 			.append(")");
@@ -301,7 +302,8 @@ void PpSetPointStepper::start(nanoseconds now, Options options)
 
 Cia402Step PpSetPointStepper::step(std::uint16_t statusword, nanoseconds now, std::uint16_t controlword) noexcept
 {
-	statusword_ = statusword;
+	if (progress_ == Cia402Progress::Busy)
+		statusword_ = statusword; // kept from the failure on
 	auto cw = static_cast<std::uint16_t>(controlword & ~(cia402::kCwNewSetPoint | cia402::kCwChangeImmediately |
 								cia402::kCwRelative));
 	if (opt_.changeImmediately)
@@ -451,7 +453,8 @@ void HomingStepper::start(nanoseconds now, Options options)
 
 Cia402Step HomingStepper::step(std::uint16_t statusword, nanoseconds now, std::uint16_t controlword) noexcept
 {
-	statusword_ = statusword;
+	if (progress_ == Cia402Progress::Busy)
+		statusword_ = statusword; // kept from the failure on
 	auto cw = static_cast<std::uint16_t>(controlword & ~cia402::kCwHomingStart);
 	Cia402Step r;
 	if (progress_ == Cia402Progress::Idle) {

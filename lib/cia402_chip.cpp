@@ -80,10 +80,7 @@ Response run(Device &dev, const Command &c, const char *name, unsigned motor, co
 	Response r = dev.command(c);
 	if (r.header.errStatus & ECMXF_ERR_CMD) {
 		std::string m = prefix(name, motor);
-		m.append("the chip refused the command (command error, error status ")
-			.append(hex8(r.header.errStatus))
-			.append("): ")
-			.append(why);
+		m.append("the chip refused the command (command error): ").append(why);
 		throw Error(m, EREMOTEIO, r.header.errStatus);
 	}
 	return r;

@@ -327,6 +327,8 @@ private:
 	std::chrono::nanoseconds since_{ 0 };
 	ResetPhase reset_ = ResetPhase::None;
 	unsigned changes_ = 0; // state changes in this walk
+	std::uint16_t failSw_ = 0;
+	std::optional<Cia402State> failState_;
 	Why why_ = Why::None;
 	std::optional<Cia402State> awaited_;
 };
