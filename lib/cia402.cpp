@@ -154,8 +154,7 @@ void Cia402Stepper::request(Cia402State target, nanoseconds now)
 	changes_ = 0;
 	why_ = Why::None;
 	awaited_.reset();
-	if (state_ == target_ && seen_)
-		progress_ = Cia402Progress::Done;
+	// the state seen last may be old: the next step decides
 }
 
 Cia402Step Cia402Stepper::step(std::uint16_t statusword, nanoseconds now, std::uint16_t controlword) noexcept

@@ -336,8 +336,9 @@ TEST_CASE("cia402 stepper: fault reset is a rising edge of bit 7, held until FAU
 	walk(s, {
 			{ kOe, 0x000F, Done },
 		});
-	s.request(Cia402State::OperationEnabled, 1ms); // already there
-	CHECK(s.progress() == Done);
+	s.request(Cia402State::OperationEnabled, 1ms); // there, but the next statusword decides
+	CHECK(s.progress() == Busy);
+	walk(s, { { kOe, 0x000F, Done } }, 1ms);
 
 	// a fault during a walk (13, 14) is reset on the way
 	Cia402Stepper w(2);
