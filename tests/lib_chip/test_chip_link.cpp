@@ -143,7 +143,7 @@ TEST_CASE("check type: CRC_TYPE_SET to CRC-32 and back, the header's bits 1-0 ag
 		   Equals("CRC_TYPE_SET: check type 4 is out of range (0 fixed, 1 CRC-8, 2 CRC-CCITT, 3 CRC-32)"));
 }
 
-TEST_CASE("CRC_ERR_CNT_CLR returns the count it cleared; INFO_UPDATE_OP can clear it too", "[lib][chip][link]")
+TEST_CASE("CRC_ERR_CNT_CLR returns the count it cleared, INFO_UPDATE_OP can clear it too", "[lib][chip][link]")
 {
 	SimDevice s;
 	s.chip().faults().mosiBitErrors = 2;
@@ -238,7 +238,7 @@ TEST_CASE("a command the chip refuses: error status bit 7 in words, and the bit 
 	CHECK(s.dev->firmwareVersion().version == 0x30);
 }
 
-TEST_CASE("ASYNCCMD_RESET ends a stuck async command; bad actions are refused", "[lib][chip][link]")
+TEST_CASE("ASYNCCMD_RESET ends a stuck async command, bad actions are refused", "[lib][chip][link]")
 {
 	SimDevice s;
 	s.chip().faults().asyncStuckBusy = true;
@@ -259,7 +259,7 @@ TEST_CASE("ASYNCCMD_RESET ends a stuck async command; bad actions are refused", 
 	CHECK_THAT(e.what(), Contains("actions 0x08 are out of range"));
 }
 
-TEST_CASE("WARM_RESET restores the power-on format and settings; the library follows", "[lib][chip][link]")
+TEST_CASE("WARM_RESET restores the power-on format and settings, the library follows", "[lib][chip][link]")
 {
 	SimDevice s;
 	s.dev->setDataSize(64);

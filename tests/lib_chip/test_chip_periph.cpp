@@ -157,7 +157,7 @@ TEST_CASE("QEI: open, start, count, stop (no shaft motion: count 0)", "[lib][chi
 				    "free, 0x200 X4 compare, 0x300 X2 compare)"));
 }
 
-TEST_CASE("DAC: every sub-operation is accepted; ranges are checked", "[lib][chip][dac]")
+TEST_CASE("DAC: every sub-operation is accepted, ranges are checked", "[lib][chip][dac]")
 {
 	SimDevice s;
 	auto &d = *s.dev;

@@ -143,7 +143,7 @@ TEST_CASE("raw datagrams: FPRD of AL status, APRD of station addresses, BRD, LRD
 	CHECK(r.data == std::vector<std::uint8_t>{ 0x02 });
 }
 
-TEST_CASE("raw datagrams: lengths and commands are checked; long ones need a larger data section",
+TEST_CASE("raw datagrams: lengths and commands are checked, long ones need a larger data section",
 	  "[lib][chip][raw]")
 {
 	SimDevice s;
@@ -215,7 +215,7 @@ TEST_CASE("FoE round trip on the servo network: firmware.bin in BOOT, then the l
 	CHECK(servo->firmware() == fw2);
 }
 
-TEST_CASE("FoE failures carry the FoE error code; arguments are checked", "[lib][chip][foe]")
+TEST_CASE("FoE failures carry the FoE error code, arguments are checked", "[lib][chip][foe]")
 {
 	SimDevice s("servo-io.net");
 	auto &d = *s.dev;
