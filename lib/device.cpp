@@ -344,6 +344,18 @@ ResponseHeader Device::lastHeader() const
 	return h ? toHeader(*h) : ResponseHeader{};
 }
 
+// the packet format the engine uses (it follows SPI_RECONFIG_OP,
+// CRC_TYPE_SET and WARM_RESET); the typed calls are in commands_chip.cpp
+std::uint16_t Device::dataSize() const
+{
+	return static_cast<std::uint16_t>(ecmxf_engine_data_size(&impl_->engine));
+}
+
+CheckType Device::checkType() const
+{
+	return static_cast<CheckType>(impl_->engine.check & ECMXF_STS_CHECK_MASK);
+}
+
 Transport &Device::transport() noexcept
 {
 	return *impl_->transport;

@@ -113,6 +113,176 @@ public:
 
 	// ==== typed commands: chip, link, peripherals, EEPROM, FoE, raw,
 	// ==== MDIO, mailbox, interrupts, resets (lib/commands_chip.cpp)
+	//
+	// Documentation/commands-chip.rst describes each call. Arguments out of
+	// range throw Error(EINVAL) naming the argument and its range; a
+	// command the chip refuses (error status bit 7) throws Error(EINVAL)
+	// with the error status; an async command that fails throws
+	// Error(EREMOTEIO) with the chip's own error code where it has one.
+
+	// ---- the chip, its link ----
+
+	/// INFO_UPDATE_OP (0): one exchange that refreshes the response
+	/// header, optionally with the control-byte actions of @p options.
+	ResponseHeader infoUpdate(const InfoUpdateOptions &options = {});
+	/// FW_VERSION_GET (56): version, extended version, series, build id.
+	[[nodiscard]] FirmwareVersion firmwareVersion();
+	/// Firmware, format, header status and counters in one (commands 56,
+	/// 20, 130, 131).
+	[[nodiscard]] ChipInfo info();
+	/// The data section size the library's engine uses now (no exchange).
+	[[nodiscard]] std::uint16_t dataSize() const;
+	/// The check word type the library's engine uses now (no exchange).
+	[[nodiscard]] CheckType checkType() const;
+	/// SPI_PACK_SIZE_GET (20): the data section size the chip reports.
+	[[nodiscard]] std::uint16_t queryDataSize();
+	/// SPI_RECONFIG_OP (23): data section of @p bytes (32..1408) from the
+	/// next exchange on; the library follows (100 ms hold-off).
+	void setDataSize(std::uint16_t bytes);
+	/// CRC_TYPE_SET (25): the check word type from the next packet on.
+	/// Crc8 and Ccitt exist in firmware of manual ver. 038 only.
+	void setCheckType(CheckType type);
+	/// CRC_ERR_CNT_CLR (24): clears the SPI CRC error count; returns the
+	/// count it had.
+	std::uint8_t clearCrcErrorCount();
+	/// ECAT_WKC_CONTI_ERR_CNT_GET (130): consecutive WKC errors now.
+	[[nodiscard]] std::uint8_t wkcContinuousErrorCount();
+	/// ECAT_WKC_CONTI_ERR_MAX_GET (131): the limit (kWkcNoLimit = none).
+	[[nodiscard]] std::uint8_t wkcErrorLimit();
+	/// ECAT_WKC_CONTI_ERR_MAX_SET (132): stop the process data after more
+	/// than @p limit (1..255; kWkcNoLimit = never) consecutive WKC errors.
+	void setWkcErrorLimit(std::uint8_t limit);
+	/// ECAT_INT_SET_ENABLE (58): INT1 sources and INT0/INT1 polarities.
+	void setInterruptConfig(const InterruptConfig &config);
+	/// ECAT_INT_GET_ENABLE (59).
+	[[nodiscard]] InterruptConfig interruptConfig();
+	/// ASYNCCMD_RESET (75): @p actions = async_reset::k* bits (1..7).
+	void resetAsyncCommand(std::uint8_t actions);
+	/// WARM_RESET (127): the chip restarts with its power-on settings
+	/// (112-byte data section, fixed check word); the library follows.
+	void warmReset();
+
+	// ---- GPIO (31, 32): masks name GPIO n with bit n, n = 0..19 ----
+
+	/// GpioSetMode (31/0 for GPIO 0..15, 31/8 for GPIO 16..19).
+	void gpioSetMode(std::uint32_t lines, GpioMode mode, GpioPull pull = GpioPull::None);
+	/// GpioEnableDebounce (31/2, 31/9) for the @p lines.
+	void gpioSetDebounce(std::uint32_t lines, bool enable);
+	/// GpioSetDebounceClock (31/3): sampling period 2^@p cycle (0..15)
+	/// periods of @p clock.
+	void gpioSetDebounceClock(unsigned cycle, DebounceClock clock);
+	/// GpioIntEnable (31/1): interrupt type of one @p line (0..19).
+	void gpioSetInterrupt(unsigned line, GpioEdge edge);
+	/// GpioIntClear (31/4, or 31/6 when @p lines names GPIO 16..19).
+	void gpioClearInterrupts(std::uint32_t lines);
+	/// GpioSetValue (32/0): the output latches of GPIO 0..15.
+	void gpioWrite(std::uint16_t values);
+	/// GpioExtSetValue (32/2): the output latches of GPIO 0..19.
+	void gpioWriteAll(std::uint32_t values);
+	/// GpioGetValue (32/1): GPIO 0..15.
+	[[nodiscard]] std::uint16_t gpioRead();
+	/// GpioExtGetValue (32/3): GPIO 0..19.
+	[[nodiscard]] std::uint32_t gpioReadAll();
+	/// GpioGetIntFlag (32/5): interrupt flags of GPIO 0..15.
+	[[nodiscard]] std::uint16_t gpioInterruptFlags();
+	/// GpioExtGetIntFlag (32/7): interrupt flags of GPIO 0..19.
+	[[nodiscard]] std::uint32_t gpioInterruptFlagsAll();
+
+	// ---- QEI (33), DAC (34), ADC (35) ----
+
+	/// EncOpen (33/4): counting mode; stops and clears the counter.
+	void qeiOpen(QeiMode mode);
+	/// EncStart (33/5), EncStop (33/6).
+	void qeiStart();
+	void qeiStop();
+	/// EncGetCount (33/21): the 32-bit counter.
+	[[nodiscard]] std::uint32_t qeiCount();
+	/// DacOpen (34/20), DacClose (34/21).
+	void dacOpen(DacTrigger trigger);
+	void dacClose();
+	/// DacSetDelayTime (34/22): 0..1023 in 1/96 us.
+	void dacSetDelay(std::uint16_t ticks);
+	/// DacSetData (34/11): 0..4095 = 0..3.3 V.
+	void dacWrite(std::uint16_t value);
+	/// DacStartConv (34/0).
+	void dacStartConversion();
+	/// AdcOpen (35/40), AdcClose (35/41).
+	void adcOpen(AdcInputMode mode);
+	void adcClose();
+	/// AdcConfigSampleModule (35/42): sample @p module (0..15) converts
+	/// @p channel (0..15), software trigger. The manuals' own call is
+	/// (0, 0) ("reserved, set 0").
+	void adcConfigureModule(unsigned module, unsigned channel);
+	/// AdcStartConv (35/12): start the modules of @p moduleMask (bits 0..15).
+	void adcStart(std::uint16_t moduleMask);
+	/// AdcGetDataValidFlag (35/17): the modules of @p moduleMask whose
+	/// result is valid.
+	[[nodiscard]] std::uint16_t adcValidFlags(std::uint16_t moduleMask);
+	/// AdcGetConvData (35/15): the result of @p module (0..4095).
+	[[nodiscard]] std::uint16_t adcRead(unsigned module);
+	/// adcStart, adcValidFlags until valid (at most 100 polls), adcRead.
+	[[nodiscard]] std::uint16_t adcConvert(unsigned module = kAdcDefaultModule);
+
+	// ---- MDIO (81, ver. 050) ----
+
+	/// Reads register @p reg (0..31) of the PHY at @p phy (0..31).
+	[[nodiscard]] std::uint16_t mdioRead(unsigned phy, unsigned reg);
+	void mdioWrite(unsigned phy, unsigned reg, std::uint16_t value);
+
+	// ---- slaves: EEPROM (38/39), raw datagrams (137/138), FoE (139/140) ----
+
+	/// One word of the SII EEPROM of the slave at bus position @p slave
+	/// (0..127); @p timeout is the chip's limit (zero: its default).
+	[[nodiscard]] std::uint16_t eepromRead(unsigned slave, std::uint16_t wordAddress,
+					       std::chrono::microseconds timeout = {});
+	/// @p count words from @p wordAddress on, one EEPROM_REQ each.
+	[[nodiscard]] std::vector<std::uint16_t> eepromReadWords(unsigned slave, std::uint16_t wordAddress,
+								 std::size_t count);
+	void eepromWrite(unsigned slave, std::uint16_t wordAddress, std::uint16_t value,
+			 std::chrono::microseconds timeout = {});
+	/// RAW_ECAT_FUNC_REQ + RAW_ECAT_FUNC_GET: one datagram.
+	DatagramResult rawDatagram(const Datagram &datagram);
+	/// FoE read of file @p name from @p slave, whole (FOE_FUNC_REQ
+	/// upload into the chip's flash, then flash reads in chunks).
+	[[nodiscard]] std::vector<std::uint8_t> foeRead(unsigned slave, std::string_view name,
+							const FoeOptions &options = {});
+	/// FoE write of @p data as file @p name to @p slave (flash writes in
+	/// chunks, then FOE_FUNC_REQ download).
+	void foeWrite(unsigned slave, std::string_view name, std::span<const std::uint8_t> data,
+		      const FoeOptions &options = {});
+	/// The FOE_FUNC_REQ steps on their own: upload a slave's file into the
+	/// flash (returns its size), download flash bytes as a file, read and
+	/// write the flash (any size; chunked as the data section allows).
+	std::uint32_t foeUploadToFlash(unsigned slave, std::string_view name, const FoeOptions &options = {});
+	void foeDownloadFromFlash(unsigned slave, std::string_view name, std::uint32_t length,
+				  const FoeOptions &options = {});
+	[[nodiscard]] std::vector<std::uint8_t> flashRead(std::uint32_t address, std::uint32_t length);
+	void flashWrite(std::uint32_t address, std::span<const std::uint8_t> data);
+
+	// ---- mailbox (143/144), emergencies (83), direct assign (82) ----
+
+	/// COE_EMERGENCY (83): up to @p count (1..8) of the newest emergencies
+	/// the master read, newest first (fewer when there are fewer).
+	[[nodiscard]] std::vector<CoeEmergency> coeEmergencies(unsigned count = 8);
+	/// MBX_STAT 0 (144): bus positions whose receive mailbox holds a message.
+	[[nodiscard]] std::vector<unsigned> mailboxPending();
+	/// MBX_STAT 1: master polling of each slave's receive mailbox
+	/// (@p poll[position]), in effect from the next ECAT_RECONFIG_OP.
+	void setMailboxPolling(const std::vector<bool> &poll);
+	/// MBX_STAT 2: the polling in effect, one flag per slave.
+	[[nodiscard]] std::vector<bool> mailboxPolling();
+	/// RECV_MAILBOX 0 (143, async): fetch @p slave's receive mailbox into
+	/// the chip.
+	void fetchMailbox(unsigned slave);
+	/// RECV_MAILBOX 1: @p length bytes of the fetched message from @p offset.
+	[[nodiscard]] std::vector<std::uint8_t> readMailbox(std::size_t offset, std::size_t length);
+	/// fetchMailbox, then the whole message (6-byte mailbox header and the
+	/// bytes its length field counts); empty when the mailbox was empty.
+	[[nodiscard]] std::vector<std::uint8_t> receiveMailbox(unsigned slave);
+	/// DIRECT_ASSIGN 0 (82): use the lengths set below for @p slave.
+	void setDirectAssign(unsigned slave, bool enable);
+	/// DIRECT_ASSIGN 1: @p slave's process data length on @p side.
+	void setDirectAssignLength(unsigned slave, ProcessDataSide side, std::uint16_t bytes);
 	// ==== end chip
 
 	// ==== typed commands: bus bring-up, states, slaves, PDO, FIFO, SDO
