@@ -92,8 +92,8 @@ struct SlaveState {
 			why = "stays in " + stateName(s.state) + ", AL status " + hex(s.code, 4) + " " +
 			      std::string(alStatusText(s.code));
 		else
-			why = "stays in " + stateName(s.state) + " (AL status 0x0000: the slave did not complete the "
-								  "transition in the chip's time)";
+			why = "stays in " + stateName(s.state) + " (AL status 0x0000 No error: the request did not "
+								  "reach it or it did not finish in the chip's time)";
 		return std::make_pair(head, why);
 	};
 
