@@ -164,8 +164,13 @@ Response async(Device &dev, const Command &c, const std::string &what, int slave
 	try {
 		return dev.command(c);
 	} catch (const Error &e) {
-		if (e.errnoValue() != EBUSY)
-			rethrowWithPrefix(std::string(what).append(": "));
+		if (e.errnoValue() != EBUSY) {
+			// Device's message already starts with the command name
+			const std::string prefix = std::string(what).append(": ");
+			if (std::string_view(e.what()).substr(0, prefix.size()) == prefix)
+				throw;
+			rethrowWithPrefix(prefix);
+		}
 		// error status bit 7: the chip did not start it. Find out why
 		// (immediate commands work while an async one runs).
 		const bool busy = (dev.lastHeader().ecmStatus & ECMXF_STS_BUSY) != 0;
