@@ -16,11 +16,15 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
+#include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include <ecmxf/export.hpp>
@@ -287,6 +291,112 @@ public:
 
 	// ==== typed commands: bus bring-up, states, slaves, PDO, FIFO, SDO
 	// ==== (lib/commands_bus.cpp, lib/sdo.cpp)
+	// Slaves are 0-based bus positions as the chip numbers them (0..127);
+	// kAllSlaves (0xFF) selects all where the manual allows it. Types in
+	// <ecmxf/types_bus.hpp>; Documentation/commands-bus.rst, sdo.rst.
+
+	/// ECAT_INIT_OP (1): scan the network and configure DC; every slave
+	/// ends in INIT, the FIFO off.
+	void initNetwork(const InitConfig &config = {});
+	/// ECAT_RECONFIG_OP (2): rebuild the process image after a PDO
+	/// remapping (the header's ECAT state reads INIT afterwards; call
+	/// stateUpdate()).
+	void reconfigure();
+	/// ECAT_INIT_DC_OP (3): apply the DC settings (after dcSync()).
+	void initDc();
+	/// ECAT_PDO_CONFIG_SET (7): write one assignment object and its PDOs
+	/// (at most 3 PDOs of 8 entries: EINVAL beyond; use SDO then).
+	void pdoConfigSet(const PdoConfig &config);
+	/// ECAT_PDO_CONFIG_REQ (8) + ECAT_PDO_CONFIG_GET (9): read an
+	/// assignment object (0x1C12/0x1C13) and its PDOs back from a slave.
+	[[nodiscard]] PdoConfig pdoConfigRead(std::uint8_t slave, std::uint16_t assignIndex);
+	/// ECAT_PDO_CONFIG_GET (9) alone: the result of the last PDO_CONFIG_REQ.
+	[[nodiscard]] PdoConfig pdoConfigGet();
+	/// ECAT_STATE_SET (12); waits until the slave(s) reached @p state.
+	/// Failure: AlStatusError naming the slave, the state reached and its
+	/// AL status code and text.
+	void stateSet(std::uint8_t slave, State state);
+	/// ECAT_STATE_GET (13): the state the chip last read (see stateUpdate()).
+	[[nodiscard]] StateReading stateGet(std::uint8_t slave);
+	/// ECAT_SLV_INFO_GET (15), every code (0..9).
+	[[nodiscard]] SlaveInfo slaveInfo(std::uint8_t slave);
+	/// ECAT_SLV_INFO_GET (15), one code; the bytes the chip returned.
+	[[nodiscard]] std::vector<std::uint8_t> slaveInfoRaw(std::uint8_t slave, SlaveInfoCode code);
+	/// ECAT_SLV_CNT_GET (16): slaves found by the last INIT_OP.
+	[[nodiscard]] std::uint8_t slaveCount();
+	/// ECAT_STATE_CHECK (41): STATE_SET + STATE_UPDATE + STATE_GET; the
+	/// state reached (failures as stateSet()).
+	StateReading stateCheck(std::uint8_t slave, State state);
+	/// ECAT_DCSYNC (50): per-slave DC settings; applied by initDc().
+	void dcSync(std::uint8_t slave, const DcConfig &dc);
+	/// ECAT_STATE_UPDATE (57): read the slaves' states into the chip.
+	void stateUpdate();
+	/// ECAT_SDO_ABORTCODE_GET (69): the abort code of the last SDO.
+	[[nodiscard]] std::uint32_t sdoAbortCode();
+	/// ECAT_CONFIG_SM (71): set one sync manager of a slave by hand.
+	void configSm(std::uint8_t slave, std::uint8_t sm, const SmConfig &config);
+	/// ECAT_CONFIG_FMMU (72). Obsolete (manual ver. 050): the chip
+	/// configures the FMMUs itself and overwrites this; kept for
+	/// completeness. @p functions: FMMU0..3 function codes.
+	void configFmmu(std::uint8_t slave, const std::array<std::uint8_t, 4> &functions);
+	/// ECAT_CONFIG_MAP (73): apply a PDO remapping (instead of
+	/// RECONFIG_OP for slaves that reset their mapping on it).
+	void configMap();
+	/// ENABLE_LRW (142): LRW (true, the default) or LRD + LWR.
+	void enableLrw(bool enable);
+
+	/// ECAT_SDO_REQ (10) read + ECAT_SDO_GET (11): upload an object.
+	/// Failure: SdoError with the abort code (ECAT_SDO_ABORTCODE_GET) and
+	/// its text. At most kSdoMaxBytes per request and at most the data
+	/// section (EMSGSIZE otherwise).
+	[[nodiscard]] std::vector<std::uint8_t> sdoUpload(std::uint8_t slave, std::uint16_t index,
+							  std::uint8_t sub, const SdoOptions &options = {});
+	/// ECAT_SDO_REQ (10) write: download @p data (1..256 bytes, and
+	/// 12 + size within the data section).
+	void sdoDownload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+			 std::span<const std::uint8_t> data, const SdoOptions &options = {});
+	/// A visible string (trailing NULs dropped).
+	[[nodiscard]] std::string sdoReadString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+						const SdoOptions &options = {});
+	void sdoWriteString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub, std::string_view value,
+			    const SdoOptions &options = {});
+
+	/// Upload an integer or real (little-endian on the bus); the object
+	/// must have exactly sizeof(T) bytes (EPROTO otherwise).
+	template <typename T>
+		requires(std::is_arithmetic_v<T> && !std::is_same_v<T, bool>)
+	[[nodiscard]] T sdoRead(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+				const SdoOptions &options = {})
+	{
+		SdoOptions o = options;
+		if (o.length == 0)
+			o.length = sizeof(T);
+		const std::vector<std::uint8_t> b = sdoUpload(slave, index, sub, o);
+		if (b.size() != sizeof(T))
+			detail::throwSdoSizeMismatch(slave, index, sub, b.size(), sizeof(T));
+		using U = std::conditional_t<sizeof(T) == 1, std::uint8_t,
+			  std::conditional_t<sizeof(T) == 2, std::uint16_t,
+			  std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>>;
+		U u = 0;
+		for (std::size_t i = 0; i < sizeof(T); i++)
+			u = static_cast<U>(u | static_cast<U>(static_cast<U>(b[i]) << (8 * i)));
+		return std::bit_cast<T>(u);
+	}
+	/// Download an integer or real (little-endian on the bus).
+	template <typename T>
+		requires(std::is_arithmetic_v<T> && !std::is_same_v<T, bool>)
+	void sdoWrite(std::uint8_t slave, std::uint16_t index, std::uint8_t sub, T value,
+		      const SdoOptions &options = {})
+	{
+		using U = std::conditional_t<sizeof(T) == 1, std::uint8_t,
+			  std::conditional_t<sizeof(T) == 2, std::uint16_t,
+			  std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>>;
+		const U u = std::bit_cast<U>(value);
+		std::array<std::uint8_t, sizeof(T)> b{};
+		for (std::size_t i = 0; i < sizeof(T); i++)
+			b[i] = static_cast<std::uint8_t>(u >> (8 * i));
+		sdoDownload(slave, index, sub, std::span<const std::uint8_t>(b.data(), b.size()), options);
+	}
 	// ==== end bus
 
 	// ==== typed commands: process data, FIFO, cyclic exchange
