@@ -224,12 +224,6 @@ std::string gpioLineMaskError(std::uint32_t lines)
 	return "line mask " + hex(lines, 8) + " names lines above GPIO 19 (the ECM-XF has GPIO 0..19)";
 }
 
-/// The slave count SLV_CNT_GET reports (for the per-slave bitmaps of MBX_STAT).
-unsigned slaveCount(Device &d)
-{
-	return immediate(d, simple(ECMXF_CMD_ECAT_SLV_CNT_GET)).ret;
-}
-
 std::vector<bool> bitsOf(const std::vector<std::uint8_t> &bytes, unsigned count)
 {
 	std::vector<bool> out(count);
@@ -1016,7 +1010,7 @@ std::vector<unsigned> Device::mailboxPending()
 void Device::setMailboxPolling(const std::vector<bool> &poll)
 {
 	const std::string what = "MBX_STAT (set polling)";
-	const unsigned n = slaveCount(*this);
+	const unsigned n = slaveCount();
 	if (poll.size() != n)
 		invalid(what, std::to_string(poll.size()) + " polling flags given for " + std::to_string(n) +
 				      " slaves (one per slave found by ECAT_INIT_OP)");
@@ -1032,7 +1026,7 @@ void Device::setMailboxPolling(const std::vector<bool> &poll)
 
 std::vector<bool> Device::mailboxPolling()
 {
-	const unsigned n = slaveCount(*this);
+	const unsigned n = slaveCount();
 	const Response r = immediate(*this, simple(ECMXF_CMD_MBX_STAT, 2));
 	needData("MBX_STAT (polling)", r, (n + 7) / 8);
 	return bitsOf(r.data, n);
