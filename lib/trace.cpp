@@ -501,6 +501,8 @@ private:
 	bool lastWasMosi = false;
 	std::optional<std::pair<std::uint8_t, std::uint8_t>> lastSent_; ///< (index, code) of the last MOSI
 	std::map<std::pair<std::uint8_t, std::uint8_t>, std::size_t> sent_; ///< (index, code) -> exchange
+	/// index -> (exchange, code) of the latest re-send with that index
+	std::map<std::uint8_t, std::pair<std::size_t, std::uint8_t>> resent_;
 	std::size_t kernelReq_ = 0;
 	std::string kernelReqName_;
 	bool first_ = true;
@@ -565,7 +567,7 @@ Decoder::Verdict Decoder::verify(const std::vector<std::uint8_t> &p, bool comman
 	// in use: the type before a CRC_TYPE_SET, fixed for SPI_RECONFIG_OP
 	const unsigned expected = check_;
 	std::vector<std::pair<unsigned, const char *>> tries = { { expected, "" } };
-	if (command && p[0x0C] == ECMXF_CMD_SPI_RECONFIG_OP)
+	if (command && p[0x0C] == ECMXF_CMD_SPI_RECONFIG_OP && expected != ECMXF_CHECK_FIXED)
 		tries.insert(tries.begin(), { ECMXF_CHECK_FIXED, ", as SPI_RECONFIG_OP is sent" });
 	if (prevCheck_ != expected)
 		tries.emplace_back(prevCheck_, ", the type before CRC_TYPE_SET");
@@ -705,11 +707,13 @@ void Decoder::mosi(const Record &r)
 	}
 	if (!v.ok)
 		return; // the chip drops a bad command
-	if (!resend)
-		sent_[key] = exchange_;
 	lastSent_ = key;
-	if (resend)
+	if (resend) {
+		resent_[index] = { exchange_, code };
 		return;
+	}
+	sent_[key] = exchange_;
+	resent_.erase(index);
 	// the format changes the chip makes after taking the command in
 	switch (code) {
 	case ECMXF_CMD_CRC_TYPE_SET:
@@ -756,7 +760,12 @@ void Decoder::miso(const Record &r)
 		what = "answers nothing (NOP: the chip's first answer after power-on or reset)";
 	} else {
 		const auto it = sent_.find({ index, code });
-		if (it != sent_.end()) {
+		const auto re = resent_.find(index);
+		if (code == ECMXF_CMD_INFO_UPDATE_OP && re != resent_.end()) {
+			what = fmt("answers #%zu, the re-send of %s (0x%02X) with index 0x%02X, run as INFO_UPDATE_OP",
+				   re->second.first, cmdName(re->second.second).c_str(), re->second.second, index);
+			answers = std::to_string(re->second.first);
+		} else if (it != sent_.end()) {
 			what = fmt("answers #%zu %s (0x%02X), index 0x%02X", it->second, cmdName(code).c_str(), code, index);
 			answers = std::to_string(it->second);
 		} else {
