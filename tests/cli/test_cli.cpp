@@ -556,7 +556,7 @@ TEST_CASE("decode errors: no file (usage, 2), a missing file and a non-trace (1)
 	CHECK(r.err == "ecmxf-util: trace line 1: not an ecmxf trace (the first line must be \"ecmxf-trace 1\")\n");
 }
 
-TEST_CASE("--trace FILE records the exchanges of a command and decode reads them back", "[cli][decode]")
+TEST_CASE("the global option --trace FILE records the exchanges of a command and decode reads them back", "[cli][decode]")
 {
 	const TempFile f("recorded");
 	Result r = run("--trace " + f.path + " info");
