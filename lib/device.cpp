@@ -6,7 +6,6 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/protocol.hpp>
-#include <ecmxf/sim_transport.hpp>
 #include <ecmxf/transport.hpp>
 
 #include <algorithm>
@@ -22,6 +21,8 @@
 #include <utility>
 
 #include "ecmxf-proto.h"
+#include "trace_writer.hpp"
+#include "transport_command.hpp"
 
 namespace ecmxf {
 
@@ -142,6 +143,8 @@ public:
 	std::array<std::uint8_t, ECMXF_DATA_MAX> rxData{};
 	/// The current command was answered and ran on the chip (async).
 	bool ranAsync = false;
+	/// The packet trace being recorded (lib/trace.cpp), or null.
+	std::unique_ptr<detail::TraceWriter> trace;
 
 private:
 	std::uint64_t nowNs() const
@@ -185,7 +188,8 @@ void Device::Impl::step(ecmxf_xfer &x)
 	}
 
 	const std::size_t n = ecmxf_engine_pkt_size(&engine);
-	const int r = ecmxf_engine_next(&engine, nowNs(), tx.data(), n);
+	const std::uint64_t sentNs = nowNs();
+	const int r = ecmxf_engine_next(&engine, sentNs, tx.data(), n);
 	if (r == -EAGAIN)
 		return; // hold-off: the next turn sleeps
 	if (r < 0)
@@ -193,7 +197,12 @@ void Device::Impl::step(ecmxf_xfer &x)
 				    std::to_string(-r) + ")",
 			    -r);
 	transport->exchange(std::span<const std::uint8_t>(tx.data(), n), std::span<std::uint8_t>(rx.data(), n));
-	ecmxf_engine_input(&engine, nowNs(), rx.data(), n);
+	const std::uint64_t recvNs = nowNs();
+	if (trace) {
+		trace->packet(sentNs, '>', std::span<const std::uint8_t>(tx.data(), n));
+		trace->packet(recvNs, '<', std::span<const std::uint8_t>(rx.data(), n));
+	}
+	ecmxf_engine_input(&engine, recvNs, rx.data(), n);
 	if (ecmxf_engine_running(&engine, &x))
 		ranAsync = true;
 }
@@ -246,6 +255,10 @@ void Device::Impl::fail(const Command &c, const ecmxf_xfer &x, std::uint64_t exh
 
 Response Device::Impl::command(const Command &c)
 {
+	// the kernel runs the protocol itself (lib/transport_command.cpp)
+	if (transport->runsProtocol())
+		return detail::runOnCommandTransport(static_cast<CommandTransport &>(*transport), c, trace.get());
+
 	ecmxf_xfer x{};
 	x.hdr.code = c.code;
 	x.hdr.param = c.param;
@@ -300,32 +313,7 @@ Response Device::Impl::command(const Command &c)
 	return rsp;
 }
 
-std::unique_ptr<Device> Device::open(std::string_view uri)
-{
-	constexpr std::string_view kSim = "sim:";
-	// built by append: GCC 12 warns falsely (-Wrestrict, PR 105651) about
-	// "literal" + std::string at -O3
-	std::string quoted(1, '"');
-	quoted.append(uri).push_back('"');
-
-	if (uri.substr(0, kSim.size()) == kSim) {
-		const std::string file(uri.substr(kSim.size()));
-		std::unique_ptr<Transport> t;
-		try {
-			t = std::make_unique<SimTransport>(file);
-		} catch (const Error &) {
-			throw;
-		} catch (const std::exception &ex) {
-			throw Error("cannot open " + quoted + ": " + ex.what(), EINVAL);
-		}
-		return std::make_unique<Device>(std::move(t));
-	}
-	const bool planned = uri.substr(0, 5) == "/dev/" || uri.substr(0, 7) == "spidev:";
-	throw Error("cannot open " + quoted + (planned ? ": not supported yet" : ": unknown device URI") +
-			    "; supported so far: \"sim:\" and \"sim:<network file>\" (the in-process "
-			    "simulator); /dev/ecmxfN and spidev: transports are not implemented yet",
-		    planned ? EOPNOTSUPP : EINVAL);
-}
+// Device::open(): lib/device_open.cpp
 
 Device::Device(std::unique_ptr<Transport> transport) : impl_(std::make_unique<Impl>(std::move(transport)))
 {
@@ -340,6 +328,8 @@ Response Device::command(const Command &c)
 
 ResponseHeader Device::lastHeader() const
 {
+	if (impl_->transport->runsProtocol())
+		return static_cast<const CommandTransport &>(*impl_->transport).lastHeader().value_or(ResponseHeader{});
 	const ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&impl_->engine);
 	return h ? toHeader(*h) : ResponseHeader{};
 }
@@ -359,6 +349,30 @@ CheckType Device::checkType() const
 Transport &Device::transport() noexcept
 {
 	return *impl_->transport;
+}
+
+// ---------------------------------------------------------------------------
+// The trace slot for lib/trace.cpp
+// ---------------------------------------------------------------------------
+
+std::unique_ptr<detail::TraceWriter> &TraceAccess::slot(Device &d) noexcept
+{
+	return d.impl_->trace;
+}
+
+const std::unique_ptr<detail::TraceWriter> &TraceAccess::slot(const Device &d) noexcept
+{
+	return d.impl_->trace;
+}
+
+void TraceAccess::writeFormat(Device &d, detail::TraceWriter &w) noexcept
+{
+	if (d.impl_->transport->runsProtocol()) {
+		w.comment("kernel transport: request and response records");
+		return;
+	}
+	// engine.check has no accessor in the core; the field is read here only
+	w.format(ecmxf_engine_data_size(&d.impl_->engine), d.impl_->engine.check);
 }
 
 } // namespace ecmxf

@@ -101,6 +101,7 @@ int cmdVersion(Globals &g, const Args &args)
 
 const CommandDesc kCommands[] = {
 	{ "commands", "list the ECM-XF command codes (ver. 038 and 050)", kCommandsHelp, cmdCommands },
+	{ "decode", "decode a packet trace (--trace FILE) as a protocol log", kDecodeHelp, cmdDecode },
 	{ "info", "firmware, packet format, status bits and counters of the chip", kInfoHelp, cmdInfo },
 	{ "slaves", "list the slaves on the bus (scans a fresh simulator first)", kSlavesHelp,
 	  cmdSlaves },
@@ -119,7 +120,11 @@ void usage(std::FILE *out)
 		     "\n"
 		     "Global options:\n"
 		     "  -d, --device URI  the chip: \"sim:\" (default; the in-process simulator\n"
-		     "                    with its default network) or \"sim:<network file>\"\n"
+		     "                    with its default network), \"sim:<network file>\",\n"
+		     "                    \"/dev/ecmxfN\" (kernel module) or \"spidev:/dev/spidevB.C\n"
+		     "                    [?int0=<chip>:<line>&int1=<chip>:<line>&speed=<Hz>&mode=0..3]\"\n"
+		     "  --trace FILE      record every exchange with the chip to FILE\n"
+		     "                    (ecmxf-util decode FILE shows it)\n"
 		     "  --json            JSON output for scripts\n"
 		     "  -h, --help        show this help\n"
 		     "  -V, --version     print the version\n"
@@ -166,6 +171,12 @@ int run(int argc, char **argv)
 			if (i + 1 >= argc)
 				throw UsageError("option '" + std::string(a) + "' needs a device URI");
 			g.device = argv[++i];
+		} else if (a == "--trace") {
+			if (i + 1 >= argc)
+				throw UsageError("option '--trace' needs a file name");
+			g.trace = argv[++i];
+		} else if (a.starts_with("--trace=")) {
+			g.trace = std::string(a.substr(std::strlen("--trace=")));
 		} else if (a.starts_with("--device=")) {
 			g.device = std::string(a.substr(std::strlen("--device=")));
 		} else if (a.size() > 2 && a.starts_with("-d")) {
@@ -185,6 +196,8 @@ int run(int argc, char **argv)
 		return 0;
 	}
 	const CommandDesc &cmd = findCommand(argv[i]);
+	if (!g.trace.empty())
+		g.device.append(g.device.find('?') == std::string::npos ? "?trace=" : "&trace=").append(g.trace);
 	const Args args(argv + i + 1, argv + argc);
 	return cmd.run(g, args);
 }

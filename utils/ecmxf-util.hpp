@@ -19,6 +19,7 @@ namespace ecmxf_util {
 struct Globals {
 	std::string device = "sim:"; ///< -d/--device URI
 	bool json = false;           ///< --json
+	std::string trace;           ///< --trace FILE (added to the URI as trace=FILE)
 };
 
 /// Bad command-line usage: reported as "ecmxf-util: <reason>", exit code 2.
@@ -74,7 +75,9 @@ inline constexpr std::uint8_t kFwVersionGet = 56;
 
 int cmdInfo(Globals &g, const Args &args);
 int cmdSlaves(Globals &g, const Args &args);
+int cmdDecode(Globals &g, const Args &args);
 extern const char *const kInfoHelp;
 extern const char *const kSlavesHelp;
+extern const char *const kDecodeHelp;
 
 } // namespace ecmxf_util

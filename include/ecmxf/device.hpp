@@ -91,13 +91,17 @@ struct Response {
 class ECMXF_EXPORT Device
 {
 public:
-	/// Opens the device named by @p uri:
+	/// Opens the device named by @p uri (include/ecmxf/device_uri.hpp):
 	///  - "sim:" an in-process simulated chip with the default network
 	///    (virtual time);
 	///  - "sim:<network file>" an in-process simulated chip with the
-	///    network in that file (Documentation/simulator.rst).
-	/// Throws ecmxf::Error (EINVAL) for anything else: /dev/ecmxfN and
-	/// spidev: transports are not implemented yet.
+	///    network in that file (Documentation/simulator.rst);
+	///  - "/dev/ecmxfN" the kernel module's device (KernelTransport);
+	///  - "spidev:/dev/spidevB.C?int0=<chip>:<line>&int1=<chip>:<line>
+	///    &speed=<Hz>&mode=<0..3>" spidev + libgpiod (SpidevTransport).
+	/// Any of them may add the option trace=<file> (startTrace()).
+	/// Throws ecmxf::Error: EINVAL for a bad URI (naming the bad part),
+	/// the system's errno when the device cannot be opened.
 	[[nodiscard]] static std::unique_ptr<Device> open(std::string_view uri);
 
 	/// A device over @p transport, which it owns. The chip is assumed to
@@ -436,6 +440,21 @@ public:
 	// ==== end cia402
 
 	// ==== packet trace (lib/trace.cpp)
+	/// Starts recording every exchange to the file @p path (created or
+	/// truncated), in the text format of Documentation/trace.rst
+	/// (include/ecmxf/trace.hpp decodes it): for byte transports each
+	/// MOSI/MISO packet with the transport's clock, for the kernel
+	/// transport each command's request and response. Replaces a trace
+	/// already running. Throws ecmxf::Error when the file cannot be
+	/// created.
+	void startTrace(std::string_view path);
+	/// Stops recording and closes the file. Throws ecmxf::Error when
+	/// writing the trace failed at any point (e.g. disk full); no-op
+	/// without a trace.
+	void stopTrace();
+	/// Is a trace being recorded?
+	[[nodiscard]] bool tracing() const noexcept;
+	friend class TraceAccess; // lib/trace.cpp reaches the device's trace slot
 	// ==== end trace
 
 	/// The latest valid response header of any exchange (ECAT state,

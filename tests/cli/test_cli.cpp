@@ -440,3 +440,151 @@ TEST_CASE("--help and COMMAND --help print usage and exit 0", "[cli][help]")
 	CHECK(r.status == 0);
 	CHECK_THAT(r.out, StartsWith("ecmxf-util "));
 }
+
+// ---------------------------------------------------------------------------
+// decode and --trace
+// ---------------------------------------------------------------------------
+
+namespace {
+
+/// A 144-byte packet in trace hex: header, 112 zero data bytes, trailer.
+std::string tracePacket(const std::string &head, const std::string &tail)
+{
+	return head + std::string(224, '0') + tail;
+}
+
+/// A temporary file with @p text, removed by the destructor.
+struct TempFile {
+	explicit TempFile(const std::string &tag, const std::string &text = {})
+		: path((std::filesystem::temp_directory_path() /
+			("ecmxf-test-cli-" + std::to_string(getpid()) + "-" + tag + ".trace"))
+			       .string())
+	{
+		if (!text.empty())
+			std::ofstream(path) << text;
+	}
+	~TempFile() { std::filesystem::remove(path); }
+	std::string path;
+};
+
+// tests/golden/test_golden.cpp: 1b. INFO_UPDATE_OP index 0x01 CRC-32, and
+// R1. the ECAT_STATE_GET answer with every header field distinct, CRC-32
+const std::string kGoldenTrace =
+	"ecmxf-trace 1\n"
+	"format 112 crc32\n"
+	"0.000010000 > " +
+	tracePacket("a4a3a2a1 00000000 00000001 00000000 00000000 00000000", "7f86455e 59585756") +
+	"\n"
+	"0.000034000 < " +
+	tracePacket("a4a3a2a1 01020304 08011f07 0d080000 00000080 01005a03", "1c6cb413 59585756") + "\n";
+
+} // namespace
+
+TEST_CASE("decode prints a hand-written golden trace as the exact protocol log", "[cli][decode]")
+{
+	const TempFile f("golden", kGoldenTrace);
+	const Result r = run("decode " + f.path);
+	REQUIRE(r.status == 0);
+	CHECK(r.err.empty());
+	CHECK(r.out ==
+	      "#1 0.000010000 host>chip 144 bytes: INFO_UPDATE_OP (0x00), index 0x01\n"
+	      "    param 0x00, len 0, data 00 00 00 00, reserved 0x0000\n"
+	      "    control 0x00, int clear 0x00000000, GPIO int clear 0x00 0x00, GPIO out 0x00 0x00\n"
+	      "    check word 0x5E45867F: OK (CRC-32)\n"
+	      "#1 0.000034000 chip>host 144 bytes: answers ECAT_STATE_GET (0x0D), index 0x07 (not sent in this trace)\n"
+	      "    ECAT state OP (0x08), error status 0x01 (link), ECM status 0x1F (check CRC-32, DC stable, "
+	      "Ethernet initialised, PDO configured)\n"
+	      "    CRC errors 1, WKC errors 2, TxFIFO 3, RxFIFO 4\n"
+	      "    index 0x07, code 0x0D ECAT_STATE_GET, ret 0x08 (8), len 0\n"
+	      "    int flags 0x80000000 (EtherCAT packet), GPIO int flags 0x01 0x00, GPIO in 0x5A 0x03\n"
+	      "    check word 0x13B46C1C: OK (CRC-32)\n"
+	      "2 packets: 1 commands, 1 responses, 0 bad (0 not ready)\n");
+}
+
+TEST_CASE("decode --json is a JSON array with one object per packet", "[cli][decode][json]")
+{
+	const TempFile f("json", kGoldenTrace);
+	for (const std::string &args : { "decode --json " + f.path, "--json decode " + f.path }) {
+		const Result r = run(args);
+		REQUIRE(r.status == 0);
+		const Json j = parseJson(r.out);
+		REQUIRE(j.kind == Json::Array);
+		REQUIRE(j.arr.size() == 2);
+		CHECK(j.arr[0]["dir"].str == "mosi");
+		CHECK(j.arr[0]["name"].str == "INFO_UPDATE_OP");
+		CHECK(j.arr[0]["index"].num == 1);
+		CHECK(j.arr[0]["check"].str == "ok");
+		CHECK(j.arr[1]["dir"].str == "miso");
+		CHECK(j.arr[1]["code"].num == 0x0D);
+		CHECK(j.arr[1]["ecat_state"].num == 8);
+		CHECK(j.arr[1]["ecm_status"].num == 0x1F);
+		CHECK(j.arr[1]["int_flags"].num == 2147483648.0);
+		CHECK(j.arr[1]["answers"].kind == Json::Null);
+		CHECK(j.arr[1]["time_ns"].num == 34000);
+	}
+}
+
+TEST_CASE("decode reports a corrupted check word as BAD and counts it", "[cli][decode]")
+{
+	std::string text = kGoldenTrace;
+	const auto at = text.find("7f86455e");
+	REQUIRE(at != std::string::npos);
+	text.replace(at, 8, "7f86455f");
+	const TempFile f("bad", text);
+	const Result r = run("decode " + f.path);
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("    check word 0x5F45867F: BAD (CRC-32 expected 0x5E45867F, got 0x5F45867F)\n"));
+	CHECK_THAT(r.out, Contains("2 packets: 1 commands, 1 responses, 1 bad (0 not ready)\n"));
+}
+
+TEST_CASE("decode errors: no file (usage, 2), a missing file and a non-trace (1)", "[cli][decode][errors]")
+{
+	Result r = run("decode");
+	CHECK(r.status == 2);
+	CHECK(r.err == "ecmxf-util: decode: which trace file? (ecmxf-util decode TRACEFILE)\n");
+	r = run("decode --frob x");
+	CHECK(r.status == 2);
+	CHECK_THAT(r.err, Contains("'--frob'"));
+	r = run("decode /nonexistent.trace");
+	CHECK(r.status == 1);
+	CHECK(r.out.empty());
+	CHECK(r.err == "ecmxf-util: cannot open the trace file \"/nonexistent.trace\": No such file or directory\n");
+	const TempFile f("notatrace", "hello\n");
+	r = run("decode " + f.path);
+	CHECK(r.status == 1);
+	CHECK(r.out.empty());
+	CHECK(r.err == "ecmxf-util: trace line 1: not an ecmxf trace (the first line must be \"ecmxf-trace 1\")\n");
+}
+
+TEST_CASE("the global option --trace FILE records the exchanges of a command and decode reads them back", "[cli][decode]")
+{
+	const TempFile f("recorded");
+	Result r = run("--trace " + f.path + " info");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("firmware version:"));
+	r = run("decode " + f.path);
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("host>chip 144 bytes: FW_VERSION_GET (0x38)"));
+	CHECK_THAT(r.out, Contains("host>chip 144 bytes: SPI_PACK_SIZE_GET (0x14)"));
+	CHECK_THAT(r.out, Contains(" bad (0 not ready)\n"));
+	CHECK_THAT(r.out, Contains(" 0 bad "));
+
+	r = run("--trace=/nonexistent-dir/x.trace info");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("cannot create the trace file \"/nonexistent-dir/x.trace\""));
+	r = run("info --trace");
+	CHECK(r.status == 2);
+	r = run("--trace");
+	CHECK(r.status == 2);
+	CHECK(r.err == "ecmxf-util: option '--trace' needs a file name\n");
+}
+
+TEST_CASE("decode --help and the command list mention decode and --trace", "[cli][decode][help]")
+{
+	Result r = run("--help");
+	CHECK_THAT(r.out, Contains("decode"));
+	CHECK_THAT(r.out, Contains("--trace FILE"));
+	r = run("decode --help");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, StartsWith("Usage: ecmxf-util [global options] decode TRACEFILE [--json]"));
+}

@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file device_uri.hpp
+ * @brief The device URIs Device::open() accepts, parsed.
+ *
+ *  - "sim:" / "sim:<network file>": the in-process simulator;
+ *  - "/dev/ecmxfN" (any absolute path): the kernel module's device;
+ *  - "spidev:/dev/spidevB.C[?int0=<chip>:<line>][&int1=<chip>:<line>]
+ *    [&speed=<Hz>][&mode=0..3][&ready=high|low]": spidev + libgpiod.
+ *
+ * Each may end in "?trace=<file>" (after the other options: "&trace=..."),
+ * which records every exchange to <file> (Documentation/trace.rst).
+ */
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include <ecmxf/export.hpp>
+#include <ecmxf/spidev_transport.hpp>
+
+namespace ecmxf {
+
+/// The accepted forms, as error messages list them.
+inline constexpr std::string_view kDeviceUriForms =
+	"\"sim:\", \"sim:<network file>\", \"/dev/ecmxfN\" (kernel module), "
+	"\"spidev:/dev/spidevB.C[?int0=<chip>:<line>][&int1=<chip>:<line>][&speed=<Hz>]"
+	"[&mode=0..3][&ready=high|low]\"; each may add \"trace=<file>\" as an option";
+
+/// A parsed device URI.
+struct DeviceUri {
+	enum class Kind { Sim, Kernel, Spidev };
+	Kind kind = Kind::Sim;
+	/// Sim: the network file (empty: the default network); Kernel: the
+	/// device node; Spidev: the spidev node (also in spidev.device).
+	std::string path;
+	/// Spidev: the options (defaults from the chip manual otherwise).
+	SpidevOptions spidev;
+	/// The trace= option: where to record the exchanges; empty: none.
+	std::string trace;
+};
+
+/// Parses @p uri. Throws ecmxf::Error (EINVAL) naming the bad part and
+/// listing kDeviceUriForms.
+[[nodiscard]] ECMXF_EXPORT DeviceUri parseDeviceUri(std::string_view uri);
+
+} // namespace ecmxf

@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file kernel_transport.hpp
+ * @brief The kernel module's character device /dev/ecmxfN as a Transport.
+ *
+ * The kernel runs the protocol itself (its own copy of the protocol core),
+ * so this is a CommandTransport: each command goes down whole with
+ * ECMXF_IOC_CMD and comes back with the answering header, the data and
+ * the command's status. The ABI is <linux/ecmxf.h>
+ * (include/uapi/linux/ecmxf.h, Documentation/uapi.rst); this header does
+ * not include it, it mirrors what a user needs in C++ types.
+ */
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include <ecmxf/export.hpp>
+#include <ecmxf/transport.hpp>
+
+namespace ecmxf {
+
+/// The ABI version this library was built against (ECMXF_UAPI_VERSION).
+inline constexpr std::uint32_t kKernelUapiVersion = 1;
+
+/// Throws ecmxf::Error (EPROTO) naming @p path and both versions when the
+/// running module's ABI version @p running differs from
+/// kKernelUapiVersion; returns otherwise. KernelTransport calls it at open.
+ECMXF_EXPORT void checkKernelUapiVersion(const std::string &path, std::uint32_t running);
+
+/// struct ecmxf_devinfo (ECMXF_IOC_DEVINFO).
+struct KernelDevInfo {
+	std::uint32_t uapiVersion = 0;
+	std::uint32_t flags = 0;          ///< ECMXF_DEVINFO_F_* bits
+	std::uint16_t dataSize = 0;       ///< packet data section size
+	std::uint8_t checkType = 0;       ///< 0 fixed, 1 CRC-8, 2 CRC-CCITT, 3 CRC-32
+	std::uint8_t fwVersion = 0;       ///< FW_VERSION_GET return value
+	std::array<std::uint8_t, 20> fwInfo{}; ///< FW_VERSION_GET data
+	std::uint32_t slaveCount = 0;
+	std::uint32_t maxOpen = 0;
+	std::uint32_t openCount = 0;
+	std::uint32_t claimPid = 0;
+	std::uint32_t queueDepth = 0;
+	std::uint32_t spiSpeedHz = 0;
+};
+
+/// struct ecmxf_counters (ECMXF_IOC_COUNTERS), counts since probe.
+struct KernelCounters {
+	std::uint64_t exchanges = 0, badNotReady = 0, badStart = 0, badEnd = 0, badCheck = 0,
+		      badLength = 0, retries = 0, polls = 0, exhausted = 0, timeouts = 0,
+		      asyncErrors = 0, busyRejects = 0, lostAnswers = 0, chipResets = 0,
+		      wkcErrors = 0, outRingUnderruns = 0, inRingOverruns = 0, rxFifoUnderruns = 0,
+		      rxFifoOverruns = 0, txFifoOverruns = 0, int0Irqs = 0, int1Irqs = 0;
+};
+
+/// What ECMXF_IOC_RESET does.
+enum class KernelReset : std::uint8_t {
+	AsyncCmd, ///< ASYNCCMD_RESET with a parameter (bits 0..2)
+	Warm,     ///< WARM_RESET: the chip restarts
+	Link,     ///< forget the link state and resynchronise
+};
+
+/// Transport over /dev/ecmxfN.
+class ECMXF_EXPORT KernelTransport : public CommandTransport
+{
+public:
+	/// Opens @p path (O_RDWR), asks the ABI version
+	/// (ECMXF_IOC_GET_VERSION, checkKernelUapiVersion()) and the device
+	/// info. Throws ecmxf::Error with the path and the system's reason.
+	explicit KernelTransport(const std::string &path);
+	~KernelTransport() override;
+
+	/// ECMXF_IOC_DEVINFO now (the value read at open: openInfo()).
+	[[nodiscard]] KernelDevInfo devInfo() const;
+	[[nodiscard]] const KernelDevInfo &openInfo() const noexcept { return info_; }
+	/// ECMXF_IOC_COUNTERS.
+	[[nodiscard]] KernelCounters counters() const;
+	/// ECMXF_IOC_RESET; @p param only for KernelReset::AsyncCmd;
+	/// @p timeoutUs 0: the default.
+	void reset(KernelReset kind, std::uint32_t param = 0, std::uint32_t timeoutUs = 0);
+
+	/// The open file descriptor (for poll()).
+	[[nodiscard]] int fd() const noexcept { return fd_; }
+
+protected:
+	[[nodiscard]] int doCommand(const RawRequest &req, RawResult &res, const char *&failedCall) noexcept override;
+
+private:
+	int fd_ = -1;
+	KernelDevInfo info_;
+};
+
+} // namespace ecmxf

@@ -1,0 +1,19 @@
+// SPDX-License-Identifier: MIT
+// Internal: Device::command() over a transport that runs the protocol
+// itself (the kernel module), lib/transport_command.cpp.
+#pragma once
+
+#include <ecmxf/device.hpp>
+#include <ecmxf/transport.hpp>
+
+namespace ecmxf::detail {
+
+class TraceWriter;
+
+/// Runs @p c on @p t (recording request and response in @p trace when
+/// not null) and returns the answer; throws ecmxf::Error with the same
+/// messages as the protocol core's outcomes over byte transports, or
+/// naming the failed call for a failure of the transport itself.
+Response runOnCommandTransport(CommandTransport &t, const Command &c, TraceWriter *trace);
+
+} // namespace ecmxf::detail

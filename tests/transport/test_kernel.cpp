@@ -1,0 +1,233 @@
+// SPDX-License-Identifier: MIT
+// The kernel side of the Transport interface without the module: the ABI
+// version check, and Device::command() dispatched to a CommandTransport
+// (here a fake that plays the kernel's ECMXF_IOC_CMD): the request it gets,
+// the answer it returns, every status mapped to the Error a byte transport
+// gives, a failed ioctl, lastHeader(), and the trace records.
+
+#include <catch2/catch.hpp>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include <ecmxf/device.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/kernel_transport.hpp>
+#include <ecmxf/trace.hpp>
+#include <ecmxf/transport.hpp>
+
+using Catch::Matchers::Contains;
+using Catch::Matchers::Equals;
+
+namespace {
+
+template <typename F>
+ecmxf::Error thrown(F &&f)
+{
+	try {
+		f();
+	} catch (const ecmxf::Error &e) {
+		return e;
+	}
+	FAIL("no ecmxf::Error was thrown");
+	return ecmxf::Error("unreachable", 0);
+}
+
+/// Plays the kernel: remembers the request, answers with @c answer.
+class FakeKernel final : public ecmxf::CommandTransport
+{
+public:
+	FakeKernel() : CommandTransport("/dev/ecmxf-fake") {}
+
+	int ioctlErrno = 0;
+	ecmxf::RawResult answer;
+	std::vector<std::uint8_t> answerData;
+	// what the last request carried
+	ecmxf::RawRequest got;
+	std::vector<std::uint8_t> gotTx;
+	std::size_t gotRxSize = 0;
+	unsigned calls = 0;
+
+protected:
+	int doCommand(const ecmxf::RawRequest &req, ecmxf::RawResult &res, const char *&failedCall) noexcept override
+	{
+		calls++;
+		got = req;
+		gotTx.assign(req.tx.begin(), req.tx.end());
+		gotRxSize = req.rx.size();
+		if (ioctlErrno) {
+			failedCall = "ECMXF_IOC_CMD";
+			return -ioctlErrno;
+		}
+		res = answer;
+		std::copy(answerData.begin(), answerData.end(), req.rx.begin());
+		res.rxLen = answerData.size();
+		return 0;
+	}
+};
+
+struct Rig {
+	Rig()
+	{
+		auto t = std::make_unique<FakeKernel>();
+		k = t.get();
+		dev = std::make_unique<ecmxf::Device>(std::move(t));
+	}
+	FakeKernel *k;
+	std::unique_ptr<ecmxf::Device> dev;
+};
+
+ecmxf::Command cmd(std::uint8_t code, std::uint8_t param = 0)
+{
+	ecmxf::Command c;
+	c.code = code;
+	c.param = param;
+	return c;
+}
+
+} // namespace
+
+TEST_CASE("the kernel ABI version check accepts version 1 and names both versions otherwise",
+	  "[transport][kernel]")
+{
+	CHECK(ecmxf::kKernelUapiVersion == 1);
+	CHECK_NOTHROW(ecmxf::checkKernelUapiVersion("/dev/ecmxf0", 1));
+	const ecmxf::Error e = thrown([] { ecmxf::checkKernelUapiVersion("/dev/ecmxf0", 2); });
+	CHECK_THAT(e.what(), Equals("/dev/ecmxf0: the ecmxf kernel module speaks ABI version 2, this library ABI "
+				    "version 1 (<linux/ecmxf.h>); use a matching library and module"));
+	CHECK(e.errnoValue() == EPROTO);
+}
+
+TEST_CASE("Device::command over a CommandTransport hands the whole command down and returns the answer",
+	  "[transport][kernel]")
+{
+	Rig r;
+	CHECK(r.dev->transport().runsProtocol());
+	r.k->answer.header.code = 16;
+	r.k->answer.header.index = 7;
+	r.k->answer.header.ret = 3;
+	r.k->answer.header.ecatState = 2;
+	r.k->answer.header.len = 2;
+	r.k->answerData = { 0x12, 0x34 };
+
+	ecmxf::Command c = cmd(16, 0x05);
+	c.data = { 1, 2, 3, 4 };
+	c.reserved = 0x0800;
+	c.control = 0x08;
+	c.payload = { 0xAA, 0xBB, 0xCC };
+	c.timeout = std::chrono::milliseconds(250);
+	const ecmxf::Response rsp = r.dev->command(c);
+
+	CHECK(r.k->got.code == 16);
+	CHECK(r.k->got.param == 0x05);
+	CHECK(r.k->got.data == std::array<std::uint8_t, 4>{ 1, 2, 3, 4 });
+	CHECK(r.k->got.reserved == 0x0800);
+	CHECK(r.k->got.control == 0x08);
+	CHECK(r.k->got.len == 3); // unset: the payload size
+	CHECK(r.k->gotTx == std::vector<std::uint8_t>{ 0xAA, 0xBB, 0xCC });
+	CHECK(r.k->got.timeoutUs == 250'000u);
+	CHECK(r.k->gotRxSize == 1408u); // room for the largest data section
+
+	CHECK(rsp.ret == 3);
+	CHECK(rsp.header.index == 7);
+	CHECK(rsp.data == std::vector<std::uint8_t>{ 0x12, 0x34 });
+	CHECK(r.dev->lastHeader().ecatState == 2);
+	CHECK(r.dev->lastHeader().ret == 3);
+
+	// the byte-level calls are refused
+	std::vector<std::uint8_t> a(144), b(144);
+	const ecmxf::Error e = thrown([&] { r.dev->transport().exchange(a, b); });
+	CHECK_THAT(e.what(), Equals("/dev/ecmxf-fake: this transport runs the protocol itself and takes whole "
+				    "commands, not SPI packets"));
+	CHECK(e.errnoValue() == EOPNOTSUPP);
+}
+
+TEST_CASE("the command statuses of a CommandTransport become the same Errors as over a byte transport",
+	  "[transport][kernel]")
+{
+	struct Case {
+		int status;
+		std::uint8_t code;
+		std::string message;
+		std::optional<std::uint8_t> errStatus;
+	};
+	const Case cases[] = {
+		{ -ETIMEDOUT, 16, "ECAT_SLV_CNT_GET: timed out after 100 ms waiting for the chip's answer", {} },
+		{ -ETIMEDOUT, 1,
+		  "ECAT_INIT_OP: timed out after 10000 ms waiting for the answer and the async command's completion", {} },
+		{ -EBUSY, 1, "ECAT_INIT_OP: chip refused: another async command is running (error status 0x80)", 0x81 },
+		{ -EREMOTEIO, 10, "ECAT_SDO_REQ: the async command failed (error status bit 3)", 0x09 },
+		{ -EBADMSG, 16,
+		  "ECAT_SLV_CNT_GET: the link kept delivering bad packets (check word mismatch); /dev/ecmxf-fake's "
+		  "counters tell more",
+		  {} },
+		{ -EIO, 16, "ECAT_SLV_CNT_GET: the chip kept answering not ready (check word 0x87654321)", {} },
+		{ -ECONNRESET, 16, "ECAT_SLV_CNT_GET: the chip reset while the command was in flight", {} },
+		{ -ECANCELED, 1, "ECAT_INIT_OP: the command was cancelled (ECMXF_IOC_RESET)", {} },
+	};
+	for (const Case &k : cases) {
+		INFO("status " << k.status);
+		Rig r;
+		r.k->answer.status = k.status;
+		r.k->answer.header.errStatus = k.errStatus.value_or(0);
+		const ecmxf::Error e = thrown([&] { r.dev->command(cmd(k.code)); });
+		CHECK_THAT(e.what(), Equals(k.message));
+		CHECK(e.errnoValue() == -k.status);
+		CHECK(e.errorStatus() == k.errStatus);
+	}
+}
+
+TEST_CASE("a failed ioctl names the command, the device, the call and the reason", "[transport][kernel]")
+{
+	Rig r;
+	r.k->ioctlErrno = EINVAL;
+	const ecmxf::Error e = thrown([&] { r.dev->command(cmd(75)); });
+	CHECK_THAT(e.what(), Equals(std::string("ASYNCCMD_RESET: /dev/ecmxf-fake: ECMXF_IOC_CMD failed: ") +
+				    std::strerror(EINVAL)));
+	CHECK(e.errnoValue() == EINVAL);
+	CHECK(r.dev->lastHeader().code == 0); // nothing answered
+}
+
+TEST_CASE("a trace of a kernel-transport device records requests and responses and decodes them",
+	  "[transport][kernel][trace]")
+{
+	const auto path = std::filesystem::temp_directory_path() /
+			  ("ecmxf-test-kernel-" + std::to_string(getpid()) + ".trace");
+	Rig r;
+	r.dev->startTrace(path.string());
+	r.k->answer.header.code = 56;
+	r.k->answer.header.index = 0x21;
+	r.k->answer.header.ret = 0x30;
+	r.k->answer.header.len = 2;
+	r.k->answerData = { 0xAB, 0xCD };
+	ecmxf::Command c = cmd(56);
+	c.payload = { 0x01, 0x02 };
+	r.dev->command(c);
+	r.dev->stopTrace();
+
+	std::ifstream f(path);
+	std::stringstream raw;
+	raw << f.rdbuf();
+	const std::string text = raw.str();
+	// header bytes 0x04..0x17 (data, reserved, control, index 0, code 0x38,
+	// param, len 2, int clear, GPIO) then the data
+	CHECK_THAT(text, Contains(" C 00000000 00000000 38000200 00000000 00000000 0102\n"));
+	CHECK_THAT(text, Contains(" R 0 00000000 00000021 38300200 00000000 00000000 abcd\n"));
+
+	std::istringstream in(text);
+	std::ostringstream out;
+	const ecmxf::TraceSummary s = ecmxf::decodeTrace(in, out);
+	CHECK(s.commands == 1);
+	CHECK(s.responses == 1);
+	CHECK_THAT(out.str(), Contains("request: FW_VERSION_GET (0x38)\n"));
+	CHECK_THAT(out.str(), Contains("response: status 0 OK, answers #1 FW_VERSION_GET\n"));
+	CHECK_THAT(out.str(), Contains("    index 0x21, code 0x38 FW_VERSION_GET, ret 0x30 (48), len 2\n"));
+	std::filesystem::remove(path);
+}
