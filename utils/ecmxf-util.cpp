@@ -102,6 +102,10 @@ int cmdVersion(Globals &g, const Args &args)
 const CommandDesc kCommands[] = {
 	{ "commands", "list the ECM-XF command codes (ver. 038 and 050)", kCommandsHelp, cmdCommands },
 	{ "info", "firmware, packet format, status bits and counters of the chip", kInfoHelp, cmdInfo },
+	{ "monitor", "live events: state changes, error bits, CRC/WKC errors, FIFO levels",
+	  kMonitorHelp, cmdMonitor },
+	{ "raw", "one raw command (or EtherCAT datagram): response header and data", kRawHelp,
+	  cmdRaw },
 	{ "slaves", "list the slaves on the bus (scans a fresh simulator first)", kSlavesHelp,
 	  cmdSlaves },
 	{ "version", "print the version", kVersionHelp, cmdVersion },
