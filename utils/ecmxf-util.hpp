@@ -80,4 +80,10 @@ extern const char *const kInfoHelp;
 extern const char *const kSlavesHelp;
 extern const char *const kDecodeHelp;
 
+// raw (ecmxf-util-raw.cpp), monitor (ecmxf-util-monitor.cpp)
+int cmdRaw(Globals &g, const Args &args);
+int cmdMonitor(Globals &g, const Args &args);
+extern const char *const kRawHelp;
+extern const char *const kMonitorHelp;
+
 } // namespace ecmxf_util

@@ -11,7 +11,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -22,8 +21,11 @@
 #include <string>
 #include <vector>
 
+#include <ecmxf/protocol.hpp>
 #include <ecmxf/sim.hpp>
 #include <ecmxf/sim_slaves.hpp>
+
+#include "json.hpp"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
@@ -71,213 +73,14 @@ std::vector<std::string> lines(const std::string &s)
 	return v;
 }
 
-/// A minimal JSON value and a strict recursive-descent parser (RFC 8259
-/// grammar, no extensions); parse() throws std::runtime_error on any
-/// deviation, trailing garbage included.
-struct Json {
-	enum Kind { Null, Bool, Number, String, Array, Object } kind = Null;
-	bool b = false;
-	double num = 0;
-	std::string str;
-	std::vector<Json> arr;
-	std::map<std::string, Json> obj;
-
-	const Json &operator[](const std::string &k) const
-	{
-		auto it = obj.find(k);
-		if (kind != Object || it == obj.end())
-			throw std::runtime_error("no key " + k);
-		return it->second;
-	}
-};
-
-class Parser
-{
-public:
-	explicit Parser(const std::string &s) : s_(s) {}
-
-	Json parse()
-	{
-		Json v = value();
-		ws();
-		if (i_ != s_.size())
-			fail("trailing characters");
-		return v;
-	}
-
-private:
-	[[noreturn]] void fail(const std::string &what)
-	{
-		throw std::runtime_error("JSON: " + what + " at offset " + std::to_string(i_));
-	}
-	void ws()
-	{
-		while (i_ < s_.size() && (s_[i_] == ' ' || s_[i_] == '\n' || s_[i_] == '\t' || s_[i_] == '\r'))
-			i_++;
-	}
-	char peek()
-	{
-		ws();
-		if (i_ >= s_.size())
-			fail("unexpected end");
-		return s_[i_];
-	}
-	void expect(char c)
-	{
-		if (peek() != c)
-			fail(std::string("expected '") + c + "'");
-		i_++;
-	}
-	bool literal(const char *w)
-	{
-		const std::string lit(w);
-		if (s_.compare(i_, lit.size(), lit) != 0)
-			return false;
-		i_ += lit.size();
-		return true;
-	}
-	std::string string()
-	{
-		expect('"');
-		std::string out;
-		while (true) {
-			if (i_ >= s_.size())
-				fail("unterminated string");
-			const char c = s_[i_++];
-			if (c == '"')
-				return out;
-			if (static_cast<unsigned char>(c) < 0x20)
-				fail("control character in string");
-			if (c != '\\') {
-				out += c;
-				continue;
-			}
-			if (i_ >= s_.size())
-				fail("bad escape");
-			const char e = s_[i_++];
-			switch (e) {
-			case '"': case '\\': case '/': out += e; break;
-			case 'b': out += '\b'; break;
-			case 'f': out += '\f'; break;
-			case 'n': out += '\n'; break;
-			case 'r': out += '\r'; break;
-			case 't': out += '\t'; break;
-			case 'u':
-				for (int k = 0; k < 4; k++)
-					if (i_ >= s_.size() || !std::isxdigit(static_cast<unsigned char>(s_[i_++])))
-						fail("bad \\u escape");
-				out += '?';
-				break;
-			default: fail("bad escape");
-			}
-		}
-	}
-	Json value()
-	{
-		Json v;
-		const char c = peek();
-		if (c == '{') {
-			v.kind = Json::Object;
-			i_++;
-			if (peek() == '}') {
-				i_++;
-				return v;
-			}
-			while (true) {
-				const std::string k = string();
-				expect(':');
-				if (!v.obj.emplace(k, value()).second)
-					fail("duplicate key " + k);
-				if (peek() == ',') {
-					i_++;
-					continue;
-				}
-				expect('}');
-				return v;
-			}
-		}
-		if (c == '[') {
-			v.kind = Json::Array;
-			i_++;
-			if (peek() == ']') {
-				i_++;
-				return v;
-			}
-			while (true) {
-				v.arr.push_back(value());
-				if (peek() == ',') {
-					i_++;
-					continue;
-				}
-				expect(']');
-				return v;
-			}
-		}
-		if (c == '"') {
-			v.kind = Json::String;
-			v.str = string();
-			return v;
-		}
-		if (literal("true")) {
-			v.kind = Json::Bool;
-			v.b = true;
-			return v;
-		}
-		if (literal("false")) {
-			v.kind = Json::Bool;
-			return v;
-		}
-		if (literal("null"))
-			return v;
-		// number: -?(0|[1-9][0-9]*)(.[0-9]+)?([eE][+-]?[0-9]+)?
-		const std::size_t start = i_;
-		if (s_[i_] == '-')
-			i_++;
-		auto digits = [&] {
-			const std::size_t d = i_;
-			while (i_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[i_])))
-				i_++;
-			if (i_ == d)
-				fail("digit expected");
-		};
-		if (i_ < s_.size() && s_[i_] == '0')
-			i_++;
-		else
-			digits();
-		if (i_ < s_.size() && s_[i_] == '.') {
-			i_++;
-			digits();
-		}
-		if (i_ < s_.size() && (s_[i_] == 'e' || s_[i_] == 'E')) {
-			i_++;
-			if (i_ < s_.size() && (s_[i_] == '+' || s_[i_] == '-'))
-				i_++;
-			digits();
-		}
-		v.kind = Json::Number;
-		v.num = std::strtod(s_.substr(start, i_ - start).c_str(), nullptr);
-		return v;
-	}
-
-	const std::string &s_;
-	std::size_t i_ = 0;
-};
+using testjson::Json;
 
 Json parseJson(const std::string &s)
 {
-	return Parser(s).parse();
+	return testjson::parse(s);
 }
 
 } // namespace
-
-TEST_CASE("the test's JSON parser rejects what is not JSON", "[cli][json]")
-{
-	CHECK_NOTHROW(parseJson(R"({"a": [1, -2.5e3, true, null, "x\"y"]})"));
-	CHECK_THROWS(parseJson("{\"a\": 1,}"));
-	CHECK_THROWS(parseJson("[0x10]"));
-	CHECK_THROWS(parseJson("{\"a\": 1} x"));
-	CHECK_THROWS(parseJson("{'a': 1}"));
-}
 
 TEST_CASE("info reports the simulator's power-on firmware, format, status and counters",
 	  "[cli][info]")
@@ -587,4 +390,34 @@ TEST_CASE("decode --help and the command list mention decode and --trace", "[cli
 	r = run("decode --help");
 	CHECK(r.status == 0);
 	CHECK_THAT(r.out, StartsWith("Usage: ecmxf-util [global options] decode TRACEFILE [--json]"));
+}
+
+TEST_CASE("commands --json is an array with one object per command code", "[cli][commands][json]")
+{
+	const Result r = run("commands --json");
+	REQUIRE(r.status == 0);
+	const Json j = parseJson(r.out);
+	REQUIRE(j.kind == Json::Array);
+	CHECK(j.size() == ecmxf::commandCount());
+	std::map<unsigned, const Json *> byCode;
+	for (const Json &c : j.arr)
+		byCode[static_cast<unsigned>(c["code"].num)] = &c;
+	// manual ver. 050 (spec digest): 0 INFO_UPDATE_OP immediate, in both
+	// manuals; 10 ECAT_SDO_REQ async, result by 11 ECAT_SDO_GET; 127
+	// WARM_RESET async, ver. 050 only
+	REQUIRE(byCode.count(0));
+	CHECK((*byCode[0])["name"].str == "INFO_UPDATE_OP");
+	CHECK_FALSE((*byCode[0])["async"].b);
+	CHECK((*byCode[0])["v038"].b);
+	CHECK((*byCode[0])["v050"].b);
+	CHECK((*byCode[0])["partner"].kind == Json::Null);
+	REQUIRE(byCode.count(10));
+	CHECK((*byCode[10])["name"].str == "ECAT_SDO_REQ");
+	CHECK((*byCode[10])["async"].b);
+	CHECK((*byCode[10])["partner"].num == 11);
+	REQUIRE(byCode.count(127));
+	CHECK((*byCode[127])["name"].str == "WARM_RESET");
+	CHECK((*byCode[127])["async"].b);
+	CHECK_FALSE((*byCode[127])["v038"].b);
+	CHECK((*byCode[127])["v050"].b);
 }
