@@ -278,6 +278,9 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 		if (!fifoOp(r, k, read, h))
 			return;
 		r.framesPushed += k;
+		// return value bit 0 clear: the RxFIFO was full, the newest
+		// frames were refused, and more would be too
+		const bool refused = k && !(h.ret & 0x01);
 		if (k) {
 			rxLevel_ = h.rxFifoCnt;
 			rxTime_ = clock().now();
@@ -321,8 +324,7 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 		}
 		first = false;
 		left -= k;
-		if (k && !(h.ret & 0x01)) {
-			// RxFIFO full: the newest frames were refused; more would be too
+		if (refused) {
 			r.rxRefused = true;
 			break;
 		}
