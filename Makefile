@@ -58,6 +58,7 @@ bench:
 	cmake --build $(BENCH_BUILD) -j $(JOBS)
 	$(BENCH_BUILD)/tests/bench/bench-core
 	$(BENCH_BUILD)/tests/bench/bench-sim
+	$(BENCH_BUILD)/tests/bench/bench-cyclic
 
 demo: all
 	$(BUILD)/utils/ecmxf-util commands

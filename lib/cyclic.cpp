@@ -306,16 +306,15 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 			}
 			txTime_ = now;
 			txLevel_ = h.txFifoCnt;
-			// more queued than one answer holds: read on
-			unsigned last = static_cast<unsigned>(n);
-			for (unsigned reads = 0;
-			     (last == perRead || h.txFifoCnt > 0) && reads < maxReads_; reads++) {
+			// more queued than one answer holds: read on while the
+			// answer's count says so (a count that lags shows up as
+			// an empty read, or as frames left for the next cycle)
+			for (unsigned reads = 0; h.txFifoCnt > 0 && reads < maxReads_; reads++) {
 				if (!fifoOp(r, 0, true, h))
 					return;
 				const int m = takeFrames(r, h);
 				if (m < 0)
 					return;
-				last = static_cast<unsigned>(m);
 				txLevel_ = h.txFifoCnt;
 				txTime_ = clock().now();
 				if (m == 0)
