@@ -65,9 +65,9 @@ struct CyclicConfig {
 	/// it, TxPDO frames lost to a TxFIFO overflow are estimated; zero: not
 	/// estimated (overflows are still detected and counted).
 	std::chrono::nanoseconds busCycle{ 0 };
-	/// Called for every TxPDO frame popped, oldest first, before the
-	/// newest is copied into the image (e.g. to log inputs at bus rate
-	/// when the application cycle is slower). Must not throw.
+	/// Called for every TxPDO frame popped, oldest first, inside cycle()
+	/// (e.g. to log inputs at bus rate when the application cycle is
+	/// slower); the span is valid during the call only.
 	void (*onInputFrame)(void *context, std::span<const std::uint8_t> frame) noexcept = nullptr;
 	void *context = nullptr;
 };

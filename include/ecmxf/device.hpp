@@ -173,8 +173,8 @@ public:
 	/// The raw command path of the cyclic exchange: like command(), but
 	/// allocates nothing and throws nothing. @p payload is the data
 	/// section (at most pdoDataCapacity() bytes); the answer's data goes to
-	/// @p rx (header.len bytes of it; a longer answer gives EMSGSIZE) and
-	/// its header to @p header. Returns 0, or the positive errno value that
+	/// @p rx (header.len bytes of it; a longer answer gives EMSGSIZE; an
+	/// empty @p rx drops the data) and its header to @p header. Returns 0, or the positive errno value that
 	/// command() would have thrown (ETIMEDOUT, EBADMSG, EPROTO, EIO, EBUSY,
 	/// EREMOTEIO, ECONNRESET, EMSGSIZE, ECANCELED; EIO also when the
 	/// transport threw). A command error (error status bit 7) is not a
