@@ -233,10 +233,15 @@ TEST_CASE("Cyclic: a TxFIFO overflow while the application sleeps is counted", "
 	REQUIRE(bus.chip().stats().txDropped == 0);
 
 	// 200 bus cycles without the application: 64 frames fit, the chip
-	// drops the oldest of the rest
-	bus.run(200ms);
+	// drops the oldest of the rest. The I/O inputs change 30 cycles before
+	// the end: the older queued frames carry 0x00, the newest 0x22.
+	auto &dio = bus.model<ecmxf::sim::DioModel>(2);
+	bus.run(170ms);
+	dio.setInputs(std::vector<std::uint8_t>{ 0x22 });
+	bus.run(30ms);
 	const ecmxf::CycleResult &r = cyc.cycle();
 	REQUIRE(r.error == 0);
+	CHECK(image.slaveInputs(2)[0] == 0x22); // the newest frame went into the image
 	CHECK(r.txOverflow);
 	const auto dropped = bus.chip().stats().txDropped;
 	CHECK(dropped >= 130);
@@ -251,6 +256,51 @@ TEST_CASE("Cyclic: a TxFIFO overflow while the application sleeps is counted", "
 	CHECK(cyc.stats().txOverflows == 1);
 	CHECK(cyc.stats().txDroppedEstimate == estimate);
 	CHECK(cyc.stats().lateCycles == 1);
+}
+
+TEST_CASE("Cyclic: of several queued frames the newest goes into the image", "[lib][pdo][cyclic]")
+{
+	Bus bus;
+	bus.toOp();
+	auto &dio = bus.model<ecmxf::sim::DioModel>(2);
+	ecmxf::ProcessImage image(pdotest::defaultPdos());
+	std::vector<std::uint8_t> seen;
+	seen.reserve(64);
+	ecmxf::CyclicConfig cfg = config(8);
+	cfg.context = &seen;
+	cfg.onInputFrame = [](void *ctx, std::span<const std::uint8_t> f) noexcept {
+		static_cast<std::vector<std::uint8_t> *>(ctx)->push_back(f[34]);
+	};
+	ecmxf::Cyclic cyc(*bus.dev, image, cfg);
+	cyc.start();
+	runCycles(cyc, 10);
+	// queue a known set of frames: the FIFO off and drained, then on for
+	// the bus cycles up to the one after the inputs changed, then off
+	auto &chip = bus.chip();
+	bus.dev->fifoEnable(false);
+	REQUIRE(cyc.cycle().error == 0);
+	REQUIRE(bus.info().txFifoCnt == 0);
+	const auto b0 = chip.stats().busCycles;
+	auto waitFor = [&](std::uint64_t n) {
+		while (chip.stats().busCycles < b0 + n)
+			bus.run(10us);
+	};
+	bus.dev->fifoEnable(true);
+	waitFor(2);
+	dio.setInputs(std::vector<std::uint8_t>{ 0x5A });
+	waitFor(3);
+	bus.dev->fifoEnable(false);
+	const unsigned queued = bus.info().txFifoCnt;
+	REQUIRE(queued >= 2);
+	REQUIRE(queued <= 3); // one answer holds 3
+	seen.clear();
+	const ecmxf::CycleResult &r = cyc.cycle();
+	REQUIRE(r.error == 0);
+	CHECK(r.framesPopped == queued);
+	REQUIRE(seen.size() == queued);
+	CHECK(seen.back() == 0x5A);
+	CHECK(seen.front() == 0x00);
+	CHECK(image.slaveInputs(2)[0] == 0x5A);
 }
 
 TEST_CASE("Cyclic: frames refused by a full RxFIFO are counted", "[lib][pdo][cyclic]")
