@@ -59,6 +59,7 @@ bench:
 	$(BENCH_BUILD)/tests/bench/bench-core
 	$(BENCH_BUILD)/tests/bench/bench-sim
 	$(BENCH_BUILD)/tests/bench/bench-sdo
+	$(BENCH_BUILD)/tests/bench/bench-cyclic
 
 demo: all
 	$(BUILD)/utils/ecmxf-util commands

@@ -133,6 +133,8 @@ public:
 	}
 
 	Response command(const Command &c);
+	int transact(const RawCommand &c, std::span<const std::uint8_t> payload, std::span<std::uint8_t> answer,
+		     ResponseHeader &header) noexcept;
 
 	std::unique_ptr<Transport> transport;
 	ecmxf_engine engine{};
@@ -153,6 +155,13 @@ private:
 		return t > 0 ? static_cast<std::uint64_t>(t) : 0;
 	}
 	void step(ecmxf_xfer &x);
+	/// An xfer for @p c with @p payload, answering into @p answer.
+	static ecmxf_xfer makeXfer(const RawCommand &c, std::span<const std::uint8_t> payload,
+				   std::span<std::uint8_t> answer) noexcept;
+	/// Submits @p x and runs the owner loop until it is final. Returns the
+	/// submit result (0 or a negative errno); throws what the transport or
+	/// step() throws, after withdrawing @p x from the engine.
+	int run(ecmxf_xfer &x);
 	[[noreturn]] void fail(const Command &c, const ecmxf_xfer &x, std::uint64_t exhaustedBefore) const;
 };
 
@@ -253,33 +262,66 @@ void Device::Impl::fail(const Command &c, const ecmxf_xfer &x, std::uint64_t exh
 	}
 }
 
-Response Device::Impl::command(const Command &c)
+ecmxf_xfer Device::Impl::makeXfer(const RawCommand &c, std::span<const std::uint8_t> payload,
+				  std::span<std::uint8_t> answer) noexcept
 {
-	// the kernel runs the protocol itself (lib/transport_command.cpp)
-	if (transport->runsProtocol())
-		return detail::runOnCommandTransport(static_cast<CommandTransport &>(*transport), c, trace.get());
-
 	ecmxf_xfer x{};
 	x.hdr.code = c.code;
 	x.hdr.param = c.param;
 	std::copy(c.data.begin(), c.data.end(), x.hdr.data);
 	x.hdr.reserved = c.reserved;
 	x.hdr.control = c.control;
+	x.tx_data = payload.empty() ? nullptr : payload.data();
+	x.tx_len = static_cast<std::uint16_t>(payload.size());
+	x.hdr.len = c.len < 0 ? x.tx_len : static_cast<std::uint16_t>(c.len);
+	x.rx_buf = answer.empty() ? nullptr : answer.data();
+	x.rx_size = static_cast<std::uint16_t>(std::min<std::size_t>(answer.size(), UINT16_MAX));
+	const auto us = c.timeout.count();
+	x.timeout_us = us <= 0 ? 0u : static_cast<std::uint32_t>(std::min<std::int64_t>(us, UINT32_MAX));
+	return x;
+}
+
+int Device::Impl::run(ecmxf_xfer &x)
+{
+	const int r = ecmxf_engine_submit(&engine, &x, nowNs());
+	if (r != 0)
+		return r;
+	ranAsync = false;
+	try {
+		while (x.status == -EINPROGRESS)
+			step(x);
+	} catch (...) {
+		// a transport failure: nothing may keep pointing at x
+		ecmxf_engine_cancel(&engine, &x);
+		throw;
+	}
+	return 0;
+}
+
+Response Device::Impl::command(const Command &c)
+{
+	// the kernel runs the protocol itself (lib/transport_command.cpp)
+	if (transport->runsProtocol())
+		return detail::runOnCommandTransport(static_cast<CommandTransport &>(*transport), c, trace.get());
+
 	const std::string name = commandName(c.code) + ": ";
 	if (c.payload.size() > ecmxf_engine_data_size(&engine))
 		throw Error(name + "payload of " + std::to_string(c.payload.size()) +
 				    " bytes does not fit the data section (" + std::to_string(ecmxf_engine_data_size(&engine)) +
 				    " bytes)",
 			    EMSGSIZE);
-	x.tx_data = c.payload.empty() ? nullptr : c.payload.data();
-	x.tx_len = static_cast<std::uint16_t>(c.payload.size());
-	x.hdr.len = c.len.value_or(x.tx_len);
-	x.rx_buf = rxData.data();
-	x.rx_size = static_cast<std::uint16_t>(rxData.size());
-	const auto us = c.timeout.count();
-	x.timeout_us = us <= 0 ? 0u : static_cast<std::uint32_t>(std::min<std::int64_t>(us, UINT32_MAX));
+	RawCommand rc;
+	rc.code = c.code;
+	rc.param = c.param;
+	rc.data = c.data;
+	rc.len = c.len ? std::int32_t{ *c.len } : -1;
+	rc.reserved = c.reserved;
+	rc.control = c.control;
+	rc.timeout = c.timeout;
+	ecmxf_xfer x = makeXfer(rc, c.payload, rxData);
 
-	const int r = ecmxf_engine_submit(&engine, &x, nowNs());
+	const std::uint64_t exhaustedBefore = ecmxf_engine_get_stats(&engine)->exhausted;
+	const int r = run(x);
 	switch (r) {
 	case 0:
 		break;
@@ -292,17 +334,6 @@ Response Device::Impl::command(const Command &c)
 				   "check type)",
 			    -r);
 	}
-
-	const std::uint64_t exhaustedBefore = ecmxf_engine_get_stats(&engine)->exhausted;
-	ranAsync = false;
-	try {
-		while (x.status == -EINPROGRESS)
-			step(x);
-	} catch (...) {
-		// a transport failure: nothing may keep pointing at x
-		ecmxf_engine_cancel(&engine, &x);
-		throw;
-	}
 	if (x.status != 0)
 		fail(c, x, exhaustedBefore);
 
@@ -311,6 +342,29 @@ Response Device::Impl::command(const Command &c)
 	rsp.data.assign(rxData.begin(), rxData.begin() + x.rx_len);
 	rsp.ret = x.rsp.ret;
 	return rsp;
+}
+
+int Device::Impl::transact(const RawCommand &c, std::span<const std::uint8_t> payload,
+			   std::span<std::uint8_t> answer, ResponseHeader &header) noexcept
+{
+	// the kernel runs the protocol itself (lib/transport_command.cpp)
+	if (transport->runsProtocol())
+		return detail::transactOnCommandTransport(static_cast<CommandTransport &>(*transport), c, payload,
+							  answer, header, trace.get());
+	if (payload.size() > ecmxf_engine_data_size(&engine))
+		return EMSGSIZE;
+	ecmxf_xfer x = makeXfer(c, payload, answer);
+	int r = 0;
+	try {
+		r = run(x);
+	} catch (...) {
+		// the transport could not make the transfer; x was withdrawn
+		return EIO;
+	}
+	header = toHeader(x.rsp);
+	if (r != 0)
+		return -r;
+	return x.status == 0 ? 0 : -x.status;
 }
 
 // Device::open(): lib/device_open.cpp
@@ -373,6 +427,17 @@ void TraceAccess::writeFormat(Device &d, detail::TraceWriter &w) noexcept
 	}
 	// engine.check has no accessor in the core; the field is read here only
 	w.format(ecmxf_engine_data_size(&d.impl_->engine), d.impl_->engine.check);
+}
+
+int Device::transact(const RawCommand &c, std::span<const std::uint8_t> payload, std::span<std::uint8_t> rx,
+		     ResponseHeader &header) noexcept
+{
+	return impl_->transact(c, payload, rx, header);
+}
+
+std::size_t Device::pdoDataCapacity() const noexcept
+{
+	return ecmxf_engine_data_size(&impl_->engine);
 }
 
 } // namespace ecmxf

@@ -104,6 +104,44 @@ std::string millis(std::uint64_t us)
 
 } // namespace
 
+int transactOnCommandTransport(CommandTransport &t, const RawCommand &c, std::span<const std::uint8_t> payload,
+			       std::span<std::uint8_t> answer, ResponseHeader &header, TraceWriter *trace) noexcept
+{
+	if (payload.size() > ECMXF_DATA_MAX)
+		return EMSGSIZE;
+	RawRequest req;
+	req.data = c.data;
+	req.reserved = c.reserved;
+	req.control = c.control;
+	req.code = c.code;
+	req.param = c.param;
+	req.len = c.len < 0 ? static_cast<std::uint16_t>(payload.size()) : static_cast<std::uint16_t>(c.len);
+	req.tx = payload;
+	req.rx = answer;
+	const auto us = c.timeout.count();
+	req.timeoutUs = us <= 0 ? 0u : static_cast<std::uint32_t>(std::min<std::int64_t>(us, UINT32_MAX));
+
+	RawResult res;
+	const char *call = "";
+	try {
+		if (trace)
+			trace->request(static_cast<std::uint64_t>(t.now().count()), req);
+	} catch (...) {
+		// a trace that cannot be written does not stop the cyclic path
+	}
+	const int r = t.run(req, res, call);
+	if (r < 0)
+		return -r;
+	try {
+		if (trace)
+			trace->response(static_cast<std::uint64_t>(t.now().count()), res,
+					std::span<const std::uint8_t>(answer.data(), std::min(res.rxLen, answer.size())));
+	} catch (...) {
+	}
+	header = res.header;
+	return res.status == 0 ? 0 : -res.status;
+}
+
 Response runOnCommandTransport(CommandTransport &t, const Command &c, TraceWriter *trace)
 {
 	std::string name = commandName(c.code);

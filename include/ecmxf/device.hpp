@@ -405,6 +405,69 @@ public:
 
 	// ==== typed commands: process data, FIFO, cyclic exchange
 	// ==== (lib/commands_pdo.cpp, lib/cyclic.cpp)
+	// Documentation/process-data.rst. Every call throws ecmxf::Error; an
+	// argument out of range is refused with EINVAL before anything is
+	// sent; a command the chip refuses (error status bit 7) throws
+	// EREMOTEIO naming the command.
+
+	/// ECAT_PDO_WC_GET parameters 1 and 2: slaves with inputs / outputs.
+	[[nodiscard]] PdoSlaveCounts pdoSlaveCounts();
+	/// ECAT_PDO_WC_GET parameter 3: the working counter of the last cycle.
+	[[nodiscard]] std::uint32_t pdoWorkingCounter();
+
+	/// ECAT_PDO_DATA_FIFO_OP: pushes @p frames RxPDO frames (@p rxFrames
+	/// holds them back to back, frames x RxPDO size bytes; none: no write)
+	/// into the RxFIFO, and with @p read pops as many TxPDO frames as fit
+	/// in the data section. @p frames 0..255; the bytes must divide evenly
+	/// into @p frames and fit the data section.
+	PdoFifoResult pdoFifoExchange(std::span<const std::uint8_t> rxFrames, unsigned frames, bool read);
+
+	/// ECAT_PDO_DATA_OP, read only: the current input image (TxPDO size).
+	[[nodiscard]] std::vector<std::uint8_t> pdoRead();
+	/// ECAT_PDO_DATA_OP, write only: the outputs that go out while the FIFO
+	/// is off or empty (pre-load them before FIFO_ENABLE). At most the
+	/// RxPDO size is taken; empty @p outputs is refused (EINVAL).
+	void pdoWrite(std::span<const std::uint8_t> outputs);
+	/// ECAT_PDO_DATA_OP, both: writes @p outputs, returns the inputs.
+	[[nodiscard]] std::vector<std::uint8_t> pdoWriteRead(std::span<const std::uint8_t> outputs);
+
+	/// FIFO_ENABLE: the bus cycle consumes the RxFIFO and fills the TxFIFO
+	/// only while enabled (ECAT_INIT_OP disables it).
+	void fifoEnable(bool enable);
+	/// FIFO_PACK_SIZE_GET parameters 0 and 1: the frame sizes.
+	[[nodiscard]] FifoPackSizes fifoPackSizes();
+	/// FIFO_CLR_OP: empties one or both FIFOs.
+	void fifoClear(FifoSelect which = FifoSelect::Both);
+	/// FIFO_GET_TX_CNT / FIFO_GET_RX_CNT: the FIFO depths (frames).
+	[[nodiscard]] unsigned fifoTxCount();
+	[[nodiscard]] unsigned fifoRxCount();
+	/// FIFO_SET_TX_CNT / FIFO_SET_RX_CNT: one depth, 1..255, such that
+	/// RxCount x RxPDO size + TxCount x TxPDO size <= 0x4000 with the other
+	/// FIFO's present depth (checked before sending: EINVAL naming both).
+	/// Both FIFOs are rebuilt empty.
+	void fifoSetTxCount(unsigned count);
+	void fifoSetRxCount(unsigned count);
+	/// Both depths at once, in the order the budget allows.
+	void fifoSetCounts(unsigned rxCount, unsigned txCount);
+	/// FIFO_INIT: rebuilds both FIFOs, empty, with the present depths.
+	void fifoInit();
+	/// ECAT_SET_FIFO_TH: the TxFIFO high and RxFIFO low marks.
+	void fifoSetThresholds(const FifoThresholds &thresholds);
+
+	/// The raw command path of the cyclic exchange: like command(), but
+	/// allocates nothing and throws nothing. @p payload is the data
+	/// section (at most pdoDataCapacity() bytes); the answer's data goes to
+	/// @p rx (header.len bytes of it; a longer answer gives EMSGSIZE; an
+	/// empty @p rx drops the data) and its header to @p header. Returns 0, or the positive errno value that
+	/// command() would have thrown (ETIMEDOUT, EBADMSG, EPROTO, EIO, EBUSY,
+	/// EREMOTEIO, ECONNRESET, EMSGSIZE, ECANCELED; EIO also when the
+	/// transport threw). A command error (error status bit 7) is not a
+	/// failure here: look at header.errStatus.
+	int transact(const RawCommand &c, std::span<const std::uint8_t> payload, std::span<std::uint8_t> rx,
+		     ResponseHeader &header) noexcept;
+	/// The current data section size in bytes (112 at power-on): the most
+	/// one transact() carries each way.
+	[[nodiscard]] std::size_t pdoDataCapacity() const noexcept;
 	// ==== end pdo
 
 	// ==== typed commands: the chip's CiA-402 engine (lib/cia402_chip.cpp)

@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: MIT
+//
+// bench-cyclic: the cost of one application cycle of ecmxf::Cyclic through
+// the in-process simulator transport.
+//
+// For 2, 16 and 128 slaves: bring the network to OP with raw commands
+// (1 ms SYNC0 cycle, 1408-byte SPI data section at 96 Mbit/s), set up a ProcessImage and
+// a Cyclic (1 ms period, bus cycle 1 ms, WKC read every cycle), warm up for
+// 200 cycles, then run 2000 cycles paced with waitNextCycle() in virtual
+// time. Reported: cycles per second of wall time, thread CPU time per
+// cycle, commands and SPI exchanges per cycle, allocations per cycle
+// (global operator new is counted in this program), and failed cycles /
+// WKC mismatches so that a broken run cannot look fast. The CPU time
+// includes the simulated chip and slave models that answer the exchanges.
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+#include <time.h>
+
+#include <ecmxf/cyclic.hpp>
+#include <ecmxf/device.hpp>
+#include <ecmxf/process_image.hpp>
+#include <ecmxf/sim_transport.hpp>
+#include <ecmxf/transport.hpp>
+
+namespace {
+std::atomic<std::uint64_t> gAllocs{ 0 };
+} // namespace
+
+void *operator new(std::size_t n)
+{
+	gAllocs.fetch_add(1, std::memory_order_relaxed);
+	if (void *p = std::malloc(n ? n : 1))
+		return p;
+	throw std::bad_alloc();
+}
+void *operator new[](std::size_t n)
+{
+	gAllocs.fetch_add(1, std::memory_order_relaxed);
+	if (void *p = std::malloc(n ? n : 1))
+		return p;
+	throw std::bad_alloc();
+}
+void operator delete(void *p) noexcept
+{
+	std::free(p);
+}
+void operator delete[](void *p) noexcept
+{
+	std::free(p);
+}
+void operator delete(void *p, std::size_t) noexcept
+{
+	std::free(p);
+}
+void operator delete[](void *p, std::size_t) noexcept
+{
+	std::free(p);
+}
+
+namespace {
+
+using namespace std::chrono_literals;
+
+double threadCpuSeconds()
+{
+	timespec ts{};
+	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+	return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
+}
+
+ecmxf::Response cmd(ecmxf::Device &d, std::uint8_t code, std::uint8_t param = 0, std::uint8_t d0 = 0)
+{
+	ecmxf::Command c;
+	c.code = code;
+	c.param = param;
+	c.data[0] = d0;
+	return d.command(c);
+}
+
+std::uint16_t le16(const ecmxf::Response &r)
+{
+	return static_cast<std::uint16_t>(r.data.at(0) | r.data.at(1) << 8);
+}
+
+/// INIT_OP (SYNC0 1 ms), PRE-OP, SAFE-OP, OP; 1408-byte data section.
+void bringUp(ecmxf::Device &d)
+{
+	ecmxf::Command init;
+	init.code = 1; // ECAT_INIT_OP
+	init.payload = { 0xFF, 0x81, 0x00, 0x03 };
+	const std::uint32_t sync0 = 1'000'000;
+	for (int i = 0; i < 4; i++)
+		init.payload.push_back(static_cast<std::uint8_t>(sync0 >> (8 * i)));
+	init.payload.resize(16, 0);
+	(void)d.command(init);
+	for (int st : { 2, 4, 8 })
+		(void)cmd(d, 12, 0xFF, static_cast<std::uint8_t>(st)); // ECAT_STATE_SET
+	ecmxf::Command reconfig;
+	reconfig.code = 23; // SPI_RECONFIG_OP
+	reconfig.len = 1408;
+	(void)d.command(reconfig);
+}
+
+/// One SlavePdos per slave with its byte counts (ECAT_SLV_INFO_GET 8/9);
+/// the bench touches the frames only as bytes.
+std::vector<ecmxf::SlavePdos> sizes(ecmxf::Device &d)
+{
+	const unsigned n = cmd(d, 16).ret; // ECAT_SLV_CNT_GET
+	std::vector<ecmxf::SlavePdos> v(n);
+	for (unsigned i = 0; i < n; i++) {
+		v[i].outputBytes = le16(cmd(d, 15, static_cast<std::uint8_t>(i), 8));
+		v[i].inputBytes = le16(cmd(d, 15, static_cast<std::uint8_t>(i), 9));
+	}
+	return v;
+}
+
+struct Row {
+	std::size_t slaves = 0, rxBytes = 0, txBytes = 0;
+	double cyclesPerSecond = 0, cpuUsPerCycle = 0, commandsPerCycle = 0, exchangesPerCycle = 0;
+	double allocsPerCycle = 0;
+	std::uint64_t failed = 0, wkcBad = 0;
+};
+
+Row run(const std::string &network)
+{
+	constexpr int kWarmup = 200;
+	constexpr int kCycles = 2000;
+	ecmxf::sim::ChipConfig chip;
+	chip.spiClockHz = 96'000'000; // the chip's maximum
+	auto t = std::make_unique<ecmxf::SimTransport>(network, chip);
+	ecmxf::SimTransport &sim = *t;
+	ecmxf::Device dev(std::move(t));
+	bringUp(dev);
+	ecmxf::ProcessImage image(sizes(dev));
+	ecmxf::CyclicConfig cfg;
+	cfg.period = 1ms;
+	cfg.busCycle = 1ms;
+	ecmxf::Cyclic cyc(dev, image, cfg);
+	cyc.start();
+	for (int i = 0; i < kWarmup; i++) {
+		(void)cyc.cycle();
+		(void)cyc.waitNextCycle();
+	}
+
+	const auto stats0 = cyc.stats();
+	const auto exchanges0 = sim.chip().stats().exchanges;
+	const auto allocs0 = gAllocs.load();
+	const double cpu0 = threadCpuSeconds();
+	const auto wall0 = std::chrono::steady_clock::now();
+	for (int i = 0; i < kCycles; i++) {
+		image.outputs()[0] = static_cast<std::uint8_t>(i);
+		(void)cyc.cycle();
+		(void)cyc.waitNextCycle();
+	}
+	const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+	const double cpu = threadCpuSeconds() - cpu0;
+	const auto allocs = gAllocs.load() - allocs0;
+
+	Row r;
+	r.slaves = image.slaveCount();
+	r.rxBytes = image.outputs().size();
+	r.txBytes = image.inputs().size();
+	r.cyclesPerSecond = kCycles / wall;
+	r.cpuUsPerCycle = cpu / kCycles * 1e6;
+	r.commandsPerCycle = static_cast<double>(cyc.stats().commands - stats0.commands) / kCycles;
+	r.exchangesPerCycle = static_cast<double>(sim.chip().stats().exchanges - exchanges0) / kCycles;
+	r.allocsPerCycle = static_cast<double>(allocs) / kCycles;
+	r.failed = cyc.stats().failedCycles - stats0.failedCycles;
+	r.wkcBad = cyc.stats().wkcMismatches - stats0.wkcMismatches;
+	return r;
+}
+
+} // namespace
+
+int main()
+{
+	const std::string own = ECMXF_BENCH_OWN_NETWORK_DIR;
+	const std::string bundled = ECMXF_BENCH_NETWORK_DIR;
+	const std::string nets[] = { own + "/est584x2.net", own + "/slaves16.net", bundled + "/slaves128.net" };
+	std::printf("bench-cyclic: ecmxf::Cyclic through the simulator transport, 1 ms cycle, 1408-byte SPI data\n"
+		    "at 96 Mbit/s, "
+		    "2000 cycles after 200 of warm-up; CPU = this thread (library + simulated chip and slaves)\n\n");
+	std::printf("%7s %9s %9s %12s %12s %9s %10s %12s %7s %8s\n", "slaves", "out B", "in B", "cycles/s",
+		    "CPU us/cyc", "cmds/cyc", "xfers/cyc", "allocs/cyc", "failed", "WKC bad");
+	int rc = 0;
+	for (const std::string &n : nets) {
+		try {
+			const Row r = run(n);
+			std::printf("%7zu %9zu %9zu %12.0f %12.2f %9.2f %10.2f %12.3f %7llu %8llu\n", r.slaves,
+				    r.rxBytes, r.txBytes, r.cyclesPerSecond, r.cpuUsPerCycle, r.commandsPerCycle,
+				    r.exchangesPerCycle, r.allocsPerCycle, static_cast<unsigned long long>(r.failed),
+				    static_cast<unsigned long long>(r.wkcBad));
+			if (r.failed || r.wkcBad || r.allocsPerCycle != 0.0)
+				rc = 1;
+		} catch (const std::exception &e) {
+			std::fprintf(stderr, "bench-cyclic: %s: %s\n", n.c_str(), e.what());
+			rc = 1;
+		}
+	}
+	return rc;
+}
