@@ -52,9 +52,6 @@ using std::chrono::nanoseconds;
 /// How long one wait for INT0 lasts before the engine's deadlines are
 /// applied without an exchange.
 constexpr nanoseconds kReadyWait = std::chrono::milliseconds(10);
-/// Pause between polls of a running async command (the chip is ready
-/// for exchanges all along; there is no point in asking non-stop).
-constexpr nanoseconds kAsyncPoll = std::chrono::microseconds(100);
 
 std::string commandName(std::uint8_t code)
 {
@@ -145,6 +142,8 @@ public:
 	std::array<std::uint8_t, ECMXF_DATA_MAX> rxData{};
 	/// The current command was answered and ran on the chip (async).
 	bool ranAsync = false;
+	/// Pause between the polls of a running async command.
+	nanoseconds asyncPoll{ 0 };
 	/// The packet trace being recorded (lib/trace.cpp), or null.
 	std::unique_ptr<detail::TraceWriter> trace;
 
@@ -170,13 +169,15 @@ void Device::Impl::step(ecmxf_xfer &x)
 {
 	std::uint64_t now = nowNs();
 
-	// the command was answered and runs on the chip: poll it at a pace
-	if (ecmxf_engine_running(&engine, &x)) {
+	// the command was answered and runs on the chip: poll it at the pace
+	// asked for (none by default: each poll waits for INT0 only, so the
+	// completion is seen one exchange after it happens)
+	if (asyncPoll > nanoseconds::zero() && ecmxf_engine_running(&engine, &x)) {
 		const std::uint64_t deadline = ecmxf_engine_deadline(&engine);
 		if (deadline > now)
 			transport->sleepFor(nanoseconds(
 				static_cast<std::int64_t>(std::min<std::uint64_t>(
-					deadline - now, static_cast<std::uint64_t>(kAsyncPoll.count())))));
+					deadline - now, static_cast<std::uint64_t>(asyncPoll.count())))));
 		now = nowNs();
 	}
 
@@ -378,6 +379,16 @@ Device::~Device() = default;
 Response Device::command(const Command &c)
 {
 	return impl_->command(c);
+}
+
+void Device::setAsyncPollInterval(std::chrono::nanoseconds interval) noexcept
+{
+	impl_->asyncPoll = interval > std::chrono::nanoseconds::zero() ? interval : std::chrono::nanoseconds::zero();
+}
+
+std::chrono::nanoseconds Device::asyncPollInterval() const noexcept
+{
+	return impl_->asyncPoll;
 }
 
 ResponseHeader Device::lastHeader() const

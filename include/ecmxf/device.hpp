@@ -119,6 +119,16 @@ public:
 	/// command fails; nothing is left in flight afterwards.
 	Response command(const Command &c);
 
+	/// The pause between two polls (INFO_UPDATE exchanges) of a running
+	/// async command. The default, zero, polls back to back, each poll
+	/// waiting only for INT0 "ready": no fixed sleeps, the completion is
+	/// seen one exchange after the chip reports it. A positive interval
+	/// trades that latency for fewer SPI exchanges while the chip works
+	/// (e.g. during the seconds of ECAT_INIT_OP). Byte transports only;
+	/// the kernel module polls on its own.
+	void setAsyncPollInterval(std::chrono::nanoseconds interval) noexcept;
+	[[nodiscard]] std::chrono::nanoseconds asyncPollInterval() const noexcept;
+
 	// ==== typed commands: chip, link, peripherals, EEPROM, FoE, raw,
 	// ==== MDIO, mailbox, interrupts, resets (lib/commands_chip.cpp)
 	//

@@ -10,7 +10,7 @@
 // first exchange of ECAT_SDO_REQ to the answer of ECAT_SDO_GET.
 //
 //  - ours:     Device::sdoRead<int32_t>() (the protocol engine polls the
-//              running command every Device kAsyncPoll, lib/device.cpp);
+//              running command back to back, each poll gated by INT0 only);
 //  - baseline: raw exchanges on a second chip: SDO_REQ, then an
 //              INFO_UPDATE poll every 1 ms (sleep 1 ms between polls) until
 //              the busy bit clears, then SDO_GET and its answer.
