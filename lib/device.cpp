@@ -21,6 +21,7 @@
 #include <utility>
 
 #include "ecmxf-proto.h"
+#include "lib_text.hpp"
 #include "trace_writer.hpp"
 #include "transport_command.hpp"
 
@@ -53,64 +54,14 @@ using std::chrono::nanoseconds;
 /// applied without an exchange.
 constexpr nanoseconds kReadyWait = std::chrono::milliseconds(10);
 
-std::string commandName(std::uint8_t code)
-{
-	if (const auto info = commandInfo(code))
-		return std::string(info->name);
-	char buf[32];
-	std::snprintf(buf, sizeof(buf), "command 0x%02X", code);
-	return buf;
-}
-
-std::string hex8(unsigned v)
-{
-	char buf[8];
-	std::snprintf(buf, sizeof(buf), "0x%02X", v & 0xFFu);
-	return buf;
-}
+using detail::bitList;
+using detail::commandName;
+using detail::hex8;
 
 /// "10000 ms", or "250 us" for timeouts that are not whole milliseconds.
 std::string duration(std::uint64_t ns)
 {
-	char buf[48];
-	if (ns % 1'000'000u == 0)
-		std::snprintf(buf, sizeof(buf), "%" PRIu64 " ms", ns / 1'000'000u);
-	else
-		std::snprintf(buf, sizeof(buf), "%" PRIu64 " us", ns / 1'000u);
-	return buf;
-}
-
-/// Bit numbers of the fault bits in @p status, "bit 3" / "bits 3, 7".
-std::string bitList(std::uint8_t status)
-{
-	std::string bits;
-	unsigned n = 0;
-	for (unsigned b = 0; b < 8; b++) {
-		if (!(status & (1u << b)))
-			continue;
-		bits += (n++ ? ", " : "") + std::to_string(b);
-	}
-	return (n == 1 ? "bit " : "bits ") + bits;
-}
-
-ResponseHeader toHeader(const ecmxf_rsp_hdr &h)
-{
-	ResponseHeader r;
-	r.crcErrCnt = h.crc_err_cnt;
-	r.wkcErrCnt = h.wkc_err_cnt;
-	r.txFifoCnt = h.tx_fifo_cnt;
-	r.rxFifoCnt = h.rx_fifo_cnt;
-	r.ecatState = h.ecat_state;
-	r.errStatus = h.err_status;
-	r.ecmStatus = h.ecm_status;
-	r.index = h.index;
-	r.code = h.code;
-	r.ret = h.ret;
-	r.len = h.len;
-	r.intFlags = h.int_flags;
-	r.gpioIntFlag = { h.gpio_int_flag[0], h.gpio_int_flag[1] };
-	r.gpioIn = { h.gpio_in[0], h.gpio_in[1] };
-	return r;
+	return detail::durationUs(ns / 1000u);
 }
 
 } // namespace
@@ -339,7 +290,7 @@ Response Device::Impl::command(const Command &c)
 		fail(c, x, exhaustedBefore);
 
 	Response rsp;
-	rsp.header = toHeader(x.rsp);
+	rsp.header = detail::headerFrom(x.rsp);
 	rsp.data.assign(rxData.begin(), rxData.begin() + x.rx_len);
 	rsp.ret = x.rsp.ret;
 	return rsp;
@@ -362,7 +313,7 @@ int Device::Impl::transact(const RawCommand &c, std::span<const std::uint8_t> pa
 		// the transport could not make the transfer; x was withdrawn
 		return EIO;
 	}
-	header = toHeader(x.rsp);
+	header = detail::headerFrom(x.rsp);
 	if (r != 0)
 		return -r;
 	return x.status == 0 ? 0 : -x.status;
@@ -396,7 +347,7 @@ ResponseHeader Device::lastHeader() const
 	if (impl_->transport->runsProtocol())
 		return static_cast<const CommandTransport &>(*impl_->transport).lastHeader().value_or(ResponseHeader{});
 	const ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&impl_->engine);
-	return h ? toHeader(*h) : ResponseHeader{};
+	return h ? detail::headerFrom(*h) : ResponseHeader{};
 }
 
 // the packet format the engine uses (it follows SPI_RECONFIG_OP,

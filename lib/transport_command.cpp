@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "ecmxf-proto.h"
+#include "lib_text.hpp"
 #include "trace_writer.hpp"
 #include "transport_command.hpp"
 
@@ -59,50 +60,6 @@ int CommandTransport::run(const RawRequest &req, RawResult &res, const char *&fa
 }
 
 namespace detail {
-
-namespace {
-
-std::string commandName(std::uint8_t code)
-{
-	if (const auto info = commandInfo(code))
-		return std::string(info->name);
-	char buf[32];
-	std::snprintf(buf, sizeof(buf), "command 0x%02X", code);
-	return buf;
-}
-
-std::string hex8(unsigned v)
-{
-	char buf[8];
-	std::snprintf(buf, sizeof(buf), "0x%02X", v & 0xFFu);
-	return buf;
-}
-
-std::string bitList(std::uint8_t status)
-{
-	std::string bits;
-	unsigned n = 0;
-	for (unsigned b = 0; b < 8; b++) {
-		if (!(status & (1u << b)))
-			continue;
-		if (n++)
-			bits += ", ";
-		bits += std::to_string(b);
-	}
-	return (n == 1 ? "bit " : "bits ") + bits;
-}
-
-std::string millis(std::uint64_t us)
-{
-	char buf[48];
-	if (us % 1000u == 0)
-		std::snprintf(buf, sizeof(buf), "%" PRIu64 " ms", us / 1000u);
-	else
-		std::snprintf(buf, sizeof(buf), "%" PRIu64 " us", us);
-	return buf;
-}
-
-} // namespace
 
 int transactOnCommandTransport(CommandTransport &t, const RawCommand &c, std::span<const std::uint8_t> payload,
 			       std::span<std::uint8_t> answer, ResponseHeader &header, TraceWriter *trace) noexcept
@@ -186,7 +143,7 @@ Response runOnCommandTransport(CommandTransport &t, const Command &c, TraceWrite
 		const auto info = commandInfo(c.code);
 		const std::uint64_t limit = req.timeoutUs ? req.timeoutUs
 							  : static_cast<std::uint64_t>(info ? info->timeoutMs : 100u) * 1000u;
-		throw Error(name + "timed out after " + millis(limit) +
+		throw Error(name + "timed out after " + durationUs(limit) +
 				    (ecmxf_cmd_is_async(c.code, c.param)
 					     ? " waiting for the answer and the async command's completion"
 					     : " waiting for the chip's answer"),

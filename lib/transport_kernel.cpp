@@ -15,6 +15,7 @@
 #include <cstring>
 #include <string>
 
+#include "lib_text.hpp"
 #include "uapi/linux/ecmxf.h"
 
 namespace ecmxf {
@@ -43,22 +44,7 @@ std::string quoted(const std::string &s)
 
 ResponseHeader fromUapi(const ecmxf_rsp_header &h)
 {
-	ResponseHeader r;
-	r.crcErrCnt = h.crc_err_cnt;
-	r.wkcErrCnt = h.wkc_err_cnt;
-	r.txFifoCnt = h.tx_fifo_cnt;
-	r.rxFifoCnt = h.rx_fifo_cnt;
-	r.ecatState = h.ecat_state;
-	r.errStatus = h.err_status;
-	r.ecmStatus = h.ecm_status;
-	r.index = h.index;
-	r.code = h.code;
-	r.ret = h.ret;
-	r.len = h.len;
-	r.intFlags = h.int_flags;
-	r.gpioIntFlag = { h.gpio_int_flag[0], h.gpio_int_flag[1] };
-	r.gpioIn = { h.gpio_in[0], h.gpio_in[1] };
-	return r;
+	return detail::headerFrom(h);
 }
 
 } // namespace
