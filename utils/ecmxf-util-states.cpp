@@ -28,7 +28,7 @@ const char *const kStatesHelp =
 	"\n"
 	"When the chip has no initialised network (ECAT state NONE, e.g. a fresh\n"
 	"simulator) the bus is brought up first: for INIT, PREOP and BOOT with\n"
-	"ECAT_INIT_OP (and PRE-OP for all slaves before BOOT), for SAFEOP and OP\n"
+	"ECAT_INIT_OP (the slaves are then in INIT), for SAFEOP and OP\n"
 	"with the library's Master bring-up (INIT_OP with DC SYNC0 1 ms, PRE-OP,\n"
 	"PDO mapping; all slaves to STATE, the FIFO enabled for OP; with -p the\n"
 	"bus is brought to PRE-OP and only slave N is moved on). A bus that is\n"
@@ -105,8 +105,7 @@ int cmdStates(Globals &g, const Args &args)
 			ecmxf::Master m(*dev);
 			m.bringUp(mc);
 		} else {
-			dev->initNetwork(init);
-			// BOOT is reached from INIT or PRE-OP; both work, INIT keeps it simple
+			dev->initNetwork(init); // BOOT is entered from INIT (ETG.1000.6)
 		}
 	}
 	count = dev->slaveCount();
