@@ -4,7 +4,13 @@
  */
 #include "ecmxf-util.hpp"
 
+#include <cerrno>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+
+#include <ecmxf/error.hpp>
 
 namespace ecmxf_util {
 
@@ -94,6 +100,232 @@ std::string stateName(std::uint8_t state)
 		return buf;
 	}
 	}
+}
+
+// ---------------------------------------------------------------------------
+// arguments
+// ---------------------------------------------------------------------------
+
+namespace {
+
+std::string tryHelp(std::string_view cmd)
+{
+	return std::string(" (try 'ecmxf-util ").append(cmd).append(" --help')");
+}
+
+bool looksNegativeNumber(std::string_view a)
+{
+	return a.size() >= 2 && a[0] == '-' && ((a[1] >= '0' && a[1] <= '9') || a[1] == '.');
+}
+
+} // namespace
+
+std::optional<std::vector<std::string>> parseArgs(std::string_view cmd, const Args &args, Globals &g,
+						  const char *help, const std::vector<Option> &opts)
+{
+	std::vector<std::string> pos;
+	bool onlyPositional = false;
+	for (std::size_t i = 0; i < args.size(); i++) {
+		const std::string_view a = args[i];
+		if (onlyPositional || a.empty() || a[0] != '-' || a == "-" || looksNegativeNumber(a)) {
+			pos.emplace_back(a);
+			continue;
+		}
+		if (a == "--") {
+			onlyPositional = true;
+			continue;
+		}
+		if (a == "-h" || a == "--help") {
+			std::fputs(help, stdout);
+			return std::nullopt;
+		}
+		if (a == "--json") {
+			g.json = true;
+			continue;
+		}
+		if (a == "-q" || a == "--quiet") {
+			g.quiet = true;
+			continue;
+		}
+		std::string_view name = a;
+		std::optional<std::string_view> inlineValue;
+		if (a.starts_with("--")) {
+			if (const auto eq = a.find('='); eq != std::string_view::npos) {
+				name = a.substr(0, eq);
+				inlineValue = a.substr(eq + 1);
+			}
+		}
+		const Option *found = nullptr;
+		for (const Option &o : opts)
+			if ((!o.shortName.empty() && name == o.shortName) || name == o.longName)
+				found = &o;
+		if (!found)
+			throw UsageError(std::string(cmd).append(": unknown argument '").append(a).append("'").append(
+				tryHelp(cmd)));
+		if (found->flag) {
+			if (inlineValue)
+				throw UsageError(std::string(cmd).append(": option '").append(name).append(
+					"' takes no value"));
+			*found->flag = true;
+			continue;
+		}
+		if (inlineValue) {
+			*found->value = std::string(*inlineValue);
+		} else {
+			if (i + 1 >= args.size())
+				throw UsageError(std::string(cmd).append(": option '").append(name).append(
+					"' needs a value"));
+			*found->value = std::string(args[++i]);
+		}
+	}
+	return pos;
+}
+
+std::uint64_t parseUnsigned(std::string_view cmd, std::string_view what, std::string_view text,
+			    std::uint64_t max, std::uint64_t min)
+{
+	std::string_view digits = text;
+	int base = 10;
+	if (digits.size() > 2 && digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X')) {
+		digits.remove_prefix(2);
+		base = 16;
+	}
+	std::uint64_t v = 0;
+	const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v, base);
+	if (digits.empty() || end != digits.data() + digits.size() || ec == std::errc::invalid_argument)
+		throw UsageError(std::string(cmd).append(": ").append(what).append(": '").append(text).append(
+			"' is not a number (decimal or 0x hex)"));
+	if (ec == std::errc::result_out_of_range || v > max || v < min)
+		throw UsageError(std::string(cmd).append(": ").append(what).append(": ").append(text).append(
+			" is out of range ").append(std::to_string(min)).append("..").append(std::to_string(max)));
+	return v;
+}
+
+std::int64_t parseSigned(std::string_view cmd, std::string_view what, std::string_view text, std::int64_t min,
+			 std::int64_t max)
+{
+	const bool neg = !text.empty() && text[0] == '-';
+	const std::string_view mag = neg ? text.substr(1) : text;
+	std::uint64_t m = 0;
+	try {
+		m = parseUnsigned(cmd, what, mag, UINT64_MAX);
+	} catch (const UsageError &) {
+		throw UsageError(std::string(cmd).append(": ").append(what).append(": '").append(text).append(
+			"' is not a number (decimal or 0x hex)"));
+	}
+	const auto outOfRange = [&] {
+		return UsageError(std::string(cmd).append(": ").append(what).append(": ").append(text).append(
+			" is out of range ").append(std::to_string(min)).append("..").append(std::to_string(max)));
+	};
+	if (neg) {
+		if (m > static_cast<std::uint64_t>(INT64_MAX) + 1)
+			throw outOfRange();
+		const std::int64_t v = m == static_cast<std::uint64_t>(INT64_MAX) + 1 ? INT64_MIN
+										     : -static_cast<std::int64_t>(m);
+		if (v < min)
+			throw outOfRange();
+		return v;
+	}
+	if (m > static_cast<std::uint64_t>(max))
+		throw outOfRange();
+	return static_cast<std::int64_t>(m);
+}
+
+double parseReal(std::string_view cmd, std::string_view what, std::string_view text)
+{
+	const std::string s(text);
+	char *end = nullptr;
+	errno = 0;
+	const double v = std::strtod(s.c_str(), &end);
+	if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v))
+		throw UsageError(std::string(cmd).append(": ").append(what).append(": '").append(text).append(
+			"' is not a real number"));
+	return v;
+}
+
+ObjectAddress parseObjectAddress(std::string_view cmd, std::string_view text)
+{
+	ObjectAddress a;
+	const auto colon = text.find(':');
+	const std::string_view idx = text.substr(0, colon);
+	a.index = static_cast<std::uint16_t>(parseUnsigned(cmd, "INDEX", idx, 0xFFFF));
+	if (colon != std::string_view::npos)
+		a.sub = static_cast<std::uint8_t>(parseUnsigned(cmd, "SUB", text.substr(colon + 1), 0xFF));
+	return a;
+}
+
+std::string hexString(std::uint64_t v, int digits)
+{
+	char buf[24];
+	std::snprintf(buf, sizeof(buf), "0x%0*llx", digits, static_cast<unsigned long long>(v));
+	return buf;
+}
+
+std::string objectName(ObjectAddress a)
+{
+	char buf[16];
+	std::snprintf(buf, sizeof(buf), "0x%04x:%02x", a.index, a.sub);
+	return buf;
+}
+
+std::string hexBytes(const std::vector<std::uint8_t> &b, const char *sep)
+{
+	std::string out;
+	char buf[4];
+	for (std::size_t i = 0; i < b.size(); i++) {
+		if (i)
+			out += sep;
+		std::snprintf(buf, sizeof(buf), "%02x", b[i]);
+		out += buf;
+	}
+	return out;
+}
+
+std::uint8_t parsePosition(std::string_view cmd, const std::optional<std::string> &text)
+{
+	if (!text)
+		throw UsageError(std::string(cmd).append(": which slave? -p/--position N is required").append(
+			tryHelp(cmd)));
+	return static_cast<std::uint8_t>(parseUnsigned(cmd, "-p", *text, ecmxf::kMaxSlavePosition));
+}
+
+// ---------------------------------------------------------------------------
+// the device and the bring-up rule
+// ---------------------------------------------------------------------------
+
+std::unique_ptr<ecmxf::Device> openDevice(const Globals &g)
+{
+	return ecmxf::Device::open(g.device);
+}
+
+bool busDown(ecmxf::Device &dev)
+{
+	const unsigned count = dev.slaveCount();
+	return count == 0 && dev.lastHeader().ecatState == 0;
+}
+
+unsigned ensureBus(ecmxf::Device &dev, BusNeed need, bool verbose)
+{
+	if (busDown(dev)) {
+		if (verbose)
+			std::fprintf(stderr, "ecmxf-util: no network initialised yet, running ECAT_INIT_OP%s\n",
+				     need == BusNeed::PreOp ? " and PRE-OP" : "");
+		dev.initNetwork();
+		if (need == BusNeed::PreOp && dev.slaveCount() > 0)
+			dev.stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
+	}
+	return dev.slaveCount();
+}
+
+void checkPosition(unsigned position, unsigned count)
+{
+	if (position < count)
+		return;
+	std::string msg = "slave position " + std::to_string(position) + " out of range: the bus has " +
+			  std::to_string(count) + (count == 1 ? " slave" : " slaves");
+	if (count > 0)
+		msg.append(" (0..").append(std::to_string(count - 1)).append(")");
+	throw ecmxf::Error(msg, ENODEV);
 }
 
 } // namespace ecmxf_util

@@ -146,54 +146,6 @@ std::vector<std::string> ecmBitNames(std::uint8_t v)
 	return names(v, kEcmBits);
 }
 
-std::string alStatusText(std::uint16_t code)
-{
-	switch (code) {
-	case 0x0000: return "No error";
-	case 0x0001: return "Unspecified error";
-	case 0x0002: return "No memory";
-	case 0x0011: return "Invalid requested state change";
-	case 0x0012: return "Unknown requested state";
-	case 0x0013: return "Bootstrap not supported";
-	case 0x0014: return "No valid firmware";
-	case 0x0015: return "Invalid mailbox configuration (BOOT)";
-	case 0x0016: return "Invalid mailbox configuration (PREOP)";
-	case 0x0017: return "Invalid sync manager configuration";
-	case 0x0018: return "No valid inputs available";
-	case 0x0019: return "No valid outputs";
-	case 0x001A: return "Synchronization error";
-	case 0x001B: return "Sync manager watchdog";
-	case 0x001C: return "Invalid sync manager types";
-	case 0x001D: return "Invalid output configuration";
-	case 0x001E: return "Invalid input configuration";
-	case 0x001F: return "Invalid watchdog configuration";
-	case 0x0020: return "Slave needs cold start";
-	case 0x0021: return "Slave needs INIT";
-	case 0x0022: return "Slave needs PREOP";
-	case 0x0023: return "Slave needs SAFEOP";
-	case 0x0024: return "Invalid input mapping";
-	case 0x0025: return "Invalid output mapping";
-	case 0x0026: return "Inconsistent settings";
-	case 0x0027: return "FreeRun not supported";
-	case 0x0028: return "SyncMode not supported";
-	case 0x0029: return "FreeRun needs 3-buffer mode";
-	case 0x002A: return "Background watchdog";
-	case 0x002B: return "No valid inputs and outputs";
-	case 0x002C: return "Fatal sync error";
-	case 0x002D: return "No sync error";
-	case 0x002E: return "Cycle time too small";
-	case 0x0030: return "Invalid DC SYNC configuration";
-	case 0x0031: return "Invalid DC latch configuration";
-	case 0x0032: return "PLL error";
-	case 0x0033: return "DC sync IO error";
-	case 0x0034: return "DC sync timeout error";
-	case 0x0035: return "DC invalid sync cycle time";
-	case 0x0036: return "DC SYNC0 cycle time";
-	case 0x0037: return "DC SYNC1 cycle time";
-	default: return "unknown AL status code";
-	}
-}
-
 std::vector<Event> diffHeaders(const ecmxf::ResponseHeader &prev, const ecmxf::ResponseHeader &cur,
 			       const Thresholds &th)
 {
@@ -445,7 +397,7 @@ void addSlaves(ecmxf::Device &dev, monitor::Event &e)
 			char buf[16];
 			std::snprintf(buf, sizeof(buf), "0x%04x", *code);
 			e.text.append(stateName(state)).append(st & kStateError ? " + error" : "");
-			e.text.append(", AL status ").append(buf).append(" (").append(monitor::alStatusText(*code)).append(")");
+			e.text.append(", AL status ").append(buf).append(" (").append(std::string(ecmxf::alStatusText(*code))).append(")");
 		}
 		if (json.size() > 1)
 			json += ", ";
@@ -462,7 +414,7 @@ void addSlaves(ecmxf::Device &dev, monitor::Event &e)
 			.append(", \"al_status_code\": ")
 			.append(code ? std::to_string(*code) : "null")
 			.append(", \"al_status_text\": ")
-			.append(code ? jsonString(monitor::alStatusText(*code)) : "null")
+			.append(code ? jsonString(std::string(ecmxf::alStatusText(*code))) : "null")
 			.append("}");
 	}
 	json += "]";

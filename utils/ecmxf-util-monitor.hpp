@@ -72,7 +72,5 @@ private:
 std::vector<std::string> errorBitNames(std::uint8_t v);
 std::vector<std::string> ecmBitNames(std::uint8_t v);
 
-/// AL status code text (ETG.1000.6; the codes of the AKD2G table).
-std::string alStatusText(std::uint16_t code);
 
 } // namespace ecmxf_util::monitor

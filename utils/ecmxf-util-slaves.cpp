@@ -11,11 +11,12 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/error.hpp>
 
 namespace ecmxf_util {
 
 const char *const kSlavesHelp =
-	"Usage: ecmxf-util [global options] slaves [-v] [--json]\n"
+	"Usage: ecmxf-util [global options] slaves [-p N] [-v] [--json]\n"
 	"\n"
 	"List the slaves found by the last ECAT_INIT_OP, in bus order:\n"
 	"  POSITION  ALIAS:RELATIVE-POSITION  STATE  +/E  VENDOR:PRODUCT  NAME\n"
@@ -25,9 +26,12 @@ const char *const kSlavesHelp =
 	"the bus; the slaves are then in INIT.\n"
 	"\n"
 	"Options:\n"
-	"  -v, --verbose  add revision, configured station address, AL status code\n"
-	"                 and output/input process data bytes; say on stderr when\n"
-	"                 the bus is scanned\n"
+	"  -p, --position N  only the slave at bus position N\n"
+	"  -v, --verbose  add revision, configured station address, AL status code,\n"
+	"                 output/input process data bytes and DC support (ESC\n"
+	"                 feature register 0x0008 bit 2, read with FPRD); a slave\n"
+	"                 whose AL status code is not 0 gets a second line with\n"
+	"                 the code's text; say on stderr when the bus is scanned\n"
 	"  --json         a JSON array of objects with every field\n"
 	"  -h, --help     show this help\n";
 
@@ -43,7 +47,26 @@ struct SlaveInfo {
 	std::uint32_t vendor = 0, product = 0, revision = 0;
 	std::string name;
 	std::uint16_t station = 0, alCode = 0, outBytes = 0, inBytes = 0;
+	std::optional<bool> dc; ///< ESC feature bit 2; unset when the read failed
 };
+
+/// DC support: ESC feature register 0x0008 bit 2 (ETG.1000.4), by FPRD.
+std::optional<bool> readDc(ecmxf::Device &dev, std::uint16_t station)
+{
+	try {
+		ecmxf::Datagram d;
+		d.command = ecmxf::DatagramCommand::FPRD;
+		d.adp = station;
+		d.ado = 0x0008;
+		d.data.assign(2, 0);
+		const ecmxf::DatagramResult r = dev.rawDatagram(d);
+		if (r.workingCounter != 1 || r.data.empty())
+			return std::nullopt;
+		return (r.data[0] & 0x04) != 0;
+	} catch (const ecmxf::Error &) {
+		return std::nullopt;
+	}
+}
 
 /// ECAT_INIT_OP for all slaves: 0xFF, 0x81 (FIFO off), AssignActivate 0,
 /// SYNC0 1 ms, SYNC1 0, shift 0; data length field 16.
@@ -95,10 +118,16 @@ SlaveInfo readSlave(ecmxf::Device &dev, unsigned pos)
 int cmdSlaves(Globals &g, const Args &args)
 {
 	bool verbose = false;
-	if (parseFlags("slaves", args, g, kSlavesHelp, { { "-v", "--verbose", &verbose } }))
+	std::optional<std::string> posText;
+	const auto rest = parseArgs("slaves", args, g, kSlavesHelp,
+				   { { "-v", "--verbose", &verbose, nullptr }, { "-p", "--position", nullptr, &posText } });
+	if (!rest)
 		return 0;
+	if (!rest->empty())
+		throw UsageError("slaves: unexpected argument '" + rest->front() + "' (try 'ecmxf-util slaves --help')");
+	const int only = posText ? parsePosition("slaves", posText) : -1;
 
-	const std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open(g.device);
+	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	unsigned count = dev->command(simpleCommand(kSlvCntGet)).ret;
 	if (count == 0 && dev->lastHeader().ecatState == 0) {
 		if (verbose)
@@ -118,8 +147,13 @@ int cmdSlaves(Globals &g, const Args &args)
 		}
 		s.aliasBase = lastAlias;
 		s.relative = relative++;
-		slaves.push_back(std::move(s));
+		if (only < 0 || pos == static_cast<unsigned>(only)) {
+			s.dc = readDc(*dev, s.station);
+			slaves.push_back(std::move(s));
+		}
 	}
+	if (only >= 0)
+		checkPosition(static_cast<unsigned>(only), count);
 
 	if (g.json) {
 		std::printf("[");
@@ -129,27 +163,33 @@ int cmdSlaves(Globals &g, const Args &args)
 				    "\"state\": %s, \"al_state\": %u, \"error\": %s, \"vendor_id\": %u, "
 				    "\"product_code\": %u, \"revision\": %u, \"name\": %s, "
 				    "\"station_address\": %u, \"al_status_code\": %u, "
-				    "\"output_bytes\": %u, \"input_bytes\": %u}",
+				    "\"al_status_text\": %s, \"output_bytes\": %u, \"input_bytes\": %u, \"dc\": %s}",
 				    i ? "," : "", s.position, s.alias, s.relative,
 				    jsonString(stateName(s.state)).c_str(), s.state,
 				    s.error ? "true" : "false", s.vendor, s.product, s.revision,
-				    jsonString(s.name).c_str(), s.station, s.alCode, s.outBytes, s.inBytes);
+				    jsonString(s.name).c_str(), s.station, s.alCode,
+				    jsonString(ecmxf::alStatusText(s.alCode)).c_str(), s.outBytes, s.inBytes,
+				    s.dc ? (*s.dc ? "true" : "false") : "null");
 		}
 		std::printf("%s]\n", slaves.empty() ? "" : "\n");
 		return 0;
 	}
 
 	if (verbose)
-		std::printf("%-3s  %-7s  %-8s  %-21s  %-10s  %-6s  %-7s  %4s  %4s  %s\n", "POS", "ALIAS",
-			    "STATE", "VENDOR:PRODUCT", "REVISION", "ADDR", "AL CODE", "OUT", "IN", "NAME");
+		std::printf("%-3s  %-7s  %-8s  %-21s  %-10s  %-6s  %-7s  %4s  %4s  %-3s  %s\n", "POS", "ALIAS",
+			    "STATE", "VENDOR:PRODUCT", "REVISION", "ADDR", "AL CODE", "OUT", "IN", "DC", "NAME");
 	for (const SlaveInfo &s : slaves) {
 		const std::string alias = std::to_string(s.aliasBase) + ":" + std::to_string(s.relative);
 		std::printf("%-3u  %-7s  %-6s %c  0x%08x:0x%08x", s.position, alias.c_str(),
 			    stateName(s.state).c_str(), s.error ? 'E' : '+', s.vendor, s.product);
 		if (verbose)
-			std::printf("  0x%08x  0x%04x  0x%04x   %4u  %4u", s.revision, s.station, s.alCode,
-				    s.outBytes, s.inBytes);
+			std::printf("  0x%08x  0x%04x  0x%04x   %4u  %4u  %-3s", s.revision, s.station, s.alCode,
+				    s.outBytes, s.inBytes, s.dc ? (*s.dc ? "yes" : "no") : "?");
 		std::printf("  %s\n", s.name.c_str());
+		if (verbose && s.alCode)
+			std::printf("     AL status 0x%04x: %.*s\n", s.alCode,
+				    static_cast<int>(ecmxf::alStatusText(s.alCode).size()),
+				    ecmxf::alStatusText(s.alCode).data());
 	}
 	return 0;
 }

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -100,15 +101,33 @@ int cmdVersion(Globals &g, const Args &args)
 }
 
 const CommandDesc kCommands[] = {
+	{ "adc", "read the chip's analog inputs", kAdcHelp, cmdAdc, true },
+	{ "cia402", "CiA-402 drive over SDO: status, enable, disable, fault-reset...", kCia402Help,
+	  cmdCia402, true },
 	{ "commands", "list the ECM-XF command codes (ver. 038 and 050)", kCommandsHelp, cmdCommands },
+	{ "dac", "set the chip's analog output", kDacHelp, cmdDac, true },
 	{ "decode", "decode a packet trace (--trace FILE) as a protocol log", kDecodeHelp, cmdDecode },
-	{ "info", "firmware, packet format, status bits and counters of the chip", kInfoHelp, cmdInfo },
+	{ "download", "write an object by SDO download", kDownloadHelp, cmdDownload, true },
+	{ "eeprom", "read or write SII EEPROM words", kEepromHelp, cmdEeprom, true },
+	{ "emergency", "the newest CoE emergencies the master read", kEmergencyHelp, cmdEmergency, true },
+	{ "foe_read", "read a file from a slave by FoE", kFoeReadHelp, cmdFoeRead, true },
+	{ "foe_write", "write a file to a slave by FoE", kFoeWriteHelp, cmdFoeWrite, true },
+	{ "gpio", "the chip's GPIO lines: get, set, config", kGpioHelp, cmdGpio, true },
+	{ "info", "firmware, packet format, status bits and counters of the chip", kInfoHelp, cmdInfo,
+	  true },
 	{ "monitor", "live events: state changes, error bits, CRC/WKC errors, FIFO levels",
 	  kMonitorHelp, cmdMonitor },
+	{ "pdos", "PDO assignment and mapping of each slave", kPdosHelp, cmdPdos, true },
+	{ "qei", "the chip's quadrature encoder: open, start, stop, count", kQeiHelp, cmdQei, true },
 	{ "raw", "one raw command (or EtherCAT datagram): response header and data", kRawHelp,
 	  cmdRaw },
+	{ "reset", "ASYNCCMD_RESET, or WARM_RESET with --warm --force", kResetHelp, cmdReset, true },
+	{ "sii_read", "a slave's SII EEPROM: hex dump, binary or identity", kSiiReadHelp, cmdSiiRead,
+	  true },
 	{ "slaves", "list the slaves on the bus (scans a fresh simulator first)", kSlavesHelp,
-	  cmdSlaves },
+	  cmdSlaves, true },
+	{ "states", "request an EtherCAT state for one or all slaves", kStatesHelp, cmdStates, true },
+	{ "upload", "read an object by SDO upload", kUploadHelp, cmdUpload, true },
 	{ "version", "print the version", kVersionHelp, cmdVersion },
 };
 
@@ -130,6 +149,7 @@ void usage(std::FILE *out)
 		     "  --trace FILE      record every exchange with the chip to FILE\n"
 		     "                    (ecmxf-util decode FILE shows it)\n"
 		     "  --json            JSON output for scripts\n"
+		     "  -q, --quiet       print nothing but errors and the data asked for\n"
 		     "  -h, --help        show this help\n"
 		     "  -V, --version     print the version\n"
 		     "\n"
@@ -171,6 +191,8 @@ int run(int argc, char **argv)
 		}
 		if (a == "--json") {
 			g.json = true;
+		} else if (a == "-q" || a == "--quiet") {
+			g.quiet = true;
 		} else if (a == "-d" || a == "--device") {
 			if (i + 1 >= argc)
 				throw UsageError("option '" + std::string(a) + "' needs a device URI");
@@ -196,6 +218,12 @@ int run(int argc, char **argv)
 		return 2;
 	}
 	if (std::string_view(argv[i]) == "help") {
+		if (i + 1 < argc) {
+			// help COMMAND = COMMAND --help
+			const CommandDesc &c = findCommand(argv[i + 1]);
+			std::fputs(c.help, stdout);
+			return 0;
+		}
 		usage(stdout);
 		return 0;
 	}
@@ -203,7 +231,20 @@ int run(int argc, char **argv)
 	if (!g.trace.empty())
 		g.device.append(g.device.find('?') == std::string::npos ? "?trace=" : "&trace=").append(g.trace);
 	const Args args(argv + i + 1, argv + argc);
-	return cmd.run(g, args);
+	if (!cmd.prefixErrors)
+		return cmd.run(g, args);
+	try {
+		return cmd.run(g, args);
+	} catch (const UsageError &) {
+		throw;
+	} catch (const std::exception &e) {
+		// "ecmxf-util: <command>: <reason>"
+		const std::string prefix = std::string(cmd.name) + ": ";
+		const std::string_view what = e.what();
+		if (what.starts_with(prefix))
+			throw;
+		throw std::runtime_error(std::string(prefix).append(what));
+	}
 }
 
 } // namespace

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -20,6 +22,7 @@ struct Globals {
 	std::string device = "sim:"; ///< -d/--device URI
 	bool json = false;           ///< --json
 	std::string trace;           ///< --trace FILE (added to the URI as trace=FILE)
+	bool quiet = false;          ///< -q/--quiet: nothing but errors and the data asked for
 };
 
 /// Bad command-line usage: reported as "ecmxf-util: <reason>", exit code 2.
@@ -37,6 +40,8 @@ struct CommandDesc {
 	std::string_view summary;
 	const char *help;
 	int (*run)(Globals &g, const Args &args);
+	/// Failures (not usage errors) are reported as "<name>: <reason>".
+	bool prefixErrors = false;
 };
 
 /// Parses a command's arguments that take no value: -h/--help prints
@@ -73,6 +78,76 @@ inline constexpr std::uint8_t kSlvCntGet = 16;
 inline constexpr std::uint8_t kSpiPackSizeGet = 20;
 inline constexpr std::uint8_t kFwVersionGet = 56;
 
+// ---- arguments with values, numbers, object addresses (ecmxf-util-common.cpp)
+
+/// An option of a command: a flag (@c flag set) or one that takes a value
+/// (@c value set; "--name VALUE" or "--name=VALUE").
+struct Option {
+	std::string_view shortName;
+	std::string_view longName;
+	bool *flag = nullptr;
+	std::optional<std::string> *value = nullptr;
+};
+
+/// Parses a command's arguments: -h/--help prints @p help and returns
+/// std::nullopt; --json sets g.json, -q/--quiet g.quiet; the options of
+/// @p opts; the rest (including negative numbers such as -5) are returned
+/// in order. An unknown option or a missing value throws UsageError.
+std::optional<std::vector<std::string>> parseArgs(std::string_view cmd, const Args &args, Globals &g,
+						  const char *help, const std::vector<Option> &opts);
+
+/// A number (decimal, 0x hex) in @p min..@p max; UsageError
+/// "<cmd>: <what>: ..." otherwise.
+std::uint64_t parseUnsigned(std::string_view cmd, std::string_view what, std::string_view text,
+			    std::uint64_t max, std::uint64_t min = 0);
+std::int64_t parseSigned(std::string_view cmd, std::string_view what, std::string_view text, std::int64_t min,
+			 std::int64_t max);
+double parseReal(std::string_view cmd, std::string_view what, std::string_view text);
+
+/// INDEX[:SUB], e.g. 0x6064:00 or 0x6064 (sub 0). Each part is a number
+/// of its own: decimal, or hex with 0x (0x1A00:0x0A; 0x6064:10 is sub 10).
+struct ObjectAddress {
+	std::uint16_t index = 0;
+	std::uint8_t sub = 0;
+};
+ObjectAddress parseObjectAddress(std::string_view cmd, std::string_view text);
+/// "0x6064:00"
+std::string objectName(ObjectAddress a);
+
+/// "0x%0*x"
+std::string hexString(std::uint64_t v, int digits);
+/// Bytes as "92 01 03 00" (@p sep between them).
+std::string hexBytes(const std::vector<std::uint8_t> &b, const char *sep = " ");
+
+/// -p/--position N: 0..127 (UsageError otherwise).
+std::uint8_t parsePosition(std::string_view cmd, const std::optional<std::string> &text);
+
+/// Opens g.device.
+std::unique_ptr<ecmxf::Device> openDevice(const Globals &g);
+
+/// How far a command needs the bus.
+enum class BusNeed {
+	Scan,   ///< the slaves known (ECAT_INIT_OP): EEPROM, slave lists
+	PreOp,  ///< mailboxes up (ECAT_STATE_SET PRE-OP): SDO, FoE, CiA-402 over SDO
+};
+
+/**
+ * THE bring-up rule of ecmxf-util: when the chip reports no initialised
+ * network (ECAT state 0 after ECAT_SLV_CNT_GET, as a fresh "sim:" does),
+ * bring the bus up as far as @p need: ECAT_INIT_OP (all slaves, the
+ * library's DC defaults) and for PreOp ECAT_STATE_SET PRE-OP for all
+ * slaves. A bus that is already up (a real device someone configured) is
+ * left as it is. With @p verbose, says on stderr what it does. Returns
+ * the slave count.
+ */
+unsigned ensureBus(ecmxf::Device &dev, BusNeed need, bool verbose = false);
+/// True when the chip reports no initialised network (ECAT state 0).
+bool busDown(ecmxf::Device &dev);
+
+/// Throws "slave position N out of range: the bus has C slaves (0..C-1)"
+/// when @p position >= @p count.
+void checkPosition(unsigned position, unsigned count);
+
 int cmdInfo(Globals &g, const Args &args);
 int cmdSlaves(Globals &g, const Args &args);
 int cmdDecode(Globals &g, const Args &args);
@@ -85,5 +160,52 @@ int cmdRaw(Globals &g, const Args &args);
 int cmdMonitor(Globals &g, const Args &args);
 extern const char *const kRawHelp;
 extern const char *const kMonitorHelp;
+
+// the bus and slave commands (ecmxf-util-<name>.cpp)
+#define ECMXF_UTIL_COMMAND(fn, helpVar) \
+	int fn(Globals &g, const Args &args); \
+	extern const char *const helpVar;
+ECMXF_UTIL_COMMAND(cmdStates, kStatesHelp)
+ECMXF_UTIL_COMMAND(cmdUpload, kUploadHelp)
+ECMXF_UTIL_COMMAND(cmdDownload, kDownloadHelp)
+ECMXF_UTIL_COMMAND(cmdPdos, kPdosHelp)
+ECMXF_UTIL_COMMAND(cmdSiiRead, kSiiReadHelp)
+ECMXF_UTIL_COMMAND(cmdEeprom, kEepromHelp)
+ECMXF_UTIL_COMMAND(cmdFoeRead, kFoeReadHelp)
+ECMXF_UTIL_COMMAND(cmdFoeWrite, kFoeWriteHelp)
+ECMXF_UTIL_COMMAND(cmdGpio, kGpioHelp)
+ECMXF_UTIL_COMMAND(cmdQei, kQeiHelp)
+ECMXF_UTIL_COMMAND(cmdAdc, kAdcHelp)
+ECMXF_UTIL_COMMAND(cmdDac, kDacHelp)
+ECMXF_UTIL_COMMAND(cmdEmergency, kEmergencyHelp)
+ECMXF_UTIL_COMMAND(cmdReset, kResetHelp)
+ECMXF_UTIL_COMMAND(cmdCia402, kCia402Help)
+#undef ECMXF_UTIL_COMMAND
+
+// ---- SDO data types (-t; ecmxf-util-types.cpp)
+
+enum class DataType {
+	Bool, Int8, Int16, Int32, Int64, Uint8, Uint16, Uint32, Uint64, Float, Double, String, OctetString,
+};
+/// -t TYPE: the contract's names and IgH's aliases (sint8.., real32/64).
+DataType parseType(std::string_view cmd, std::string_view text);
+std::string_view typeName(DataType t);
+/// Bytes of a fixed-size type; 0 for string and octet_string.
+std::size_t typeSize(DataType t);
+/// VALUE as the little-endian bytes of @p t (octet_string: hex bytes).
+std::vector<std::uint8_t> encodeValue(std::string_view cmd, DataType t, std::string_view text);
+/// Bytes of an object as text / as a JSON value. Without a type: the
+/// unsigned little-endian value as hex and decimal for 1, 2, 4 or 8
+/// bytes ("0x00030192 197010"), else the bytes in hex.
+std::string formatValue(std::optional<DataType> t, const std::vector<std::uint8_t> &b);
+std::string jsonValue(std::optional<DataType> t, const std::vector<std::uint8_t> &b);
+
+/// cia402 move / home (ecmxf-util-cia402-motion.cpp): @p args are all of
+/// cia402's arguments. The dispatch point for the motion commands.
+int cia402Motion(Globals &g, const Args &args);
+
+/// The text of a CiA 301 emergency error code (its class, e.g. 0x8130
+/// "monitoring: life guard / heartbeat error").
+std::string emergencyCodeText(std::uint16_t code);
 
 } // namespace ecmxf_util

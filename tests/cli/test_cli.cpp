@@ -94,7 +94,11 @@ TEST_CASE("info reports the simulator's power-on firmware, format, status and co
 	CHECK_THAT(r.out, Contains(buf));
 	CHECK_THAT(r.out, Contains("series:            0 (ECM-XF)\n"));
 	CHECK_THAT(r.out, Contains("build id:          ecmxf-simulator\n"));
-	CHECK_THAT(r.out, Contains("data size:         112\n"));
+	// 112-byte data section; packet = 16-byte header + data + 16-byte trailer
+	CHECK_THAT(r.out, Contains("data size:         112 (packet 144 bytes)\n"));
+	CHECK_THAT(r.out, Contains("extended version:  0\n"));
+	// ECAT_WKC_CONTI_ERR_CNT_GET 0; limit 255 = none (power-on)
+	CHECK_THAT(r.out, Contains("WKC continuous:    0 (limit none)\n"));
 	CHECK_THAT(r.out, Contains("check type:        fixed\n"));
 	// before INIT_OP: no network; link present (bit 0); FIFO enabled at power-on
 	CHECK_THAT(r.out, Contains("ECAT state:        NONE (0x00)\n"));
@@ -154,10 +158,11 @@ TEST_CASE("slaves -v adds revision, station address, AL status code and process 
 	REQUIRE(l.size() == 4);
 	CHECK_THAT(l[0], StartsWith("POS  ALIAS"));
 	CHECK_THAT(l[0], Contains("REVISION"));
-	// stations 0x1001 + position; EST-584 12/17 bytes, dio 1/1 (sim-slaves.rst)
-	CHECK(l[1] == "0    0:0      INIT   +  0x00000e5c:0x00000584  0x00010000  0x1001  0x0000     12    17  EST-584");
-	CHECK(l[2] == "1    0:1      INIT   +  0x00000e5c:0x00000584  0x00010000  0x1002  0x0000     12    17  EST-584");
-	CHECK(l[3] == "2    0:2      INIT   +  0x00000e5c:0x00001088  0x00010000  0x1003  0x0000      1     1  Digital I/O 8 out / 8 in");
+	// stations 0x1001 + position; EST-584 12/17 bytes, dio 1/1; ESC
+	// features 0x000C (DC) for the drives, 0 for the dio (sim-slaves.rst)
+	CHECK(l[1] == "0    0:0      INIT   +  0x00000e5c:0x00000584  0x00010000  0x1001  0x0000     12    17  yes  EST-584");
+	CHECK(l[2] == "1    0:1      INIT   +  0x00000e5c:0x00000584  0x00010000  0x1002  0x0000     12    17  yes  EST-584");
+	CHECK(l[3] == "2    0:2      INIT   +  0x00000e5c:0x00001088  0x00010000  0x1003  0x0000      1     1  no   Digital I/O 8 out / 8 in");
 }
 
 TEST_CASE("slaves --json is an array of 3 objects with the models' identities", "[cli][slaves][json]")

@@ -1,0 +1,180 @@
+// SPDX-License-Identifier: MIT
+/*
+ * ecmxf-util pdos - each slave's PDO assignment and mapping, from
+ * Master::pdos().
+ */
+#include "ecmxf-util.hpp"
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <ecmxf/device.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/master.hpp>
+
+namespace ecmxf_util {
+
+const char *const kPdosHelp =
+	"Usage: ecmxf-util [global options] pdos [-p N] [--json]\n"
+	"\n"
+	"The PDO assignment and mapping of each slave (or of slave N): per sync\n"
+	"manager and direction the PDOs in assignment order, and per PDO its\n"
+	"entries (index:subindex, bit length, bit offset within the slave's\n"
+	"outputs or inputs, name of common CiA 301/402 objects):\n"
+	"\n"
+	"  SM2 outputs (RxPDO), 12 bytes\n"
+	"    PDO 0x1600\n"
+	"      0x6040:00  16 bit  offset    0  Controlword\n"
+	"\n"
+	"The mapping is read by the library's Master (SDO reads of 0x1C12/0x1C13\n"
+	"and 0x16xx/0x1Axx, or the SII's PDO categories for slaves without CoE).\n"
+	"The sync manager is SM2/SM3 for slaves with a mailbox (SII word 0x19, the\n"
+	"standard receive mailbox size, not 0) and SM0/SM1 without one, the\n"
+	"ETG.2000 convention (the chip does not report it). A fresh bus is\n"
+	"brought up to PRE-OP by the Master first; a bus that is already up is\n"
+	"only read.\n"
+	"\n"
+	"Options:\n"
+	"  -p, --position N  only the slave at bus position N\n"
+	"  --json            an array of {position, name, output_bytes,\n"
+	"                    input_bytes, sync_managers: [{sm, direction, bytes,\n"
+	"                    pdos: [{index, entries: [{index, sub, bit_length,\n"
+	"                    bit_offset, name}]}]}]}\n"
+	"  -h, --help        show this help\n";
+
+namespace {
+
+struct Pdo {
+	std::uint16_t index = 0;
+	std::vector<const ecmxf::PdoEntryInfo *> entries;
+};
+
+std::vector<Pdo> groupByPdo(const std::vector<ecmxf::PdoEntryInfo> &entries)
+{
+	std::vector<Pdo> out;
+	for (const ecmxf::PdoEntryInfo &e : entries) {
+		if (out.empty() || out.back().index != e.pdo)
+			out.push_back({ e.pdo, {} });
+		out.back().entries.push_back(&e);
+	}
+	return out;
+}
+
+} // namespace
+
+int cmdPdos(Globals &g, const Args &args)
+{
+	std::optional<std::string> posText;
+	const auto pos = parseArgs("pdos", args, g, kPdosHelp, { { "-p", "--position", nullptr, &posText } });
+	if (!pos)
+		return 0;
+	if (!pos->empty())
+		throw UsageError("pdos: unexpected argument '" + pos->front() + "' (try 'ecmxf-util pdos --help')");
+	// -1: all slaves
+	const int position = posText ? parsePosition("pdos", posText) : -1;
+	const bool one = position >= 0;
+
+	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	ecmxf::Master m(*dev);
+	if (busDown(*dev)) {
+		ecmxf::MasterConfig mc;
+		mc.target = ecmxf::State::PreOp;
+		mc.enableFifo = false;
+		m.bringUp(mc);
+	} else {
+		m.rescan();
+	}
+	const unsigned count = static_cast<unsigned>(m.slaves().size());
+	if (one)
+		checkPosition(static_cast<unsigned>(position), count);
+
+	std::vector<ecmxf::SlavePdos> pdos(count);
+	std::vector<bool> mailbox(count);
+	for (unsigned p = 0; p < count; p++) {
+		if (one && p != static_cast<unsigned>(position))
+			continue;
+		const auto p8 = static_cast<std::uint8_t>(p);
+		pdos[p] = m.pdos().size() > p ? m.pdos()[p] : m.readSlavePdos(p8);
+		const std::uint16_t mbxSize = dev->eepromRead(p, 0x19);
+		mailbox[p] = mbxSize != 0 && mbxSize != 0xFFFF;
+	}
+
+	if (g.json)
+		std::printf("[");
+	bool first = true;
+	for (unsigned p = 0; p < count; p++) {
+		if (one && p != static_cast<unsigned>(position))
+			continue;
+		const ecmxf::SlaveInfo &si = m.slaves()[p];
+		const ecmxf::SlavePdos &sp = pdos[p];
+		const unsigned smOut = mailbox[p] ? 2 : 0, smIn = smOut + 1;
+		struct Side {
+			unsigned sm;
+			const char *dir;
+			const char *kind;
+			std::uint32_t bytes;
+			const std::vector<ecmxf::PdoEntryInfo> *entries;
+		};
+		const Side sides[] = { { smOut, "outputs", "RxPDO", sp.outputBytes, &sp.outputs },
+				       { smIn, "inputs", "TxPDO", sp.inputBytes, &sp.inputs } };
+		if (g.json) {
+			std::printf("%s\n  {\"position\": %u, \"name\": %s, \"output_bytes\": %u, \"input_bytes\": %u, "
+				    "\"sync_managers\": [",
+				    first ? "" : ",", p, jsonString(si.name).c_str(), sp.outputBytes, sp.inputBytes);
+			bool firstSm = true;
+			for (const Side &s : sides) {
+				if (s.entries->empty())
+					continue;
+				std::printf("%s\n    {\"sm\": %u, \"direction\": \"%s\", \"bytes\": %u, \"pdos\": [",
+					    firstSm ? "" : ",", s.sm, s.dir, s.bytes);
+				firstSm = false;
+				const auto groups = groupByPdo(*s.entries);
+				for (std::size_t k = 0; k < groups.size(); k++) {
+					std::printf("%s{\"index\": %u, \"entries\": [", k ? ", " : "", groups[k].index);
+					for (std::size_t e = 0; e < groups[k].entries.size(); e++) {
+						const ecmxf::PdoEntryInfo &x = *groups[k].entries[e];
+						std::printf("%s{\"index\": %u, \"sub\": %u, \"bit_length\": %u, "
+							    "\"bit_offset\": %u, \"name\": %s}",
+							    e ? ", " : "", x.index, x.sub, x.bitLength, x.bitOffset,
+							    jsonString(x.name).c_str());
+					}
+					std::printf("]}");
+				}
+				std::printf("]}");
+			}
+			std::printf("%s]}", firstSm ? "" : "\n  ");
+			first = false;
+			continue;
+		}
+		std::printf("%sSlave %u (%s)\n", first ? "" : "\n", p, si.name.c_str());
+		first = false;
+		bool any = false;
+		for (const Side &s : sides) {
+			if (s.entries->empty())
+				continue;
+			any = true;
+			std::printf("  SM%u %s (%s), %u bytes\n", s.sm, s.dir, s.kind, s.bytes);
+			for (const Pdo &pdo : groupByPdo(*s.entries)) {
+				std::printf("    PDO 0x%04x\n", pdo.index);
+				for (const ecmxf::PdoEntryInfo *x : pdo.entries) {
+					std::printf("      0x%04x:%02x  %2u bit  offset %4u", x->index, x->sub, x->bitLength,
+						    x->bitOffset);
+					if (!x->name.empty())
+						std::printf("  %s", x->name.c_str());
+					else if (x->index == 0)
+						std::printf("  (gap)");
+					std::printf("\n");
+				}
+			}
+		}
+		if (!any)
+			std::printf("  no process data\n");
+	}
+	if (g.json)
+		std::printf("%s]\n", first ? "" : "\n");
+	return 0;
+}
+
+} // namespace ecmxf_util

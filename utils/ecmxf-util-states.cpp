@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: MIT
+/*
+ * ecmxf-util states - request an EtherCAT state for one slave or all, and
+ * print the state each slave is in afterwards.
+ */
+#include "ecmxf-util.hpp"
+
+#include <cctype>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <ecmxf/device.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/master.hpp>
+
+namespace ecmxf_util {
+
+const char *const kStatesHelp =
+	"Usage: ecmxf-util [global options] states [-p N] [--no-dc] [--json] STATE\n"
+	"\n"
+	"Request STATE (INIT, PREOP, SAFEOP, OP or BOOT, in any case; PRE-OP and\n"
+	"SAFE-OP are accepted too) for the slave at position N, or for all slaves\n"
+	"without -p, with ECAT_STATE_SET, and print the state of every slave\n"
+	"concerned afterwards (ECAT_STATE_UPDATE + ECAT_SLV_INFO_GET):\n"
+	"  POSITION  STATE  +/E  AL STATUS CODE  TEXT\n"
+	"\n"
+	"When the chip has no initialised network (ECAT state NONE, e.g. a fresh\n"
+	"simulator) the bus is brought up first: for INIT, PREOP and BOOT with\n"
+	"ECAT_INIT_OP (the slaves are then in INIT), for SAFEOP and OP\n"
+	"with the library's Master bring-up (INIT_OP with DC SYNC0 1 ms, PRE-OP,\n"
+	"PDO mapping; all slaves to STATE, the FIFO enabled for OP; with -p the\n"
+	"bus is brought to PRE-OP and only slave N is moved on). A bus that is\n"
+	"already up is not re-initialised.\n"
+	"\n"
+	"A refused transition fails (exit 1) with the slave, the state it stays in\n"
+	"and its AL status code and text.\n"
+	"\n"
+	"Options:\n"
+	"  -p, --position N  the slave at bus position N (default: all slaves)\n"
+	"  --no-dc           bring the bus up without distributed clocks\n"
+	"                    (AssignActivate 0): slaves that need SYNC0 refuse OP\n"
+	"  --json            {\"requested\": ..., \"slaves\": [{position, state,\n"
+	"                    al_state, error, al_status_code, al_status_text}]}\n"
+	"  -h, --help        show this help\n";
+
+namespace {
+
+ecmxf::State parseState(const std::string &text)
+{
+	std::string u;
+	for (const char c : text)
+		if (c != '-' && c != '_')
+			u += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+	if (u == "INIT")
+		return ecmxf::State::Init;
+	if (u == "PREOP")
+		return ecmxf::State::PreOp;
+	if (u == "SAFEOP")
+		return ecmxf::State::SafeOp;
+	if (u == "OP")
+		return ecmxf::State::Op;
+	if (u == "BOOT" || u == "BOOTSTRAP")
+		return ecmxf::State::Boot;
+	throw UsageError("states: unknown state '" + text + "' (INIT, PREOP, SAFEOP, OP or BOOT)");
+}
+
+struct Row {
+	unsigned position;
+	std::uint8_t state;
+	bool error;
+	std::uint16_t code;
+};
+
+} // namespace
+
+int cmdStates(Globals &g, const Args &args)
+{
+	std::optional<std::string> posText;
+	bool noDc = false;
+	const auto pos = parseArgs("states", args, g, kStatesHelp,
+				   { { "-p", "--position", nullptr, &posText }, { "", "--no-dc", &noDc, nullptr } });
+	if (!pos)
+		return 0;
+	if (pos->size() != 1)
+		throw UsageError(pos->empty() ? "states: which state? (INIT, PREOP, SAFEOP, OP or BOOT)"
+					      : "states: one STATE only (try 'ecmxf-util states --help')");
+	const ecmxf::State want = parseState(pos->front());
+	// -1: all slaves
+	const int position = posText ? parsePosition("states", posText) : -1;
+	const bool one = position >= 0;
+
+	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	unsigned count = 0;
+	if (busDown(*dev)) {
+		ecmxf::InitConfig init;
+		if (noDc)
+			init.dc.assignActivate = 0;
+		if (want == ecmxf::State::SafeOp || want == ecmxf::State::Op) {
+			ecmxf::MasterConfig mc;
+			mc.init = init;
+			mc.target = one ? ecmxf::State::PreOp : want;
+			mc.enableFifo = !one && want == ecmxf::State::Op;
+			ecmxf::Master m(*dev);
+			m.bringUp(mc);
+		} else {
+			dev->initNetwork(init); // BOOT is entered from INIT (ETG.1000.6)
+		}
+	}
+	count = dev->slaveCount();
+	if (one)
+		checkPosition(static_cast<unsigned>(position), count);
+	else if (count == 0)
+		throw ecmxf::Error("no slaves on the bus", ENODEV);
+
+	dev->stateSet(one ? static_cast<std::uint8_t>(position) : ecmxf::kAllSlaves, want);
+	dev->stateUpdate();
+
+	std::vector<Row> rows;
+	for (unsigned p = 0; p < count; p++) {
+		if (one && p != static_cast<unsigned>(position))
+			continue;
+		const auto p8 = static_cast<std::uint8_t>(p);
+		const ecmxf::SlaveInfo si = dev->slaveInfo(p8);
+		const ecmxf::StateReading st = dev->stateGet(p8);
+		rows.push_back({ p, static_cast<std::uint8_t>(si.state), st.error(), si.alStatusCode });
+	}
+
+	if (g.json) {
+		std::printf("{\"requested\": %s, \"slaves\": [",
+			    jsonString(stateName(static_cast<std::uint8_t>(want))).c_str());
+		for (std::size_t i = 0; i < rows.size(); i++) {
+			const Row &r = rows[i];
+			std::printf("%s\n  {\"position\": %u, \"state\": %s, \"al_state\": %u, \"error\": %s, "
+				    "\"al_status_code\": %u, \"al_status_text\": %s}",
+				    i ? "," : "", r.position, jsonString(stateName(r.state)).c_str(), r.state,
+				    r.error ? "true" : "false", r.code,
+				    jsonString(ecmxf::alStatusText(r.code)).c_str());
+		}
+		std::printf("%s]}\n", rows.empty() ? "" : "\n");
+		return 0;
+	}
+	for (const Row &r : rows) {
+		std::printf("%-3u  %-6s %c", r.position, stateName(r.state).c_str(), r.error ? 'E' : '+');
+		if (r.code)
+			std::printf("  AL status 0x%04x %.*s", r.code,
+				    static_cast<int>(ecmxf::alStatusText(r.code).size()),
+				    ecmxf::alStatusText(r.code).data());
+		std::printf("\n");
+	}
+	return 0;
+}
+
+} // namespace ecmxf_util
