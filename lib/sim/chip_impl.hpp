@@ -98,6 +98,8 @@ struct SlaveRec {
 	bool foe = false;
 	// SII mailbox and sync manager description (for the SM registers)
 	std::uint16_t mbxOutOff = 0, mbxOutSize = 0, mbxInOff = 0, mbxInSize = 0;
+	/// The bootstrap mailbox (SII words 0x14..0x17), set up for BOOT.
+	std::uint16_t bootOutOff = 0, bootOutSize = 0, bootInOff = 0, bootInSize = 0;
 	struct SmDesc {
 		std::uint16_t start = 0, len = 0;
 		std::uint8_t control = 0, enable = 0, type = 0;
@@ -218,6 +220,7 @@ public:
 	void applyDc();
 	void buildLayout();
 	void buildSlots();
+	void writeSm(std::size_t pos, unsigned sm, const SlaveRec::SmDesc &d);
 	void writeSyncManagers(std::size_t pos);
 	void refreshStates();
 	/// One step of waiting for slaves to reach a state: done when

@@ -266,6 +266,10 @@ void Chip::Impl::scanNetwork(std::uint16_t aa, std::uint32_t sync0, std::uint32_
 		r.mbxOutSize = word(0x0019);
 		r.mbxInOff = word(0x001A);
 		r.mbxInSize = word(0x001B);
+		r.bootOutOff = word(0x0014);
+		r.bootOutSize = word(0x0015);
+		r.bootInOff = word(0x0016);
+		r.bootInSize = word(0x0017);
 		const SiiInfo info = parseSii(sii);
 		r.name = info.name.empty() ? r.slave->identity().name : info.name;
 		r.sms = info.sms;
@@ -322,18 +326,21 @@ void Chip::Impl::buildSlots()
 	}
 }
 
+void Chip::Impl::writeSm(std::size_t pos, unsigned sm, const SlaveRec::SmDesc &d)
+{
+	const auto base = static_cast<std::uint16_t>(0x0800 + 8 * sm);
+	regWrite(pos, base, static_cast<std::uint8_t>(d.start));
+	regWrite(pos, static_cast<std::uint16_t>(base + 1), static_cast<std::uint8_t>(d.start >> 8));
+	regWrite(pos, static_cast<std::uint16_t>(base + 2), static_cast<std::uint8_t>(d.len));
+	regWrite(pos, static_cast<std::uint16_t>(base + 3), static_cast<std::uint8_t>(d.len >> 8));
+	regWrite(pos, static_cast<std::uint16_t>(base + 4), d.control);
+	regWrite(pos, static_cast<std::uint16_t>(base + 6), d.enable);
+}
+
 void Chip::Impl::writeSyncManagers(std::size_t pos)
 {
 	SlaveRec &r = slaves_[pos];
-	auto write = [&](unsigned sm, const SlaveRec::SmDesc &d) {
-		const auto base = static_cast<std::uint16_t>(0x0800 + 8 * sm);
-		regWrite(pos, base, static_cast<std::uint8_t>(d.start));
-		regWrite(pos, static_cast<std::uint16_t>(base + 1), static_cast<std::uint8_t>(d.start >> 8));
-		regWrite(pos, static_cast<std::uint16_t>(base + 2), static_cast<std::uint8_t>(d.len));
-		regWrite(pos, static_cast<std::uint16_t>(base + 3), static_cast<std::uint8_t>(d.len >> 8));
-		regWrite(pos, static_cast<std::uint16_t>(base + 4), d.control);
-		regWrite(pos, static_cast<std::uint16_t>(base + 6), d.enable);
-	};
+	auto write = [&](unsigned sm, const SlaveRec::SmDesc &d) { writeSm(pos, sm, d); };
 	// the SII's sync managers, with the process data lengths of the layout
 	for (std::size_t sm = 0; sm < r.sms.size() && sm < 16; sm++) {
 		SlaveRec::SmDesc d = r.sms[sm];
@@ -395,6 +402,16 @@ void Chip::Impl::buildLayout()
 void Chip::Impl::requestState(std::size_t pos, std::uint8_t state)
 {
 	Slave &s = net_.at(pos);
+	const SlaveRec &r = slaves_[pos];
+	const unsigned cur = s.alStatus() & 0x0Fu;
+	if (state == ECMXF_ECAT_BOOT && cur == ECMXF_ECAT_INIT && r.bootOutSize && r.bootInSize) {
+		// INIT -> BOOT: SM0/SM1 carry the bootstrap mailbox (SII 0x14..0x17)
+		writeSm(pos, 0, SlaveRec::SmDesc{ r.bootOutOff, r.bootOutSize, 0x26, 1, 1 });
+		writeSm(pos, 1, SlaveRec::SmDesc{ r.bootInOff, r.bootInSize, 0x22, 1, 2 });
+	} else if (state == ECMXF_ECAT_PREOP && cur == ECMXF_ECAT_INIT) {
+		// back from BOOT (through INIT): the standard mailbox again
+		writeSyncManagers(pos);
+	}
 	const std::uint8_t ack = (s.alStatus() & kAlError) ? kAlError : 0;
 	regWrite(pos, 0x0120, static_cast<std::uint8_t>(state | ack));
 }

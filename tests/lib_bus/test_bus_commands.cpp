@@ -184,6 +184,30 @@ TEST_CASE("bus: OP on the servo without DC gives its AL status code 0x0030", "[b
 	}
 }
 
+TEST_CASE("bus: STATE_SET BOOT sets up the bootstrap mailbox, PRE-OP after it the standard one", "[bus]")
+{
+	// the servo's SII has a bootstrap mailbox (sim-slaves.rst); the
+	// EST-584 has none and refuses BOOT with 0x0015 (AKD2G table)
+	Rig r("servo-io.net");
+	r.d().initNetwork();
+	r.d().stateSet(0, State::Boot);
+	CHECK(r.d().stateGet(0).state() == State::Boot);
+	r.d().stateSet(0, State::Init);
+	r.d().stateSet(0, State::PreOp);
+	CHECK(r.d().stateGet(0).state() == State::PreOp);
+	CHECK(r.d().sdoRead<std::uint32_t>(0, 0x1018, 1) == 0x00000E5Cu); // vendor id, sim-slaves.rst
+
+	Rig e("est584x2-io.net");
+	e.d().initNetwork();
+	try {
+		e.d().stateSet(0, State::Boot);
+		FAIL("no error");
+	} catch (const AlStatusError &ex) {
+		CHECK(ex.alStatusCode() == 0x0015);
+		CHECK_THAT(ex.what(), Contains("AL status 0x0015 Invalid mailbox boot configuration"));
+	}
+}
+
 TEST_CASE("bus: the servo reaches OP with DC from INIT_OP", "[bus]")
 {
 	Rig r("servo-io.net");
