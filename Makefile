@@ -61,10 +61,11 @@ bench:
 	$(BENCH_BUILD)/tests/bench/bench-sdo
 	$(BENCH_BUILD)/tests/bench/bench-cyclic
 
+# The tour of the stack on the simulator (utils/ecmxf-demo.cpp), paced in
+# real time; DEMO_ARGS=--fast skips the pacing.
+DEMO_ARGS ?=
 demo: all
-	$(BUILD)/utils/ecmxf-util commands
-	$(BUILD)/utils/ecmxf-util info
-	$(BUILD)/utils/ecmxf-util slaves -v
+	$(BUILD)/utils/ecmxf-demo $(DEMO_ARGS)
 
 kmod-deps:
 	@$(DEPS) --kernel

@@ -144,3 +144,38 @@ TEST_CASE("cia402 move --help", "[cli-motion]")
 {
 	CHECK_THAT(run({ "move", "--help" }), Contains("Usage: ecmxf-util [global options] cia402 -p N move"));
 }
+
+#ifdef ECMXF_DEMO
+TEST_CASE("ecmxf-demo --fast: every section, both axes at their targets, 0 WKC errors", "[demo]")
+{
+	FILE *p = ::popen(ECMXF_DEMO " --fast 2>&1", "r");
+	REQUIRE(p != nullptr);
+	std::string out;
+	char buf[4096];
+	std::size_t n = 0;
+	while ((n = std::fread(buf, 1, sizeof buf, p)) > 0)
+		out.append(buf, n);
+	const int status = ::pclose(p);
+	INFO(out);
+	REQUIRE(WIFEXITED(status));
+	CHECK(WEXITSTATUS(status) == 0);
+	for (const char *h : { "== 1. Bring-up: the network to OP", "== 2. The slaves ==", "== 3. SDO",
+			       "== 4. CiA-402: enable both drives", "== 5. Synchronized CSP move", "== 6. Summary ==" })
+		CHECK_THAT(out, Contains(h));
+	for (const char *step : { "   init ", "   scan ", "   states to PRE-OP ", "   PDO configuration ", "   PDO mapping ",
+				  "   states to SAFE-OP ", "   states to OP ", "   FIFO enable " })
+		CHECK_THAT(out, Contains(step));
+	CHECK_THAT(out, Contains("0x00000E5C:0x00000584 OP        11   15"));
+	CHECK_THAT(out, Contains("0x6081 profile velocity: read 50000, wrote 120000, read back 120000"));
+	// EST-584 / CiA 301 abort codes
+	CHECK_THAT(out, Contains("read  0x2FFF (no such object): abort 0x06020000"));
+	CHECK_THAT(out, Contains("write 0x6064 (read-only):   abort 0x06010002"));
+	CHECK_THAT(out, Contains("slave 0: SWITCH ON DISABLED -> READY TO SWITCH ON -> SWITCHED ON -> OPERATION ENABLED"));
+	CHECK_THAT(out, Contains("slave 1: SWITCH ON DISABLED -> READY TO SWITCH ON -> SWITCHED ON -> OPERATION ENABLED"));
+	CHECK_THAT(out, Contains("slave 0 final position 200000, target 200000: reached"));
+	CHECK_THAT(out, Contains("slave 1 final position -75000, target -75000: reached"));
+	CHECK_THAT(out, Contains(" 0 failed, 0 WKC errors"));
+	CHECK_THAT(out, Contains("0 RxFIFO overruns (refused)"));
+	CHECK_THAT(out, Contains("ecmxf-demo: all steps OK"));
+}
+#endif
