@@ -338,6 +338,8 @@ Cia402Progress Cia402Axis::stepMotion(nanoseconds now, std::uint16_t &cw) noexce
 	case Cia402Request::State:
 		return state_.progress();
 	case Cia402Request::Mode: {
+		if (progress_ == Cia402Progress::Done)
+			return progress_; // taken; stays done
 		if (modeDisp_.bound()) {
 			if (steps_ > cfg_.latencyCycles || modeDisp_.get() == modeSet_) {
 				if (modeDisp_.get() == modeSet_)
@@ -359,6 +361,8 @@ Cia402Progress Cia402Axis::stepMotion(nanoseconds now, std::uint16_t &cw) noexce
 		return s.progress;
 	}
 	case Cia402Request::PvVelocity:
+		if (progress_ == Cia402Progress::Done)
+			return progress_; // reached once; stays done
 		if (steps_ > cfg_.latencyCycles && (sw_ & cia402::kSwTargetReached))
 			return Cia402Progress::Done;
 		if (cfg_.velocityTimeout.count() > 0 && now - since_ >= cfg_.velocityTimeout) {
