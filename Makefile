@@ -61,10 +61,11 @@ bench:
 	$(BENCH_BUILD)/tests/bench/bench-sdo
 	$(BENCH_BUILD)/tests/bench/bench-cyclic
 
+# The tour of the stack on the simulator (utils/ecmxf-demo.cpp), paced in
+# real time; DEMO_ARGS=--fast skips the pacing.
+DEMO_ARGS ?=
 demo: all
-	$(BUILD)/utils/ecmxf-util commands
-	$(BUILD)/utils/ecmxf-util info
-	$(BUILD)/utils/ecmxf-util slaves -v
+	$(BUILD)/utils/ecmxf-demo $(DEMO_ARGS)
 
 kmod-deps:
 	@$(DEPS) --kernel
@@ -100,7 +101,7 @@ clean: kmod-clean
 help:
 	@echo "make [all]     build the library, ecmxf-util and the tests"
 	@echo "make check     build and run every test (ctest)"
-	@echo "make demo      run the demo"
+	@echo "make demo      ecmxf-demo: a tour of the stack on the simulator (DEMO_ARGS=--fast)"
 	@echo "make bench     build and run the benchmarks"
 	@echo "make kmod      build kmod/ecmxf.ko (KDIR=/path/to/headers)"
 	@echo "make kernel-lint  checkpatch --strict, W=1, sparse and kernel-doc"

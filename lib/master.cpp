@@ -312,6 +312,11 @@ void Master::bringUp(const MasterConfig &config)
 			    EINVAL);
 	slaves_.clear();
 	pdos_.clear();
+	const auto step = [&config](const char *name, const std::function<void()> &fn) {
+		if (config.onStep)
+			config.onStep(name);
+		ecmxf::step(name, fn);
+	};
 
 	step("init", [&] { dev_.initNetwork(config.init); });
 	step("scan", [&] {

@@ -26,8 +26,10 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <ecmxf/export.hpp>
@@ -77,6 +79,9 @@ struct MasterConfig {
 	bool enableFifo = true;
 	/// Read every slave's PDO mapping back (pdos()).
 	bool readPdoMapping = true;
+	/// Called with each step's name ("init", "scan"...) before it runs,
+	/// e.g. to show progress; empty: nothing is called.
+	std::function<void(std::string_view step)> onStep;
 };
 
 /// The bring-up sequence and what it found.
