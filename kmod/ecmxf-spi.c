@@ -78,6 +78,17 @@ static int ecmxf_request_line_irq(struct ecmxf_dev *edev,
 	return 0;
 }
 
+/* Free the IRQs before the worker goes: their handlers wake it. */
+static void ecmxf_free_irqs(struct ecmxf_dev *edev, struct device *dev)
+{
+	if (edev->int1_irq)
+		devm_free_irq(dev, edev->int1_irq, edev);
+	if (edev->int0_irq)
+		devm_free_irq(dev, edev->int0_irq, edev);
+	edev->int0_irq = 0;
+	edev->int1_irq = 0;
+}
+
 static void ecmxf_dev_release(struct device *dev)
 {
 	struct ecmxf_dev *edev = container_of(dev, struct ecmxf_dev, dev);
@@ -219,13 +230,11 @@ static int ecmxf_probe(struct spi_device *spi)
 	return 0;
 
 out_stop_worker:
+	ecmxf_free_irqs(edev, dev);
 	ecmxf_worker_stop(edev);
 out_free_irqs:
 	/* before put_device(): the handlers use edev */
-	if (edev->int1_irq)
-		devm_free_irq(dev, edev->int1_irq, edev);
-	if (edev->int0_irq)
-		devm_free_irq(dev, edev->int0_irq, edev);
+	ecmxf_free_irqs(edev, dev);
 out_put_device:
 	put_device(&edev->dev);
 	return ret;
@@ -242,11 +251,7 @@ static void ecmxf_remove(struct spi_device *spi)
 	edev->gone = true;
 	mutex_unlock(&edev->lock);
 
-	/* the handlers wake the worker: free them while it exists */
-	if (edev->int1_irq)
-		devm_free_irq(&spi->dev, edev->int1_irq, edev);
-	if (edev->int0_irq)
-		devm_free_irq(&spi->dev, edev->int0_irq, edev);
+	ecmxf_free_irqs(edev, &spi->dev);
 	ecmxf_worker_stop(edev);
 	ecmxf_chrdev_fail_all(edev, -ENODEV);
 
