@@ -22,7 +22,7 @@ KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
 DEPS := scripts/install-deps.sh
 
 .PHONY: all deps configure check check-asan fuzz demo bench kmod kmod-deps \
-	kmod-check checkpatch kernel-lint kmod-clean install install-udev clean help
+	kmod-check kmod-check-all checkpatch kernel-lint kmod-clean install install-udev clean help
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -79,6 +79,14 @@ kmod: kmod-deps
 # and kmod, headers included; fails on any warning.
 kmod-check: kmod-deps
 	MAKE="$(MAKE)" scripts/kmod-check.sh $(KDIR)
+
+# kmod-check against every installed header tree (Debian: the normal and
+# the PREEMPT_RT kernel).
+kmod-check-all: kmod-deps
+	@for k in $(sort $(wildcard /lib/modules/*/build)); do \
+		echo "== $$k"; \
+		MAKE="$(MAKE)" scripts/kmod-check.sh $$k || exit 1; \
+	done
 
 # checkpatch.pl --strict over lib/core and kmod; the script fetches it
 # from Debian's linux-source-6.1 into ECMXF_CACHE (default /var/cache/ecmxf).
