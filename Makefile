@@ -22,7 +22,7 @@ KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
 DEPS := scripts/install-deps.sh
 
 .PHONY: all deps configure check check-asan fuzz demo bench kmod kmod-deps \
-	kmod-check checkpatch kernel-lint kmod-clean install clean help
+	kmod-check kmod-check-all checkpatch kernel-lint kmod-clean install install-udev clean help
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -81,6 +81,14 @@ kmod: kmod-deps
 kmod-check: kmod-deps
 	MAKE="$(MAKE)" scripts/kmod-check.sh $(KDIR)
 
+# kmod-check against every installed header tree (Debian: the normal and
+# the PREEMPT_RT kernel).
+kmod-check-all: kmod-deps
+	@for k in $(sort $(wildcard /lib/modules/*/build)); do \
+		echo "== $$k"; \
+		MAKE="$(MAKE)" scripts/kmod-check.sh $$k || exit 1; \
+	done
+
 # checkpatch.pl --strict over lib/core and kmod; the script fetches it
 # from Debian's linux-source-6.1 into ECMXF_CACHE (default /var/cache/ecmxf).
 checkpatch:
@@ -95,6 +103,11 @@ kmod-clean:
 install: all
 	cmake --install $(BUILD)
 
+# The udev rule for /dev/ecmxfN (group "ecmxf", mode 0660); udev reads
+# /etc/udev/rules.d whatever PREFIX is, so it is installed on its own.
+install-udev:
+	install -D -m 0644 kmod/60-ecmxf.rules $(DESTDIR)/etc/udev/rules.d/60-ecmxf.rules
+
 clean: kmod-clean
 	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) $(BENCH_BUILD)
 
@@ -107,4 +120,5 @@ help:
 	@echo "make kernel-lint  checkpatch --strict, W=1, sparse and kernel-doc"
 	@echo "               over lib/core and kmod (also: make checkpatch, make kmod-check)"
 	@echo "make install   install to PREFIX (default /usr/local)"
+	@echo "make install-udev  the udev rule for /dev/ecmxfN (DESTDIR=)"
 	@echo "make clean     remove build trees"

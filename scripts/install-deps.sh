@@ -6,7 +6,8 @@
 #   scripts/install-deps.sh            build + test dependencies
 #   scripts/install-deps.sh --ci       also clang (fuzzing, sanitizers)
 #   scripts/install-deps.sh --bench    also Google Benchmark
-#   scripts/install-deps.sh --kernel   also Debian's kernel headers (make kmod)
+#   scripts/install-deps.sh --kernel   also Debian's kernel headers, normal and
+#                                      PREEMPT_RT (make kmod)
 #
 # It asks dpkg first and calls apt-get only for what is missing, so
 # running it on every `make` costs a few milliseconds.
@@ -17,7 +18,7 @@ for arg in "$@"; do
 	case "$arg" in
 	--ci) pkgs="$pkgs clang libclang-rt-14-dev llvm" ;;
 	--bench) pkgs="$pkgs libbenchmark-dev" ;;
-	--kernel) pkgs="$pkgs linux-headers-amd64 kmod sparse" ;;
+	--kernel) pkgs="$pkgs linux-headers-amd64 linux-headers-rt-amd64 kmod sparse" ;;
 	*) echo "install-deps.sh: unknown option '$arg'" >&2; exit 2 ;;
 	esac
 done

@@ -1,24 +1,23 @@
 // SPDX-License-Identifier: GPL-2.0-only
 /*
- * ecmxf-core.c - NEXTW ECM-XF SPI EtherCAT master: module skeleton
+ * ecmxf-selftest.c - load-time self-test of the protocol core
  *
- * This is not the driver yet.  It links the protocol core (lib/core,
- * shared with userspace through the kmod/core symlink) into ecmxf.ko and
- * checks at load time that the core computes in kernel space what it
- * computes in userspace: the three CRC check values and one encode/decode
- * round trip per check type.  A mismatch fails the load with -EINVAL.
- * The spi_driver, the character device and the ioctls come later.
+ * The protocol core (lib/core, shared with userspace through the
+ * kmod/core symlink) is checked at module load to compute in kernel space
+ * what it computes in userspace: the three CRC check values and one
+ * encode/decode round trip per check type.  A mismatch fails the load
+ * with -EINVAL (see ecmxf_init()).
  *
  * Copyright (C) 2026 The ecmxf authors
  */
 #define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
 
 #include <linux/init.h>
-#include <linux/module.h>
+#include <linux/kernel.h>
 #include <linux/printk.h>
 #include <linux/string.h>
 
-#include "ecmxf-proto.h"
+#include "ecmxf.h"
 
 /* The catalogue check input of every CRC ("123456789", no NUL) */
 static const char ecmxf_check_input[] __initconst = "123456789";
@@ -118,7 +117,14 @@ static int __init ecmxf_selftest_codec(enum ecmxf_check check)
 	return 0;
 }
 
-static int __init ecmxf_selftest(void)
+/**
+ * ecmxf_selftest() - check the protocol core as the kernel compiled it
+ *
+ * Return: 0 when the catalogue CRC values match and, for each check
+ * type, one encode/decode round trip gives the packet back and one
+ * corrupted packet is rejected; -EINVAL after logging what differed.
+ */
+int __init ecmxf_selftest(void)
 {
 	static const enum ecmxf_check checks[] __initconst = {
 		ECMXF_CHECK_FIXED, ECMXF_CHECK_CRC8,
@@ -132,25 +138,3 @@ static int __init ecmxf_selftest(void)
 			ret = -EINVAL;
 	return ret;
 }
-
-static int __init ecmxf_init(void)
-{
-	int ret = ecmxf_selftest();
-
-	if (ret) {
-		pr_err("protocol core self-test failed; not loading\n");
-		return ret;
-	}
-	pr_info("protocol core self-test passed\n");
-	return 0;
-}
-module_init(ecmxf_init);
-
-static void __exit ecmxf_exit(void)
-{
-}
-module_exit(ecmxf_exit);
-
-MODULE_DESCRIPTION("NEXTW ECM-XF SPI EtherCAT master (protocol core self-test only)");
-MODULE_AUTHOR("The ecmxf authors");
-MODULE_LICENSE("GPL");

@@ -1,0 +1,663 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * ecmxf-chrdev.c - NEXTW ECM-XF: /dev/ecmxfN file operations
+ *
+ * The uAPI of include/uapi/linux/ecmxf.h (Documentation/uapi.rst and
+ * Documentation/driver.rst): commands synchronously (ECMXF_IOC_CMD) or
+ * submitted with their completions read() and poll()ed, device info,
+ * counters, resets and the cyclic claim.  Every argument is checked here;
+ * the commands themselves go to the worker (ecmxf-worker.c) through the
+ * file's queue.
+ *
+ * Copyright (C) 2026 The ecmxf authors
+ */
+#include <linux/capability.h>
+#include <linux/fs.h>
+#include <linux/ktime.h>
+#include <linux/poll.h>
+#include <linux/sched/signal.h>
+#include <linux/slab.h>
+#include <linux/string.h>
+#include <linux/uaccess.h>
+
+#include "ecmxf.h"
+
+/* Commands whose use of the chip's FIFOs belongs to the claim holder. */
+static bool ecmxf_is_fifo_cmd(unsigned int code)
+{
+	switch (code) {
+	case ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP:
+	case ECMXF_CMD_FIFO_ENABLE:
+	case ECMXF_CMD_FIFO_CLR_OP:
+	case ECMXF_CMD_FIFO_SET_TX_CNT:
+	case ECMXF_CMD_FIFO_SET_RX_CNT:
+	case ECMXF_CMD_FIFO_INIT:
+	case ECMXF_CMD_ECAT_SET_FIFO_TH:
+		return true;
+	default:
+		return false;
+	}
+}
+
+/*
+ * May @c send a command with these table flags?  Bus-changing commands
+ * need a writable open; destructive ones also CAP_SYS_ADMIN or the
+ * claim.  Lock held (for the claim).
+ */
+static int ecmxf_check_perm(struct ecmxf_client *c, unsigned int flags)
+{
+	lockdep_assert_held(&c->edev->lock);
+	if ((flags & (ECMXF_CMDF_BUS | ECMXF_CMDF_DESTRUCTIVE)) &&
+	    !c->writable)
+		return -EPERM;
+	if ((flags & ECMXF_CMDF_DESTRUCTIVE) && c->edev->claim != c &&
+	    !capable(CAP_SYS_ADMIN))
+		return -EPERM;
+	return 0;
+}
+
+/* Checks of a command that do not depend on the device state. */
+static int ecmxf_check_cmd(const struct ecmxf_cmd_header *h, u32 tx_len,
+			   u64 tx_ptr, u32 rx_size, u64 rx_ptr, u32 flags,
+			   const u32 *reserved, size_t reserved_size)
+{
+	if (h->padding || h->reserved ||
+	    memchr_inv(reserved, 0, reserved_size))
+		return -EINVAL;
+	if (flags & ~ECMXF_CMD_F_NO_AUTO_CLEAR)
+		return -EINVAL;
+	if (tx_len > ECMXF_DATA_MAX || (tx_len && !tx_ptr) ||
+	    (rx_size && !rx_ptr))
+		return -EINVAL;
+	switch (h->code) {
+	case ECMXF_CMD_ASYNCCMD_RESET:
+	case ECMXF_CMD_WARM_RESET:
+		return -EINVAL;		/* ECMXF_IOC_RESET only */
+	case ECMXF_CMD_SPI_RECONFIG_OP:
+		if (!ecmxf_data_size_valid(h->len) || tx_len > h->len)
+			return -EINVAL;
+		break;
+	case ECMXF_CMD_CRC_TYPE_SET:
+		if (h->param > ECMXF_CHECK_CRC32)
+			return -EINVAL;
+		break;
+	default:
+		break;
+	}
+	return 0;
+}
+
+/* A request for command @h, data copied from @tx_ptr. */
+static struct ecmxf_req *ecmxf_req_new(struct ecmxf_client *c,
+				       enum ecmxf_req_kind kind,
+				       const struct ecmxf_cmd_header *h,
+				       u64 tx_ptr, u32 tx_len, u32 rx_size,
+				       u32 timeout_us, u32 flags)
+{
+	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(h->code);
+	struct ecmxf_req *req;
+	u64 timeout_ns;
+
+	req = kzalloc(sizeof(*req), GFP_KERNEL);
+	if (!req)
+		return ERR_PTR(-ENOMEM);
+	if (tx_len && copy_from_user(req->tx, u64_to_user_ptr(tx_ptr), tx_len)) {
+		kfree(req);
+		return ERR_PTR(-EFAULT);
+	}
+	INIT_LIST_HEAD(&req->node);
+	init_completion(&req->done);
+	req->client = c;
+	req->kind = kind;
+	req->state = ECMXF_RS_QUEUED;
+
+	memcpy(req->x.hdr.data, h->data, sizeof(req->x.hdr.data));
+	req->x.hdr.reserved = h->rsv_word;
+	req->x.hdr.control = h->control;
+	req->x.hdr.code = h->code;
+	req->x.hdr.param = h->param;
+	req->x.hdr.len = h->len;
+	req->x.hdr.int_clear = h->int_clear;
+	memcpy(req->x.hdr.gpio_int_clear, h->gpio_int_clear,
+	       sizeof(req->x.hdr.gpio_int_clear));
+	memcpy(req->x.hdr.gpio_out, h->gpio_out, sizeof(req->x.hdr.gpio_out));
+	req->x.tx_data = req->tx;
+	req->x.tx_len = (u16)tx_len;
+	req->x.rx_buf = req->rx;
+	req->x.rx_size = (u16)min_t(u32, rx_size, ECMXF_DATA_MAX);
+	if (flags & ECMXF_CMD_F_NO_AUTO_CLEAR)
+		req->x.flags |= ECMXF_XF_NO_AUTO_CLEAR;
+	req->x.status = -EINPROGRESS;
+
+	/* counted from the ioctl: time in the queue counts too */
+	timeout_ns = timeout_us ? (u64)timeout_us * NSEC_PER_USEC :
+		     (u64)(ci ? ci->timeout_ms : 100) * NSEC_PER_MSEC;
+	req->deadline_ns = ktime_get_ns() + timeout_ns;
+	return req;
+}
+
+static void ecmxf_rsp_to_user(struct ecmxf_rsp_header *u,
+			      const struct ecmxf_rsp_hdr *h)
+{
+	memset(u, 0, sizeof(*u));
+	u->crc_err_cnt = h->crc_err_cnt;
+	u->wkc_err_cnt = h->wkc_err_cnt;
+	u->tx_fifo_cnt = h->tx_fifo_cnt;
+	u->rx_fifo_cnt = h->rx_fifo_cnt;
+	u->ecat_state = h->ecat_state;
+	u->err_status = h->err_status;
+	u->ecm_status = h->ecm_status;
+	u->index = h->index;
+	u->code = h->code;
+	u->ret = h->ret;
+	u->len = h->len;
+	u->int_flags = h->int_flags;
+	memcpy(u->gpio_int_flag, h->gpio_int_flag, sizeof(u->gpio_int_flag));
+	memcpy(u->gpio_in, h->gpio_in, sizeof(u->gpio_in));
+}
+
+/*
+ * Checks that need the device state, then queue @req on its file.
+ * Return: 0, or a negative errno (@req is then not queued).
+ */
+static int ecmxf_queue_req(struct ecmxf_client *c, struct ecmxf_req *req)
+{
+	struct ecmxf_dev *edev = c->edev;
+	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(req->x.hdr.code);
+	/* a code the table does not know is treated as destructive */
+	unsigned int flags = ci ? ci->flags : ECMXF_CMDF_DESTRUCTIVE;
+	int ret;
+
+	mutex_lock(&edev->lock);
+	if (edev->gone) {
+		ret = -ENODEV;
+		goto out_unlock;
+	}
+	ret = ecmxf_check_perm(c, flags);
+	if (ret)
+		goto out_unlock;
+	if (ecmxf_is_fifo_cmd(req->x.hdr.code) && edev->claim &&
+	    edev->claim != c) {
+		ret = -EBUSY;
+		goto out_unlock;
+	}
+	if (req->x.tx_len > edev->data_size) {
+		ret = -EINVAL;
+		goto out_unlock;
+	}
+	if (req->kind == ECMXF_REQ_SUBMIT) {
+		if (c->in_flight >= ecmxf_param_queue_depth) {
+			ret = -EAGAIN;
+			goto out_unlock;
+		}
+		c->in_flight++;
+	}
+	list_add_tail(&req->node, &c->queue);
+	ecmxf_worker_kick(edev);
+out_unlock:
+	mutex_unlock(&edev->lock);
+	return ret;
+}
+
+/*
+ * Wait for a sync or reset request.  On a signal: a request not yet
+ * taken by the worker is withdrawn (-ERESTARTSYS: nothing was sent, the
+ * call may restart); one already sent is left to the worker to free
+ * (-EINTR).  Return: 0 when @req is done and still ours.
+ */
+static int ecmxf_wait_req(struct ecmxf_dev *edev, struct ecmxf_req *req)
+{
+	int ret = wait_for_completion_interruptible(&req->done);
+
+	if (!ret)
+		return 0;
+	mutex_lock(&edev->lock);
+	if (req->state == ECMXF_RS_DONE) {
+		ret = 0;
+	} else if (req->state == ECMXF_RS_QUEUED) {
+		list_del_init(&req->node);
+		kfree(req);
+		ret = -ERESTARTSYS;
+	} else {
+		req->abandoned = true;
+		ret = -EINTR;
+	}
+	mutex_unlock(&edev->lock);
+	return ret;
+}
+
+static long ecmxf_ioc_cmd(struct ecmxf_client *c, void __user *argp)
+{
+	struct ecmxf_dev *edev = c->edev;
+	struct ecmxf_req *req;
+	struct ecmxf_cmd cmd;
+	u32 n;
+	int ret;
+
+	if (copy_from_user(&cmd, argp, sizeof(cmd)))
+		return -EFAULT;
+	ret = ecmxf_check_cmd(&cmd.hdr, cmd.tx_len, cmd.tx_ptr, cmd.rx_size,
+			      cmd.rx_ptr, cmd.flags, cmd.reserved,
+			      sizeof(cmd.reserved));
+	if (ret)
+		return ret;
+	req = ecmxf_req_new(c, ECMXF_REQ_SYNC, &cmd.hdr, cmd.tx_ptr,
+			    cmd.tx_len, cmd.rx_size, cmd.timeout_us, cmd.flags);
+	if (IS_ERR(req))
+		return PTR_ERR(req);
+	ret = ecmxf_queue_req(c, req);
+	if (ret) {
+		kfree(req);
+		return ret;
+	}
+	ret = ecmxf_wait_req(edev, req);
+	if (ret)
+		return ret;
+
+	n = min_t(u32, req->x.rx_len, cmd.rx_size);
+	ecmxf_rsp_to_user(&cmd.rsp, &req->x.rsp);
+	cmd.rx_len = n;
+	cmd.status = req->x.status;
+	ret = 0;
+	if (n && copy_to_user(u64_to_user_ptr(cmd.rx_ptr), req->rx, n))
+		ret = -EFAULT;
+	else if (copy_to_user(argp, &cmd, sizeof(cmd)))
+		ret = -EFAULT;
+	kfree(req);
+	return ret;
+}
+
+static long ecmxf_ioc_submit(struct ecmxf_client *c, void __user *argp)
+{
+	struct ecmxf_submit sub;
+	struct ecmxf_req *req;
+	int ret;
+
+	if (copy_from_user(&sub, argp, sizeof(sub)))
+		return -EFAULT;
+	ret = ecmxf_check_cmd(&sub.hdr, sub.tx_len, sub.tx_ptr, sub.rx_size,
+			      sub.rx_ptr, sub.flags, sub.reserved,
+			      sizeof(sub.reserved));
+	if (ret)
+		return ret;
+	if (sub.rx_size && !access_ok(u64_to_user_ptr(sub.rx_ptr), sub.rx_size))
+		return -EFAULT;
+	req = ecmxf_req_new(c, ECMXF_REQ_SUBMIT, &sub.hdr, sub.tx_ptr,
+			    sub.tx_len, sub.rx_size, sub.timeout_us, sub.flags);
+	if (IS_ERR(req))
+		return PTR_ERR(req);
+	req->cookie = sub.cookie;
+	req->rx_ptr = sub.rx_ptr;
+	ret = ecmxf_queue_req(c, req);
+	if (ret)
+		kfree(req);
+	return ret;
+}
+
+static long ecmxf_ioc_reset(struct ecmxf_client *c, void __user *argp)
+{
+	struct ecmxf_dev *edev = c->edev;
+	struct ecmxf_cmd_header h;
+	struct ecmxf_reset r;
+	struct ecmxf_req *req;
+	unsigned int flags;
+	int ret;
+
+	if (copy_from_user(&r, argp, sizeof(r)))
+		return -EFAULT;
+	if (memchr_inv(r.reserved, 0, sizeof(r.reserved)))
+		return -EINVAL;
+	memset(&h, 0, sizeof(h));
+	switch (r.flags) {
+	case ECMXF_RESET_F_ASYNC_CMD:
+		if (r.param & ~(ECMXF_RESET_ASYNC_CLEAR_BUSY |
+				ECMXF_RESET_ASYNC_SKIP_LINK |
+				ECMXF_RESET_ASYNC_ABANDON))
+			return -EINVAL;
+		h.code = ECMXF_CMD_ASYNCCMD_RESET;
+		h.param = (u8)r.param;
+		flags = ECMXF_CMDF_BUS;
+		break;
+	case ECMXF_RESET_F_WARM:
+		if (r.param)
+			return -EINVAL;
+		h.code = ECMXF_CMD_WARM_RESET;
+		flags = ECMXF_CMDF_DESTRUCTIVE;
+		break;
+	case ECMXF_RESET_F_LINK:
+		if (r.param)
+			return -EINVAL;
+		h.code = ECMXF_CMD_INFO_UPDATE_OP;	/* not sent */
+		flags = ECMXF_CMDF_BUS;
+		break;
+	default:
+		return -EINVAL;
+	}
+	req = ecmxf_req_new(c, ECMXF_REQ_RESET, &h, 0, 0, 0, r.timeout_us, 0);
+	if (IS_ERR(req))
+		return PTR_ERR(req);
+	req->reset_flags = r.flags;
+	req->reset_param = r.param;
+
+	mutex_lock(&edev->lock);
+	ret = edev->gone ? -ENODEV : ecmxf_check_perm(c, flags);
+	if (!ret) {
+		list_add_tail(&req->node, &edev->resets);
+		ecmxf_worker_kick(edev);
+	}
+	mutex_unlock(&edev->lock);
+	if (ret) {
+		kfree(req);
+		return ret;
+	}
+	ret = ecmxf_wait_req(edev, req);
+	if (ret)
+		return ret;
+	ret = req->x.status;
+	kfree(req);
+	return ret;
+}
+
+static long ecmxf_ioc_devinfo(struct ecmxf_client *c, void __user *argp)
+{
+	struct ecmxf_dev *edev = c->edev;
+	struct ecmxf_devinfo d;
+
+	memset(&d, 0, sizeof(d));
+	d.uapi_version = ECMXF_UAPI_VERSION;
+	mutex_lock(&edev->lock);
+	if (edev->int0)
+		d.flags |= ECMXF_DEVINFO_F_INT0;
+	if (edev->int1)
+		d.flags |= ECMXF_DEVINFO_F_INT1;
+	if (edev->fw_valid)
+		d.flags |= ECMXF_DEVINFO_F_FW_VERSION;
+	if (edev->claim)
+		d.flags |= ECMXF_DEVINFO_F_CLAIMED;
+	if (edev->claim == c)
+		d.flags |= ECMXF_DEVINFO_F_CLAIM_MINE;
+	d.data_size = edev->data_size;
+	d.check_type = edev->check;
+	d.fw_version = edev->fw_version;
+	memcpy(d.fw_info, edev->fw_info, sizeof(d.fw_info));
+	d.max_open = ecmxf_param_max_open;
+	d.open_count = edev->open_count;
+	d.claim_pid = edev->claim_pid ? pid_vnr(edev->claim_pid) : 0;
+	d.queue_depth = ecmxf_param_queue_depth;
+	d.spi_speed_hz = edev->spi ? edev->spi->max_speed_hz : 0;
+	mutex_unlock(&edev->lock);
+	return copy_to_user(argp, &d, sizeof(d)) ? -EFAULT : 0;
+}
+
+static long ecmxf_ioc_claim(struct ecmxf_client *c)
+{
+	struct ecmxf_dev *edev = c->edev;
+	int ret = 0;
+
+	mutex_lock(&edev->lock);
+	if (edev->claim && edev->claim != c) {
+		ret = -EBUSY;
+	} else if (!edev->claim) {
+		edev->claim = c;
+		edev->claim_pid = get_pid(task_tgid(current));
+	}
+	mutex_unlock(&edev->lock);
+	return ret;
+}
+
+/* Give the claim back if @c holds it; lock held. */
+static bool ecmxf_unclaim(struct ecmxf_client *c)
+{
+	struct ecmxf_dev *edev = c->edev;
+
+	if (edev->claim != c)
+		return false;
+	edev->claim = NULL;
+	put_pid(edev->claim_pid);
+	edev->claim_pid = NULL;
+	return true;
+}
+
+static long ecmxf_ioctl(struct file *f, unsigned int cmd, unsigned long arg)
+{
+	struct ecmxf_client *c = f->private_data;
+	struct ecmxf_dev *edev = c->edev;
+	void __user *argp = (void __user *)arg;
+	struct ecmxf_counters k;
+	bool gone;
+	long ret;
+
+	mutex_lock(&edev->lock);
+	gone = edev->gone;
+	mutex_unlock(&edev->lock);
+	if (gone)
+		return -ENODEV;
+
+	switch (cmd) {
+	case ECMXF_IOC_GET_VERSION:
+		return put_user((u32)ECMXF_UAPI_VERSION, (u32 __user *)argp);
+	case ECMXF_IOC_DEVINFO:
+		return ecmxf_ioc_devinfo(c, argp);
+	case ECMXF_IOC_CMD:
+		return ecmxf_ioc_cmd(c, argp);
+	case ECMXF_IOC_SUBMIT:
+		return ecmxf_ioc_submit(c, argp);
+	case ECMXF_IOC_COUNTERS:
+		ecmxf_get_counters(edev, &k);
+		return copy_to_user(argp, &k, sizeof(k)) ? -EFAULT : 0;
+	case ECMXF_IOC_RESET:
+		return ecmxf_ioc_reset(c, argp);
+	case ECMXF_IOC_CLAIM:
+		return ecmxf_ioc_claim(c);
+	case ECMXF_IOC_RELEASE:
+		mutex_lock(&edev->lock);
+		ret = ecmxf_unclaim(c) ? 0 : -EPERM;
+		mutex_unlock(&edev->lock);
+		return ret;
+	case ECMXF_IOC_RING_SETUP:
+		/* the PDO rings come with a later version of the driver */
+		return -EOPNOTSUPP;
+	default:
+		return -ENOTTY;
+	}
+}
+
+/* Take the oldest completion of @c, or NULL; lock held. */
+static struct ecmxf_req *ecmxf_take_done(struct ecmxf_client *c)
+{
+	struct ecmxf_req *req;
+
+	req = list_first_entry_or_null(&c->done, struct ecmxf_req, node);
+	if (req)
+		list_del_init(&req->node);
+	return req;
+}
+
+/*
+ * Deliver one completion record: the response data to the submit's
+ * rx_ptr (in the reader's address space), the record to @buf.  On a
+ * fault the record goes back to the head of the list.
+ */
+static int ecmxf_deliver(struct ecmxf_client *c, struct ecmxf_req *req,
+			 char __user *buf)
+{
+	struct ecmxf_dev *edev = c->edev;
+	struct ecmxf_completion rec;
+	u32 n = req->x.rx_len;
+
+	memset(&rec, 0, sizeof(rec));
+	rec.cookie = req->cookie;
+	rec.status = req->x.status;
+	rec.rx_len = n;
+	ecmxf_rsp_to_user(&rec.rsp, &req->x.rsp);
+	if ((n && copy_to_user(u64_to_user_ptr(req->rx_ptr), req->rx, n)) ||
+	    copy_to_user(buf, &rec, sizeof(rec))) {
+		mutex_lock(&edev->lock);
+		list_add(&req->node, &c->done);
+		mutex_unlock(&edev->lock);
+		return -EFAULT;
+	}
+	mutex_lock(&edev->lock);
+	c->in_flight--;
+	mutex_unlock(&edev->lock);
+	kfree(req);
+	return 0;
+}
+
+static ssize_t ecmxf_read(struct file *f, char __user *buf, size_t count,
+			  loff_t *ppos)
+{
+	struct ecmxf_client *c = f->private_data;
+	struct ecmxf_dev *edev = c->edev;
+	const size_t rec = sizeof(struct ecmxf_completion);
+	struct ecmxf_req *req;
+	ssize_t done = 0;
+	bool gone;
+	int ret;
+
+	if (count < rec)
+		return -EINVAL;
+	while (count - done >= rec) {
+		mutex_lock(&edev->lock);
+		req = ecmxf_take_done(c);
+		gone = edev->gone;
+		mutex_unlock(&edev->lock);
+		if (!req) {
+			if (done)
+				break;
+			if (gone)
+				return -ENODEV;
+			if (f->f_flags & O_NONBLOCK)
+				return -EAGAIN;
+			ret = wait_event_interruptible(c->wq,
+						       !list_empty_careful(&c->done) ||
+						       READ_ONCE(edev->gone));
+			if (ret)
+				return ret;
+			continue;
+		}
+		ret = ecmxf_deliver(c, req, buf + done);
+		if (ret)
+			return done ? done : ret;
+		done += rec;
+	}
+	return done;
+}
+
+static __poll_t ecmxf_poll(struct file *f, poll_table *wait)
+{
+	struct ecmxf_client *c = f->private_data;
+	struct ecmxf_dev *edev = c->edev;
+	__poll_t mask = 0;
+
+	poll_wait(f, &c->wq, wait);
+	mutex_lock(&edev->lock);
+	if (!list_empty(&c->done))
+		mask |= EPOLLIN | EPOLLRDNORM;
+	if (edev->gone)
+		mask |= EPOLLERR | EPOLLHUP;
+	mutex_unlock(&edev->lock);
+	return mask;
+}
+
+static int ecmxf_open(struct inode *inode, struct file *f)
+{
+	struct ecmxf_dev *edev = container_of(inode->i_cdev, struct ecmxf_dev,
+					      cdev);
+	struct ecmxf_client *c;
+	int ret = 0;
+
+	c = kzalloc(sizeof(*c), GFP_KERNEL);
+	if (!c)
+		return -ENOMEM;
+	c->edev = edev;
+	INIT_LIST_HEAD(&c->queue);
+	INIT_LIST_HEAD(&c->done);
+	init_waitqueue_head(&c->wq);
+	c->writable = !!(f->f_mode & FMODE_WRITE);
+
+	mutex_lock(&edev->lock);
+	if (edev->gone)
+		ret = -ENODEV;
+	else if (edev->open_count >= ecmxf_param_max_open)
+		ret = -EMFILE;
+	if (!ret) {
+		edev->open_count++;
+		list_add_tail(&c->node, &edev->clients);
+	}
+	mutex_unlock(&edev->lock);
+	if (ret) {
+		kfree(c);
+		return ret;
+	}
+	f->private_data = c;
+	return stream_open(inode, f);
+}
+
+static int ecmxf_release(struct inode *inode, struct file *f)
+{
+	struct ecmxf_client *c = f->private_data;
+	struct ecmxf_dev *edev = c->edev;
+	struct ecmxf_req *req, *tmp;
+
+	mutex_lock(&edev->lock);
+	list_del(&c->node);
+	edev->open_count--;
+	ecmxf_unclaim(c);
+	list_for_each_entry_safe(req, tmp, &c->queue, node) {
+		list_del(&req->node);
+		kfree(req);
+	}
+	list_for_each_entry_safe(req, tmp, &c->done, node) {
+		list_del(&req->node);
+		kfree(req);
+	}
+	/* in the engine: the worker frees them when they finish */
+	if (edev->cur_req && edev->cur_req->client == c)
+		edev->cur_req->client = NULL;
+	if (edev->async_req && edev->async_req->client == c)
+		edev->async_req->client = NULL;
+	mutex_unlock(&edev->lock);
+	kfree(c);
+	return 0;
+}
+
+/**
+ * ecmxf_chrdev_fail_all() - the chip is gone: end every waiting request
+ * @edev: the device, worker stopped
+ * @status: the errno the requests finish with (-ENODEV)
+ *
+ * Queued commands and resets finish with @status; readers and pollers
+ * wake up and see the device gone.
+ */
+void ecmxf_chrdev_fail_all(struct ecmxf_dev *edev, int status)
+{
+	struct ecmxf_req *req, *tmp;
+	struct ecmxf_client *c;
+
+	mutex_lock(&edev->lock);
+	list_for_each_entry(c, &edev->clients, node) {
+		list_for_each_entry_safe(req, tmp, &c->queue, node) {
+			list_del_init(&req->node);
+			ecmxf_req_finish(edev, req, status);
+		}
+	}
+	list_for_each_entry_safe(req, tmp, &edev->resets, node) {
+		list_del_init(&req->node);
+		ecmxf_req_finish(edev, req, status);
+	}
+	list_for_each_entry(c, &edev->clients, node)
+		wake_up_interruptible_poll(&c->wq, EPOLLERR | EPOLLHUP);
+	mutex_unlock(&edev->lock);
+}
+
+/* The file operations of /dev/ecmxfN. */
+const struct file_operations ecmxf_fops = {
+	.owner = THIS_MODULE,
+	.open = ecmxf_open,
+	.release = ecmxf_release,
+	.read = ecmxf_read,
+	.poll = ecmxf_poll,
+	.unlocked_ioctl = ecmxf_ioctl,
+	.compat_ioctl = compat_ptr_ioctl,
+};

@@ -1,0 +1,738 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * ecmxf-worker.c - NEXTW ECM-XF: the kthread that owns the SPI link
+ *
+ * One SCHED_FIFO kthread per chip drives the shared protocol engine
+ * (lib/core/ecmxf-engine.c) exactly as Documentation/protocol-core.rst
+ * describes: wait for INT0 "ready" (or 150 us without INT0), submit the
+ * next command when the engine allows, exchange one packet each way with
+ * spi_sync(), feed the answer back, finish the commands that are done.
+ *
+ * Commands come from the files' queues, taken round-robin across the open
+ * files (a file's own commands stay in order), so one busy opener cannot
+ * starve the others; the engine itself allows one async command on the
+ * chip at a time and immediate commands meanwhile.  Resets have their own
+ * queue and go first.
+ *
+ * Locking: &ecmxf_dev.lock (a mutex, so sleeping and PREEMPT_RT-safe) is
+ * taken around queue and state changes only; spi_sync() and every wait
+ * happen without it.  The engine and the packet buffers belong to this
+ * thread alone.
+ *
+ * Copyright (C) 2026 The ecmxf authors
+ */
+#include <linux/delay.h>
+#include <linux/hrtimer.h>
+#include <linux/kthread.h>
+#include <linux/ktime.h>
+#include <linux/poll.h>
+#include <linux/sched.h>
+#include <linux/sched/task.h>
+#include <linux/slab.h>
+#include <uapi/linux/sched/types.h>
+
+#include "ecmxf.h"
+
+/**
+ * ecmxf_worker_kick() - wake the task that owns the link
+ * @edev: the device
+ *
+ * Called by the IRQ threads and, under &ecmxf_dev.lock, by the file
+ * operations after they queued work.
+ */
+void ecmxf_worker_kick(struct ecmxf_dev *edev)
+{
+	atomic_set(&edev->kick, 1);
+	ecmxf_wake_owner(edev);
+}
+
+/**
+ * ecmxf_wake_owner() - wake the task that owns the link, nothing more
+ * @edev: the device
+ *
+ * For the IRQ threads, which record their own flag first.
+ */
+void ecmxf_wake_owner(struct ecmxf_dev *edev)
+{
+	struct task_struct *t = READ_ONCE(edev->owner);
+
+	if (t)
+		wake_up_process(t);
+}
+
+/* Sleep until @until_ns (ktime_get_ns() clock) unless kicked. */
+static void ecmxf_sleep_until(struct ecmxf_dev *edev, u64 until_ns)
+{
+	ktime_t t = ns_to_ktime(until_ns);
+
+	set_current_state(TASK_IDLE);
+	if (!atomic_read(&edev->kick) && !kthread_should_stop())
+		schedule_hrtimeout(&t, HRTIMER_MODE_ABS);
+	__set_current_state(TASK_RUNNING);
+}
+
+/*
+ * After an exchange: wait until the chip is ready for the next one.
+ * Without INT0 the chip needs up to 150 us.  With INT0, wait for its
+ * level or its edge, but never longer than ECMXF_READY_TIMEOUT_US: a chip
+ * that stays busy then answers "not ready", which the engine counts and
+ * retries.
+ */
+static void ecmxf_wait_ready(struct ecmxf_dev *edev)
+{
+	ktime_t deadline;
+
+	if (!edev->int0) {
+		usleep_range(ECMXF_READY_WAIT_US, ECMXF_READY_WAIT_US + 50);
+		return;
+	}
+	deadline = ktime_add_us(ktime_get(), ECMXF_READY_TIMEOUT_US);
+	for (;;) {
+		if (gpiod_get_value_cansleep(edev->int0) > 0)
+			return;
+		set_current_state(TASK_IDLE);
+		if (atomic_xchg(&edev->int0_flag, 0)) {
+			__set_current_state(TASK_RUNNING);
+			return;
+		}
+		if (!schedule_hrtimeout(&deadline, HRTIMER_MODE_ABS))
+			return;		/* timed out */
+		/* woken: by INT0, or by other work; look at the line again */
+	}
+}
+
+/*
+ * One SPI exchange: the engine's next packet out, the chip's packet in.
+ * Before the hold-off after SPI_RECONFIG_OP / WARM_RESET ends, sleep
+ * instead and only apply the deadlines.
+ *
+ * Return: the engine's %ECMXF_EV_* bits.
+ */
+static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
+{
+	size_t n = ecmxf_engine_pkt_size(&edev->e);
+	struct spi_transfer t = {
+		.tx_buf = edev->txbuf,
+		.rx_buf = edev->rxbuf,
+		.len = n,
+	};
+	u64 now = ktime_get_ns();
+	unsigned int ev;
+	int ret;
+
+	ret = ecmxf_engine_next(&edev->e, now, edev->txbuf, n);
+	if (ret == -EAGAIN) {
+		ecmxf_sleep_until(edev, ecmxf_engine_not_before(&edev->e));
+		return ecmxf_engine_poll_time(&edev->e, ktime_get_ns());
+	}
+	if (WARN_ON_ONCE(ret))
+		return ecmxf_engine_poll_time(&edev->e, now);
+
+	atomic_set(&edev->int0_flag, 0);
+	ret = spi_sync_transfer(edev->spi, &t, 1);
+	if (ret) {
+		/* nothing usable came back: the engine retries, then fails */
+		dev_err_ratelimited(&edev->spi->dev, "SPI transfer failed: %d\n",
+				    ret);
+		memset(edev->rxbuf, 0, n);
+	}
+	ev = ecmxf_engine_input(&edev->e, ktime_get_ns(), edev->rxbuf, n);
+	ecmxf_wait_ready(edev);
+	return ev;
+}
+
+/*
+ * Run one command on an otherwise idle engine and exchange until it is
+ * done (probe and link reset).  @x->timeout_us bounds the loop.
+ */
+static int ecmxf_run_xfer(struct ecmxf_dev *edev, struct ecmxf_xfer *x)
+{
+	int ret = ecmxf_engine_submit(&edev->e, x, ktime_get_ns());
+
+	if (ret)
+		return ret;
+	while (x->status == -EINPROGRESS)
+		ecmxf_exchange(edev);
+	return x->status;
+}
+
+static int ecmxf_simple_cmd(struct ecmxf_dev *edev, u8 code, u8 param,
+			    u16 len, u8 *rx, u16 rx_size,
+			    struct ecmxf_rsp_hdr *rsp)
+{
+	struct ecmxf_xfer x;
+	int ret;
+
+	memset(&x, 0, sizeof(x));
+	x.hdr.code = code;
+	x.hdr.param = param;
+	x.hdr.len = len;
+	x.rx_buf = rx;
+	x.rx_size = rx_size;
+	x.timeout_us = ECMXF_PROBE_TIMEOUT_US;
+	if (code == ECMXF_CMD_SPI_RECONFIG_OP)
+		x.timeout_us += ECMXF_RECONFIG_HOLDOFF_NS / NSEC_PER_USEC;
+	ret = ecmxf_run_xfer(edev, &x);
+	if (rsp)
+		*rsp = x.rsp;
+	return ret;
+}
+
+/* @sum = @a + @b, counter by counter (the structure holds only u64s) */
+static void ecmxf_stats_add(struct ecmxf_engine_stats *sum,
+			    const struct ecmxf_engine_stats *a,
+			    const struct ecmxf_engine_stats *b)
+{
+	const u64 *pa = (const u64 *)a, *pb = (const u64 *)b;
+	u64 *ps = (u64 *)sum;
+	size_t i;
+
+	BUILD_BUG_ON(sizeof(*sum) % sizeof(u64));
+	for (i = 0; i < sizeof(*sum) / sizeof(u64); i++)
+		ps[i] = pa[i] + pb[i];
+}
+
+/*
+ * Re-initialise the engine (its counters start at zero) without losing
+ * the counts since probe: they move to &ecmxf_dev.stats_base.
+ */
+static void ecmxf_engine_reinit(struct ecmxf_dev *edev, unsigned int size,
+				enum ecmxf_check check)
+{
+	mutex_lock(&edev->lock);
+	ecmxf_stats_add(&edev->stats_base, &edev->stats_base,
+			ecmxf_engine_get_stats(&edev->e));
+	mutex_unlock(&edev->lock);
+	ecmxf_engine_init(&edev->e, size, check);
+}
+
+/* Copy what the file operations and sysfs show; call with the lock held. */
+static void ecmxf_snapshot(struct ecmxf_dev *edev)
+{
+	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
+
+	lockdep_assert_held(&edev->lock);
+	ecmxf_stats_add(&edev->stats, &edev->stats_base,
+			ecmxf_engine_get_stats(&edev->e));
+	edev->data_size = (u16)ecmxf_engine_data_size(&edev->e);
+	/* no getter for the check type: read the field the engine keeps */
+	edev->check = edev->e.check;
+	if (!h)
+		return;
+	edev->last = *h;
+	if (edev->wkc_valid && h->wkc_err_cnt != edev->wkc_last)
+		edev->wkc_errors += (u8)(h->wkc_err_cnt - edev->wkc_last);
+	edev->wkc_last = h->wkc_err_cnt;
+	edev->wkc_valid = true;
+}
+
+static int ecmxf_read_fw_version(struct ecmxf_dev *edev)
+{
+	struct ecmxf_rsp_hdr rsp;
+	u8 info[sizeof(edev->fw_info)];
+	int ret;
+
+	memset(info, 0, sizeof(info));
+	ret = ecmxf_simple_cmd(edev, ECMXF_CMD_FW_VERSION_GET, 0, 0,
+			       info, sizeof(info), &rsp);
+	if (ret == -EMSGSIZE)
+		ret = 0;	/* more than the 20 bytes we know: keep those */
+	if (ret)
+		return ret;
+	mutex_lock(&edev->lock);
+	edev->fw_version = rsp.ret;
+	memcpy(edev->fw_info, info, sizeof(info));
+	edev->fw_valid = true;
+	ecmxf_snapshot(edev);
+	mutex_unlock(&edev->lock);
+	return 0;
+}
+
+/*
+ * Find the packet format the chip speaks: the wanted one (the chip may
+ * keep it from an earlier load of the module), then the power-on formats
+ * (112 bytes, or 992 on the ECM-XFU, fixed check word).  Each try is a
+ * FW_VERSION_GET; a wrong format fails it within the retry bound.
+ */
+static int ecmxf_find_format(struct ecmxf_dev *edev)
+{
+	const unsigned int sizes[] = {
+		edev->want_size ? edev->want_size : ECMXF_DATA_DEFAULT,
+		ECMXF_DATA_DEFAULT, 992,
+	};
+	const unsigned int checks[] = { edev->want_check, ECMXF_CHECK_FIXED };
+	unsigned int i, j;
+	int ret = -ENODEV;
+
+	for (i = 0; i < ARRAY_SIZE(sizes); i++) {
+		if (i && sizes[i] == sizes[0])
+			continue;
+		for (j = 0; j < ARRAY_SIZE(checks); j++) {
+			if (j && checks[j] == checks[0])
+				continue;
+			ecmxf_engine_reinit(edev, sizes[i], checks[j]);
+			ret = ecmxf_read_fw_version(edev);
+			if (!ret)
+				return 0;
+		}
+	}
+	return ret;
+}
+
+/* Bring the link up; on failure log why and return the errno. */
+static int ecmxf_link_up(struct ecmxf_dev *edev)
+{
+	struct device *dev = &edev->spi->dev;
+	const struct ecmxf_engine_stats *st;
+	int ret;
+
+	ret = ecmxf_find_format(edev);
+	if (ret) {
+		mutex_lock(&edev->lock);
+		ecmxf_snapshot(edev);
+		mutex_unlock(&edev->lock);
+		st = &edev->stats;
+		return dev_err_probe(dev, ret,
+				     "the chip does not answer FW_VERSION_GET in any known packet format (%llu exchanges; bad packets: %llu not ready, %llu start word, %llu end word, %llu check word)\n",
+				     st->exchanges,
+				     st->faults[ECMXF_FAULT_NOT_READY],
+				     st->faults[ECMXF_FAULT_START],
+				     st->faults[ECMXF_FAULT_END],
+				     st->faults[ECMXF_FAULT_CHECK]);
+	}
+	if (edev->want_size &&
+	    edev->want_size != ecmxf_engine_data_size(&edev->e)) {
+		ret = ecmxf_simple_cmd(edev, ECMXF_CMD_SPI_RECONFIG_OP, 0,
+				       (u16)edev->want_size, NULL, 0, NULL);
+		if (ret)
+			return dev_err_probe(dev, ret,
+					     "SPI_RECONFIG_OP to a %u-byte data section failed (an ECM-XFU has a fixed 992)\n",
+					     edev->want_size);
+	}
+	if (edev->want_check != edev->e.check) {
+		ret = ecmxf_simple_cmd(edev, ECMXF_CMD_CRC_TYPE_SET,
+				       (u8)edev->want_check, 0, NULL, 0, NULL);
+		if (ret)
+			return dev_err_probe(dev, ret,
+					     "CRC_TYPE_SET to the %s check word failed\n",
+					     ecmxf_check_name(edev->want_check));
+	}
+	/* the new format works both ways */
+	ret = ecmxf_read_fw_version(edev);
+	if (ret)
+		return dev_err_probe(dev, ret,
+				     "FW_VERSION_GET failed after switching to %u bytes with the %s check word\n",
+				     ecmxf_engine_data_size(&edev->e),
+				     ecmxf_check_name(edev->e.check));
+	return 0;
+}
+
+/**
+ * ecmxf_link_bringup() - probe: find the chip's format, set the wanted one
+ * @edev: the device, worker not started yet
+ *
+ * Reads the firmware version in whatever format the chip speaks, then
+ * sets the wanted data section size and check type and reads the version
+ * again in the new format.
+ *
+ * Return: 0, or a negative errno after dev_err_probe() said why.
+ */
+int ecmxf_link_bringup(struct ecmxf_dev *edev)
+{
+	int ret;
+
+	WRITE_ONCE(edev->owner, current);
+	ret = ecmxf_link_up(edev);
+	WRITE_ONCE(edev->owner, NULL);
+	return ret;
+}
+
+/**
+ * ecmxf_req_finish() - a request is done: hand it to whoever waits
+ * @edev: the device
+ * @req: the request, no longer queued nor in the engine
+ * @status: its outcome (0 or a negative errno)
+ *
+ * Sync and reset requests wake their ioctl (or are freed when it left);
+ * submitted ones go to their file's completion list (or are freed when
+ * the file was closed).  Call with &ecmxf_dev.lock held.
+ */
+void ecmxf_req_finish(struct ecmxf_dev *edev, struct ecmxf_req *req,
+		      int status)
+{
+	struct ecmxf_client *c = req->client;
+
+	lockdep_assert_held(&edev->lock);
+	req->x.status = status;
+	req->state = ECMXF_RS_DONE;
+	if (req->kind == ECMXF_REQ_SUBMIT) {
+		if (!c) {
+			kfree(req);
+			return;
+		}
+		list_add_tail(&req->node, &c->done);
+		wake_up_interruptible_poll(&c->wq, EPOLLIN | EPOLLRDNORM);
+		return;
+	}
+	if (req->abandoned) {
+		kfree(req);
+		return;
+	}
+	complete(&req->done);
+}
+
+/* Fail the requests queued on every file; call with the lock held. */
+static void ecmxf_fail_queued(struct ecmxf_dev *edev, int status)
+{
+	struct ecmxf_req *req, *tmp;
+	struct ecmxf_client *c;
+
+	list_for_each_entry(c, &edev->clients, node) {
+		list_for_each_entry_safe(req, tmp, &c->queue, node) {
+			list_del_init(&req->node);
+			ecmxf_req_finish(edev, req, status);
+		}
+	}
+}
+
+/* Time out queued requests whose deadline passed; lock held. */
+static void ecmxf_expire_queued(struct ecmxf_dev *edev, u64 now)
+{
+	struct ecmxf_req *req, *tmp;
+	struct ecmxf_client *c;
+
+	list_for_each_entry(c, &edev->clients, node) {
+		list_for_each_entry_safe(req, tmp, &c->queue, node) {
+			if (now < req->deadline_ns)
+				continue;
+			list_del_init(&req->node);
+			edev->queue_timeouts++;
+			ecmxf_req_finish(edev, req, -ETIMEDOUT);
+		}
+	}
+}
+
+/*
+ * The next request the engine accepts, round-robin over the files: the
+ * first file (in &ecmxf_dev.clients order) whose oldest queued request
+ * can be submitted now; that file then goes to the back.  Lock held.
+ */
+static struct ecmxf_req *ecmxf_pick(struct ecmxf_dev *edev)
+{
+	struct ecmxf_client *c;
+	struct ecmxf_req *req;
+
+	list_for_each_entry(c, &edev->clients, node) {
+		req = list_first_entry_or_null(&c->queue, struct ecmxf_req,
+					       node);
+		if (!req || !ecmxf_engine_can_submit(&edev->e, &req->x))
+			continue;
+		list_del_init(&req->node);
+		list_move_tail(&c->node, &edev->clients);
+		return req;
+	}
+	return NULL;
+}
+
+/* Hand @req to the engine with the time left of its deadline. */
+static int ecmxf_submit(struct ecmxf_dev *edev, struct ecmxf_req *req)
+{
+	u64 now = ktime_get_ns();
+	u64 left;
+
+	if (now >= req->deadline_ns)
+		return -ETIMEDOUT;
+	left = div_u64(req->deadline_ns - now, NSEC_PER_USEC);
+	req->x.timeout_us = (u32)clamp_t(u64, left, 1, U32_MAX);
+	return ecmxf_engine_submit(&edev->e, &req->x, now);
+}
+
+/* Withdraw the running async command with @status; lock held. */
+static void ecmxf_cancel_async(struct ecmxf_dev *edev, int status)
+{
+	struct ecmxf_req *req = edev->async_req;
+
+	if (!req)
+		return;
+	ecmxf_engine_cancel(&edev->e, &req->x);
+	edev->async_req = NULL;
+	ecmxf_req_finish(edev, req, status);
+}
+
+/* A reset request finished in the engine: apply its consequences. */
+static void ecmxf_reset_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
+{
+	if (req->x.status)
+		return;
+	if (req->reset_flags == ECMXF_RESET_F_ASYNC_CMD &&
+	    (req->reset_param & ECMXF_RESET_ASYNC_ABANDON))
+		ecmxf_cancel_async(edev, -ECANCELED);
+	if (req->reset_flags == ECMXF_RESET_F_WARM)
+		ecmxf_fail_queued(edev, -ECONNRESET);
+}
+
+/* @req left the engine: note what it tells, then finish it; lock held. */
+static void ecmxf_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
+{
+	int status = req->x.status;
+
+	if (req->x.hdr.code == ECMXF_CMD_FW_VERSION_GET &&
+	    (!status || status == -EMSGSIZE) &&
+	    req->x.rx_len >= sizeof(edev->fw_info)) {
+		edev->fw_version = req->x.rsp.ret;
+		memcpy(edev->fw_info, req->rx, sizeof(edev->fw_info));
+		edev->fw_valid = true;
+	}
+	if (req->kind == ECMXF_REQ_RESET)
+		ecmxf_reset_done(edev, req);
+	ecmxf_req_finish(edev, req, status);
+}
+
+/*
+ * Finish what the engine finished; lock held.  The engine moves an
+ * accepted async command out of its command slot: follow it.
+ */
+static void ecmxf_collect(struct ecmxf_dev *edev)
+{
+	struct ecmxf_req *req = edev->cur_req;
+
+	lockdep_assert_held(&edev->lock);
+	ecmxf_snapshot(edev);
+	if (req && req->x.status != -EINPROGRESS) {
+		edev->cur_req = NULL;
+		ecmxf_done(edev, req);
+	} else if (req && ecmxf_engine_running(&edev->e, &req->x)) {
+		edev->cur_req = NULL;
+		edev->async_req = req;
+	}
+	req = edev->async_req;
+	if (req && req->x.status != -EINPROGRESS) {
+		edev->async_req = NULL;
+		ecmxf_done(edev, req);
+	}
+}
+
+/*
+ * ECMXF_RESET_F_LINK: forget the link state and find the chip again, in
+ * the worker (the only owner of the engine).  Everything in flight fails
+ * with -ECONNRESET.
+ */
+static int ecmxf_reset_link(struct ecmxf_dev *edev)
+{
+	unsigned int size = ecmxf_engine_data_size(&edev->e);
+	enum ecmxf_check check = edev->e.check;
+	int ret;
+
+	mutex_lock(&edev->lock);
+	ecmxf_cancel_async(edev, -ECONNRESET);
+	mutex_unlock(&edev->lock);
+
+	ecmxf_engine_reinit(edev, size, check);
+	ret = ecmxf_read_fw_version(edev);
+	if (ret)
+		ret = ecmxf_find_format(edev);
+	mutex_lock(&edev->lock);
+	ecmxf_snapshot(edev);
+	mutex_unlock(&edev->lock);
+	return ret;
+}
+
+/*
+ * Start a reset request.  ASYNC_CMD and WARM are commands through the
+ * engine (finished by ecmxf_collect()); LINK is done here.  Called when
+ * the engine's command slot is free; the lock is not held.
+ */
+static void ecmxf_start_reset(struct ecmxf_dev *edev, struct ecmxf_req *req)
+{
+	int ret;
+
+	if (req->reset_flags == ECMXF_RESET_F_LINK) {
+		ret = ecmxf_reset_link(edev);
+		mutex_lock(&edev->lock);
+		ecmxf_req_finish(edev, req, ret);
+		mutex_unlock(&edev->lock);
+		return;
+	}
+	if (req->reset_flags == ECMXF_RESET_F_WARM) {
+		/* the restart ends whatever the chip runs */
+		mutex_lock(&edev->lock);
+		ecmxf_cancel_async(edev, -ECONNRESET);
+		mutex_unlock(&edev->lock);
+	}
+	ret = ecmxf_submit(edev, req);
+	mutex_lock(&edev->lock);
+	if (ret)
+		ecmxf_req_finish(edev, req, ret);
+	else
+		edev->cur_req = req;
+	mutex_unlock(&edev->lock);
+}
+
+/* Sleep until there is work: a kick, INT1, or kthread_stop(). */
+static void ecmxf_idle(struct ecmxf_dev *edev)
+{
+	set_current_state(TASK_IDLE);
+	if (!atomic_read(&edev->kick) && !atomic_read(&edev->int1_flag) &&
+	    !kthread_should_stop())
+		schedule();
+	__set_current_state(TASK_RUNNING);
+}
+
+static int ecmxf_worker_fn(void *data)
+{
+	struct ecmxf_dev *edev = data;
+	struct ecmxf_req *reset, *req;
+	u64 now;
+	int ret;
+
+	while (!kthread_should_stop()) {
+		atomic_set(&edev->kick, 0);
+		now = ktime_get_ns();
+		reset = NULL;
+		req = NULL;
+
+		mutex_lock(&edev->lock);
+		if (!edev->cur_req) {
+			reset = list_first_entry_or_null(&edev->resets,
+							 struct ecmxf_req,
+							 node);
+			if (reset) {
+				list_del_init(&reset->node);
+				reset->state = ECMXF_RS_ACTIVE;
+			}
+		}
+		if (!reset && now >= edev->next_expire_ns) {
+			ecmxf_expire_queued(edev, now);
+			edev->next_expire_ns = now + ECMXF_EXPIRE_PERIOD_NS;
+		}
+		if (!reset && !edev->cur_req) {
+			req = ecmxf_pick(edev);
+			if (req) {
+				req->state = ECMXF_RS_ACTIVE;
+				edev->cur_req = req;
+			}
+		}
+		mutex_unlock(&edev->lock);
+
+		if (reset) {
+			ecmxf_start_reset(edev, reset);
+			continue;
+		}
+		if (req) {
+			ret = ecmxf_submit(edev, req);
+			if (ret) {
+				mutex_lock(&edev->lock);
+				edev->cur_req = NULL;
+				ecmxf_req_finish(edev, req, ret);
+				mutex_unlock(&edev->lock);
+				continue;
+			}
+		}
+
+		/* INT1: refresh the header (flags, state) with one exchange */
+		if (ecmxf_engine_idle(&edev->e) &&
+		    !atomic_xchg(&edev->int1_flag, 0)) {
+			ecmxf_idle(edev);
+			continue;
+		}
+		ecmxf_exchange(edev);
+		mutex_lock(&edev->lock);
+		ecmxf_collect(edev);
+		mutex_unlock(&edev->lock);
+	}
+
+	/* the device is going away: nothing in flight survives */
+	mutex_lock(&edev->lock);
+	if (edev->cur_req) {
+		req = edev->cur_req;
+		ecmxf_engine_cancel(&edev->e, &req->x);
+		edev->cur_req = NULL;
+		ecmxf_req_finish(edev, req, -ENODEV);
+	}
+	ecmxf_cancel_async(edev, -ENODEV);
+	mutex_unlock(&edev->lock);
+	return 0;
+}
+
+/**
+ * ecmxf_worker_start() - create the link worker, SCHED_FIFO
+ * @edev: the device, link up
+ *
+ * Return: 0 or a negative errno.
+ */
+int ecmxf_worker_start(struct ecmxf_dev *edev)
+{
+	struct sched_attr attr = {
+		.size = sizeof(attr),
+		.sched_policy = SCHED_FIFO,
+		.sched_priority = ecmxf_param_worker_prio,
+	};
+	struct task_struct *t;
+	int ret;
+
+	t = kthread_create(ecmxf_worker_fn, edev, "ecmxf%d", edev->id);
+	if (IS_ERR(t))
+		return PTR_ERR(t);
+	ret = sched_setattr_nocheck(t, &attr);
+	if (ret) {
+		kthread_stop(t);
+		return ret;
+	}
+	get_task_struct(t);
+	edev->worker = t;
+	WRITE_ONCE(edev->owner, t);
+	wake_up_process(t);
+	return 0;
+}
+
+/**
+ * ecmxf_worker_stop() - stop the link worker
+ * @edev: the device; its IRQs are already freed
+ *
+ * Requests in the engine fail with -ENODEV; queued ones stay queued for
+ * ecmxf_chrdev_fail_all().
+ */
+void ecmxf_worker_stop(struct ecmxf_dev *edev)
+{
+	struct task_struct *t = edev->worker;
+
+	if (!t)
+		return;
+	kthread_stop(t);
+	mutex_lock(&edev->lock);
+	WRITE_ONCE(edev->owner, NULL);
+	edev->worker = NULL;
+	mutex_unlock(&edev->lock);
+	put_task_struct(t);
+}
+
+/**
+ * ecmxf_get_counters() - the link statistics since probe
+ * @edev: the device
+ * @k: filled in, reserved fields zero
+ */
+void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k)
+{
+	const struct ecmxf_engine_stats *s = &edev->stats;
+
+	memset(k, 0, sizeof(*k));
+	mutex_lock(&edev->lock);
+	k->exchanges = s->exchanges;
+	k->bad_not_ready = s->faults[ECMXF_FAULT_NOT_READY];
+	k->bad_start = s->faults[ECMXF_FAULT_START];
+	k->bad_end = s->faults[ECMXF_FAULT_END];
+	k->bad_check = s->faults[ECMXF_FAULT_CHECK];
+	k->bad_length = s->faults[ECMXF_FAULT_LENGTH];
+	k->retries = s->retries;
+	k->polls = s->polls;
+	k->exhausted = s->exhausted;
+	k->timeouts = s->timeouts + edev->queue_timeouts;
+	k->async_errors = s->async_errors;
+	k->busy_rejects = s->busy_rejects;
+	k->lost_answers = s->lost_answers;
+	k->chip_resets = s->chip_resets;
+	k->wkc_errors = edev->wkc_errors;
+	mutex_unlock(&edev->lock);
+	k->int0_irqs = atomic64_read(&edev->int0_irqs);
+	k->int1_irqs = atomic64_read(&edev->int1_irqs);
+}

@@ -1,0 +1,274 @@
+/* SPDX-License-Identifier: GPL-2.0-only */
+/*
+ * ecmxf.h - NEXTW ECM-XF SPI EtherCAT master: private structures
+ *
+ * One &struct ecmxf_dev per chip, one &struct ecmxf_client per open file,
+ * one &struct ecmxf_req per command on its way to the chip.  The files:
+ *
+ *   ecmxf-main.c      module init/exit, class, chrdev region, parameters
+ *   ecmxf-selftest.c  load-time self-test of the protocol core
+ *   ecmxf-spi.c       spi_driver: probe/remove, properties, INT0/INT1
+ *   ecmxf-worker.c    the kthread that owns the SPI link and the engine
+ *   ecmxf-chrdev.c    /dev/ecmxfN: open/release, ioctls, read, poll
+ *   ecmxf-sysfs.c     attributes of the class device
+ *
+ * Copyright (C) 2026 The ecmxf authors
+ */
+#ifndef ECMXF_H
+#define ECMXF_H
+
+#include <linux/cdev.h>
+#include <linux/completion.h>
+#include <linux/device.h>
+#include <linux/gpio/consumer.h>
+#include <linux/list.h>
+#include <linux/mutex.h>
+#include <linux/pid.h>
+#include <linux/sched.h>
+#include <linux/spi/spi.h>
+#include <linux/types.h>
+#include <linux/wait.h>
+
+#include <linux/ecmxf.h>	/* kmod/uapi -> include/uapi */
+
+#include "ecmxf-proto.h"
+
+#define ECMXF_DRV_NAME		"ecmxf"
+/* minors (and so chips) the module can serve */
+#define ECMXF_MAX_DEVICES	64
+/* without INT0: the time the chip needs between exchanges */
+#define ECMXF_READY_WAIT_US	150
+/* with INT0: how long to wait for "ready" before exchanging anyway */
+#define ECMXF_READY_TIMEOUT_US	5000
+/* how often the worker expires queued (not yet sent) commands */
+#define ECMXF_EXPIRE_PERIOD_NS	(1 * NSEC_PER_MSEC)
+/* time allowed for each command during probe */
+#define ECMXF_PROBE_TIMEOUT_US	50000
+
+/**
+ * enum ecmxf_req_kind - who waits for a request and how it ends
+ * @ECMXF_REQ_SYNC: %ECMXF_IOC_CMD; the ioctl sleeps on &ecmxf_req.done
+ * @ECMXF_REQ_SUBMIT: %ECMXF_IOC_SUBMIT; completion read() from the client
+ * @ECMXF_REQ_RESET: %ECMXF_IOC_RESET; handled by the worker itself
+ */
+enum ecmxf_req_kind {
+	ECMXF_REQ_SYNC,
+	ECMXF_REQ_SUBMIT,
+	ECMXF_REQ_RESET,
+};
+
+/**
+ * enum ecmxf_req_state - where a request is
+ * @ECMXF_RS_QUEUED: on its client's queue (or &ecmxf_dev.resets)
+ * @ECMXF_RS_ACTIVE: taken by the worker (in the engine, or being reset)
+ * @ECMXF_RS_DONE: finished; the result fields are final
+ */
+enum ecmxf_req_state {
+	ECMXF_RS_QUEUED,
+	ECMXF_RS_ACTIVE,
+	ECMXF_RS_DONE,
+};
+
+/**
+ * struct ecmxf_req - one command between an ioctl and the chip
+ * @node: in &ecmxf_client.queue, &ecmxf_client.done or &ecmxf_dev.resets
+ * @client: the file that sent it; NULL once that file is closed (the
+ *	worker then frees the request when it finishes)
+ * @kind: &enum ecmxf_req_kind
+ * @state: &enum ecmxf_req_state
+ * @abandoned: %ECMXF_REQ_SYNC only: the waiter left on a signal after the
+ *	command was sent; the worker frees the request when it finishes
+ * @deadline_ns: absolute time (ktime_get_ns()) by which it must finish,
+ *	counted from the ioctl
+ * @cookie: %ECMXF_REQ_SUBMIT: the caller's cookie
+ * @rx_ptr: %ECMXF_REQ_SUBMIT: user pointer for the response data, written
+ *	by read()
+ * @reset_flags: %ECMXF_REQ_RESET: %ECMXF_RESET_F_* value
+ * @reset_param: %ECMXF_REQ_RESET: %ECMXF_RESET_ASYNC_* bits
+ * @done: completed when @state becomes %ECMXF_RS_DONE (sync and reset)
+ * @x: the engine's view of the command, and its result
+ * @tx: data section bytes to send (%ECMXF_DATA_MAX)
+ * @rx: response data (%ECMXF_DATA_MAX)
+ *
+ * All fields except @x, @tx and @rx are protected by &ecmxf_dev.lock; @x
+ * belongs to the worker while @state is %ECMXF_RS_ACTIVE.
+ */
+struct ecmxf_req {
+	struct list_head node;
+	struct ecmxf_client *client;
+	enum ecmxf_req_kind kind;
+	enum ecmxf_req_state state;
+	bool abandoned;
+	u64 deadline_ns;
+	u64 cookie;
+	u64 rx_ptr;
+	u32 reset_flags;
+	u32 reset_param;
+	struct completion done;
+	struct ecmxf_xfer x;
+	u8 tx[ECMXF_DATA_MAX];
+	u8 rx[ECMXF_DATA_MAX];
+};
+
+/**
+ * struct ecmxf_client - one open file of /dev/ecmxfN
+ * @edev: the device
+ * @node: in &ecmxf_dev.clients, whose order is the round-robin order
+ * @queue: requests not yet taken by the worker, in submission order
+ * @done: finished %ECMXF_REQ_SUBMIT requests, in completion order
+ * @in_flight: %ECMXF_REQ_SUBMIT requests queued, running or unread
+ * @wq: read() and poll() wait here for @done
+ * @writable: opened with FMODE_WRITE
+ *
+ * @queue, @done, @in_flight and the position in &ecmxf_dev.clients are
+ * protected by &ecmxf_dev.lock.
+ */
+struct ecmxf_client {
+	struct ecmxf_dev *edev;
+	struct list_head node;
+	struct list_head queue;
+	struct list_head done;
+	unsigned int in_flight;
+	wait_queue_head_t wq;
+	bool writable;
+};
+
+/**
+ * struct ecmxf_dev - one ECM-XF chip
+ * @spi: the SPI device; NULL after remove
+ * @dev: the class device behind /dev/ecmxfN; its refcount keeps this
+ *	structure alive while files are open (cdev_device_add() makes the
+ *	cdev hold it)
+ * @cdev: the character device
+ * @id: N of /dev/ecmxfN
+ * @int0: INT0 ("ready", logical 1 = ready) or NULL
+ * @int1: INT1 (events, logical 1 = asserted) or NULL
+ * @int0_irq: Linux IRQ of @int0, or 0
+ * @int1_irq: Linux IRQ of @int1, or 0
+ * @int0_flag: set by the INT0 handler, consumed by the worker
+ * @int1_flag: set by the INT1 handler, consumed by the worker
+ * @kick: set when the worker has new work; consumed by the worker
+ * @worker: the kthread that owns the link (a reference is held)
+ * @owner: the task that waits for INT0 and new work: probe during
+ *	bring-up, then @worker; read by the IRQ threads with READ_ONCE(),
+ *	cleared under @lock before @worker is released
+ * @e: the protocol engine; only the worker (or probe, before the worker
+ *	starts) touches it
+ * @txbuf: DMA-safe packet buffer, host to chip (worker only)
+ * @rxbuf: DMA-safe packet buffer, chip to host (worker only)
+ * @wkc_last: last WKC error count seen (worker only)
+ * @wkc_valid: @wkc_last holds a value (worker only)
+ * @next_expire_ns: next scan for expired queued requests (worker only)
+ * @want_size: data section size to set at probe; 0 keeps the chip's
+ * @want_check: check type to set at probe
+ * @lock: protects everything below it
+ * @gone: the chip was removed; every file operation returns -ENODEV
+ * @cur_req: the request in the engine's command slot (written by the
+ *	worker under @lock, read by it without)
+ * @async_req: the async request the chip runs (as @cur_req)
+ * @queue_timeouts: requests that timed out before they were sent
+ * @clients: open files, in round-robin order
+ * @resets: %ECMXF_REQ_RESET requests waiting for the worker
+ * @open_count: files open
+ * @claim: the file holding the cyclic claim, or NULL
+ * @claim_pid: the thread group that took @claim
+ * @data_size: data section size in force (snapshot of the engine's)
+ * @check: check type in force (snapshot of the engine's)
+ * @fw_valid: @fw_version and @fw_info were read
+ * @fw_version: FW_VERSION_GET return value
+ * @fw_info: FW_VERSION_GET data bytes
+ * @last: last valid response header
+ * @stats: counters since probe: @stats_base plus the engine's
+ * @stats_base: counts of earlier engine lives (before a re-initialisation)
+ * @wkc_errors: increments of the chip's WKC error count
+ * @int0_irqs: INT0 interrupts handled (written by the IRQ thread, atomic
+ *	read and write are enough)
+ * @int1_irqs: INT1 interrupts handled (as @int0_irqs)
+ */
+struct ecmxf_dev {
+	struct spi_device *spi;
+	struct device dev;
+	struct cdev cdev;
+	int id;
+
+	struct gpio_desc *int0;
+	struct gpio_desc *int1;
+	int int0_irq;
+	int int1_irq;
+	atomic_t int0_flag;
+	atomic_t int1_flag;
+	atomic_t kick;
+
+	struct task_struct *worker;
+	struct task_struct *owner;
+	struct ecmxf_engine e;
+	u8 *txbuf;
+	u8 *rxbuf;
+	u8 wkc_last;
+	bool wkc_valid;
+	u64 next_expire_ns;
+	u32 want_size;
+	u32 want_check;
+
+	struct mutex lock;	/* protects the fields below */
+	bool gone;
+	struct ecmxf_req *cur_req;
+	struct ecmxf_req *async_req;
+	u64 queue_timeouts;
+	struct list_head clients;
+	struct list_head resets;
+	unsigned int open_count;
+	struct ecmxf_client *claim;
+	struct pid *claim_pid;
+	u16 data_size;
+	u8 check;
+	bool fw_valid;
+	u8 fw_version;
+	u8 fw_info[20];
+	struct ecmxf_rsp_hdr last;
+	struct ecmxf_engine_stats stats;
+	struct ecmxf_engine_stats stats_base;
+	u64 wkc_errors;
+	atomic64_t int0_irqs;
+	atomic64_t int1_irqs;
+};
+
+/* module parameters (ecmxf-main.c) */
+extern unsigned int ecmxf_param_data_size;
+extern unsigned int ecmxf_param_check_type;
+extern unsigned int ecmxf_param_worker_prio;
+extern unsigned int ecmxf_param_max_open;
+extern unsigned int ecmxf_param_queue_depth;
+
+/* ecmxf-main.c */
+extern struct class ecmxf_class;
+extern dev_t ecmxf_devt;
+int ecmxf_id_alloc(void);
+void ecmxf_id_free(int id);
+
+/* ecmxf-selftest.c */
+int ecmxf_selftest(void);
+
+/* ecmxf-spi.c */
+int ecmxf_spi_register(void);
+void ecmxf_spi_unregister(void);
+
+/* ecmxf-worker.c */
+int ecmxf_link_bringup(struct ecmxf_dev *edev);
+int ecmxf_worker_start(struct ecmxf_dev *edev);
+void ecmxf_worker_stop(struct ecmxf_dev *edev);
+void ecmxf_worker_kick(struct ecmxf_dev *edev);
+void ecmxf_wake_owner(struct ecmxf_dev *edev);
+void ecmxf_req_finish(struct ecmxf_dev *edev, struct ecmxf_req *req,
+		      int status);
+void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k);
+
+/* ecmxf-chrdev.c */
+extern const struct file_operations ecmxf_fops;
+void ecmxf_chrdev_fail_all(struct ecmxf_dev *edev, int status);
+
+/* ecmxf-sysfs.c */
+extern const struct attribute_group *ecmxf_groups[];
+const char *ecmxf_check_name(unsigned int check);
+
+#endif /* ECMXF_H */
