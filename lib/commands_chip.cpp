@@ -228,7 +228,7 @@ std::vector<bool> bitsOf(const std::vector<std::uint8_t> &bytes, unsigned count)
 {
 	std::vector<bool> out(count);
 	for (unsigned p = 0; p < count; p++)
-		out[p] = p / 8 < bytes.size() && ((bytes[p / 8] >> (p % 8)) & 1u);
+		out[p] = p / 8 < bytes.size() && ((static_cast<unsigned>(bytes[p / 8]) >> (p % 8)) & 1u);
 	return out;
 }
 
@@ -1002,7 +1002,7 @@ std::vector<unsigned> Device::mailboxPending()
 	const Response r = immediate(*this, simple(ECMXF_CMD_MBX_STAT, 0));
 	std::vector<unsigned> out;
 	for (std::size_t i = 0; i < r.data.size() * 8; i++)
-		if ((r.data[i / 8] >> (i % 8)) & 1u)
+		if ((static_cast<unsigned>(r.data[i / 8]) >> (i % 8)) & 1u)
 			out.push_back(static_cast<unsigned>(i));
 	return out;
 }
