@@ -389,6 +389,16 @@ static int vspi_add_gpio(struct device *dev, struct vspi *v)
 
 /* ---- the platform device that holds it all --------------------------- */
 
+static void vspi_lookup_entry(struct gpiod_lookup *e, unsigned int line,
+			      const char *con_id, enum gpio_lookup_flags flags)
+{
+	e->key = VSPI_NAME;
+	e->chip_hwnum = line;
+	e->con_id = con_id;
+	e->idx = 0;
+	e->flags = flags;
+}
+
 static int vspi_probe(struct platform_device *pdev)
 {
 	struct device *dev = &pdev->dev;
@@ -458,10 +468,9 @@ static int vspi_probe(struct platform_device *pdev)
 		ret = -ENOMEM;
 		goto out_misc;
 	}
-	v->lookup->table[0] = (struct gpiod_lookup)
-		GPIO_LOOKUP(VSPI_NAME, 0, "int0", GPIO_ACTIVE_HIGH);
-	v->lookup->table[1] = (struct gpiod_lookup)
-		GPIO_LOOKUP(VSPI_NAME, 1, "int1", GPIO_ACTIVE_LOW);
+	/* table[2] stays zero: the terminator */
+	vspi_lookup_entry(&v->lookup->table[0], 0, "int0", GPIO_ACTIVE_HIGH);
+	vspi_lookup_entry(&v->lookup->table[1], 1, "int1", GPIO_ACTIVE_LOW);
 	gpiod_add_lookup_table(v->lookup);
 
 	v->spi = spi_new_device(ctlr, &info);
