@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+// ecmxf-guest-test: runs inside the QEMU guest against /dev/ecmxf0, i.e.
+// ecmxf.ko on the virtual SPI controller, answered by ecmxf-bridge's
+// simulated chip (default network: 2 x EST-584 + 1 digital I/O).
+// Documentation/kernel-testing.rst. Exit status 0 when every check holds.
+
+#include <ecmxf/device.hpp>
+#include <ecmxf/error.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+namespace {
+
+int gFailures = 0;
+
+template <typename A, typename B>
+void check(const char *what, const A &got, const B &want)
+{
+	const bool ok = got == want;
+	std::printf("guest-test: %s %s: got %llu, want %llu\n", ok ? "ok  " : "FAIL", what,
+		    static_cast<unsigned long long>(got), static_cast<unsigned long long>(want));
+	if (!ok)
+		gFailures++;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+	const std::string path = argc > 1 ? argv[1] : "/dev/ecmxf0";
+	try {
+		auto dev = ecmxf::Device::open(path);
+
+		// what the bridge's chip is (ChipConfig defaults) and what
+		// ecmxf.ko set at probe: the power-on 112-byte data section
+		// (data_size=0 keeps it), CRC-32 (check_type default 3)
+		const ecmxf::ChipInfo info = dev->info();
+		check("firmware version", info.firmware.version, 0x30u);
+		check("data section size", info.dataSize, 112u);
+		check("check type is CRC-32", static_cast<unsigned>(info.checkType),
+		      static_cast<unsigned>(ecmxf::CheckType::Crc32));
+
+		dev->initNetwork();
+		// default network: EST-584, EST-584, digital I/O
+		check("slave count after ECAT_INIT_OP", dev->slaveCount(), 3u);
+
+		dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
+		// EST-584 manual 3.5: 0x2001:00 pulses per revolution, default 50000
+		check("SDO 0x2001:00 of slave 0", dev->sdoRead<std::uint16_t>(0, 0x2001, 0), 50000u);
+		dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::Op);
+		const auto st = dev->stateCheck(0, ecmxf::State::Op);
+		check("slave 0 state after STATE_SET OP", static_cast<unsigned>(st.state()),
+		      static_cast<unsigned>(ecmxf::State::Op));
+	} catch (const std::exception &e) {
+		std::printf("guest-test: FAIL exception: %s\n", e.what());
+		return 1;
+	}
+	std::printf("guest-test: %d failure(s)\n", gFailures);
+	return gFailures ? 1 : 0;
+}
