@@ -50,6 +50,8 @@ int main(int argc, char **argv)
 		dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
 		// EST-584 manual 3.5: 0x2001:00 pulses per revolution, default 50000
 		check("SDO 0x2001:00 of slave 0", dev->sdoRead<std::uint16_t>(0, 0x2001, 0), 50000u);
+		// EtherCAT: PRE-OP -> OP directly is refused (AL status 0x0011)
+		dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::SafeOp);
 		dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::Op);
 		const auto st = dev->stateCheck(0, ecmxf::State::Op);
 		check("slave 0 state after STATE_SET OP", static_cast<unsigned>(st.state()),
