@@ -3,14 +3,20 @@
 // ecmxf.ko on the virtual SPI controller, answered by ecmxf-bridge's
 // simulated chip (default network: 2 x EST-584 + 1 digital I/O).
 // Documentation/kernel-testing.rst. Exit status 0 when every check holds.
+//
+//   ecmxf-guest-test [/dev/ecmxfN]               the end-to-end checks
+//   ecmxf-guest-test --bridge-gone [/dev/ecmxfN] after the bridge exited:
+//       a command fails with EPROTO instead of hanging
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
 
+#include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <string_view>
 
 namespace {
 
@@ -26,12 +32,39 @@ void check(const char *what, const A &got, const B &want)
 		gFailures++;
 }
 
+// The bridge is gone: ecmxf-vspi fails every transfer (-ENOTCONN), the
+// driver feeds the engine an all-zero packet (driver.rst, "The link
+// worker"), whose start word is wrong: the retries end in -EPROTO
+// (protocol-core.rst), which the library words as below.
+int bridgeGone(const std::string &path)
+{
+	auto dev = ecmxf::Device::open(path);
+	try {
+		(void)dev->slaveCount();
+		std::printf("guest-test: FAIL ECAT_SLV_CNT_GET without a bridge did not fail\n");
+		return 1;
+	} catch (const ecmxf::Error &e) {
+		const std::string_view want =
+			"ECAT_SLV_CNT_GET: the link kept delivering bad packets (wrong start/end word or data length)";
+		const bool ok = e.errnoValue() == EPROTO && std::string_view(e.what()).find(want) != std::string_view::npos;
+		std::printf("guest-test: %s no bridge: errno %d (want %d), \"%s\"\n", ok ? "ok  " : "FAIL",
+			    e.errnoValue(), EPROTO, e.what());
+		return ok ? 0 : 1;
+	}
+}
+
 } // namespace
 
 int main(int argc, char **argv)
 {
-	const std::string path = argc > 1 ? argv[1] : "/dev/ecmxf0";
+	int argi = 1;
+	const bool gone = argc > argi && std::string_view(argv[argi]) == "--bridge-gone";
+	if (gone)
+		argi++;
+	const std::string path = argc > argi ? argv[argi] : "/dev/ecmxf0";
 	try {
+		if (gone)
+			return bridgeGone(path);
 		auto dev = ecmxf::Device::open(path);
 
 		// what the bridge's chip is (ChipConfig defaults) and what
