@@ -43,6 +43,17 @@ done
 /bin/ecmxf-guest-test /dev/ecmxf0 || fail "ecmxf-guest-test"
 grep -i vspi /proc/interrupts
 
+# remove with a file open, then probe again: the chip keeps the format
+# the driver set (CRC-32), which the driver's first try finds
+spidev=$(basename "$(readlink /sys/class/ecmxf/ecmxf0/device)")
+exec 3<>/dev/ecmxf0
+echo "$spidev" >/sys/bus/spi/drivers/ecmxf/unbind || fail "unbind $spidev"
+[ -e /dev/ecmxf0 ] && fail "/dev/ecmxf0 still there after unbind"
+exec 3>&-
+echo "$spidev" >/sys/bus/spi/drivers/ecmxf/bind || fail "bind $spidev again"
+[ -c /dev/ecmxf0 ] || fail "no /dev/ecmxf0 after binding again"
+/bin/ecmxf-guest-test /dev/ecmxf0 || fail "ecmxf-guest-test after binding again"
+
 # a dead bridge must cost failed commands, not a hung kernel
 kill $bridge
 wait $bridge || fail "the bridge failed"
