@@ -37,7 +37,7 @@ done
 insmod /lib/modules/ecmxf.ko || fail "insmod ecmxf.ko"
 [ -c /dev/ecmxf0 ] || fail "no /dev/ecmxf0 after insmod ecmxf.ko"
 for a in /sys/class/ecmxf/ecmxf0/*; do
-	[ -f "$a" ] && echo "sysfs: ${a##*/} = $(cat "$a" 2>&1 | head -1)"
+	[ -f "$a" ] && echo "sysfs: ${a##*/} = $(head -n 1 "$a" 2>&1)"
 done
 
 /bin/ecmxf-guest-test /dev/ecmxf0 || fail "ecmxf-guest-test"
