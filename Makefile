@@ -22,7 +22,7 @@ KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
 DEPS := scripts/install-deps.sh
 
 .PHONY: all deps configure check check-asan fuzz demo bench kmod kmod-deps \
-	kmod-check kmod-check-all checkpatch kernel-lint kmod-clean install install-udev clean help
+	kmod-check kmod-check-all checkpatch kernel-lint check-kernel kmod-clean install install-udev clean help
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -97,6 +97,14 @@ checkpatch:
 # Everything the kernel asks of kernel code, before review.
 kernel-lint: checkpatch kmod-check
 
+# ecmxf.ko under QEMU on a virtual SPI controller, with the simulator as the
+# chip, on Debian's normal and PREEMPT_RT kernels (Documentation/
+# kernel-testing.rst).  Not part of `make check`.  KTEST_FLAVOURS= picks
+# the kernels (amd64 rt-amd64).
+KTEST_FLAVOURS ?=
+check-kernel:
+	BUILD=$(BUILD) tests/kernel/run-qemu.sh $(KTEST_FLAVOURS)
+
 kmod-clean:
 	@test -z "$(KDIR)" || $(MAKE) -C $(KDIR) M=$(CURDIR)/kmod clean
 
@@ -119,6 +127,7 @@ help:
 	@echo "make kmod      build kmod/ecmxf.ko (KDIR=/path/to/headers)"
 	@echo "make kernel-lint  checkpatch --strict, W=1, sparse and kernel-doc"
 	@echo "               over lib/core and kmod (also: make checkpatch, make kmod-check)"
+	@echo "make check-kernel  ecmxf.ko under QEMU (normal + PREEMPT_RT kernel)"
 	@echo "make install   install to PREFIX (default /usr/local)"
 	@echo "make install-udev  the udev rule for /dev/ecmxfN (DESTDIR=)"
 	@echo "make clean     remove build trees"

@@ -359,6 +359,10 @@ std::uint16_t Device::dataSize() const
 
 CheckType Device::checkType() const
 {
+	// the kernel's engine talks to the chip, not impl_->engine: the ECM
+	// status bits 1-0 of the last response say which check word is in use
+	if (impl_->transport->runsProtocol())
+		return static_cast<CheckType>(lastHeader().ecmStatus & ECMXF_STS_CHECK_MASK);
 	return static_cast<CheckType>(impl_->engine.check & ECMXF_STS_CHECK_MASK);
 }
 

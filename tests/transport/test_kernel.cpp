@@ -231,3 +231,19 @@ TEST_CASE("a trace of a kernel-transport device records requests and responses a
 	CHECK_THAT(out.str(), Contains("    index 0x21, code 0x38 FW_VERSION_GET, ret 0x30 (48), len 2\n"));
 	std::filesystem::remove(path);
 }
+
+TEST_CASE("checkType() over a CommandTransport is the check word the last response's ECM status names",
+	  "[transport][kernel]")
+{
+	// manual: ECM status (header 0x0A) bits 1-0 are the check type in use;
+	// the library's own engine does not talk to the chip here
+	Rig r;
+	CHECK(r.dev->checkType() == ecmxf::CheckType::Fixed); // no response yet
+	r.k->answer.header.code = 16;
+	r.k->answer.header.ecmStatus = 0x03;
+	(void)r.dev->command(cmd(16));
+	CHECK(r.dev->checkType() == ecmxf::CheckType::Crc32);
+	r.k->answer.header.ecmStatus = 0x01;
+	(void)r.dev->command(cmd(16));
+	CHECK(r.dev->checkType() == ecmxf::CheckType::Crc8);
+}

@@ -1,0 +1,36 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+#
+# Pack the initramfs of the QEMU kernel tests (Documentation/kernel-testing.rst):
+#
+#   tests/kernel/mkinitramfs.sh <out.cpio.gz> <init-script> <modules-dir> <bin>...
+#
+# busybox (static) with a symlink per applet, <init-script> as /init, the
+# *.ko of <modules-dir> in /lib/modules, each <bin> in /bin.
+set -eu
+
+[ $# -ge 3 ] || { echo "usage: $0 out.cpio.gz init modules-dir [bin...]" >&2; exit 2; }
+out=$1 init=$2 mods=$3
+shift 3
+
+bb=/bin/busybox
+[ -x "$bb" ] || { echo "mkinitramfs: $bb missing (apt-get install busybox-static)" >&2; exit 1; }
+
+root=$(mktemp -d)
+trap 'rm -rf "$root"' EXIT
+mkdir -p "$root/bin" "$root/sbin" "$root/proc" "$root/sys" "$root/dev" "$root/tmp" \
+	"$root/lib/modules" "$root/etc"
+cp "$bb" "$root/bin/busybox"
+# `busybox --list` names busybox itself: a symlink for it would replace
+# the binary (then: "No working init found", error -40)
+for a in $("$bb" --list); do
+	[ "$a" = busybox ] && continue
+	ln -sf busybox "$root/bin/$a"
+done
+cp "$init" "$root/init"
+chmod 755 "$root/init"
+cp "$mods"/*.ko "$root/lib/modules/"
+for b in "$@"; do
+	cp "$b" "$root/bin/"
+done
+(cd "$root" && find . -print0 | cpio --null -o -H newc --quiet) | gzip -1 >"$out"

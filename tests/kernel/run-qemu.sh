@@ -1,0 +1,123 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+#
+# The QEMU kernel tests (Documentation/kernel-testing.rst):
+#
+#   tests/kernel/run-qemu.sh [amd64|rt-amd64]...     (default: both)
+#
+# For each Debian kernel flavour: build ecmxf.ko and ecmxf-vspi.ko against
+# its headers, pack an initramfs with busybox, the bridge and the guest
+# test, boot the kernel under QEMU (TCG) and check the console: the marker
+# line must be there and no kernel warning may be. Environment:
+#   BUILD               CMake build directory of the library (default build)
+#   ECMXF_KTEST_CACHE   kernel images and per-kernel outputs
+#                       (default /var/tmp/ecmxf-ktest)
+#   ECMXF_KTEST_TIMEOUT seconds one boot may take (default 300)
+set -eu
+
+top=$(cd "$(dirname "$0")/../.." && pwd)
+build=${BUILD:-build}
+case "$build" in /*) ;; *) build="$top/$build" ;; esac
+cache=${ECMXF_KTEST_CACHE:-/var/tmp/ecmxf-ktest}
+boot_timeout=${ECMXF_KTEST_TIMEOUT:-300}
+flavours=${*:-amd64 rt-amd64}
+
+say() { echo "run-qemu: $*"; }
+die() { echo "run-qemu: $*" >&2; exit 1; }
+
+# ---- packages: QEMU, busybox, cpio, kmod and both header packages
+"$top/scripts/install-deps.sh" --kernel
+need=""
+for p in qemu-system-x86 busybox-static cpio; do
+	dpkg-query -W -f='${db:Status-Abbrev}' "$p" 2>/dev/null | grep -q '^ii' || need="$need $p"
+done
+if [ -n "$need" ]; then
+	[ "$(id -u)" -eq 0 ] || die "missing packages:$need (run as root)"
+	say "installing$need"
+	export DEBIAN_FRONTEND=noninteractive
+	apt-get update -qq
+	# shellcheck disable=SC2086
+	apt-get install -y -qq --no-install-recommends $need >/dev/null
+fi
+
+# ---- userspace: the bridge and the guest test, static
+mkdir -p "$cache"
+cmake -S "$top" -B "$build" >/dev/null
+cmake --build "$build" --target ecmxf_static -j "$(nproc)"
+lib="$build/lib/libecmxf_static.a"
+[ -f "$lib" ] || die "$lib missing after the build"
+cxx="g++ -std=c++20 -O2 -static -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Wcast-qual -Wformat=2 -Wundef -Wold-style-cast -Werror -I$top/include -I$top/tests/kernel"
+bin="$cache/bin"
+mkdir -p "$bin"
+$cxx -o "$bin/ecmxf-bridge" "$top/tests/kernel/bridge.cpp" "$lib" -lgpiod -pthread
+$cxx -o "$bin/ecmxf-guest-test" "$top/tests/kernel/guest-test.cpp" "$lib" -lgpiod -pthread
+
+# ---- one kernel flavour
+run_flavour() {
+	flavour=$1
+	# the newest installed headers of this flavour; never a fixed ABI name
+	kver=""
+	for d in /lib/modules/*-"$flavour"; do
+		v=${d##*/}
+		[ -d "$d/build" ] || continue
+		# "amd64" must not pick the rt-amd64 kernels
+		[ "$flavour" = amd64 ] && case "$v" in *-rt-amd64) continue ;; esac
+		kver=$(printf '%s\n%s\n' "$kver" "$v" | sed '/^$/d' | sort -V | tail -n 1)
+	done
+	[ -n "$kver" ] || die "no kernel headers of flavour $flavour under /lib/modules"
+	out="$cache/$kver"
+	mkdir -p "$out"
+
+	# the kernel image from Debian's package, unpacked (no initrd builds)
+	vmlinuz="$out/image/boot/vmlinuz-$kver"
+	if [ ! -f "$vmlinuz" ]; then
+		say "$kver: fetching linux-image-$kver"
+		(cd "$out" && rm -f ./*.deb && apt-get download -q "linux-image-$kver" >/dev/null 2>&1) ||
+			die "apt-get download linux-image-$kver failed"
+		# only the kernel: the guest needs none of Debian's modules
+		mkdir -p "$out/image"
+		dpkg-deb --fsys-tarfile "$out"/linux-image-"$kver"_*.deb |
+			tar -x -C "$out/image" "./boot/vmlinuz-$kver"
+		rm -f "$out"/*.deb
+	fi
+
+	# the modules, W=1, from copies (kmod's symlinks followed)
+	rm -rf "$out/kmod" "$out/vspi" "$out/ko"
+	cp -rL "$top/kmod" "$out/kmod"
+	cp -r "$top/tests/kernel/modules" "$out/vspi"
+	mkdir -p "$out/ko"
+	for m in kmod vspi; do
+		make -s -C "/lib/modules/$kver/build" M="$out/$m" W=1 modules >"$out/$m.log" 2>&1 ||
+			{ cat "$out/$m.log" >&2; die "$kver: building $m failed"; }
+		if grep -E 'warning:|error:' "$out/$m.log"; then
+			die "$kver: building $m gave warnings"
+		fi
+		cp "$out/$m"/*.ko "$out/ko/"
+	done
+
+	"$top/tests/kernel/mkinitramfs.sh" "$out/initramfs.cpio.gz" "$top/tests/kernel/guest-init.sh" \
+		"$out/ko" "$bin/ecmxf-bridge" "$bin/ecmxf-guest-test"
+
+	log="$out/console.log"
+	say "$kver: booting under QEMU (TCG), console in $log"
+	rc=0
+	timeout "$boot_timeout" qemu-system-x86_64 -accel tcg -m 512 -smp 2 -nographic -no-reboot \
+		-nic none -kernel "$vmlinuz" -initrd "$out/initramfs.cpio.gz" \
+		-append "console=ttyS0 panic=-1 loglevel=7" >"$log" 2>&1 || rc=$?
+	tr -d '\r' <"$log" >"$log.txt"
+	grep -E '^(ECMXF-KTEST|guest-test|bridge|sysfs):' "$log.txt" || true
+	[ "$rc" -eq 124 ] && die "$kver: QEMU did not finish within ${boot_timeout}s (see $log)"
+	bad=$(grep -nE 'WARNING:|BUG:|Oops|Call Trace|sleeping function called from invalid context|possible circular locking|possible recursive locking|lockdep|KASAN|UBSAN|general protection fault|kernel panic|Kernel panic' \
+		"$log.txt" || true)
+	if [ -n "$bad" ]; then
+		echo "$bad" >&2
+		die "$kver: kernel warnings on the console (see $log)"
+	fi
+	grep -qx 'ECMXF-KTEST: PASS' "$log.txt" || die "$kver: no pass marker on the console (see $log)"
+	say "$kver: PASS"
+}
+
+for f in $flavours; do
+	run_flavour "$f"
+done
+say "all passed ($flavours)"
