@@ -354,6 +354,9 @@ ResponseHeader Device::lastHeader() const
 // CRC_TYPE_SET and WARM_RESET); the typed calls are in commands_chip.cpp
 std::uint16_t Device::dataSize() const
 {
+	// the kernel's engine talks to the chip, not impl_->engine
+	if (impl_->transport->runsProtocol())
+		return static_cast<const CommandTransport &>(*impl_->transport).dataSize();
 	return static_cast<std::uint16_t>(ecmxf_engine_data_size(&impl_->engine));
 }
 
@@ -403,6 +406,8 @@ int Device::transact(const RawCommand &c, std::span<const std::uint8_t> payload,
 
 std::size_t Device::pdoDataCapacity() const noexcept
 {
+	if (impl_->transport->runsProtocol())
+		return static_cast<const CommandTransport &>(*impl_->transport).dataSize();
 	return ecmxf_engine_data_size(&impl_->engine);
 }
 

@@ -88,6 +88,15 @@ KernelTransport::~KernelTransport()
 		::close(fd_);
 }
 
+std::uint16_t KernelTransport::dataSize() const noexcept
+{
+	try {
+		return devInfo().dataSize;
+	} catch (...) {
+		return info_.dataSize;
+	}
+}
+
 KernelDevInfo KernelTransport::devInfo() const
 {
 	ecmxf_devinfo d{};

@@ -74,6 +74,9 @@ public:
 	/// ECMXF_IOC_DEVINFO now (the value read at open: openInfo()).
 	[[nodiscard]] KernelDevInfo devInfo() const;
 	[[nodiscard]] const KernelDevInfo &openInfo() const noexcept { return info_; }
+	/// The driver's data section size now (ECMXF_IOC_DEVINFO; the value
+	/// read at open if that ioctl fails).
+	[[nodiscard]] std::uint16_t dataSize() const noexcept override;
 	/// ECMXF_IOC_COUNTERS.
 	[[nodiscard]] KernelCounters counters() const;
 	/// ECMXF_IOC_RESET; @p param only for KernelReset::AsyncCmd;

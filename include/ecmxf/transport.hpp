@@ -138,6 +138,10 @@ public:
 	/// e.g. "ECMXF_IOC_CMD"). Never throws, allocates nothing.
 	[[nodiscard]] int run(const RawRequest &req, RawResult &res, const char *&failedCall) noexcept;
 
+	/// The data section size the far side uses now (0 when it cannot
+	/// tell). Device::dataSize() reports it for such transports.
+	[[nodiscard]] virtual std::uint16_t dataSize() const noexcept { return 0; }
+
 	/// The header of the latest answer, if any.
 	[[nodiscard]] std::optional<ResponseHeader> lastHeader() const noexcept { return last_; }
 	/// How messages name the link.

@@ -6,9 +6,13 @@
 # program builds against the installed tree with pkg-config alone and
 # opens "sim:".
 #
-#   test-install.sh BUILD-DIR PREFIX CXX
+#   test-install.sh BUILD-DIR PREFIX CXX [EXTRA-FLAGS]
+#
+# EXTRA-FLAGS: what the build's own programs were compiled with that the
+# tiny program needs too (-fsanitize=... in a sanitizer build, whose
+# libecmxf needs the sanitizer runtime linked first).
 set -eu
-build=$1 prefix=$2 cxx=$3
+build=$1 prefix=$2 cxx=$3 extra=${4:-}
 
 fail() { echo "FAIL: $*"; exit 1; }
 
@@ -70,7 +74,7 @@ int main()
 }
 CPP
 # shellcheck disable=SC2086
-"$cxx" -o "$prefix/hello" "$prefix/hello.cpp" $flags || fail "building against the installed tree"
+"$cxx" -o "$prefix/hello" "$prefix/hello.cpp" $flags $extra || fail "building against the installed tree"
 out=$(LD_LIBRARY_PATH=$libdir "$prefix/hello") || fail "running the program"
 echo "ok: $out"
 case $out in

@@ -54,6 +54,9 @@ public:
 	std::vector<std::uint8_t> gotTx;
 	std::size_t gotRxSize = 0;
 	unsigned calls = 0;
+	std::uint16_t driverDataSize = 0;
+
+	[[nodiscard]] std::uint16_t dataSize() const noexcept override { return driverDataSize; }
 
 protected:
 	int doCommand(const ecmxf::RawRequest &req, ecmxf::RawResult &res, const char *&failedCall) noexcept override
@@ -246,4 +249,17 @@ TEST_CASE("checkType() over a CommandTransport is the check word the last respon
 	r.k->answer.header.ecmStatus = 0x01;
 	(void)r.dev->command(cmd(16));
 	CHECK(r.dev->checkType() == ecmxf::CheckType::Crc8);
+}
+
+TEST_CASE("dataSize() over a CommandTransport is the driver's, not the library's idle engine's",
+	  "[transport][kernel]")
+{
+	// the library's engine starts at the power-on 112 bytes; the driver
+	// may run another size (e.g. the DT's nextw,data-size)
+	Rig r;
+	r.k->driverDataSize = 992;
+	CHECK(r.dev->dataSize() == 992);
+	CHECK(r.dev->pdoDataCapacity() == 992);
+	r.k->driverDataSize = 1408;
+	CHECK(r.dev->dataSize() == 1408);
 }
