@@ -32,40 +32,7 @@
 #include <ecmxf/sim_transport.hpp>
 #include <ecmxf/transport.hpp>
 
-namespace {
-std::atomic<std::uint64_t> gAllocs{ 0 };
-} // namespace
-
-void *operator new(std::size_t n)
-{
-	gAllocs.fetch_add(1, std::memory_order_relaxed);
-	if (void *p = std::malloc(n ? n : 1))
-		return p;
-	throw std::bad_alloc();
-}
-void *operator new[](std::size_t n)
-{
-	gAllocs.fetch_add(1, std::memory_order_relaxed);
-	if (void *p = std::malloc(n ? n : 1))
-		return p;
-	throw std::bad_alloc();
-}
-void operator delete(void *p) noexcept
-{
-	std::free(p);
-}
-void operator delete[](void *p) noexcept
-{
-	std::free(p);
-}
-void operator delete(void *p, std::size_t) noexcept
-{
-	std::free(p);
-}
-void operator delete[](void *p, std::size_t) noexcept
-{
-	std::free(p);
-}
+#include "../common/alloc_counter.hpp"
 
 namespace {
 
@@ -154,7 +121,7 @@ Row run(const std::string &network)
 
 	const auto stats0 = cyc.stats();
 	const auto exchanges0 = sim.chip().stats().exchanges;
-	const auto allocs0 = gAllocs.load();
+	const auto allocs0 = ecmxf_test::allocations();
 	const double cpu0 = threadCpuSeconds();
 	const auto wall0 = std::chrono::steady_clock::now();
 	for (int i = 0; i < kCycles; i++) {
@@ -164,7 +131,7 @@ Row run(const std::string &network)
 	}
 	const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 	const double cpu = threadCpuSeconds() - cpu0;
-	const auto allocs = gAllocs.load() - allocs0;
+	const auto allocs = ecmxf_test::allocations() - allocs0;
 
 	Row r;
 	r.slaves = image.slaveCount();

@@ -25,6 +25,7 @@
 #include <ecmxf/sim.hpp>
 #include <ecmxf/sim_slaves.hpp>
 
+#include "cli_run.hpp"
 #include "json.hpp"
 
 using Catch::Matchers::Contains;
@@ -32,46 +33,9 @@ using Catch::Matchers::StartsWith;
 
 namespace {
 
-struct Result {
-	int status = -1; ///< exit code
-	std::string out, err;
-};
-
-/// Runs ecmxf-util with @p args (no shell metacharacters) and collects
-/// its exit code, stdout and stderr.
-Result run(const std::string &args)
-{
-	static int serial = 0;
-	const auto errFile = std::filesystem::temp_directory_path() /
-			     ("ecmxf-test-cli-" + std::to_string(getpid()) + "-" +
-			      std::to_string(serial++) + ".err");
-	const std::string cmd = std::string(ECMXF_UTIL_PATH) + " " + args + " 2>" + errFile.string();
-	Result r;
-	std::FILE *p = popen(cmd.c_str(), "r");
-	REQUIRE(p != nullptr);
-	char buf[4096];
-	std::size_t n;
-	while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0)
-		r.out.append(buf, n);
-	const int st = pclose(p);
-	REQUIRE(WIFEXITED(st));
-	r.status = WEXITSTATUS(st);
-	std::ifstream f(errFile);
-	std::stringstream ss;
-	ss << f.rdbuf();
-	r.err = ss.str();
-	std::filesystem::remove(errFile);
-	return r;
-}
-
-std::vector<std::string> lines(const std::string &s)
-{
-	std::vector<std::string> v;
-	std::istringstream in(s);
-	for (std::string l; std::getline(in, l);)
-		v.push_back(l);
-	return v;
-}
+using clitest::lines;
+using clitest::Result;
+using clitest::run;
 
 using testjson::Json;
 

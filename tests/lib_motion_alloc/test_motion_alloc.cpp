@@ -35,87 +35,8 @@
 #include <ecmxf/cyclic.hpp>
 #include <ecmxf/process_image.hpp>
 
+#include "../common/alloc_counter.hpp"
 #include "../lib_motion/bench.hpp"
-
-namespace {
-std::atomic<std::uint64_t> gAllocs{ 0 };
-
-void *counted(std::size_t n)
-{
-	gAllocs.fetch_add(1, std::memory_order_relaxed);
-	if (void *p = std::malloc(n ? n : 1))
-		return p;
-	throw std::bad_alloc();
-}
-
-void *countedAligned(std::size_t n, std::align_val_t a)
-{
-	gAllocs.fetch_add(1, std::memory_order_relaxed);
-	const auto al = static_cast<std::size_t>(a);
-	if (void *p = std::aligned_alloc(al, (n + al - 1) / al * al))
-		return p;
-	throw std::bad_alloc();
-}
-} // namespace
-
-void *operator new(std::size_t n)
-{
-	return counted(n);
-}
-void *operator new[](std::size_t n)
-{
-	return counted(n);
-}
-void *operator new(std::size_t n, const std::nothrow_t &) noexcept
-{
-	gAllocs.fetch_add(1, std::memory_order_relaxed);
-	return std::malloc(n ? n : 1);
-}
-void *operator new[](std::size_t n, const std::nothrow_t &) noexcept
-{
-	gAllocs.fetch_add(1, std::memory_order_relaxed);
-	return std::malloc(n ? n : 1);
-}
-void *operator new(std::size_t n, std::align_val_t a)
-{
-	return countedAligned(n, a);
-}
-void *operator new[](std::size_t n, std::align_val_t a)
-{
-	return countedAligned(n, a);
-}
-void operator delete(void *p) noexcept
-{
-	std::free(p);
-}
-void operator delete[](void *p) noexcept
-{
-	std::free(p);
-}
-void operator delete(void *p, std::size_t) noexcept
-{
-	std::free(p);
-}
-void operator delete[](void *p, std::size_t) noexcept
-{
-	std::free(p);
-}
-void operator delete(void *p, std::align_val_t) noexcept
-{
-	std::free(p);
-}
-void operator delete[](void *p, std::align_val_t) noexcept
-{
-	std::free(p);
-}
-void operator delete(void *p, std::size_t, std::align_val_t) noexcept
-{
-	std::free(p);
-}
-void operator delete[](void *p, std::size_t, std::align_val_t) noexcept
-{
-	std::free(p);
-}
 
 using namespace std::chrono_literals;
 using std::chrono::nanoseconds;
@@ -162,12 +83,12 @@ void modeAndEnable(Bench &b, std::vector<Cia402Axis *> axes, std::int8_t mode)
 
 TEST_CASE("motion alloc: the counter counts", "[lib][motion][alloc]")
 {
-	const auto before = gAllocs.load();
+	const auto before = ecmxf_test::allocations();
 	{
 		std::vector<int> v(3);
 		(void)v;
 	}
-	REQUIRE(gAllocs.load() == before + 1);
+	REQUIRE(ecmxf_test::allocations() == before + 1);
 }
 
 TEST_CASE("motion alloc: 2000 CSP cycles of two axes allocate nothing", "[lib][motion][alloc][csp]")
@@ -209,7 +130,7 @@ TEST_CASE("motion alloc: 2000 CSP cycles of two axes allocate nothing", "[lib][m
 	std::int32_t last0 = a0.position();
 	const nanoseconds t0 = b.now();
 
-	const auto start = gAllocs.load();
+	const auto start = ecmxf_test::allocations();
 	for (int i = 0; i < 2000; i++) {
 		const ecmxf::CycleResult &r = b.cyc->cycle();
 		errors += r.error != 0 || !r.wkcOk;
@@ -243,7 +164,7 @@ TEST_CASE("motion alloc: 2000 CSP cycles of two axes allocate nothing", "[lib][m
 		}
 		(void)b.cyc->waitNextCycle();
 	}
-	const auto allocs = gAllocs.load() - start;
+	const auto allocs = ecmxf_test::allocations() - start;
 
 	CHECK(allocs == 0);
 	CHECK(errors == 0);
@@ -293,7 +214,7 @@ TEST_CASE("motion alloc: PP moves issued and run inside the window allocate noth
 	now2.changeImmediately = true;
 	bool moving0 = false;
 
-	const auto start = gAllocs.load();
+	const auto start = ecmxf_test::allocations();
 	for (; cycles < 4000 && phase < 3; cycles++) {
 		const ecmxf::CycleResult &r = b.cyc->cycle();
 		errors += r.error != 0 || !r.wkcOk;
@@ -319,7 +240,7 @@ TEST_CASE("motion alloc: PP moves issued and run inside the window allocate noth
 		}
 		(void)b.cyc->waitNextCycle();
 	}
-	const auto allocs = gAllocs.load() - start;
+	const auto allocs = ecmxf_test::allocations() - start;
 
 	CHECK(allocs == 0);
 	REQUIRE(phase == 3);
@@ -359,7 +280,7 @@ TEST_CASE("motion alloc: mode, enable, CSP start and disable by PDO allocate not
 	std::array<bool, 2> enabledSeen{};
 	std::int32_t csp0 = 0;
 
-	const auto start = gAllocs.load();
+	const auto start = ecmxf_test::allocations();
 	for (; cycles < 3000 && step < 6; cycles++) {
 		const ecmxf::CycleResult &r = b.cyc->cycle();
 		errors += r.error != 0 || !r.wkcOk;
@@ -417,7 +338,7 @@ TEST_CASE("motion alloc: mode, enable, CSP start and disable by PDO allocate not
 		}
 		(void)b.cyc->waitNextCycle();
 	}
-	const auto allocs = gAllocs.load() - start;
+	const auto allocs = ecmxf_test::allocations() - start;
 
 	CHECK(allocs == 0);
 	REQUIRE(step == 6);
@@ -454,7 +375,7 @@ TEST_CASE("motion alloc: PV and homing requests without SDO parameters allocate 
 	std::int32_t homed = -1;
 	ecmxf::HomingStatus hs = ecmxf::HomingStatus::InProgress;
 
-	const auto start = gAllocs.load();
+	const auto start = ecmxf_test::allocations();
 	for (; cycles < 3000 && step < 2; cycles++) {
 		const ecmxf::CycleResult &r = b.cyc->cycle();
 		errors += r.error != 0 || !r.wkcOk;
@@ -482,7 +403,7 @@ TEST_CASE("motion alloc: PV and homing requests without SDO parameters allocate 
 		}
 		(void)b.cyc->waitNextCycle();
 	}
-	const auto allocs = gAllocs.load() - start;
+	const auto allocs = ecmxf_test::allocations() - start;
 
 	CHECK(allocs == 0);
 	REQUIRE(step == 2);

@@ -17,99 +17,20 @@
 #include <ecmxf/cyclic.hpp>
 #include <ecmxf/process_image.hpp>
 
+#include "../common/alloc_counter.hpp"
 #include "bus.hpp"
-
-namespace {
-std::atomic<std::uint64_t> gAllocs{ 0 };
-
-void *counted(std::size_t n)
-{
-	gAllocs.fetch_add(1, std::memory_order_relaxed);
-	if (void *p = std::malloc(n ? n : 1))
-		return p;
-	throw std::bad_alloc();
-}
-
-void *countedAligned(std::size_t n, std::align_val_t a)
-{
-	gAllocs.fetch_add(1, std::memory_order_relaxed);
-	const auto al = static_cast<std::size_t>(a);
-	if (void *p = std::aligned_alloc(al, (n + al - 1) / al * al))
-		return p;
-	throw std::bad_alloc();
-}
-} // namespace
-
-void *operator new(std::size_t n)
-{
-	return counted(n);
-}
-void *operator new[](std::size_t n)
-{
-	return counted(n);
-}
-void *operator new(std::size_t n, const std::nothrow_t &) noexcept
-{
-	gAllocs.fetch_add(1, std::memory_order_relaxed);
-	return std::malloc(n ? n : 1);
-}
-void *operator new[](std::size_t n, const std::nothrow_t &) noexcept
-{
-	gAllocs.fetch_add(1, std::memory_order_relaxed);
-	return std::malloc(n ? n : 1);
-}
-void *operator new(std::size_t n, std::align_val_t a)
-{
-	return countedAligned(n, a);
-}
-void *operator new[](std::size_t n, std::align_val_t a)
-{
-	return countedAligned(n, a);
-}
-void operator delete(void *p) noexcept
-{
-	std::free(p);
-}
-void operator delete[](void *p) noexcept
-{
-	std::free(p);
-}
-void operator delete(void *p, std::size_t) noexcept
-{
-	std::free(p);
-}
-void operator delete[](void *p, std::size_t) noexcept
-{
-	std::free(p);
-}
-void operator delete(void *p, std::align_val_t) noexcept
-{
-	std::free(p);
-}
-void operator delete[](void *p, std::align_val_t) noexcept
-{
-	std::free(p);
-}
-void operator delete(void *p, std::size_t, std::align_val_t) noexcept
-{
-	std::free(p);
-}
-void operator delete[](void *p, std::size_t, std::align_val_t) noexcept
-{
-	std::free(p);
-}
 
 using namespace std::chrono_literals;
 
 TEST_CASE("Cyclic: 1000 cycles on the simulator allocate nothing", "[lib][pdo][cyclic][alloc]")
 {
 	// the counter counts: a vector allocates
-	const auto before = gAllocs.load();
+	const auto before = ecmxf_test::allocations();
 	{
 		std::vector<int> v(3);
 		(void)v;
 	}
-	REQUIRE(gAllocs.load() == before + 1);
+	REQUIRE(ecmxf_test::allocations() == before + 1);
 
 	pdotest::Bus bus;
 	bus.toOp();
@@ -130,7 +51,7 @@ TEST_CASE("Cyclic: 1000 cycles on the simulator allocate nothing", "[lib][pdo][c
 
 	int errors = 0;
 	std::int64_t sum = 0;
-	const auto start = gAllocs.load();
+	const auto start = ecmxf_test::allocations();
 	for (int i = 0; i < 1000; i++) {
 		cw.set(static_cast<std::uint16_t>(i));
 		dio.set(static_cast<std::uint8_t>(i));
@@ -139,7 +60,7 @@ TEST_CASE("Cyclic: 1000 cycles on the simulator allocate nothing", "[lib][pdo][c
 		sum += pos.get();
 		(void)cyc.waitNextCycle();
 	}
-	const auto allocs = gAllocs.load() - start;
+	const auto allocs = ecmxf_test::allocations() - start;
 
 	CHECK(allocs == 0);
 	CHECK(errors == 0);
