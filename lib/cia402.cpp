@@ -43,6 +43,19 @@ std::string stateText(std::optional<Cia402State> s)
 	return s ? std::string(cia402StateName(*s)) : std::string("no CiA-402 state");
 }
 
+/// "<what>: the drive is in <state>, not OPERATION ENABLED (statusword
+/// 0x....)": why a PP set-point or a homing run cannot start.
+std::string notEnabledText(std::string_view what, std::uint16_t statusword)
+{
+	std::string m(what);
+	m.append(": the drive is in ")
+		.append(stateText(cia402StateFrom(statusword)))
+		.append(", not OPERATION ENABLED (statusword ")
+		.append(cia402Hex16(statusword))
+		.append(")");
+	return m;
+}
+
 std::string slaveText(unsigned slave)
 {
 	std::string s("slave ");
@@ -377,11 +390,7 @@ std::string PpSetPointStepper::failureMessage() const
 	const std::string sw = cia402Hex16(statusword_);
 	switch (why_) {
 	case Why::NotEnabled:
-		m.append("PP set-point: the drive is in ")
-			.append(stateText(cia402StateFrom(statusword_)))
-			.append(", not OPERATION ENABLED (statusword ")
-			.append(sw)
-			.append(")");
+		m.append(notEnabledText("PP set-point", statusword_));
 		break;
 	case Why::NoFreeBuffer:
 		m.append("PP set-point: the drive takes no new set-point within ")
@@ -502,11 +511,7 @@ std::string HomingStepper::failureMessage() const
 	const std::string sw = cia402Hex16(statusword_);
 	switch (why_) {
 	case Why::NotEnabled:
-		m.append("homing: the drive is in ")
-			.append(stateText(cia402StateFrom(statusword_)))
-			.append(", not OPERATION ENABLED (statusword ")
-			.append(sw)
-			.append(")");
+		m.append(notEnabledText("homing", statusword_));
 		break;
 	case Why::Error:
 		m.append("homing failed: ")
