@@ -3,15 +3,16 @@
 #
 # Pack the initramfs of the QEMU kernel tests (Documentation/kernel-testing.rst):
 #
-#   tests/kernel/mkinitramfs.sh <out.cpio.gz> <init-script> <modules-dir> <bin>...
+#   tests/kernel/mkinitramfs.sh <out.cpio.gz> <init-script> <modules-dir> <steps-dir> <bin>...
 #
 # busybox (static) with a symlink per applet, <init-script> as /init, the
-# *.ko of <modules-dir> in /lib/modules, each <bin> in /bin.
+# *.ko of <modules-dir> in /lib/modules, <steps-dir> as /steps, each <bin>
+# in /bin.
 set -eu
 
-[ $# -ge 3 ] || { echo "usage: $0 out.cpio.gz init modules-dir [bin...]" >&2; exit 2; }
-out=$1 init=$2 mods=$3
-shift 3
+[ $# -ge 4 ] || { echo "usage: $0 out.cpio.gz init modules-dir steps-dir [bin...]" >&2; exit 2; }
+out=$1 init=$2 mods=$3 steps=$4
+shift 4
 
 bb=/bin/busybox
 [ -x "$bb" ] || { echo "mkinitramfs: $bb missing (apt-get install busybox-static)" >&2; exit 1; }
@@ -30,6 +31,7 @@ done
 cp "$init" "$root/init"
 chmod 755 "$root/init"
 cp "$mods"/*.ko "$root/lib/modules/"
+cp -r "$steps" "$root/steps"
 for b in "$@"; do
 	cp "$b" "$root/bin/"
 done

@@ -3,12 +3,15 @@
 #
 # The QEMU kernel tests (Documentation/kernel-testing.rst):
 #
-#   tests/kernel/run-qemu.sh [amd64|rt-amd64]...     (default: both)
+#   tests/kernel/run-qemu.sh [--bench] [amd64|rt-amd64|debug]...
 #
-# For each Debian kernel flavour: build ecmxf.ko and ecmxf-vspi.ko against
-# its headers, pack an initramfs with busybox, the bridge and the guest
-# test, boot the kernel under QEMU (TCG) and check the console: the marker
-# line must be there and no kernel warning may be. Environment:
+# (default: amd64 rt-amd64). amd64 and rt-amd64 are Debian's kernels, debug
+# the KASAN/UBSAN/lockdep kernel of scripts/build-debug-kernel.sh. For each:
+# build ecmxf.ko and ecmxf-vspi.ko against its headers, pack an initramfs
+# with busybox, the guest programs (tests/kernel/*.cpp, static) and the
+# step scripts of the mode (tests/kernel/steps/check, or steps/bench with
+# --bench), boot the kernel under QEMU (TCG) and check the console: the
+# marker line must be there and no kernel warning may be. Environment:
 #   BUILD               CMake build directory of the library (default build)
 #   ECMXF_KTEST_CACHE   kernel images and per-kernel outputs
 #                       (default /var/tmp/ecmxf-ktest)
@@ -20,6 +23,11 @@ build=${BUILD:-build}
 case "$build" in /*) ;; *) build="$top/$build" ;; esac
 cache=${ECMXF_KTEST_CACHE:-/var/tmp/ecmxf-ktest}
 boot_timeout=${ECMXF_KTEST_TIMEOUT:-300}
+mode=check
+if [ "${1:-}" = --bench ]; then
+	mode=bench
+	shift
+fi
 flavours=${*:-amd64 rt-amd64}
 
 say() { echo "run-qemu: $*"; }
@@ -40,7 +48,7 @@ if [ -n "$need" ]; then
 	apt-get install -y -qq --no-install-recommends $need >/dev/null
 fi
 
-# ---- userspace: the bridge and the guest test, static
+# ---- userspace: the bridge and the guest programs, static
 mkdir -p "$cache"
 cmake -S "$top" -B "$build" >/dev/null
 cmake --build "$build" --target ecmxf_static -j "$(nproc)"
@@ -49,27 +57,47 @@ lib="$build/lib/libecmxf_static.a"
 cxx="g++ -std=c++20 -O2 -static -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Wcast-qual -Wformat=2 -Wundef -Wold-style-cast -Werror -I$top/include -I$top/tests/kernel"
 bin="$cache/bin"
 mkdir -p "$bin"
-$cxx -o "$bin/ecmxf-bridge" "$top/tests/kernel/bridge.cpp" "$lib" -lgpiod -pthread
-$cxx -o "$bin/ecmxf-guest-test" "$top/tests/kernel/guest-test.cpp" "$lib" -lgpiod -pthread
+rm -f "$bin"/ecmxf-*
+for src in "$top"/tests/kernel/*.cpp; do
+	name=$(basename "$src" .cpp)
+	$cxx -o "$bin/ecmxf-$name" "$src" "$lib" -lgpiod -pthread || die "building $src failed"
+done
 
 # ---- one kernel flavour
 run_flavour() {
 	flavour=$1
-	# the newest installed headers of this flavour; never a fixed ABI name
-	kver=""
-	for d in /lib/modules/*-"$flavour"; do
-		v=${d##*/}
-		[ -d "$d/build" ] || continue
-		# "amd64" must not pick the rt-amd64 kernels
-		[ "$flavour" = amd64 ] && case "$v" in *-rt-amd64) continue ;; esac
-		kver=$(printf '%s\n%s\n' "$kver" "$v" | sed '/^$/d' | sort -V | tail -n 1)
-	done
-	[ -n "$kver" ] || die "no kernel headers of flavour $flavour under /lib/modules"
+	mem=512
+	timeout_f=$boot_timeout
+	if [ "$flavour" = debug ]; then
+		# built (once; cached) from Debian's linux-source-6.1
+		kinfo=$("$top/scripts/build-debug-kernel.sh") || die "building the debug kernel failed"
+		kver=$(printf '%s\n' "$kinfo" | sed -n 's/^KVER=//p')
+		kdir=$(printf '%s\n' "$kinfo" | sed -n 's/^KDIR=//p')
+		vmlinuz=$(printf '%s\n' "$kinfo" | sed -n 's/^VMLINUZ=//p')
+		[ -n "$kver" ] && [ -d "$kdir" ] && [ -f "$vmlinuz" ] ||
+			die "build-debug-kernel.sh gave no KVER/KDIR/VMLINUZ"
+		# KASAN's shadow memory, and everything runs slower
+		mem=1024
+		timeout_f=$((boot_timeout * 3))
+	else
+		# the newest installed headers of this flavour; never a fixed ABI name
+		kver=""
+		for d in /lib/modules/*-"$flavour"; do
+			v=${d##*/}
+			[ -d "$d/build" ] || continue
+			# "amd64" must not pick the rt-amd64 kernels
+			[ "$flavour" = amd64 ] && case "$v" in *-rt-amd64) continue ;; esac
+			kver=$(printf '%s\n%s\n' "$kver" "$v" | sed '/^$/d' | sort -V | tail -n 1)
+		done
+		[ -n "$kver" ] || die "no kernel headers of flavour $flavour under /lib/modules"
+		kdir=/lib/modules/$kver/build
+		vmlinuz=""
+	fi
 	out="$cache/$kver"
 	mkdir -p "$out"
 
 	# the kernel image from Debian's package, unpacked (no initrd builds)
-	vmlinuz="$out/image/boot/vmlinuz-$kver"
+	[ -n "$vmlinuz" ] || vmlinuz="$out/image/boot/vmlinuz-$kver"
 	if [ ! -f "$vmlinuz" ]; then
 		say "$kver: fetching linux-image-$kver"
 		(cd "$out" && rm -f ./*.deb && apt-get download -q "linux-image-$kver" >/dev/null 2>&1) ||
@@ -87,7 +115,7 @@ run_flavour() {
 	cp -r "$top/tests/kernel/modules" "$out/vspi"
 	mkdir -p "$out/ko"
 	for m in kmod vspi; do
-		make -s -C "/lib/modules/$kver/build" M="$out/$m" W=1 modules >"$out/$m.log" 2>&1 ||
+		make -s -C "$kdir" M="$out/$m" W=1 modules >"$out/$m.log" 2>&1 ||
 			{ cat "$out/$m.log" >&2; die "$kver: building $m failed"; }
 		if grep -E 'warning:|error:' "$out/$m.log"; then
 			die "$kver: building $m gave warnings"
@@ -96,17 +124,17 @@ run_flavour() {
 	done
 
 	"$top/tests/kernel/mkinitramfs.sh" "$out/initramfs.cpio.gz" "$top/tests/kernel/guest-init.sh" \
-		"$out/ko" "$bin/ecmxf-bridge" "$bin/ecmxf-guest-test"
+		"$out/ko" "$top/tests/kernel/steps" "$bin"/ecmxf-*
 
-	log="$out/console.log"
-	say "$kver: booting under QEMU (TCG), console in $log"
+	log="$out/console-$mode.log"
+	say "$kver: booting under QEMU (TCG, mode $mode), console in $log"
 	rc=0
-	timeout "$boot_timeout" qemu-system-x86_64 -accel tcg -m 512 -smp 2 -nographic -no-reboot \
+	timeout "$timeout_f" qemu-system-x86_64 -accel tcg -m "$mem" -smp 2 -nographic -no-reboot \
 		-nic none -kernel "$vmlinuz" -initrd "$out/initramfs.cpio.gz" \
-		-append "console=ttyS0 panic=-1 loglevel=7" >"$log" 2>&1 || rc=$?
+		-append "console=ttyS0 panic=-1 loglevel=7 ecmxf_ktest=$mode" >"$log" 2>&1 || rc=$?
 	tr -d '\r' <"$log" >"$log.txt"
-	grep -E '^(ECMXF-KTEST|guest-test|bridge|sysfs):' "$log.txt" || true
-	[ "$rc" -eq 124 ] && die "$kver: QEMU did not finish within ${boot_timeout}s (see $log)"
+	grep -E '^(ECMXF-KTEST|guest-test|bench|bridge|sysfs):' "$log.txt" || true
+	[ "$rc" -eq 124 ] && die "$kver: QEMU did not finish within ${timeout_f}s (see $log)"
 	bad=$(grep -nE 'WARNING:|BUG:|Oops|Call Trace|sleeping function called from invalid context|possible circular locking|possible recursive locking|lockdep|KASAN|UBSAN|general protection fault|kernel panic|Kernel panic' \
 		"$log.txt" || true)
 	if [ -n "$bad" ]; then
@@ -120,4 +148,4 @@ run_flavour() {
 for f in $flavours; do
 	run_flavour "$f"
 done
-say "all passed ($flavours)"
+say "all passed ($mode: $flavours)"
