@@ -396,6 +396,12 @@ static long ecmxf_ioc_claim(struct ecmxf_client *c)
 	struct ecmxf_dev *edev = c->edev;
 	int ret = 0;
 
+	/*
+	 * The claim drives the outputs and stands in for CAP_SYS_ADMIN:
+	 * a read-only opener must not hold it (nor keep others from it).
+	 */
+	if (!c->writable)
+		return -EPERM;
 	mutex_lock(&edev->lock);
 	if (edev->claim && edev->claim != c) {
 		ret = -EBUSY;
