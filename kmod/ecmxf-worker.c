@@ -467,8 +467,11 @@ static void ecmxf_reset_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 	if (req->reset_flags == ECMXF_RESET_F_ASYNC_CMD &&
 	    (req->reset_param & ECMXF_RESET_ASYNC_ABANDON))
 		ecmxf_cancel_async(edev, -ECANCELED);
-	if (req->reset_flags == ECMXF_RESET_F_WARM)
+	if (req->reset_flags == ECMXF_RESET_F_WARM) {
 		ecmxf_fail_queued(edev, -ECONNRESET);
+		/* a warm reset forgets the bus: the count is unknown again */
+		edev->slave_count = 0;
+	}
 }
 
 /* @req left the engine: note what it tells, then finish it; lock held. */
@@ -483,6 +486,13 @@ static void ecmxf_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 		memcpy(edev->fw_info, req->rx, sizeof(edev->fw_info));
 		edev->fw_valid = true;
 	}
+	/* the slave count, when the chip answered it without a command error */
+	if (req->x.hdr.code == ECMXF_CMD_ECAT_SLV_CNT_GET && !status &&
+	    req->x.rsp.code == ECMXF_CMD_ECAT_SLV_CNT_GET &&
+	    !(req->x.rsp.err_status & ECMXF_ERR_CMD))
+		edev->slave_count = req->x.rsp.ret;
+	if (req->x.hdr.code == ECMXF_CMD_WARM_RESET && !status)
+		edev->slave_count = 0;
 	if (req->kind == ECMXF_REQ_RESET)
 		ecmxf_reset_done(edev, req);
 	ecmxf_req_finish(edev, req, status);

@@ -177,6 +177,8 @@ struct ecmxf_client {
  * @fw_valid: @fw_version and @fw_info were read
  * @fw_version: FW_VERSION_GET return value
  * @fw_info: FW_VERSION_GET data bytes
+ * @slave_count: return value of the last ECAT_SLV_CNT_GET that succeeded
+ *	without a command error; 0 until then and after a warm reset
  * @last: last valid response header
  * @stats: counters since probe: @stats_base plus the engine's
  * @stats_base: counts of earlier engine lives (before a re-initialisation)
@@ -225,6 +227,7 @@ struct ecmxf_dev {
 	bool fw_valid;
 	u8 fw_version;
 	u8 fw_info[20];
+	u8 slave_count;
 	struct ecmxf_rsp_hdr last;
 	struct ecmxf_engine_stats stats;
 	struct ecmxf_engine_stats stats_base;
