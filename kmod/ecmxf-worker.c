@@ -272,6 +272,9 @@ static int ecmxf_find_format(struct ecmxf_dev *edev)
 				continue;
 			ecmxf_engine_reinit(edev, sizes[i], checks[j]);
 			ret = ecmxf_read_fw_version(edev);
+			dev_dbg(&edev->spi->dev,
+				"FW_VERSION_GET with %u bytes and the %s check word: %d\n",
+				sizes[i], ecmxf_check_name(checks[j]), ret);
 			if (!ret)
 				return 0;
 		}

@@ -42,8 +42,12 @@
 #define ECMXF_READY_TIMEOUT_US	5000
 /* how often the worker expires queued (not yet sent) commands */
 #define ECMXF_EXPIRE_PERIOD_NS	(1 * NSEC_PER_MSEC)
-/* time allowed for each command during probe */
-#define ECMXF_PROBE_TIMEOUT_US	50000
+/*
+ * time allowed for each command during probe: a chip answers in
+ * microseconds; a slow (emulated, heavily loaded) link may take far longer
+ * to be scheduled, and a timeout must not be taken for a wrong format
+ */
+#define ECMXF_PROBE_TIMEOUT_US	500000
 
 /**
  * enum ecmxf_req_kind - who waits for a request and how it ends
