@@ -21,7 +21,7 @@ KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
 
 DEPS := scripts/install-deps.sh
 
-.PHONY: all deps configure check check-asan fuzz demo bench kmod kmod-deps \
+.PHONY: all deps configure check check-user check-debug-kernel check-asan fuzz demo bench kmod kmod-deps \
 	kmod-check kmod-check-all checkpatch kernel-lint check-kernel kmod-clean install install-udev clean help
 
 all: configure
@@ -33,7 +33,12 @@ deps:
 configure: deps
 	cmake -S . -B $(BUILD) -DECMXF_WERROR=$(WERROR) -DCMAKE_INSTALL_PREFIX=$(PREFIX) $(CMAKE_ARGS)
 
-check: all
+# Every test: the userspace suites (ctest), then the kernel module under
+# QEMU on Debian's normal and PREEMPT_RT kernels (check-kernel).
+check: check-user check-kernel
+
+# The userspace suites only (ctest).
+check-user: all
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 
 # The same tests with AddressSanitizer + UndefinedBehaviorSanitizer.
@@ -99,11 +104,17 @@ kernel-lint: checkpatch kmod-check
 
 # ecmxf.ko under QEMU on a virtual SPI controller, with the simulator as the
 # chip, on Debian's normal and PREEMPT_RT kernels (Documentation/
-# kernel-testing.rst).  Not part of `make check`.  KTEST_FLAVOURS= picks
-# the kernels (amd64 rt-amd64).
+# kernel-testing.rst).  Part of `make check`.  KTEST_FLAVOURS= picks the
+# kernels (amd64 rt-amd64).
 KTEST_FLAVOURS ?=
-check-kernel:
+check-kernel: configure
 	BUILD=$(BUILD) tests/kernel/run-qemu.sh $(KTEST_FLAVOURS)
+
+# The same guest tests on a KASAN + UBSAN + lockdep kernel built from
+# Debian's linux-source-6.1 (scripts/build-debug-kernel.sh; built once,
+# cached in /var/tmp/ecmxf-ktest).
+check-debug-kernel: configure
+	BUILD=$(BUILD) tests/kernel/run-qemu.sh debug
 
 kmod-clean:
 	@test -z "$(KDIR)" || $(MAKE) -C $(KDIR) M=$(CURDIR)/kmod clean
@@ -121,13 +132,15 @@ clean: kmod-clean
 
 help:
 	@echo "make [all]     build the library, ecmxf-util and the tests"
-	@echo "make check     build and run every test (ctest)"
+	@echo "make check     build and run every test: ctest, then check-kernel"
+	@echo "make check-user    the userspace tests only (ctest)"
 	@echo "make demo      ecmxf-demo: a tour of the stack on the simulator (DEMO_ARGS=--fast)"
 	@echo "make bench     build and run the benchmarks"
 	@echo "make kmod      build kmod/ecmxf.ko (KDIR=/path/to/headers)"
 	@echo "make kernel-lint  checkpatch --strict, W=1, sparse and kernel-doc"
 	@echo "               over lib/core and kmod (also: make checkpatch, make kmod-check)"
 	@echo "make check-kernel  ecmxf.ko under QEMU (normal + PREEMPT_RT kernel)"
+	@echo "make check-debug-kernel  the same on a KASAN/UBSAN/lockdep kernel (built once)"
 	@echo "make install   install to PREFIX (default /usr/local)"
 	@echo "make install-udev  the udev rule for /dev/ecmxfN (DESTDIR=)"
 	@echo "make clean     remove build trees"

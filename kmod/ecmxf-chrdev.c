@@ -382,6 +382,7 @@ static long ecmxf_ioc_devinfo(struct ecmxf_client *c, void __user *argp)
 	d.check_type = edev->check;
 	d.fw_version = edev->fw_version;
 	memcpy(d.fw_info, edev->fw_info, sizeof(d.fw_info));
+	d.slave_count = edev->slave_count;
 	d.max_open = ecmxf_param_max_open;
 	d.open_count = edev->open_count;
 	d.claim_pid = edev->claim_pid ? pid_vnr(edev->claim_pid) : 0;

@@ -272,6 +272,9 @@ static int ecmxf_find_format(struct ecmxf_dev *edev)
 				continue;
 			ecmxf_engine_reinit(edev, sizes[i], checks[j]);
 			ret = ecmxf_read_fw_version(edev);
+			dev_dbg(&edev->spi->dev,
+				"FW_VERSION_GET with %u bytes and the %s check word: %d\n",
+				sizes[i], ecmxf_check_name(checks[j]), ret);
 			if (!ret)
 				return 0;
 		}
@@ -467,8 +470,11 @@ static void ecmxf_reset_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 	if (req->reset_flags == ECMXF_RESET_F_ASYNC_CMD &&
 	    (req->reset_param & ECMXF_RESET_ASYNC_ABANDON))
 		ecmxf_cancel_async(edev, -ECANCELED);
-	if (req->reset_flags == ECMXF_RESET_F_WARM)
+	if (req->reset_flags == ECMXF_RESET_F_WARM) {
 		ecmxf_fail_queued(edev, -ECONNRESET);
+		/* a warm reset forgets the bus: the count is unknown again */
+		edev->slave_count = 0;
+	}
 }
 
 /* @req left the engine: note what it tells, then finish it; lock held. */
@@ -483,6 +489,13 @@ static void ecmxf_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 		memcpy(edev->fw_info, req->rx, sizeof(edev->fw_info));
 		edev->fw_valid = true;
 	}
+	/* the slave count, when the chip answered it without a command error */
+	if (req->x.hdr.code == ECMXF_CMD_ECAT_SLV_CNT_GET && !status &&
+	    req->x.rsp.code == ECMXF_CMD_ECAT_SLV_CNT_GET &&
+	    !(req->x.rsp.err_status & ECMXF_ERR_CMD))
+		edev->slave_count = req->x.rsp.ret;
+	if (req->x.hdr.code == ECMXF_CMD_WARM_RESET && !status)
+		edev->slave_count = 0;
 	if (req->kind == ECMXF_REQ_RESET)
 		ecmxf_reset_done(edev, req);
 	ecmxf_req_finish(edev, req, status);

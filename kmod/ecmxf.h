@@ -42,8 +42,12 @@
 #define ECMXF_READY_TIMEOUT_US	5000
 /* how often the worker expires queued (not yet sent) commands */
 #define ECMXF_EXPIRE_PERIOD_NS	(1 * NSEC_PER_MSEC)
-/* time allowed for each command during probe */
-#define ECMXF_PROBE_TIMEOUT_US	50000
+/*
+ * time allowed for each command during probe: a chip answers in
+ * microseconds; a slow (emulated, heavily loaded) link may take far longer
+ * to be scheduled, and a timeout must not be taken for a wrong format
+ */
+#define ECMXF_PROBE_TIMEOUT_US	500000
 
 /**
  * enum ecmxf_req_kind - who waits for a request and how it ends
@@ -177,6 +181,8 @@ struct ecmxf_client {
  * @fw_valid: @fw_version and @fw_info were read
  * @fw_version: FW_VERSION_GET return value
  * @fw_info: FW_VERSION_GET data bytes
+ * @slave_count: return value of the last ECAT_SLV_CNT_GET that succeeded
+ *	without a command error; 0 until then and after a warm reset
  * @last: last valid response header
  * @stats: counters since probe: @stats_base plus the engine's
  * @stats_base: counts of earlier engine lives (before a re-initialisation)
@@ -225,6 +231,7 @@ struct ecmxf_dev {
 	bool fw_valid;
 	u8 fw_version;
 	u8 fw_info[20];
+	u8 slave_count;
 	struct ecmxf_rsp_hdr last;
 	struct ecmxf_engine_stats stats;
 	struct ecmxf_engine_stats stats_base;

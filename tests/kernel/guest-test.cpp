@@ -10,6 +10,9 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/kernel_transport.hpp>
+
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdint>
@@ -76,9 +79,16 @@ int main(int argc, char **argv)
 		check("check type is CRC-32", static_cast<unsigned>(info.checkType),
 		      static_cast<unsigned>(ecmxf::CheckType::Crc32));
 
+		auto *kt = dynamic_cast<ecmxf::KernelTransport *>(&dev->transport());
+		if (!kt) {
+			std::printf("guest-test: FAIL %s is not opened by the kernel transport\n", path.c_str());
+			return 1;
+		}
 		dev->initNetwork();
 		// default network: EST-584, EST-584, digital I/O
 		check("slave count after ECAT_INIT_OP", dev->slaveCount(), 3u);
+		// the driver keeps the count it passed on (driver.rst)
+		check("devinfo slave_count after ECAT_SLV_CNT_GET", kt->devInfo().slaveCount, 3u);
 
 		dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
 		// EST-584 manual 3.5: 0x2001:00 pulses per revolution, default 50000
@@ -89,6 +99,20 @@ int main(int argc, char **argv)
 		const auto st = dev->stateCheck(0, ecmxf::State::Op);
 		check("slave 0 state after STATE_SET OP", static_cast<unsigned>(st.state()),
 		      static_cast<unsigned>(ecmxf::State::Op));
+
+		// INT1: with "EtherCAT frame received" enabled, the running bus
+		// asserts INT1 (active low by default); the driver's INT1
+		// handler counts it
+		const std::uint64_t int1Before = kt->counters().int1Irqs;
+		ecmxf::InterruptConfig ic;
+		ic.sources = ecmxf::irq::kEcatPacket;
+		dev->setInterruptConfig(ic);
+		::usleep(100'000);
+		const std::uint64_t int1After = kt->counters().int1Irqs;
+		check("INT1 interrupts after enabling the frame interrupt (more than before)",
+		      int1After > int1Before ? 1u : 0u, 1u);
+		ic.sources = 0;
+		dev->setInterruptConfig(ic);
 	} catch (const std::exception &e) {
 		std::printf("guest-test: FAIL exception: %s\n", e.what());
 		return 1;

@@ -236,7 +236,9 @@ struct ecmxf_completion {
  * @fw_info: the 20 data bytes of ECM_CMD_FW_VERSION_GET: byte 1 extended
  *	version, byte 3 master series (XF, XFL, XFU, XM), bytes 4..19 build
  *	identifier
- * @slave_count: slaves found by the last bus scan the kernel saw, 0 if unknown
+ * @slave_count: return value of the last ECM_CMD_ECAT_SLV_CNT_GET that the
+ *	kernel passed on and that the chip answered without a command error;
+ *	0 if unknown (none yet, or a warm reset since)
  * @max_open: how many file descriptors may have the device open at once
  * @open_count: how many have it open now
  * @claim_pid: process that holds the cyclic claim (%ECMXF_IOC_CLAIM), in the
