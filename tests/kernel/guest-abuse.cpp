@@ -410,6 +410,8 @@ void argsDevinfoCounters(int fd)
 	expectEq("devinfo.queue_depth (module default)", d.queue_depth, 16);
 	expectEq("devinfo.open_count (this test's one file)", d.open_count, 1);
 	expectEq("devinfo.claim_pid without a claim", d.claim_pid, 0);
+	// the last ECAT_SLV_CNT_GET the kernel saw was step 10's
+	expectEq("devinfo.slave_count", d.slave_count, kSlaves);
 	expectTrue("devinfo.reserved zeroed by the kernel",
 		   std::all_of(std::begin(d.reserved), std::end(d.reserved), [](__u32 x) { return x == 0; }));
 
