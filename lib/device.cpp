@@ -369,6 +369,19 @@ CheckType Device::checkType() const
 	return static_cast<CheckType>(impl_->engine.check & ECMXF_STS_CHECK_MASK);
 }
 
+void Device::assumeFormat(std::uint16_t dataSize, CheckType check)
+{
+	if (impl_->transport->runsProtocol())
+		throw Error("ecmxf::Device::assumeFormat: the transport runs the protocol itself and tracks the "
+			    "chip's format (kernel device)",
+			    EOPNOTSUPP);
+	if (ecmxf_engine_set_format(&impl_->engine, dataSize, static_cast<enum ecmxf_check>(check)) != 0)
+		throw Error("ecmxf::Device::assumeFormat: data section size " + std::to_string(dataSize) +
+				    " or check type " + std::to_string(static_cast<unsigned>(check)) +
+				    " is out of range (32..1408 bytes; 0 fixed .. 3 CRC-32)",
+			    EINVAL);
+}
+
 Transport &Device::transport() noexcept
 {
 	return *impl_->transport;
