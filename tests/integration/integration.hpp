@@ -1,0 +1,144 @@
+// SPDX-License-Identifier: MIT
+//
+// The integration suite's rig: the device under test (ECMXF_TEST_URI, by
+// default the simulator with est584x2-io-loopback.net), which transport it
+// is, and the bring-up every test case starts from. Only the public API.
+//
+// The network is the default one (EST-584, EST-584, dio) with the dio's
+// inputs looped back to its outputs. Expected values come from the
+// manuals and the simulator's documented models (Documentation/
+// sim-slaves.rst, sim-peripherals.rst), never from the code's output.
+//
+// Over /dev/ecmxf0 and spidev the chip outlives a test case (it is the
+// bridge's simulated chip in the QEMU guest): every test case opens the
+// device afresh, initializes the bus (ECAT_INIT_OP) and switches the
+// chip's CiA-402 engine off for both drives (its configuration survives
+// INIT_OP), and puts back what it changed outside that (link format,
+// interrupt enables, GPIO modes, the WKC limit).
+
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include <ecmxf/device.hpp>
+#include <ecmxf/device_uri.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/kernel_transport.hpp>
+#include <ecmxf/master.hpp>
+#include <ecmxf/sim.hpp>
+#include <ecmxf/sim_transport.hpp>
+#include <ecmxf/spidev_transport.hpp>
+
+#ifndef ECMXF_TEST_DEFAULT_URI
+#define ECMXF_TEST_DEFAULT_URI "sim:"
+#endif
+
+namespace integ {
+
+using namespace std::chrono_literals;
+
+/// The device under test.
+inline std::string uri()
+{
+	const char *u = std::getenv("ECMXF_TEST_URI");
+	return u && *u ? std::string(u) : std::string(ECMXF_TEST_DEFAULT_URI);
+}
+
+enum class Kind { Sim, Kernel, Spidev };
+
+inline Kind kindOf(const std::string &u)
+{
+	switch (ecmxf::parseDeviceUri(u).kind) {
+	case ecmxf::DeviceUri::Kind::Kernel:
+		return Kind::Kernel;
+	case ecmxf::DeviceUri::Kind::Spidev:
+		return Kind::Spidev;
+	case ecmxf::DeviceUri::Kind::Sim:
+		break;
+	}
+	return Kind::Sim;
+}
+
+/// The check word the chip uses when the test starts: the simulator's
+/// chip is fresh (power-on: fixed); ecmxf.ko sets CRC-32 at probe
+/// (driver.rst, check_type default 3); over spidev, what the URI says
+/// (check=, else the power-on fixed).
+inline ecmxf::CheckType startCheckType(const std::string &u)
+{
+	const ecmxf::DeviceUri p = ecmxf::parseDeviceUri(u);
+	switch (p.kind) {
+	case ecmxf::DeviceUri::Kind::Kernel:
+		return ecmxf::CheckType::Crc32;
+	case ecmxf::DeviceUri::Kind::Spidev:
+		return p.checkType.value_or(ecmxf::CheckType::Fixed);
+	case ecmxf::DeviceUri::Kind::Sim:
+		break;
+	}
+	return ecmxf::CheckType::Fixed;
+}
+
+/// The chip's CiA-402 engine off for both drives (402_CONFIG_SET with
+/// control byte 0): its configuration survives ECAT_INIT_OP, and a test
+/// case that drives the controlword itself must not share it.
+inline void engineOff(ecmxf::Device &d)
+{
+	for (unsigned m = 0; m < 2; m++)
+		d.chip402Configure(m, ecmxf::Chip402Config{ m, 0, 0, {} });
+}
+
+/// ECAT_INIT_OP with SYNC0 1 ms (the EST-584 accepts 1000 us, manual 2.3),
+/// then the 402 engine off.
+inline void initBus(ecmxf::Device &d)
+{
+	ecmxf::InitConfig ic;
+	ic.dc.sync0Ns = 1'000'000;
+	d.initNetwork(ic);
+	engineOff(d);
+}
+
+/// A MasterConfig for the test network: 3 slaves, SYNC0 1 ms, the 402
+/// engine switched off right after the init step.
+inline ecmxf::MasterConfig masterConfig(ecmxf::Device &d)
+{
+	ecmxf::MasterConfig mc;
+	mc.init.dc.sync0Ns = 1'000'000;
+	mc.expectedSlaves = 3;
+	mc.onStep = [&d](std::string_view step) {
+		if (step == "scan")
+			engineOff(d);
+	};
+	return mc;
+}
+
+/// A freshly opened device.
+struct Rig {
+	std::string u = uri();
+	Kind kind = kindOf(u);
+	std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open(u);
+
+	ecmxf::Device &d() { return *dev; }
+	[[nodiscard]] bool isKernel() const { return kind == Kind::Kernel; }
+	[[nodiscard]] bool isSpidev() const { return kind == Kind::Spidev; }
+	[[nodiscard]] bool isSim() const { return kind == Kind::Sim; }
+};
+
+/// Runs @p f, returns the ecmxf::Error (of type E) it throws; fails the
+/// test case when it throws none.
+template <typename E = ecmxf::Error, typename F>
+E thrown(F &&f)
+{
+	try {
+		f();
+	} catch (const E &e) {
+		return e;
+	}
+	throw std::runtime_error("expected an exception, none was thrown");
+}
+
+} // namespace integ
