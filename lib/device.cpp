@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <optional>
 #include <span>
 #include <string>
 #include <thread>
@@ -362,10 +363,15 @@ std::uint16_t Device::dataSize() const
 
 CheckType Device::checkType() const
 {
-	// the kernel's engine talks to the chip, not impl_->engine: the ECM
-	// status bits 1-0 of the last response say which check word is in use
-	if (impl_->transport->runsProtocol())
+	// the kernel's engine talks to the chip, not impl_->engine: the
+	// driver's own view if it gives one (the ECM status bits of the last
+	// response lag behind CRC_TYPE_SET and a reset), else those bits
+	if (impl_->transport->runsProtocol()) {
+		const auto &ct = static_cast<const CommandTransport &>(*impl_->transport);
+		if (const std::optional<std::uint8_t> now = ct.checkTypeNow())
+			return static_cast<CheckType>(*now & ECMXF_STS_CHECK_MASK);
 		return static_cast<CheckType>(lastHeader().ecmStatus & ECMXF_STS_CHECK_MASK);
+	}
 	return static_cast<CheckType>(impl_->engine.check & ECMXF_STS_CHECK_MASK);
 }
 
