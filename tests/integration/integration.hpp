@@ -25,6 +25,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/device_uri.hpp>
@@ -92,28 +93,59 @@ inline void engineOff(ecmxf::Device &d)
 		d.chip402Configure(m, ecmxf::Chip402Config{ m, 0, 0, {} });
 }
 
-/// ECAT_INIT_OP with SYNC0 1 ms (the EST-584 accepts 1000 us, manual 2.3),
-/// then the 402 engine off.
-inline void initBus(ecmxf::Device &d)
+/// The EST-584's default PDO assignment (manual 5.4.1): RxPDO 0x1600 =
+/// controlword, target position, position offset, touch probe function
+/// (12 bytes); TxPDO 0x1A00 = statusword, modes display, position actual,
+/// touch probe status, touch probe position 1, digital inputs (17 bytes).
+inline ecmxf::SlavePdoAssignment est584DefaultPdos(std::uint8_t slave)
 {
-	ecmxf::InitConfig ic;
-	ic.dc.sync0Ns = 1'000'000;
-	d.initNetwork(ic);
-	engineOff(d);
+	ecmxf::SlavePdoAssignment a;
+	a.slave = slave;
+	a.rxPdos = std::vector<ecmxf::PdoDef>{
+		{ 0x1600, { { 0x6040, 0, 16 }, { 0x607A, 0, 32 }, { 0x60B0, 0, 32 }, { 0x60B8, 0, 16 } } }
+	};
+	a.txPdos = std::vector<ecmxf::PdoDef>{ { 0x1A00,
+						 { { 0x6041, 0, 16 },
+						   { 0x6061, 0, 8 },
+						   { 0x6064, 0, 32 },
+						   { 0x60B9, 0, 16 },
+						   { 0x60BA, 0, 32 },
+						   { 0x60FD, 0, 32 } } } };
+	return a;
 }
 
-/// A MasterConfig for the test network: 3 slaves, SYNC0 1 ms, the 402
-/// engine switched off right after the init step.
+/// A MasterConfig for the test network that starts from a known state
+/// whatever earlier test cases left on the slaves: 3 slaves, SYNC0 1 ms
+/// (the EST-584 accepts 1000 us, manual 2.3), the 402 engine off right
+/// after the init step, both EST-584s with their default PDO assignment
+/// and in CSP (0x6060 = 8, the models' power-on mode) -- the mapping and
+/// the mode survive ECAT_INIT_OP on the slaves, as on real drives.
 inline ecmxf::MasterConfig masterConfig(ecmxf::Device &d)
 {
 	ecmxf::MasterConfig mc;
 	mc.init.dc.sync0Ns = 1'000'000;
 	mc.expectedSlaves = 3;
+	mc.pdoAssignments = { est584DefaultPdos(0), est584DefaultPdos(1) };
+	mc.startupSdos = { { 0, 0x6060, 0, { 8 } }, { 1, 0x6060, 0, { 8 } } };
 	mc.onStep = [&d](std::string_view step) {
 		if (step == "scan")
 			engineOff(d);
 	};
 	return mc;
+}
+
+/// The known state without the rest of the bring-up: masterConfig() up
+/// to PRE-OP, then every slave back to INIT (FIFO off).
+inline void initBus(ecmxf::Device &d)
+{
+	ecmxf::Master m(d);
+	ecmxf::MasterConfig mc = masterConfig(d);
+	mc.target = ecmxf::State::PreOp;
+	mc.enableFifo = false;
+	mc.readPdoMapping = false;
+	m.bringUp(mc);
+	d.fifoEnable(false);
+	d.stateSet(ecmxf::kAllSlaves, ecmxf::State::Init);
 }
 
 /// A freshly opened device.

@@ -50,7 +50,16 @@ TEST_CASE("CiA-402 chip engine: both drives enabled and walked back", "[402][chi
 	d.fifoEnable(false);
 	d.stateSet(kAllSlaves, State::PreOp);
 	d.stateSet(kAllSlaves, State::SafeOp);
-	d.pdoWrite(std::vector<std::uint8_t>(25, 0));
+	// outputs: controlword 0, the CSP target (0x607A, bytes 2..5 of each
+	// drive's 12) = where the drive stands (0x6064, bytes 3..6 of its 17
+	// inputs), so that enabling moves nothing
+	const std::vector<std::uint8_t> in = d.pdoRead();
+	REQUIRE(in.size() == 35);
+	std::vector<std::uint8_t> out(25, 0);
+	for (std::size_t drive = 0; drive < 2; drive++)
+		for (std::size_t b = 0; b < 4; b++)
+			out[drive * 12 + 2 + b] = in[drive * 17 + 3 + b];
+	d.pdoWrite(out);
 	d.stateSet(kAllSlaves, State::Op);
 
 	const ecmxf::Chip402Flags engine{ true, false, false };
@@ -114,6 +123,8 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 	ecmxf::Cia402Axis a1(d, image, 1, { .modes = { cia402::kModeCsp } });
 	CHECK(a0.modeByPdo());
 	std::vector<ecmxf::Cia402Axis *> both{ &a0, &a1 };
+	// one exchange first: the modes start from positions actually read
+	ecmxf::runUntil(cyc, both, [&] { return cyc.lastResult().inputsUpdated; }, 5s, "the first inputs");
 	a0.setMode(cia402::kModePp, d.transport().now());
 	a1.setMode(cia402::kModeCsp, d.transport().now());
 	ecmxf::runUntilDone(cyc, both, 5s, "the modes");
@@ -139,11 +150,15 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 	CHECK(a0.targetReached());
 	CHECK(a0.position() == p0 + 20000);
 
-	// CSP: a synchronized 200 ms trajectory, then held until the drive is there
+	// CSP: a 1 s cosine trajectory over 2000 units (peak 3142 units/s),
+	// then held until the drive is there. Slow on purpose: in the QEMU
+	// guest a host cycle can take tens of ms while the bus runs at 1 ms,
+	// and one step of the target must stay inside the EST-584's following
+	// window (0x6065, 1000 by default)
 	a1.startCsp(d.transport().now());
 	const std::array<std::int32_t, 1> from{ a1.position() };
-	const std::array<std::int32_t, 1> to{ from[0] - 15000 };
-	const ecmxf::CspTrajectory traj(from, to, 200ms);
+	const std::array<std::int32_t, 1> to{ from[0] - 2000 };
+	const ecmxf::CspTrajectory traj(from, to, 1s);
 	std::vector<ecmxf::Cia402Axis *> csp{ &a1 };
 	const auto t0 = d.transport().now();
 	ecmxf::runUntil(

@@ -40,8 +40,9 @@ TEST_CASE("bus: Master brings the network to OP and the scan names every slave",
 		inner(s);
 	};
 	m.bringUp(mc);
-	const std::vector<std::string> want{ "init",		"scan",		     "states to PRE-OP", "PDO mapping",
-					     "states to SAFE-OP", "states to OP", "FIFO enable" };
+	const std::vector<std::string> want{ "init",	    "scan",		 "states to PRE-OP",
+					     "PDO configuration", "start-up SDOs",	 "PDO mapping",
+					     "states to SAFE-OP", "states to OP",	 "FIFO enable" };
 	CHECK(steps == want);
 
 	REQUIRE(m.slaves().size() == 3);
