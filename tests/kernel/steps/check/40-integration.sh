@@ -1,0 +1,16 @@
+# SPDX-License-Identifier: MIT
+# The library's integration suite (tests/integration/) through /dev/ecmxf0.
+# The bridge runs the suite's network for it (the default network with the
+# dio's inputs looped back to its outputs); the default one is back after.
+ecmxf_unload
+bridge_stop
+bridge_start /bin/ecmxf-integration.net
+ecmxf_load
+rc=0
+ECMXF_TEST_URI=/dev/ecmxf0 /bin/ecmxf-test-integration -d yes >/tmp/integ.log 2>&1 || rc=$?
+sed 's/^/guest-test: integ(kernel): /' /tmp/integ.log
+[ "$rc" -eq 0 ] || fail "test-integration through /dev/ecmxf0 (exit $rc)"
+ecmxf_unload
+bridge_stop
+bridge_start
+ecmxf_load
