@@ -27,6 +27,7 @@
 #include <string_view>
 #include <vector>
 
+#include <ecmxf/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/device_uri.hpp>
 #include <ecmxf/error.hpp>
@@ -146,6 +147,23 @@ inline void initBus(ecmxf::Device &d)
 	m.bringUp(mc);
 	d.fifoEnable(false);
 	d.stateSet(ecmxf::kAllSlaves, ecmxf::State::Init);
+}
+
+/// The Cyclic settings of the tests: 1 ms application and bus cycle, a
+/// small RxFIFO fill. Over a real transport each command may take 1 s
+/// (not the table's 100 ms): in the QEMU guest under TCG on a loaded host
+/// one round trip can stall beyond 100 ms (seen: ETIMEDOUT of
+/// ECAT_PDO_DATA_FIFO_OP at a load average of 7 on 2 cores). Timing is
+/// not what these tests check.
+inline ecmxf::CyclicConfig cyclicConfig(const std::string &u)
+{
+	ecmxf::CyclicConfig cc;
+	cc.period = 1ms;
+	cc.busCycle = 1ms;
+	cc.rxFill = 2;
+	if (kindOf(u) != Kind::Sim)
+		cc.commandTimeout = 1s;
+	return cc;
 }
 
 /// A freshly opened device.

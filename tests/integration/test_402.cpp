@@ -112,10 +112,7 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 	CHECK(m.rxPdoSize() == 11 + 11 + 1);
 	CHECK(m.txPdoSize() == 15 + 15 + 1);
 	ecmxf::ProcessImage image(m.pdos());
-	ecmxf::CyclicConfig cc;
-	cc.period = 1ms;
-	cc.busCycle = 1ms;
-	cc.rxFill = 2;
+	ecmxf::CyclicConfig cc = integ::cyclicConfig(r.u);
 	ecmxf::Cyclic cyc(d, image, cc);
 	cyc.start();
 

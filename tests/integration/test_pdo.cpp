@@ -124,10 +124,7 @@ TEST_CASE("cyclic: a few hundred FIFO cycles, the WKC right, the dio's inputs fo
 	auto dout = image.output<std::uint8_t>(2, 0x7000, 1);
 	auto din = image.input<std::uint8_t>(2, 0x6000, 1);
 	auto sw0 = image.input<std::uint16_t>(0, 0x6041, 0);
-	ecmxf::CyclicConfig cc;
-	cc.period = 1ms;
-	cc.busCycle = 1ms;
-	cc.rxFill = 2;
+	ecmxf::CyclicConfig cc = integ::cyclicConfig(r.u);
 	cc.wkcEvery = 10;
 	ecmxf::Cyclic cyc(d, image, cc);
 	CHECK(cyc.packSizes().rxPdoBytes == 25);
