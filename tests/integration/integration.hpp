@@ -27,6 +27,7 @@
 #include <string_view>
 #include <vector>
 
+#include <ecmxf/cia402_axis.hpp>
 #include <ecmxf/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/device_uri.hpp>
@@ -164,6 +165,27 @@ inline ecmxf::CyclicConfig cyclicConfig(const std::string &u)
 	if (kindOf(u) != Kind::Sim)
 		cc.commandTimeout = 1s;
 	return cc;
+}
+
+/// A time limit of the tests: @p simLimit on the simulator; over a real
+/// transport (the QEMU guest under TCG, where a cycle took up to 0.5 s on
+/// a loaded host) twelve times as much. The limits catch a hang; timing
+/// is not what these tests check.
+inline std::chrono::nanoseconds patience(const std::string &u, std::chrono::nanoseconds simLimit)
+{
+	return kindOf(u) == Kind::Sim ? simLimit : simLimit * 12;
+}
+
+/// Cia402Axis settings of the tests: the library's defaults on the
+/// simulator, patience() for every wait over a real transport.
+inline ecmxf::Cia402AxisConfig axisConfig(const std::string &u, std::vector<std::int8_t> modes)
+{
+	ecmxf::Cia402AxisConfig c;
+	c.modes = std::move(modes);
+	c.ackTimeout = patience(u, c.ackTimeout);
+	c.modeTimeout = patience(u, c.modeTimeout);
+	c.state.timeout = patience(u, c.state.timeout);
+	return c;
 }
 
 /// A freshly opened device.
