@@ -241,7 +241,7 @@ enum ecmxf_nl_event {
  */
 enum ecmxf_nl_fifo {
 	ECMXF_NL_FIFO_TX,
-	ECMXF_NL_FIFO_RX,
+	ECMXF_NL_FIFO_RX
 };
 
 /**
@@ -256,7 +256,7 @@ enum ecmxf_nl_fifo {
 enum ecmxf_nl_reset_reason {
 	ECMXF_NL_RESET_CHIP = 1,
 	ECMXF_NL_RESET_WARM,
-	ECMXF_NL_RESET_LINK,
+	ECMXF_NL_RESET_LINK
 };
 
 /**
@@ -266,7 +266,7 @@ enum ecmxf_nl_reset_reason {
  */
 enum ecmxf_nl_device_action {
 	ECMXF_NL_DEV_ADDED = 1,
-	ECMXF_NL_DEV_REMOVED,
+	ECMXF_NL_DEV_REMOVED
 };
 
 /**
