@@ -62,6 +62,13 @@ for src in "$top"/tests/kernel/*.cpp; do
 	name=$(basename "$src" .cpp)
 	$cxx -o "$bin/ecmxf-$name" "$src" "$lib" -lgpiod -pthread || die "building $src failed"
 done
+# ecmxf-util for the guest (the netlink step runs `ecmxf-util monitor`): it
+# links libmnl, which Debian ships only as a shared library, so it is
+# linked dynamically and mkinitramfs.sh copies its libraries along
+# shellcheck disable=SC2046
+${cxx%% -static *} ${cxx#* -static } -I"$top/utils" -o "$bin/ecmxf-util" \
+	$(ls "$top"/utils/ecmxf-util*.cpp) "$lib" -lgpiod -lmnl -pthread ||
+	die "building ecmxf-util for the guest failed"
 
 # ---- one kernel flavour
 run_flavour() {
