@@ -8,8 +8,9 @@
  * transports) and adds what it does itself: async commands that failed,
  * WARM_RESET and link resets, the device coming and going.  The events
  * wait in a small per-device queue and are multicast on the "events" group
- * by the worker when it holds no lock (ecmxf_nl_flush()), with GFP_KERNEL:
- * never from an IRQ, never under a spinlock or &ecmxf_dev.lock.
+ * by the worker when it holds no lock (ecmxf_nl_flush()), with allocations
+ * that do not sleep: never from an IRQ, never under a spinlock or
+ * &ecmxf_dev.lock, never waiting in memory reclaim.
  *
  * A state change down or into ERROR first runs an "AL status query": the
  * worker reads ECAT_SLV_CNT_GET, then for every slave ECAT_STATE_GET and,
@@ -48,6 +49,8 @@ MODULE_PARM_DESC(event_poll_ms,
 /* rate limit per event type: a burst of this many, then one per period */
 #define ECMXF_NL_RATE_BURST	16
 #define ECMXF_NL_RATE_PERIOD_NS	(100 * NSEC_PER_MSEC)
+/* attributes of an event without slaves: under 200 bytes */
+#define ECMXF_NL_EVENT_SIZE	256
 /* a user command may go before the AL status query this often in a row */
 #define ECMXF_NL_QUERY_PATIENCE	4
 
@@ -228,15 +231,22 @@ static int ecmxf_nl_put_event(struct sk_buff *skb, struct ecmxf_dev *edev,
 	return bad ? -EMSGSIZE : 0;
 }
 
-/* Multicast one event; 0, or why not (-ESRCH: nobody listens). */
+/*
+ * Multicast one event; 0, or why not (-ESRCH: nobody listens).  The
+ * worker runs SCHED_FIFO and drives a bus: it must not wait in memory
+ * reclaim for an event, so the allocations do not sleep (GFP_NOWAIT); a
+ * failure is counted like any other.
+ */
 static int ecmxf_nl_send(struct ecmxf_dev *edev, const struct ecmxf_nl_ev *ev,
 			 u32 seq, u32 suppressed)
 {
+	const gfp_t gfp = GFP_NOWAIT | __GFP_NOWARN;
 	struct sk_buff *skb;
 	void *hdr;
 	int ret;
 
-	skb = genlmsg_new(NLMSG_GOODSIZE, GFP_KERNEL);
+	/* a state event with its slaves needs up to about 2 KiB */
+	skb = genlmsg_new(ev->slaves ? NLMSG_GOODSIZE : ECMXF_NL_EVENT_SIZE, gfp);
 	if (!skb)
 		return -ENOMEM;
 	hdr = genlmsg_put(skb, 0, 0, &ecmxf_nl_family, 0, ECMXF_NL_CMD_EVENT);
@@ -252,7 +262,7 @@ static int ecmxf_nl_send(struct ecmxf_dev *edev, const struct ecmxf_nl_ev *ev,
 	    ecmxf_nl_put_event(skb, edev, ev))
 		goto too_big;
 	genlmsg_end(skb, hdr);
-	ret = genlmsg_multicast(&ecmxf_nl_family, skb, 0, 0, GFP_KERNEL);
+	ret = genlmsg_multicast(&ecmxf_nl_family, skb, 0, 0, gfp);
 	return ret;
 
 too_big:
@@ -289,8 +299,8 @@ static bool ecmxf_nl_allow(struct ecmxf_nl_dev *nl, unsigned int type,
  * ecmxf_nl_flush() - send the events that wait in the device's queue
  * @edev: the device
  *
- * Worker only (or probe before the worker runs), with no lock held: it
- * allocates with GFP_KERNEL and multicasts.  No listener is not an error.
+ * Worker only, with no lock held: it allocates (GFP_NOWAIT) and
+ * multicasts.  No listener is not an error.
  */
 void ecmxf_nl_flush(struct ecmxf_dev *edev)
 {
@@ -369,6 +379,7 @@ static void ecmxf_nl_state_event(struct ecmxf_dev *edev,
 	}
 	/* a query still running for an earlier change: that one ends now */
 	ecmxf_nl_query_end(edev, true);
+	nl->q_gen++;	/* an answer still on its way belongs to the old one */
 	nl->q_ev = *ev;
 	nl->q_ev.slaves = true;
 	nl->q_ev.incomplete = false;
@@ -446,6 +457,7 @@ bool ecmxf_nl_query_submit(struct ecmxf_dev *edev)
 		return false;
 	}
 	nl->ix_busy = true;
+	nl->ix_gen = nl->q_gen;
 	nl->q_skipped = 0;
 	return true;
 }
@@ -484,6 +496,8 @@ void ecmxf_nl_collect(struct ecmxf_dev *edev)
 	/* leave no command error behind that was not there before */
 	if (cmd_err && !(nl->ix_err & ECMXF_ERR_CMD))
 		ecmxf_engine_clear_errors(&edev->e, ECMXF_CTL_CLR_CMD_ERR);
+	if (nl->ix_gen != nl->q_gen)
+		return;		/* the answer of a query that ended */
 	if ((x->status && x->status != -EMSGSIZE) || cmd_err) {
 		ecmxf_nl_query_end(edev, true);
 		return;
@@ -704,7 +718,8 @@ u64 ecmxf_nl_wake_at(struct ecmxf_dev *edev, u64 now_ns)
  * @edev: the device, link up
  *
  * The header probe read last is the detector's baseline; the "added"
- * event is sent at once.  Called by the worker itself, no lock held.
+ * event is sent at once (just before probe creates /dev/ecmxfN).  Called by
+ * the worker itself, no lock held.
  */
 void ecmxf_nl_start(struct ecmxf_dev *edev)
 {
@@ -736,8 +751,8 @@ void ecmxf_nl_start(struct ecmxf_dev *edev)
  * @edev: the device
  *
  * A pending state event is sent without the rest of its query, then the
- * "removed" event.  Called by the worker itself, no lock held; the query's
- * command must be out of the engine (ecmxf_nl_stop() takes it out).
+ * "removed" event.  Called by the worker itself as it ends, no lock held;
+ * the query's command, if in the engine, is cancelled here.
  */
 void ecmxf_nl_stop(struct ecmxf_dev *edev)
 {

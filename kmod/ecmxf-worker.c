@@ -675,6 +675,7 @@ static int ecmxf_worker_fn(void *data)
 		if (ecmxf_engine_idle(&edev->e) &&
 		    !atomic_xchg(&edev->int1_flag, 0) &&
 		    !ecmxf_nl_poll_due(edev, now)) {
+			ecmxf_nl_flush(edev);	/* a burst that just ended */
 			ecmxf_idle(edev, ecmxf_nl_wake_at(edev, now));
 			continue;
 		}

@@ -209,9 +209,11 @@ struct ecmxf_nl_rate {
  * @q_state: AL status query: 0 idle, else the step running
  * @q_pos: slave position the query is at
  * @q_skipped: times a user command went before the query
+ * @q_gen: number of the query (an answer of an older one is dropped)
  * @q_ev: the state event that waits for the query
  * @ix_busy: @ix is in the engine
  * @ix_err: error status before @ix was sent
+ * @ix_gen: @q_gen when @ix was sent
  * @ix: the query's command
  * @ix_rx: its response data
  * @slaves: slaves read by the query
@@ -234,9 +236,11 @@ struct ecmxf_nl_dev {
 	u8 q_state;
 	u16 q_pos;
 	unsigned int q_skipped;
+	u32 q_gen;
 	struct ecmxf_nl_ev q_ev;
 	bool ix_busy;
 	u8 ix_err;
+	u32 ix_gen;
 	struct ecmxf_xfer ix;
 	u8 ix_rx[16];
 	struct ecmxf_nl_slave slaves[ECMXF_NL_MAX_SLAVES];

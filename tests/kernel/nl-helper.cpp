@@ -4,6 +4,11 @@
 //
 //   ecmxf-nl-helper op [/dev/ecmxfN]        ECAT_INIT_OP, then PRE-OP,
 //                                           SAFE-OP, OP for all slaves
+//   ecmxf-nl-helper refused [/dev/ecmxfN]   slave 0 to INIT, then straight
+//                                           to OP: the slave refuses (AL
+//                                           status 0x0011, error bit), the
+//                                           STATE_SET ends with the async
+//                                           error; exit 0 when it did fail
 //   ecmxf-nl-helper counters [/dev/ecmxfN]  ECMXF_IOC_COUNTERS as "name
 //                                           value" lines, in the order and
 //                                           with the names of
@@ -14,6 +19,7 @@
 // guest program.)
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/error.hpp>
 #include <ecmxf/kernel_transport.hpp>
 
 #include <cstdio>
@@ -35,6 +41,19 @@ int main(int argc, char **argv)
 			dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::Op);
 			std::printf("guest-test: ok   %s: bus in OP (%u slaves)\n", path.c_str(), static_cast<unsigned>(dev->slaveCount()));
 			return 0;
+		}
+		if (what == "refused") {
+			auto dev = ecmxf::Device::open(path);
+			dev->stateSet(0, ecmxf::State::Init);
+			try {
+				dev->stateSet(0, ecmxf::State::Op); // INIT -> OP: not allowed
+			} catch (const ecmxf::Error &e) {
+				std::printf("guest-test: ok   %s: slave 0 INIT -> OP refused: %s\n", path.c_str(),
+					    e.what());
+				return 0;
+			}
+			std::printf("guest-test: FAIL %s: slave 0 INIT -> OP was not refused\n", path.c_str());
+			return 1;
 		}
 		if (what == "counters") {
 			// the transport alone: opening it sends no command
@@ -68,7 +87,7 @@ int main(int argc, char **argv)
 				std::printf("%s %llu\n", name, static_cast<unsigned long long>(value));
 			return 0;
 		}
-		std::fprintf(stderr, "usage: ecmxf-nl-helper op|counters [/dev/ecmxfN]\n");
+		std::fprintf(stderr, "usage: ecmxf-nl-helper op|refused|counters [/dev/ecmxfN]\n");
 		return 2;
 	} catch (const std::exception &e) {
 		std::printf("guest-test: FAIL %s %s: %s\n", std::string(what).c_str(), path.c_str(), e.what());

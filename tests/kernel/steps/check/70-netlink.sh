@@ -65,3 +65,34 @@ echo "guest-test: ok   netlink counters equal ECMXF_IOC_COUNTERS ($(head -n 1 /t
 # back to a working bus
 bridge_ctl link-lost 0
 /bin/ecmxf-nl-helper op /dev/ecmxf0 || fail "bus to OP after the link came back"
+
+# A slave that answers with an AL status code: slave 0 to INIT (the bus
+# state goes down to INIT), then INIT -> OP, which the slave refuses with
+# AL status 0x0011 and its error bit (the bus state becomes ERROR); the
+# STATE_SET ends with the async error bit (-EREMOTEIO)
+: >"$mon_err"
+/bin/ecmxf-util -d /dev/ecmxf0 monitor --json --count 50 >"$mon_out" 2>"$mon_err" &
+mon=$!
+wait_for "$mon_err" "listening" 30 || fail "ecmxf-util monitor did not subscribe (second time)"
+/bin/ecmxf-nl-helper refused /dev/ecmxf0 || fail "the refused state change"
+state='"type": "state", "from": 1, "to": 16'
+async='"type": "async_error", "command": 12,'
+if ! wait_for "$mon_out" "$state" 60 || ! wait_for "$mon_out" "$async" 30; then
+	kill "$mon" 2>/dev/null
+	sed 's/^/monitor: /' "$mon_out" "$mon_err"
+	fail "ecmxf-util monitor did not report the refused state change"
+fi
+kill "$mon"
+wait "$mon" || fail "ecmxf-util monitor exited with an error after SIGTERM (second time)"
+sed 's/^/guest-test: event: /' "$mon_out"
+ev=$(grep "$state" "$mon_out" | head -n 1)
+# slave 0 answers: INIT + error, AL status 0x0011 (17); slaves 1, 2 in OP
+case $ev in
+*'"position": 0, "answering": true, "state": 1, "state_name": "INIT", "error": true, "al_status_code": 17,'*) ;;
+*) fail "the state event lacks slave 0's AL status code 0x0011: $ev" ;;
+esac
+case $ev in *'"position": 1'*) fail "the state event lists slave 1, which is in OP: $ev" ;; esac
+case $ev in *'"al_status_code": 17, "device"'*) ;; *) fail "no AL status code on the event: $ev" ;; esac
+grep "$async" "$mon_out" | grep -q "\"status\": -121," || fail "the async error is not -EREMOTEIO (-121)"
+echo "guest-test: ok   netlink: state INIT -> ERROR with slave 0's AL status 0x0011, async error of STATE_SET"
+/bin/ecmxf-nl-helper op /dev/ecmxf0 || fail "bus to OP after the refused state change"
