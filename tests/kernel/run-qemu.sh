@@ -62,13 +62,38 @@ for src in "$top"/tests/kernel/*.cpp; do
 	name=$(basename "$src" .cpp)
 	$cxx -o "$bin/ecmxf-$name" "$src" "$lib" -lgpiod -pthread || die "building $src failed"
 done
+# the library's integration suite (tests/integration/, Catch2 v2, header
+# only) as /bin/ecmxf-test-integration, and the network its steps give the
+# bridge as /bin/ecmxf-integration.net; objects kept between runs, ccache
+# when there is one
+iobj="$cache/obj-integration"
+mkdir -p "$iobj"
+ccache=""
+command -v ccache >/dev/null 2>&1 && ccache=ccache
+iobjs=""
+for src in "$top"/tests/integration/*.cpp; do
+	o="$iobj/$(basename "$src" .cpp).o"
+	$ccache $cxx -DECMXF_TEST_DEFAULT_URI='"/dev/ecmxf0"' -c -o "$o" "$src" ||
+		die "building $src failed"
+	iobjs="$iobjs $o"
+done
+# shellcheck disable=SC2086
+$cxx -o "$bin/ecmxf-test-integration" $iobjs "$lib" -lgpiod -pthread || die "linking test-integration failed"
+cp "$top/tests/integration/est584x2-io-loopback.net" "$bin/ecmxf-integration.net"
 # ecmxf-util for the guest (the netlink step runs `ecmxf-util monitor`): it
 # links libmnl, which Debian ships only as a shared library, so it is
 # linked dynamically and mkinitramfs.sh copies its libraries along
-# shellcheck disable=SC2046
-${cxx%% -static *} ${cxx#* -static } -I"$top/utils" -o "$bin/ecmxf-util" \
-	$(ls "$top"/utils/ecmxf-util*.cpp) "$lib" -lgpiod -lmnl -pthread ||
-	die "building ecmxf-util for the guest failed"
+dyncxx="${cxx%% -static *} ${cxx#* -static }"
+uobj="$cache/obj-util"
+mkdir -p "$uobj"
+uobjs=""
+for src in "$top"/utils/ecmxf-util*.cpp; do
+	o="$uobj/$(basename "$src" .cpp).o"
+	$ccache $dyncxx -I"$top/utils" -c -o "$o" "$src" || die "building $src failed"
+	uobjs="$uobjs $o"
+done
+# shellcheck disable=SC2086
+$dyncxx -o "$bin/ecmxf-util" $uobjs "$lib" -lgpiod -lmnl -pthread || die "linking ecmxf-util failed"
 
 # ---- one kernel flavour
 run_flavour() {
