@@ -89,6 +89,7 @@ mkdir -p "$uobj"
 uobjs=""
 for src in "$top"/utils/ecmxf-util*.cpp; do
 	o="$uobj/$(basename "$src" .cpp).o"
+	# shellcheck disable=SC2086
 	$ccache $dyncxx -I"$top/utils" -c -o "$o" "$src" || die "building $src failed"
 	uobjs="$uobjs $o"
 done
