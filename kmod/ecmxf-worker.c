@@ -137,7 +137,10 @@ static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
 				    ret);
 		memset(edev->rxbuf, 0, n);
 	}
-	ev = ecmxf_engine_input(&edev->e, ktime_get_ns(), edev->rxbuf, n);
+	now = ktime_get_ns();
+	ev = ecmxf_engine_input(&edev->e, now, edev->rxbuf, n);
+	if (ev & ECMXF_EV_HEADER)
+		ecmxf_nl_header(edev, now);	/* events (ecmxf-netlink.c) */
 	ecmxf_wait_ready(edev);
 	return ev;
 }
@@ -457,6 +460,7 @@ static int ecmxf_submit(struct ecmxf_dev *edev, struct ecmxf_req *req)
 		return -ETIMEDOUT;
 	left = div_u64(req->deadline_ns - now, NSEC_PER_USEC);
 	req->x.timeout_us = (u32)clamp_t(u64, left, 1, U32_MAX);
+	ecmxf_nl_req_sent(edev, &req->x);
 	return ecmxf_engine_submit(&edev->e, &req->x, now);
 }
 
@@ -508,6 +512,7 @@ static void ecmxf_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 		edev->slave_count = 0;
 	if (req->kind == ECMXF_REQ_RESET)
 		ecmxf_reset_done(edev, req);
+	ecmxf_nl_req_done(edev, &req->x);
 	ecmxf_req_finish(edev, req, status);
 }
 
@@ -521,6 +526,7 @@ static void ecmxf_collect(struct ecmxf_dev *edev)
 
 	lockdep_assert_held(&edev->lock);
 	ecmxf_snapshot(edev);
+	ecmxf_nl_collect(edev);
 	if (req && req->x.status != -EINPROGRESS) {
 		edev->cur_req = NULL;
 		ecmxf_done(edev, req);
@@ -551,6 +557,7 @@ static int ecmxf_reset_link(struct ecmxf_dev *edev)
 	mutex_unlock(&edev->lock);
 
 	ecmxf_engine_reinit(edev, size, check);
+	ecmxf_nl_link_reset(edev);
 	ret = ecmxf_read_fw_version(edev);
 	if (ret)
 		ret = ecmxf_find_format(edev);
@@ -591,13 +598,22 @@ static void ecmxf_start_reset(struct ecmxf_dev *edev, struct ecmxf_req *req)
 	mutex_unlock(&edev->lock);
 }
 
-/* Sleep until there is work: a kick, INT1, or kthread_stop(). */
-static void ecmxf_idle(struct ecmxf_dev *edev)
+/*
+ * Sleep until there is work: a kick, INT1, kthread_stop(), or @until_ns
+ * (ktime_get_ns() clock; U64_MAX: no timeout) for the events' poll.
+ */
+static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 {
+	ktime_t t = ns_to_ktime(until_ns);
+
 	set_current_state(TASK_IDLE);
 	if (!atomic_read(&edev->kick) && !atomic_read(&edev->int1_flag) &&
-	    !kthread_should_stop())
-		schedule();
+	    !kthread_should_stop()) {
+		if (until_ns == U64_MAX)
+			schedule();
+		else
+			schedule_hrtimeout(&t, HRTIMER_MODE_ABS);
+	}
 	__set_current_state(TASK_RUNNING);
 }
 
@@ -605,17 +621,22 @@ static int ecmxf_worker_fn(void *data)
 {
 	struct ecmxf_dev *edev = data;
 	struct ecmxf_req *reset, *req;
+	bool slot_free;
 	u64 now;
 	int ret;
 
+	ecmxf_nl_start(edev);
 	while (!kthread_should_stop()) {
+		ecmxf_nl_flush(edev);	/* the events found since, no lock held */
 		atomic_set(&edev->kick, 0);
 		now = ktime_get_ns();
 		reset = NULL;
 		req = NULL;
 
 		mutex_lock(&edev->lock);
-		if (!edev->cur_req) {
+		/* the events' AL status query may hold the command slot */
+		slot_free = !edev->cur_req && !edev->nl.ix_busy;
+		if (slot_free) {
 			reset = list_first_entry_or_null(&edev->resets,
 							 struct ecmxf_req,
 							 node);
@@ -628,11 +649,12 @@ static int ecmxf_worker_fn(void *data)
 			ecmxf_expire_queued(edev, now);
 			edev->next_expire_ns = now + ECMXF_EXPIRE_PERIOD_NS;
 		}
-		if (!reset && !edev->cur_req) {
+		if (!reset && slot_free && !ecmxf_nl_query_first(edev, false)) {
 			req = ecmxf_pick(edev);
 			if (req) {
 				req->state = ECMXF_RS_ACTIVE;
 				edev->cur_req = req;
+				ecmxf_nl_query_first(edev, true);
 			}
 		}
 		mutex_unlock(&edev->lock);
@@ -652,10 +674,19 @@ static int ecmxf_worker_fn(void *data)
 			}
 		}
 
-		/* INT1: refresh the header (flags, state) with one exchange */
+		/* the slot is still free: the AL status query's next command */
+		if (!reset && !req && slot_free)
+			ecmxf_nl_query_submit(edev);
+
+		/*
+		 * INT1, or a poll for the events' listeners: refresh the
+		 * header (flags, state) with one exchange
+		 */
 		if (ecmxf_engine_idle(&edev->e) &&
-		    !atomic_xchg(&edev->int1_flag, 0)) {
-			ecmxf_idle(edev);
+		    !atomic_xchg(&edev->int1_flag, 0) &&
+		    !ecmxf_nl_poll_due(edev, now)) {
+			ecmxf_nl_flush(edev);	/* a burst that just ended */
+			ecmxf_idle(edev, ecmxf_nl_wake_at(edev, now));
 			continue;
 		}
 		ecmxf_exchange(edev);
@@ -665,6 +696,7 @@ static int ecmxf_worker_fn(void *data)
 	}
 
 	/* the device is going away: nothing in flight survives */
+	ecmxf_nl_stop(edev);
 	mutex_lock(&edev->lock);
 	if (edev->cur_req) {
 		req = edev->cur_req;
