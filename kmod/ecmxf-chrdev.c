@@ -310,9 +310,11 @@ static long ecmxf_ioc_reset(struct ecmxf_client *c, void __user *argp)
 	memset(&h, 0, sizeof(h));
 	switch (r.flags) {
 	case ECMXF_RESET_F_ASYNC_CMD:
-		if (r.param & ~(ECMXF_RESET_ASYNC_CLEAR_BUSY |
-				ECMXF_RESET_ASYNC_SKIP_LINK |
-				ECMXF_RESET_ASYNC_ABANDON))
+		/* without a bit it asks for nothing (a command error) */
+		if (!r.param ||
+		    (r.param & ~(ECMXF_RESET_ASYNC_CLEAR_BUSY |
+				 ECMXF_RESET_ASYNC_SKIP_LINK |
+				 ECMXF_RESET_ASYNC_ABANDON)))
 			return -EINVAL;
 		h.code = ECMXF_CMD_ASYNCCMD_RESET;
 		h.param = (u8)r.param;
@@ -395,6 +397,12 @@ static long ecmxf_ioc_claim(struct ecmxf_client *c)
 	struct ecmxf_dev *edev = c->edev;
 	int ret = 0;
 
+	/*
+	 * The claim drives the outputs and stands in for CAP_SYS_ADMIN:
+	 * a read-only opener must not hold it (nor keep others from it).
+	 */
+	if (!c->writable)
+		return -EPERM;
 	mutex_lock(&edev->lock);
 	if (edev->claim && edev->claim != c) {
 		ret = -EBUSY;

@@ -50,7 +50,8 @@ void ecmxf_worker_kick(struct ecmxf_dev *edev)
  * ecmxf_wake_owner() - wake the task that owns the link, nothing more
  * @edev: the device
  *
- * For the IRQ threads, which record their own flag first.
+ * For the INT0/INT1 handlers (hard IRQ or threaded), which record their
+ * own flag first.
  */
 void ecmxf_wake_owner(struct ecmxf_dev *edev)
 {
@@ -261,7 +262,7 @@ static int ecmxf_find_format(struct ecmxf_dev *edev)
 		ECMXF_DATA_DEFAULT, 992,
 	};
 	const unsigned int checks[] = { edev->want_check, ECMXF_CHECK_FIXED };
-	unsigned int i, j;
+	unsigned int i, j, k;
 	int ret = -ENODEV;
 
 	for (i = 0; i < ARRAY_SIZE(sizes); i++) {
@@ -271,10 +272,19 @@ static int ecmxf_find_format(struct ecmxf_dev *edev)
 			if (j && checks[j] == checks[0])
 				continue;
 			ecmxf_engine_reinit(edev, sizes[i], checks[j]);
-			ret = ecmxf_read_fw_version(edev);
-			dev_dbg(&edev->spi->dev,
-				"FW_VERSION_GET with %u bytes and the %s check word: %d\n",
-				sizes[i], ecmxf_check_name(checks[j]), ret);
+			/*
+			 * A timeout is no evidence of a wrong format (that
+			 * fails with bad packets): the link was too slow
+			 * to be scheduled.  Ask again in the same format.
+			 */
+			for (k = 0; k < ECMXF_PROBE_TRIES; k++) {
+				ret = ecmxf_read_fw_version(edev);
+				dev_dbg(&edev->spi->dev,
+					"FW_VERSION_GET with %u bytes and the %s check word: %d\n",
+					sizes[i], ecmxf_check_name(checks[j]), ret);
+				if (ret != -ETIMEDOUT)
+					break;
+			}
 			if (!ret)
 				return 0;
 		}

@@ -48,6 +48,8 @@
  * to be scheduled, and a timeout must not be taken for a wrong format
  */
 #define ECMXF_PROBE_TIMEOUT_US	500000
+/* probe: FW_VERSION_GETs per packet format while they time out */
+#define ECMXF_PROBE_TRIES	3
 
 /**
  * enum ecmxf_req_kind - who waits for a request and how it ends

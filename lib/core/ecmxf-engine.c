@@ -179,6 +179,14 @@ int ecmxf_engine_submit(struct ecmxf_engine *e, struct ecmxf_xfer *x,
 	x->state = ECMXF_XS_QUEUED;
 	e->cur = x;
 	e->cur_sent = false;
+	/*
+	 * The retry bound is per command: bad packets that a command which
+	 * ended meanwhile (by its deadline) or an idle refresh saw must not
+	 * use up the budget of this one.  A running async command keeps
+	 * counting.
+	 */
+	if (!e->async)
+		e->bad_in_row = 0;
 	return 0;
 }
 

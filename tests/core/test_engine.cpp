@@ -341,6 +341,35 @@ TEST_CASE("engine: consecutive bad packets beyond the bound fail the command wit
 	}
 }
 
+TEST_CASE("engine: a new command gets the whole retry budget whatever a timed-out one used",
+	  "[engine]")
+{
+	using fake::Fault;
+	Link l;
+	ecmxf_xfer a = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	a.timeout_us = 1000; // 5 exchanges of 200 us
+	REQUIRE(l.submit(a) == 0);
+	l.exchange(); // sync
+	for (int i = 0; i < 20; i++)
+		l.chip.faults.push_back(Fault::StartWord);
+	l.run(a);
+	REQUIRE(a.status == -ETIMEDOUT);
+	const auto bad = l.e.stats.faults[ECMXF_FAULT_START];
+	REQUIRE(bad >= 1);
+	REQUIRE(bad < 8);
+	l.chip.faults.clear();
+
+	// eight bad packets in a row are tolerated (the ninth would fail it)
+	ecmxf_xfer b = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	REQUIRE(l.submit(b) == 0);
+	for (int i = 0; i < 8; i++)
+		l.chip.faults.push_back(Fault::StartWord);
+	l.run(b);
+	CHECK(b.status == 0);
+	CHECK(l.e.stats.faults[ECMXF_FAULT_START] == bad + 8);
+	CHECK(l.e.stats.exhausted == 0);
+}
+
 TEST_CASE("engine: a command the chip never answers times out at its deadline", "[engine]")
 {
 	Link l;

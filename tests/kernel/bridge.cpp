@@ -5,14 +5,47 @@
 // simulated chip, and drives the INT0/INT1 GPIO lines from the chip's lines.
 //
 //   ecmxf-bridge [network-file]      (no file: the default network)
+//   ecmxf-bridge ctl COMMAND [ARG]   send one control command, print the reply
 //
 // Runs until SIGTERM/SIGINT; then prints the chip's counters to stderr.
+//
+// Control channel (fault injection)
+// ---------------------------------
+// The bridge creates the FIFO /tmp/bridge.ctl and reads command lines from
+// it, so steps can simply `echo "miso-bit-errors 3" >/tmp/bridge.ctl`. A
+// line may end in " @/path/of/a/fifo": the bridge then writes its one-line
+// reply there ("ok ..." or "error ..."). `ecmxf-bridge ctl ...` (the shell
+// helper bridge_ctl of guest-init.sh) and the guest programs
+// (tests/kernel/bridge-ctl.hpp) do that and wait for the reply; every
+// command and reply is also logged to stderr (/tmp/bridge.log).
+// Commands are applied before the next transfer is read: a command whose
+// write returned is in force for every transfer the driver starts later.
+//
+//   mosi-bit-errors N   corrupt the check word of the next N command packets
+//                       (the chip counts them: header crc_err_cnt, error
+//                       status bit 6, and does not execute them)
+//   miso-bit-errors N   corrupt the check word of the next N response packets
+//   not-ready N         answer the next N exchanges "not ready" (0x87654321)
+//   int0-stuck 0|1      INT0 never signals "ready"
+//   async-stuck 0|1     the next async command never completes (busy stays
+//                       set until ASYNCCMD_RESET or WARM_RESET)
+//   link-lost 0|1       all slaves gone: WKC errors, EtherCAT state ERROR
+//   slave-dropped POS   the slave at POS stops answering (-1: none)
+//   sdo-abort CODE      the next SDO fails with this abort code (0: none)
+//   silent 0|1          stop answering transfers: ecmxf-vspi fails each one
+//                       after its timeout_ms module parameter (-ETIMEDOUT)
+//   clear               all of the above off
+//   state               reply with the fault plan and the chip's counters
+//
+// Counts are "the next N" and are replaced, not added to. sim::FaultPlan
+// (include/ecmxf/sim.hpp) documents the faults themselves.
 
 #include <ecmxf/sim.hpp>
 
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -24,9 +57,11 @@
 #include <ctime>
 #include <exception>
 #include <span>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "bridge-ctl.hpp"
 #include "modules/ecmxf-vspi.h"
 
 namespace {
@@ -54,10 +89,173 @@ std::uint32_t linesOf(ecmxf::sim::Chip &chip)
 	std::exit(1);
 }
 
+/// The bridge's side of the control channel.
+class Control
+{
+public:
+	Control(ecmxf::sim::Chip &chip) : chip_(chip)
+	{
+		::unlink(ecmxf::ktest::kBridgeCtlPath);
+		if (::mkfifo(ecmxf::ktest::kBridgeCtlPath, 0666) < 0)
+			die("mkfifo /tmp/bridge.ctl");
+		// read-write: a writer closing the FIFO is no end of file
+		fd_ = ::open(ecmxf::ktest::kBridgeCtlPath, O_RDWR | O_NONBLOCK | O_CLOEXEC);
+		if (fd_ < 0)
+			die("open /tmp/bridge.ctl");
+	}
+	~Control()
+	{
+		::close(fd_);
+		::unlink(ecmxf::ktest::kBridgeCtlPath);
+	}
+	Control(const Control &) = delete;
+	Control &operator=(const Control &) = delete;
+
+	[[nodiscard]] int fd() const { return fd_; }
+	[[nodiscard]] bool silent() const { return silent_; }
+	void countTransfer() { transfers_++; }
+	[[nodiscard]] std::uint64_t transfers() const { return transfers_; }
+
+	/// Reads and applies every complete line that is there.
+	void drain()
+	{
+		char buf[1024];
+		for (;;) {
+			const ssize_t n = ::read(fd_, buf, sizeof(buf));
+			if (n <= 0)
+				break;
+			pending_.append(buf, static_cast<std::size_t>(n));
+		}
+		std::size_t nl;
+		while ((nl = pending_.find('\n')) != std::string::npos) {
+			std::string line = pending_.substr(0, nl);
+			pending_.erase(0, nl + 1);
+			handle(line);
+		}
+	}
+
+private:
+	void handle(std::string line)
+	{
+		std::string replyPath;
+		const auto at = line.rfind(" @");
+		if (at != std::string::npos) {
+			replyPath = line.substr(at + 2);
+			line.erase(at);
+		}
+		const std::string reply = apply(line);
+		std::fprintf(stderr, "ecmxf-bridge: ctl: %s -> %s\n", line.c_str(), reply.c_str());
+		if (replyPath.empty())
+			return;
+		const int rfd = ::open(replyPath.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+		if (rfd < 0) {
+			std::fprintf(stderr, "ecmxf-bridge: ctl: reply to %s: %s\n", replyPath.c_str(),
+				     std::strerror(errno));
+			return;
+		}
+		const std::string out = reply + "\n";
+		if (::write(rfd, out.data(), out.size()) < 0)
+			std::fprintf(stderr, "ecmxf-bridge: ctl: reply: %s\n", std::strerror(errno));
+		::close(rfd);
+	}
+
+	static bool number(const std::string &s, long long &v)
+	{
+		if (s.empty())
+			return false;
+		char *end = nullptr;
+		errno = 0;
+		v = std::strtoll(s.c_str(), &end, 0);
+		return errno == 0 && end && *end == '\0';
+	}
+
+	std::string apply(const std::string &line)
+	{
+		std::istringstream in(line);
+		std::string cmd, arg, extra;
+		in >> cmd >> arg >> extra;
+		if (cmd.empty())
+			return "error: empty command";
+		if (!extra.empty())
+			return "error " + cmd + ": too many arguments";
+		ecmxf::sim::FaultPlan &f = chip_.faults();
+		if (cmd == "state") {
+			const auto &s = chip_.stats();
+			char b[512];
+			std::snprintf(b, sizeof(b),
+				      "ok state mosi-bit-errors=%u miso-bit-errors=%u not-ready=%u int0-stuck=%d async-stuck=%d link-lost=%d slave-dropped=%d sdo-abort=0x%x silent=%d transfers=%llu chip-exchanges=%llu chip-bad-packets=%llu chip-not-ready=%llu",
+				      f.mosiBitErrors, f.misoBitErrors, f.notReady, f.int0StuckBusy ? 1 : 0,
+				      f.asyncStuckBusy ? 1 : 0, f.linkLost ? 1 : 0, f.slaveDropped,
+				      static_cast<unsigned>(f.forcedSdoAbort), silent_ ? 1 : 0,
+				      static_cast<unsigned long long>(transfers_),
+				      static_cast<unsigned long long>(s.exchanges),
+				      static_cast<unsigned long long>(s.badPackets),
+				      static_cast<unsigned long long>(s.notReady));
+			return b;
+		}
+		if (cmd == "clear") {
+			if (!arg.empty())
+				return "error clear: no argument expected";
+			f = ecmxf::sim::FaultPlan{};
+			silent_ = false;
+			return "ok clear";
+		}
+		long long v = 0;
+		if (!number(arg, v))
+			return "error " + cmd + ": a number is needed";
+		const bool flag = v == 0 || v == 1;
+		const std::string done = "ok " + cmd + " " + arg;
+		if (cmd == "mosi-bit-errors" && v >= 0 && v <= 1000000) {
+			f.mosiBitErrors = static_cast<unsigned>(v);
+		} else if (cmd == "miso-bit-errors" && v >= 0 && v <= 1000000) {
+			f.misoBitErrors = static_cast<unsigned>(v);
+		} else if (cmd == "not-ready" && v >= 0 && v <= 1000000) {
+			f.notReady = static_cast<unsigned>(v);
+		} else if (cmd == "int0-stuck" && flag) {
+			f.int0StuckBusy = v == 1;
+		} else if (cmd == "async-stuck" && flag) {
+			f.asyncStuckBusy = v == 1;
+		} else if (cmd == "link-lost" && flag) {
+			f.linkLost = v == 1;
+		} else if (cmd == "slave-dropped" && v >= -1 && v <= 65535) {
+			f.slaveDropped = static_cast<int>(v);
+		} else if (cmd == "sdo-abort" && v >= 0 && v <= 0xFFFFFFFFLL) {
+			f.forcedSdoAbort = static_cast<std::uint32_t>(v);
+		} else if (cmd == "silent" && flag) {
+			silent_ = v == 1;
+		} else {
+			return "error " + cmd + " " + arg + ": unknown command or value out of range";
+		}
+		return done;
+	}
+
+	ecmxf::sim::Chip &chip_;
+	int fd_ = -1;
+	std::string pending_;
+	bool silent_ = false;
+	std::uint64_t transfers_ = 0;
+};
+
+int ctlClient(int argc, char **argv)
+{
+	std::string cmd;
+	for (int i = 2; i < argc; i++) {
+		if (!cmd.empty())
+			cmd += ' ';
+		cmd += argv[i];
+	}
+	std::string reply;
+	const bool ok = ecmxf::ktest::bridgeCtl(cmd, reply);
+	std::printf("%s\n", reply.c_str());
+	return ok ? 0 : 1;
+}
+
 } // namespace
 
 int main(int argc, char **argv)
 {
+	if (argc > 1 && std::strcmp(argv[1], "ctl") == 0)
+		return ctlClient(argc, argv);
 	try {
 		ecmxf::sim::ChipConfig cfg;
 		cfg.timeMode = ecmxf::sim::TimeMode::Paced; // guest wall clock
@@ -71,23 +269,29 @@ int main(int argc, char **argv)
 		const int fd = ::open(ECMXF_VSPI_DEV, O_RDWR | O_CLOEXEC);
 		if (fd < 0)
 			die("open " ECMXF_VSPI_DEV);
+		Control ctl(chip);
 
 		std::uint32_t lines = linesOf(chip);
 		if (::ioctl(fd, ECMXF_VSPI_IOC_SET_LINES, &lines) < 0)
 			die("ECMXF_VSPI_IOC_SET_LINES");
-		std::fprintf(stderr, "ecmxf-bridge: ready (%zu-byte packets)\n", chip.packetSize());
+		std::fprintf(stderr, "ecmxf-bridge: ready (%zu-byte packets, control FIFO %s)\n",
+			     chip.packetSize(), ecmxf::ktest::kBridgeCtlPath);
 
 		std::vector<std::uint8_t> mosi(ECMXF_VSPI_MAX_XFER), miso(ECMXF_VSPI_MAX_XFER);
-		std::uint64_t transfers = 0;
 		while (!gStop) {
 			// while the chip is busy, look again soon: INT0 must go ready
 			const bool busy = !chip.ready();
 			timespec ts{ 0, busy ? 20'000L : 1'000'000L };
-			pollfd p{ fd, POLLIN, 0 };
-			const int n = ::ppoll(&p, 1, &ts, nullptr);
+			// silent: leave the transfers unread, ecmxf-vspi times them out
+			pollfd p[2] = { { ctl.fd(), POLLIN, 0 }, { fd, POLLIN, 0 } };
+			const nfds_t np = ctl.silent() ? 1 : 2;
+			const int n = ::ppoll(p, np, &ts, nullptr);
 			if (n < 0 && errno != EINTR)
 				die("poll");
-			if (n > 0 && (p.revents & POLLIN)) {
+			// commands first: one written before a transfer started
+			// applies to that transfer
+			ctl.drain();
+			if (n > 0 && np == 2 && (p[1].revents & POLLIN) && !ctl.silent()) {
 				const ssize_t len = ::read(fd, mosi.data(), mosi.size());
 				if (len < 0) {
 					if (errno == EINTR || errno == EAGAIN)
@@ -97,7 +301,7 @@ int main(int argc, char **argv)
 				const auto ulen = static_cast<std::size_t>(len);
 				chip.exchange(std::span<const std::uint8_t>(mosi.data(), ulen),
 					      std::span<std::uint8_t>(miso.data(), ulen));
-				transfers++;
+				ctl.countTransfer();
 				// the chip is busy now: INT0 drops before the answer
 				// returns, and rises (an interrupt) when it is ready
 				const std::uint32_t l = linesOf(chip);
@@ -119,7 +323,7 @@ int main(int argc, char **argv)
 		const auto &s = chip.stats();
 		std::fprintf(stderr,
 			     "ecmxf-bridge: %llu transfers; chip: %llu exchanges, %llu bad packets, %llu busy exchanges\n",
-			     static_cast<unsigned long long>(transfers),
+			     static_cast<unsigned long long>(ctl.transfers()),
 			     static_cast<unsigned long long>(s.exchanges),
 			     static_cast<unsigned long long>(s.badPackets),
 			     static_cast<unsigned long long>(s.busyExchanges));

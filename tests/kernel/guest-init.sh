@@ -9,7 +9,7 @@
 # powers off without the marker.
 #
 # The steps are sourced: they may call fail, bridge_start, bridge_stop,
-# ecmxf_load, ecmxf_unload, and must leave ecmxf.ko loaded and bound to the
+# bridge_ctl, ecmxf_load, ecmxf_unload, and must leave ecmxf.ko loaded and bound to the
 # virtual controller with a bridge running (or call bridge_start again).
 
 export PATH=/bin:/sbin
@@ -48,6 +48,12 @@ bridge_stop() {
 	wait "$bridge" || fail "the bridge failed"
 	bridge=""
 	sed 's/^/bridge: /' /tmp/bridge.log
+}
+
+# bridge_ctl CMD [ARG]: a control command to the running bridge (fault
+# injection, see tests/kernel/bridge.cpp); prints the bridge's reply
+bridge_ctl() {
+	/bin/ecmxf-bridge ctl "$@" || fail "bridge_ctl $*"
 }
 
 ecmxf_load() {

@@ -463,7 +463,8 @@ struct ecmxf_ring_setup {
 #define ECMXF_IOC_RESET		_IOW(ECMXF_IOC_MAGIC, 0x05, struct ecmxf_reset)
 /**
  * ECMXF_IOC_CLAIM - take the exclusive cyclic-path claim for this file
- * descriptor (no argument); -EBUSY if another one holds it
+ * descriptor (no argument); -EBUSY if another one holds it, -EPERM if the
+ * file is not open for writing
  */
 #define ECMXF_IOC_CLAIM		_IO(ECMXF_IOC_MAGIC, 0x06)
 /**

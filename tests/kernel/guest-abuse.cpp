@@ -1,0 +1,1617 @@
+// SPDX-License-Identifier: MIT
+// ecmxf-guest-abuse: the abuse tests of ecmxf.ko, run inside the QEMU guest
+// against /dev/ecmxf0 (ecmxf.ko on the virtual SPI controller, answered by
+// ecmxf-bridge's simulated chip). Raw ioctls, not the library: every check
+// prints "guest-test: ok|FAIL <what>: got <x>, want <y>" and the program
+// exits 1 if any failed. The expected values come from the uAPI header
+// (include/uapi/linux/ecmxf.h), Documentation/driver.rst and
+// Documentation/protocol-core.rst, and for the chip's answers from the
+// simulator's defaults (include/ecmxf/sim.hpp ChipConfig: firmware 0x30;
+// default network: 3 slaves, which step 10 brought to OP).
+//
+//   ecmxf-guest-abuse PART [/dev/ecmxfN]
+//
+// PART: args      argument checks, bad pointers, read(), claim, open limit
+//       perm      read-only open, and a child without CAP_SYS_ADMIN
+//       concurrency  threads and processes at once, every answer checked
+//       signals   signals during blocking waits, a command timeout and its
+//                 recovery by ECMXF_IOC_RESET, close with commands pending
+//       faults    injected faults (bridge control channel): bit errors and
+//                 the counters, not-ready, INT0 stuck, a silent chip
+//       smoke     one FW_VERSION_GET and one ECAT_SLV_CNT_GET
+// Documentation/kernel-testing.rst lists what each part covers.
+
+#include <fcntl.h>
+#include <poll.h>
+#include <pthread.h>
+#include <signal.h>
+#include <sys/ioctl.h>
+#include <sys/mman.h>
+#include <sys/prctl.h>
+#include <sys/syscall.h>
+#include <sys/time.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <linux/capability.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include "bridge-ctl.hpp"
+#include "uapi/linux/ecmxf.h"
+
+namespace {
+
+// command codes (manual ver. 050; lib/core/ecmxf-cmds.c)
+constexpr std::uint8_t kInfoUpdate = 0;
+constexpr std::uint8_t kSlvCntGet = 16;     // immediate, read-only: ret = slave count
+constexpr std::uint8_t kSpiReconfig = 23;   // destructive
+constexpr std::uint8_t kCrcTypeSet = 25;    // destructive
+constexpr std::uint8_t kFwVersionGet = 56;  // immediate, read-only (idempotent)
+constexpr std::uint8_t kStateUpdate = 57;   // async, neither bus-changing nor destructive
+constexpr std::uint8_t kAsyncReset = 75;    // ECMXF_IOC_RESET only
+constexpr std::uint8_t kWarmReset = 127;    // ECMXF_IOC_RESET only
+constexpr std::uint8_t kWkcMaxGet = 131;    // immediate, read-only
+constexpr std::uint8_t kWkcMaxSet = 132;    // immediate, bus-changing, not idempotent
+constexpr std::uint8_t kUnknownCode = 200;  // in neither manual: destructive
+
+// what the bridge's chip answers (ChipConfig defaults, default network)
+constexpr unsigned kFwVersion = 0x30;
+constexpr unsigned kSlaves = 3;
+constexpr unsigned kDataSize = 112;         // power-on size, kept by ecmxf.ko
+constexpr unsigned kCheckCrc32 = 3;
+
+// bits of the response header (protocol digest; lib/core/ecmxf-proto.h)
+constexpr unsigned kErrSpiCrc = 1u << 6;
+constexpr unsigned kCtlClrCrcCnt = 1u << 1;
+constexpr unsigned kCtlClrSpiCrcErr = 1u << 6;
+
+constexpr std::size_t kRec = sizeof(ecmxf_completion);
+
+std::string gPath = "/dev/ecmxf0";
+std::atomic<int> gFailures{ 0 };
+
+const char *errName(int e)
+{
+	if (e == 0)
+		return "0";
+	const char *n = strerrorname_np(e);
+	return n ? n : "?";
+}
+
+void report(bool ok, const std::string &what, const std::string &got, const std::string &want)
+{
+	std::printf("guest-test: %s %s: got %s, want %s\n", ok ? "ok  " : "FAIL", what.c_str(), got.c_str(),
+		    want.c_str());
+	std::fflush(stdout);
+	if (!ok)
+		gFailures++;
+}
+
+template <typename A, typename B>
+void expectEq(const std::string &what, A got, B want)
+{
+	const bool ok = static_cast<long long>(got) == static_cast<long long>(want);
+	report(ok, what, std::to_string(static_cast<long long>(got)), std::to_string(static_cast<long long>(want)));
+}
+
+void expectTrue(const std::string &what, bool cond, const std::string &got = "false")
+{
+	report(cond, what, cond ? "true" : got, "true");
+}
+
+std::string errText(long ret, int err)
+{
+	if (ret >= 0)
+		return std::to_string(ret);
+	return std::string("-1/") + errName(err);
+}
+
+/// A syscall result: @p ret with errno @p err must be -1/@p want (or >= 0
+/// when @p want is 0).
+void expectErr(const std::string &what, long ret, int err, int want)
+{
+	const bool ok = want == 0 ? ret >= 0 : (ret == -1 && err == want);
+	report(ok, what, errText(ret, err), want == 0 ? ">= 0" : std::string("-1/") + errName(want));
+}
+
+/// A command's status field: 0 or a negative errno.
+void expectStatus(const std::string &what, int status, int want)
+{
+	report(status == want, what,
+	       status ? std::string("-") + errName(-status) : std::string("0"),
+	       want ? std::string("-") + errName(-want) : std::string("0"));
+}
+
+[[noreturn]] void fatal(const std::string &what)
+{
+	std::printf("guest-test: FAIL %s: %s\n", what.c_str(), std::strerror(errno));
+	std::fflush(stdout);
+	std::_Exit(1);
+}
+
+class Fd
+{
+public:
+	explicit Fd(int flags = O_RDWR)
+	{
+		fd_ = ::open(gPath.c_str(), flags | O_CLOEXEC);
+		if (fd_ < 0)
+			fatal("open " + gPath);
+	}
+	~Fd() { close(); }
+	Fd(const Fd &) = delete;
+	Fd &operator=(const Fd &) = delete;
+	[[nodiscard]] int get() const { return fd_; }
+	void close()
+	{
+		if (fd_ >= 0)
+			::close(fd_);
+		fd_ = -1;
+	}
+
+private:
+	int fd_ = -1;
+};
+
+/// The result of an ioctl: return value and errno.
+struct Res {
+	long ret;
+	int err;
+};
+
+template <typename T>
+Res ioc(int fd, unsigned long nr, T arg)
+{
+	errno = 0;
+	const long r = ::ioctl(fd, nr, arg);
+	return { r, r < 0 ? errno : 0 };
+}
+
+ecmxf_cmd cmdOf(std::uint8_t code, std::uint8_t param = 0)
+{
+	ecmxf_cmd c{};
+	c.hdr.code = code;
+	c.hdr.param = param;
+	return c;
+}
+
+ecmxf_submit subOf(std::uint8_t code, std::uint64_t cookie, std::uint8_t param = 0)
+{
+	ecmxf_submit s{};
+	s.hdr.code = code;
+	s.hdr.param = param;
+	s.cookie = cookie;
+	return s;
+}
+
+std::uint64_t ptr(const void *p)
+{
+	return reinterpret_cast<std::uintptr_t>(p);
+}
+
+/// One FW_VERSION_GET; true when the answer is the simulator's. The
+/// timeout is generous: under TCG (or a debug kernel) an exchange can take
+/// milliseconds.
+bool fwVersionOk(int fd, std::string *why = nullptr, std::uint32_t timeoutUs = 2'000'000)
+{
+	std::uint8_t rx[64] = {};
+	ecmxf_cmd c = cmdOf(kFwVersionGet);
+	c.timeout_us = timeoutUs;
+	c.rx_ptr = ptr(rx);
+	c.rx_size = sizeof(rx);
+	const Res r = ioc(fd, ECMXF_IOC_CMD, &c);
+	const bool ok = r.ret == 0 && c.status == 0 && c.rsp.ret == kFwVersion && c.rx_len == 20 &&
+			std::memcmp(rx + 4, "ecmxf-simulator", 15) == 0;
+	if (!ok && why) {
+		char b[160];
+		std::snprintf(b, sizeof(b), "ioctl %s, status %d, ret 0x%x, rx_len %u", errText(r.ret, r.err).c_str(),
+			      c.status, c.rsp.ret, c.rx_len);
+		*why = b;
+	}
+	return ok;
+}
+
+void expectWorks(const std::string &what, int fd)
+{
+	std::string why = "ok";
+	const bool ok = fwVersionOk(fd, &why);
+	report(ok, what + ": FW_VERSION_GET answers firmware 0x30", why, "ok");
+}
+
+/// ECAT_SLV_CNT_GET: the return value, or -1 with the reason in @p why.
+int slaveCount(int fd, std::string *why = nullptr, std::uint32_t timeoutUs = 2'000'000)
+{
+	ecmxf_cmd c = cmdOf(kSlvCntGet);
+	c.timeout_us = timeoutUs;
+	const Res r = ioc(fd, ECMXF_IOC_CMD, &c);
+	if (r.ret != 0 || c.status != 0) {
+		if (why)
+			*why = errText(r.ret, r.err) + " status " + std::to_string(c.status);
+		return -1;
+	}
+	return c.rsp.ret;
+}
+
+ecmxf_counters counters(int fd)
+{
+	ecmxf_counters k{};
+	if (::ioctl(fd, ECMXF_IOC_COUNTERS, &k) < 0)
+		fatal("ECMXF_IOC_COUNTERS");
+	return k;
+}
+
+ecmxf_devinfo devinfo(int fd)
+{
+	ecmxf_devinfo d{};
+	if (::ioctl(fd, ECMXF_IOC_DEVINFO, &d) < 0)
+		fatal("ECMXF_IOC_DEVINFO");
+	return d;
+}
+
+Res doReset(int fd, std::uint32_t flags, std::uint32_t param = 0, std::uint32_t timeoutUs = 0)
+{
+	ecmxf_reset r{};
+	r.flags = flags;
+	r.param = param;
+	r.timeout_us = timeoutUs;
+	return ioc(fd, ECMXF_IOC_RESET, &r);
+}
+
+/// Bridge control command that must succeed.
+void ctl(const std::string &cmd)
+{
+	std::string reply;
+	const bool ok = ecmxf::ktest::bridgeCtl(cmd, reply);
+	if (!ok) {
+		std::printf("guest-test: FAIL bridge ctl '%s': %s\n", cmd.c_str(), reply.c_str());
+		std::fflush(stdout);
+		std::_Exit(1);
+	}
+}
+
+/// One field of the bridge's "state" reply (-1 if missing).
+long long bridgeState(const std::string &key)
+{
+	std::string reply;
+	if (!ecmxf::ktest::bridgeCtl("state", reply))
+		return -1;
+	const std::string k = " " + key + "=";
+	const auto p = reply.find(k);
+	if (p == std::string::npos)
+		return -1;
+	return std::strtoll(reply.c_str() + p + k.size(), nullptr, 0);
+}
+
+/// A page that is not mapped (mapped, then unmapped).
+void *unmappedPage()
+{
+	void *p = ::mmap(nullptr, 4096, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+	if (p == MAP_FAILED)
+		fatal("mmap");
+	::munmap(p, 4096);
+	return p;
+}
+
+// ---- signals ---------------------------------------------------------
+
+std::atomic<int> gAlarms{ 0 };
+
+void onAlarm(int)
+{
+	gAlarms++;
+}
+
+void setAlarmHandler(bool restart)
+{
+	struct sigaction sa {};
+	sa.sa_handler = onAlarm;
+	sa.sa_flags = restart ? SA_RESTART : 0;
+	sigemptyset(&sa.sa_mask);
+	if (::sigaction(SIGALRM, &sa, nullptr) < 0)
+		fatal("sigaction");
+}
+
+void alarmIn(long ms)
+{
+	itimerval it{};
+	it.it_value.tv_sec = ms / 1000;
+	it.it_value.tv_usec = (ms % 1000) * 1000;
+	if (::setitimer(ITIMER_REAL, &it, nullptr) < 0)
+		fatal("setitimer");
+}
+
+// ---- watchdog: a hang is a failure, not a stuck test run ---------------
+
+void watchdog(int seconds, const char *part)
+{
+	// SIGALRM must interrupt the main thread's calls, not land here
+	sigset_t alrm, old;
+	sigemptyset(&alrm);
+	sigaddset(&alrm, SIGALRM);
+	pthread_sigmask(SIG_BLOCK, &alrm, &old);
+	std::thread([seconds, part] {
+		std::this_thread::sleep_for(std::chrono::seconds(seconds));
+		std::printf("guest-test: FAIL part %s still running after %d s (a hang)\n", part, seconds);
+		std::fflush(stdout);
+		std::_Exit(1);
+	}).detach();
+	pthread_sigmask(SIG_SETMASK, &old, nullptr);
+}
+
+// ======================================================================
+// part args
+// ======================================================================
+
+void argsIoctlNumbers(int fd)
+{
+	std::uint32_t v = 0;
+	Res r = ioc(fd, ECMXF_IOC_GET_VERSION, &v);
+	expectErr("GET_VERSION", r.ret, r.err, 0);
+	expectEq("GET_VERSION value", v, ECMXF_UAPI_VERSION);
+
+	std::uint8_t buf[512] = {};
+	// other magic numbers, and ours with numbers it does not know
+	const struct {
+		const char *what;
+		unsigned long nr;
+	} unknown[] = {
+		{ "ioctl of another type ('V' 0x01, the vspi's)", _IOW('V', 0x01, __u32) },
+		{ "ioctl of another type (0xE8 with CMD's nr and size)", _IOWR(0xE8, 0x02, struct ecmxf_cmd) },
+		{ "our type, nr 0x09 (unused)", _IO(ECMXF_IOC_MAGIC, 0x09) },
+		{ "our type, nr 0x1F (unused, end of range)", _IOWR(ECMXF_IOC_MAGIC, 0x1F, struct ecmxf_cmd) },
+		{ "our type, nr 0xFF", _IO(ECMXF_IOC_MAGIC, 0xFF) },
+		// the size field of a known number too short / too long
+		{ "CMD with size - 8", _IOWR(ECMXF_IOC_MAGIC, 0x02, char[sizeof(ecmxf_cmd) - 8]) },
+		{ "CMD with size + 8", _IOWR(ECMXF_IOC_MAGIC, 0x02, char[sizeof(ecmxf_cmd) + 8]) },
+		{ "SUBMIT with size - 8", _IOW(ECMXF_IOC_MAGIC, 0x03, char[sizeof(ecmxf_submit) - 8]) },
+		{ "DEVINFO with size + 8", _IOR(ECMXF_IOC_MAGIC, 0x01, char[sizeof(ecmxf_devinfo) + 8]) },
+		{ "COUNTERS with size - 8", _IOR(ECMXF_IOC_MAGIC, 0x04, char[sizeof(ecmxf_counters) - 8]) },
+		{ "RESET with size + 8", _IOW(ECMXF_IOC_MAGIC, 0x05, char[sizeof(ecmxf_reset) + 8]) },
+		{ "GET_VERSION with a 64-bit size", _IOR(ECMXF_IOC_MAGIC, 0x00, __u64) },
+		// the direction bits differ
+		{ "CMD as _IOR", _IOR(ECMXF_IOC_MAGIC, 0x02, struct ecmxf_cmd) },
+		{ "DEVINFO as _IOWR", _IOWR(ECMXF_IOC_MAGIC, 0x01, struct ecmxf_devinfo) },
+		{ "CLAIM with an argument (_IOW int)", _IOW(ECMXF_IOC_MAGIC, 0x06, int) },
+	};
+	for (const auto &u : unknown) {
+		r = ioc(fd, u.nr, buf);
+		expectErr(u.what, r.ret, r.err, ENOTTY);
+	}
+	expectWorks("after unknown ioctl numbers", fd);
+}
+
+void argsDevinfoCounters(int fd)
+{
+	ecmxf_devinfo d;
+	std::memset(&d, 0xAA, sizeof(d));
+	Res r = ioc(fd, ECMXF_IOC_DEVINFO, &d);
+	expectErr("DEVINFO", r.ret, r.err, 0);
+	expectEq("devinfo.uapi_version", d.uapi_version, ECMXF_UAPI_VERSION);
+	expectEq("devinfo.data_size", d.data_size, kDataSize);
+	expectEq("devinfo.check_type", d.check_type, kCheckCrc32);
+	expectEq("devinfo.fw_version", d.fw_version, kFwVersion);
+	expectEq("devinfo.flags INT0|INT1|FW_VERSION, no claim, no rings", d.flags,
+		 ECMXF_DEVINFO_F_INT0 | ECMXF_DEVINFO_F_INT1 | ECMXF_DEVINFO_F_FW_VERSION);
+	expectEq("devinfo.max_open (module default)", d.max_open, 64);
+	expectEq("devinfo.queue_depth (module default)", d.queue_depth, 16);
+	expectEq("devinfo.open_count (this test's one file)", d.open_count, 1);
+	expectEq("devinfo.claim_pid without a claim", d.claim_pid, 0);
+	// the last ECAT_SLV_CNT_GET the kernel saw was step 10's
+	expectEq("devinfo.slave_count", d.slave_count, kSlaves);
+	expectTrue("devinfo.reserved zeroed by the kernel",
+		   std::all_of(std::begin(d.reserved), std::end(d.reserved), [](__u32 x) { return x == 0; }));
+
+	ecmxf_counters k;
+	std::memset(&k, 0xAA, sizeof(k));
+	r = ioc(fd, ECMXF_IOC_COUNTERS, &k);
+	expectErr("COUNTERS", r.ret, r.err, 0);
+	expectTrue("counters.reserved zeroed by the kernel",
+		   std::all_of(std::begin(k.reserved), std::end(k.reserved), [](__u64 x) { return x == 0; }));
+	expectTrue("counters.exchanges > 0 after the earlier steps", k.exchanges > 0);
+}
+
+void argsCmdFields(int fd)
+{
+	std::uint8_t rx[4096];
+	std::uint8_t tx[2048] = {};
+
+	// a good command, output fields pre-filled with garbage: ignored
+	ecmxf_cmd c = cmdOf(kFwVersionGet);
+	std::memset(&c.rsp, 0xAA, sizeof(c.rsp));
+	c.rx_len = 0xAAAAAAAA;
+	c.status = 0x55;
+	std::memset(rx, 0xAA, sizeof(rx));
+	c.rx_ptr = ptr(rx);
+	c.rx_size = 64;
+	Res r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD FW_VERSION_GET with garbage in the output fields", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	expectEq("  its rsp.ret (firmware version)", c.rsp.ret, kFwVersion);
+	expectEq("  its rsp.code", c.rsp.code, kFwVersionGet);
+	expectEq("  its rx_len", c.rx_len, 20);
+	expectEq("  its rsp.padding zeroed", c.rsp.padding, 0);
+	expectTrue("  the data: \"ecmxf-simulator\" at bytes 4..18", std::memcmp(rx + 4, "ecmxf-simulator", 15) == 0);
+	expectEq("  the byte after rx_len untouched", rx[20], 0xAA);
+
+	// non-zero padding / reserved fields
+	c = cmdOf(kFwVersionGet);
+	c.hdr.padding = 1;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD hdr.padding (index byte) 1", r.ret, r.err, EINVAL);
+	c = cmdOf(kFwVersionGet);
+	c.hdr.reserved = 0x80000000u;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD hdr.reserved bit 31", r.ret, r.err, EINVAL);
+	for (unsigned i = 0; i < 6; i++) {
+		c = cmdOf(kFwVersionGet);
+		c.reserved[i] = 1;
+		r = ioc(fd, ECMXF_IOC_CMD, &c);
+		expectErr("CMD reserved[" + std::to_string(i) + "] 1", r.ret, r.err, EINVAL);
+	}
+	for (std::uint32_t f : { 1u << 1, 1u << 31, 0xFFFFFFFFu }) {
+		c = cmdOf(kFwVersionGet);
+		c.flags = f;
+		r = ioc(fd, ECMXF_IOC_CMD, &c);
+		char b[64];
+		std::snprintf(b, sizeof(b), "CMD unknown flags 0x%x", f);
+		expectErr(b, r.ret, r.err, EINVAL);
+	}
+	c = cmdOf(kSlvCntGet);
+	c.flags = ECMXF_CMD_F_NO_AUTO_CLEAR;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD flags NO_AUTO_CLEAR (known)", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	expectEq("  ECAT_SLV_CNT_GET ret", c.rsp.ret, kSlaves);
+
+	// lengths
+	c = cmdOf(kFwVersionGet);
+	c.tx_ptr = ptr(tx);
+	c.tx_len = kDataSize;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD tx_len = data_size", r.ret, r.err, 0);
+	expectStatus("  its status (no rx buffer: answer longer than rx_size 0)", c.status, -EMSGSIZE);
+	expectEq("  its rx_len", c.rx_len, 0);
+	for (std::uint32_t len : { kDataSize + 1, 1408u, 1409u, 0xFFFFFFFFu }) {
+		c = cmdOf(kFwVersionGet);
+		c.tx_ptr = ptr(tx);
+		c.tx_len = len;
+		r = ioc(fd, ECMXF_IOC_CMD, &c);
+		expectErr("CMD tx_len " + std::to_string(len) + " > data_size 112", r.ret, r.err, EINVAL);
+	}
+	c = cmdOf(kFwVersionGet);
+	c.tx_len = 8;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD tx_len 8 with tx_ptr 0", r.ret, r.err, EINVAL);
+	c = cmdOf(kFwVersionGet);
+	c.rx_size = 8;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD rx_size 8 with rx_ptr 0", r.ret, r.err, EINVAL);
+	c = cmdOf(kSlvCntGet);
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD without buffers, answer without data", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+
+	// rx_size smaller than the answer: -EMSGSIZE, rx_size bytes copied
+	std::memset(rx, 0xAA, sizeof(rx));
+	c = cmdOf(kFwVersionGet);
+	c.rx_ptr = ptr(rx);
+	c.rx_size = 6;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD FW_VERSION_GET rx_size 6 < 20", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, -EMSGSIZE);
+	expectEq("  its rx_len", c.rx_len, 6);
+	expectTrue("  bytes 4..5 copied ('ec'), byte 6 untouched",
+		   rx[4] == 'e' && rx[5] == 'c' && rx[6] == 0xAA);
+	// rx_size beyond any packet: treated as 1408
+	c = cmdOf(kFwVersionGet);
+	c.rx_ptr = ptr(rx);
+	c.rx_size = 0x7FFFFFFF;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD rx_size 0x7FFFFFFF (a 4096-byte buffer)", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	expectEq("  its rx_len", c.rx_len, 20);
+
+	// commands the driver checks itself
+	c = cmdOf(kAsyncReset, 1);
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD ASYNCCMD_RESET (code 75: RESET ioctl only)", r.ret, r.err, EINVAL);
+	c = cmdOf(kWarmReset);
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD WARM_RESET (code 127: RESET ioctl only)", r.ret, r.err, EINVAL);
+	for (std::uint16_t len : { std::uint16_t{ 0 }, std::uint16_t{ 31 }, std::uint16_t{ 1409 },
+				   std::uint16_t{ 0xFFFF } }) {
+		c = cmdOf(kSpiReconfig);
+		c.hdr.len = len;
+		r = ioc(fd, ECMXF_IOC_CMD, &c);
+		expectErr("CMD SPI_RECONFIG_OP hdr.len " + std::to_string(len), r.ret, r.err, EINVAL);
+	}
+	c = cmdOf(kSpiReconfig);
+	c.hdr.len = 64;
+	c.tx_ptr = ptr(tx);
+	c.tx_len = 65;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD SPI_RECONFIG_OP hdr.len 64, tx_len 65", r.ret, r.err, EINVAL);
+	c = cmdOf(kCrcTypeSet, 4);
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD CRC_TYPE_SET param 4", r.ret, r.err, EINVAL);
+
+	expectWorks("after the rejected commands", fd);
+}
+
+void argsSubmitFields(int fd)
+{
+	std::uint8_t tx[2048] = {};
+	ecmxf_submit s = subOf(kSlvCntGet, 1);
+	s.hdr.padding = 1;
+	Res r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT hdr.padding 1", r.ret, r.err, EINVAL);
+	s = subOf(kSlvCntGet, 1);
+	s.hdr.reserved = 1;
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT hdr.reserved 1", r.ret, r.err, EINVAL);
+	for (unsigned i = 0; i < 6; i++) {
+		s = subOf(kSlvCntGet, 1);
+		s.reserved[i] = 0x100;
+		r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+		expectErr("SUBMIT reserved[" + std::to_string(i) + "]", r.ret, r.err, EINVAL);
+	}
+	s = subOf(kSlvCntGet, 1);
+	s.flags = 4;
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT unknown flag 0x4", r.ret, r.err, EINVAL);
+	s = subOf(kSlvCntGet, 1);
+	s.tx_ptr = ptr(tx);
+	s.tx_len = kDataSize + 1;
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT tx_len 113 > data_size", r.ret, r.err, EINVAL);
+	s = subOf(kSlvCntGet, 1);
+	s.tx_len = 1;
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT tx_len 1 with tx_ptr 0", r.ret, r.err, EINVAL);
+	s = subOf(kSlvCntGet, 1);
+	s.rx_size = 1;
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT rx_size 1 with rx_ptr 0", r.ret, r.err, EINVAL);
+	s = subOf(kWarmReset, 1);
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT WARM_RESET", r.ret, r.err, EINVAL);
+	s = subOf(kAsyncReset, 1, 1);
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT ASYNCCMD_RESET", r.ret, r.err, EINVAL);
+	// a kernel address as rx_ptr: access_ok() fails at submit time
+	s = subOf(kFwVersionGet, 1);
+	s.rx_ptr = 0xFFFF888000000000ULL;
+	s.rx_size = 64;
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT rx_ptr in kernel space", r.ret, r.err, EFAULT);
+
+	// nothing of that was queued
+	ecmxf_completion rec[2];
+	const int fl = ::fcntl(fd, F_GETFL);
+	::fcntl(fd, F_SETFL, fl | O_NONBLOCK);
+	const long n = ::read(fd, rec, sizeof(rec));
+	expectErr("read() O_NONBLOCK after only rejected submits", n, errno, EAGAIN);
+	::fcntl(fd, F_SETFL, fl);
+}
+
+void argsReset(int fd)
+{
+	for (unsigned i = 0; i < 5; i++) {
+		ecmxf_reset rs{};
+		rs.flags = ECMXF_RESET_F_LINK;
+		rs.reserved[i] = 1;
+		const Res r = ioc(fd, ECMXF_IOC_RESET, &rs);
+		expectErr("RESET reserved[" + std::to_string(i) + "] 1", r.ret, r.err, EINVAL);
+	}
+	Res r = doReset(fd, 0);
+	expectErr("RESET flags 0", r.ret, r.err, EINVAL);
+	r = doReset(fd, ECMXF_RESET_F_LINK | ECMXF_RESET_F_ASYNC_CMD);
+	expectErr("RESET two flags", r.ret, r.err, EINVAL);
+	r = doReset(fd, 1u << 3);
+	expectErr("RESET unknown flag 0x8", r.ret, r.err, EINVAL);
+	r = doReset(fd, ECMXF_RESET_F_ASYNC_CMD, 1u << 3);
+	expectErr("RESET ASYNC_CMD param 0x8", r.ret, r.err, EINVAL);
+	r = doReset(fd, ECMXF_RESET_F_ASYNC_CMD, 0);
+	expectErr("RESET ASYNC_CMD param 0 (the chip refuses it)", r.ret, r.err, EINVAL);
+	r = doReset(fd, ECMXF_RESET_F_LINK, 1);
+	expectErr("RESET LINK with param 1", r.ret, r.err, EINVAL);
+	r = doReset(fd, ECMXF_RESET_F_WARM, 1);
+	expectErr("RESET WARM with param 1", r.ret, r.err, EINVAL);
+	r = doReset(fd, ECMXF_RESET_F_LINK);
+	expectErr("RESET LINK", r.ret, r.err, 0);
+	expectWorks("after RESET LINK", fd);
+	r = doReset(fd, ECMXF_RESET_F_ASYNC_CMD, ECMXF_RESET_ASYNC_CLEAR_BUSY);
+	expectErr("RESET ASYNC_CMD CLEAR_BUSY with nothing running", r.ret, r.err, 0);
+	expectWorks("after RESET ASYNC_CMD", fd);
+}
+
+void argsBadPointers(int fd)
+{
+	void *gone = unmappedPage();
+	Res r = ioc(fd, ECMXF_IOC_CMD, static_cast<ecmxf_cmd *>(nullptr));
+	expectErr("CMD with a NULL struct pointer", r.ret, r.err, EFAULT);
+	r = ioc(fd, ECMXF_IOC_CMD, gone);
+	expectErr("CMD with an unmapped struct pointer", r.ret, r.err, EFAULT);
+	r = ioc(fd, ECMXF_IOC_SUBMIT, gone);
+	expectErr("SUBMIT with an unmapped struct pointer", r.ret, r.err, EFAULT);
+	r = ioc(fd, ECMXF_IOC_RESET, gone);
+	expectErr("RESET with an unmapped struct pointer", r.ret, r.err, EFAULT);
+	r = ioc(fd, ECMXF_IOC_DEVINFO, gone);
+	expectErr("DEVINFO to an unmapped pointer", r.ret, r.err, EFAULT);
+	r = ioc(fd, ECMXF_IOC_COUNTERS, gone);
+	expectErr("COUNTERS to an unmapped pointer", r.ret, r.err, EFAULT);
+	r = ioc(fd, ECMXF_IOC_GET_VERSION, gone);
+	expectErr("GET_VERSION to an unmapped pointer", r.ret, r.err, EFAULT);
+	r = ioc(fd, ECMXF_IOC_RING_SETUP, gone);
+	expectErr("RING_SETUP (not offered yet)", r.ret, r.err, EOPNOTSUPP);
+
+	// a struct that straddles the end of a mapping
+	auto *two = static_cast<std::uint8_t *>(
+		::mmap(nullptr, 8192, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0));
+	if (two == MAP_FAILED)
+		fatal("mmap");
+	::munmap(two + 4096, 4096);
+	auto *straddle = two + 4096 - 32;
+	std::memset(straddle, 0, 32);
+	r = ioc(fd, ECMXF_IOC_CMD, straddle);
+	expectErr("CMD struct straddling the end of a mapping", r.ret, r.err, EFAULT);
+
+	ecmxf_cmd c = cmdOf(kFwVersionGet);
+	c.tx_ptr = ptr(gone);
+	c.tx_len = 8;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD tx_ptr unmapped", r.ret, r.err, EFAULT);
+	c = cmdOf(kFwVersionGet);
+	c.tx_ptr = ptr(two + 4096 - 4);
+	c.tx_len = 8;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD tx data straddling the end of a mapping", r.ret, r.err, EFAULT);
+	c = cmdOf(kFwVersionGet);
+	c.rx_ptr = ptr(gone);
+	c.rx_size = 64;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD rx_ptr unmapped (the command ran, the copy-out faults)", r.ret, r.err, EFAULT);
+	expectWorks("after EFAULTs of CMD", fd);
+
+	ecmxf_submit s = subOf(kFwVersionGet, 1);
+	s.tx_ptr = ptr(gone);
+	s.tx_len = 4;
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT tx_ptr unmapped", r.ret, r.err, EFAULT);
+
+	// rx_ptr unmapped: read() fails and keeps the record until it can
+	// be delivered (driver.rst, read())
+	s = subOf(kFwVersionGet, 0x5151);
+	s.rx_ptr = ptr(gone);
+	s.rx_size = 64;
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT rx_ptr unmapped (checked at read())", r.ret, r.err, 0);
+	ecmxf_completion rec[2];
+	long n = ::read(fd, rec, sizeof(rec));
+	expectErr("read() delivering to the unmapped rx_ptr", n, errno, EFAULT);
+	n = ::read(fd, rec, sizeof(rec));
+	expectErr("read() again: the record stayed", n, errno, EFAULT);
+	void *back = ::mmap(gone, 4096, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED_NOREPLACE,
+			    -1, 0);
+	if (back != gone)
+		fatal("mmap the page again");
+	std::memset(rec, 0, sizeof(rec));
+	n = ::read(fd, rec, sizeof(rec));
+	expectEq("read() once rx_ptr is mapped again: one record", n, static_cast<long>(kRec));
+	expectEq("  its cookie", rec[0].cookie, 0x5151);
+	expectStatus("  its status", rec[0].status, 0);
+	expectEq("  its rx_len", rec[0].rx_len, 20);
+	expectTrue("  the data landed in the page again mapped",
+		   std::memcmp(static_cast<std::uint8_t *>(gone) + 4, "ecmxf-simulator", 15) == 0);
+	::munmap(gone, 4096);
+
+	// the record buffer itself unmapped
+	s = subOf(kSlvCntGet, 0x5252);
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT ECAT_SLV_CNT_GET", r.ret, r.err, 0);
+	gone = unmappedPage();
+	n = ::read(fd, gone, kRec);
+	expectErr("read() into an unmapped buffer", n, errno, EFAULT);
+	n = ::read(fd, straddle, kRec);
+	expectErr("read() into a buffer straddling the end of a mapping", n, errno, EFAULT);
+	n = ::read(fd, rec, kRec);
+	expectEq("read() into a good buffer afterwards", n, static_cast<long>(kRec));
+	expectEq("  its cookie", rec[0].cookie, 0x5252);
+	expectEq("  its rsp.ret (slave count)", rec[0].rsp.ret, kSlaves);
+	::munmap(two, 4096);
+	expectWorks("after EFAULTs of SUBMIT and read()", fd);
+}
+
+void argsRead(int fd)
+{
+	ecmxf_completion rec[4];
+	char small[kRec];
+	for (std::size_t len : { std::size_t{ 0 }, std::size_t{ 1 }, kRec - 1 }) {
+		const long n = ::read(fd, small, len);
+		expectErr("read() count " + std::to_string(len) + " < one record", n, errno, EINVAL);
+	}
+	const int fl = ::fcntl(fd, F_GETFL);
+	::fcntl(fd, F_SETFL, fl | O_NONBLOCK);
+	long n = ::read(fd, rec, sizeof(rec));
+	expectErr("read() O_NONBLOCK with nothing done", n, errno, EAGAIN);
+	::fcntl(fd, F_SETFL, fl);
+
+	pollfd p{ fd, POLLIN, 0 };
+	expectEq("poll() with nothing done", ::poll(&p, 1, 0), 0);
+
+	// three submits; records in completion order, whole records only
+	for (std::uint64_t i = 1; i <= 3; i++) {
+		ecmxf_submit s = subOf(kSlvCntGet, 0x100 + i);
+		const Res r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+		expectErr("SUBMIT ECAT_SLV_CNT_GET #" + std::to_string(i), r.ret, r.err, 0);
+	}
+	p = { fd, POLLIN, 0 };
+	const int pr = ::poll(&p, 1, 5000);
+	expectTrue("poll() reports POLLIN for a completion", pr == 1 && (p.revents & POLLIN));
+	// wait until all three are done (one exchange pair each)
+	ecmxf_completion got[3];
+	std::memset(got, 0xAA, sizeof(got));
+	std::size_t have = 0;
+	n = ::read(fd, got, kRec + kRec / 2);
+	expectEq("read() with room for 1.5 records returns one", n, static_cast<long>(kRec));
+	have = 1;
+	while (have < 3) {
+		n = ::read(fd, &got[have], (3 - have) * kRec);
+		if (n <= 0 || n % static_cast<long>(kRec)) {
+			report(false, "read() the other records", errText(n, errno), "whole records");
+			break;
+		}
+		have += static_cast<std::size_t>(n) / kRec;
+	}
+	for (std::size_t i = 0; i < have; i++) {
+		expectEq("record " + std::to_string(i) + " cookie (submission order: one file, immediate commands)",
+			 got[i].cookie, 0x101 + i);
+		expectStatus("  its status", got[i].status, 0);
+		expectEq("  its rsp.ret", got[i].rsp.ret, kSlaves);
+		expectTrue("  its reserved[] and rsp.padding zeroed",
+			   got[i].rsp.padding == 0 &&
+				   std::all_of(std::begin(got[i].reserved), std::end(got[i].reserved),
+					       [](__u32 x) { return x == 0; }));
+	}
+
+	// queue_depth: 16 unread, the 17th is refused
+	int accepted = 0;
+	Res r{ 0, 0 };
+	for (int i = 0; i < 17; i++) {
+		ecmxf_submit s = subOf(kSlvCntGet, static_cast<std::uint64_t>(1000 + i));
+		r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+		if (r.ret < 0)
+			break;
+		accepted++;
+	}
+	expectEq("SUBMITs accepted before the queue is full (queue_depth)", accepted, 16);
+	expectErr("  the 17th SUBMIT", r.ret, r.err, EAGAIN);
+	int done = 0;
+	while (done < accepted) {
+		n = ::read(fd, rec, sizeof(rec));
+		if (n <= 0)
+			break;
+		done += static_cast<int>(n / static_cast<long>(kRec));
+	}
+	expectEq("  completions read", done, 16);
+	ecmxf_submit s = subOf(kSlvCntGet, 77);
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT after reading them", r.ret, r.err, 0);
+	n = ::read(fd, rec, kRec);
+	expectEq("  and its record", n, static_cast<long>(kRec));
+
+	// other file operations
+	errno = 0;
+	n = ::write(fd, rec, kRec);
+	expectErr("write() (not offered)", n, errno, EINVAL);
+	errno = 0;
+	const off_t o = ::lseek(fd, 0, SEEK_SET);
+	expectErr("lseek() (a stream)", static_cast<long>(o), errno, ESPIPE);
+	errno = 0;
+	void *m = ::mmap(nullptr, 4096, PROT_READ, MAP_SHARED, fd, 0);
+	expectErr("mmap() (not offered yet)", m == MAP_FAILED ? -1L : 0L, errno, ENODEV);
+}
+
+void argsClaim()
+{
+	Fd a, b;
+	Res r = ioc(a.get(), ECMXF_IOC_RELEASE, 0);
+	expectErr("RELEASE without the claim", r.ret, r.err, EPERM);
+	r = ioc(a.get(), ECMXF_IOC_CLAIM, 0);
+	expectErr("CLAIM", r.ret, r.err, 0);
+	r = ioc(a.get(), ECMXF_IOC_CLAIM, 0);
+	expectErr("CLAIM again by the holder", r.ret, r.err, 0);
+	ecmxf_devinfo d = devinfo(a.get());
+	expectEq("devinfo.flags of the holder: CLAIMED|CLAIM_MINE",
+		 d.flags & (ECMXF_DEVINFO_F_CLAIMED | ECMXF_DEVINFO_F_CLAIM_MINE),
+		 ECMXF_DEVINFO_F_CLAIMED | ECMXF_DEVINFO_F_CLAIM_MINE);
+	expectEq("devinfo.claim_pid", d.claim_pid, ::getpid());
+	d = devinfo(b.get());
+	expectEq("devinfo.flags of another file: CLAIMED only",
+		 d.flags & (ECMXF_DEVINFO_F_CLAIMED | ECMXF_DEVINFO_F_CLAIM_MINE), ECMXF_DEVINFO_F_CLAIMED);
+	r = ioc(b.get(), ECMXF_IOC_CLAIM, 0);
+	expectErr("CLAIM by another file", r.ret, r.err, EBUSY);
+	r = ioc(b.get(), ECMXF_IOC_RELEASE, 0);
+	expectErr("RELEASE by another file", r.ret, r.err, EPERM);
+	r = ioc(a.get(), ECMXF_IOC_RELEASE, 0);
+	expectErr("RELEASE by the holder", r.ret, r.err, 0);
+	r = ioc(b.get(), ECMXF_IOC_CLAIM, 0);
+	expectErr("CLAIM by the other file after RELEASE", r.ret, r.err, 0);
+	b.close();
+	r = ioc(a.get(), ECMXF_IOC_CLAIM, 0);
+	expectErr("CLAIM after the holder closed its file", r.ret, r.err, 0);
+	r = ioc(a.get(), ECMXF_IOC_RELEASE, 0);
+	expectErr("RELEASE", r.ret, r.err, 0);
+}
+
+void argsOpenLimit()
+{
+	Fd probe;
+	const ecmxf_devinfo d = devinfo(probe.get());
+	std::vector<int> fds;
+	int last = 0;
+	for (unsigned i = 0; i < d.max_open + 4; i++) {
+		const int fd = ::open(gPath.c_str(), O_RDWR | O_CLOEXEC);
+		if (fd < 0) {
+			last = errno;
+			break;
+		}
+		fds.push_back(fd);
+	}
+	expectEq("opens that succeed with one file open (max_open - 1)", fds.size(), d.max_open - 1);
+	expectErr("the next open()", -1, last, EMFILE);
+	if (!fds.empty()) {
+		::close(fds.back());
+		fds.pop_back();
+		const int fd = ::open(gPath.c_str(), O_RDWR | O_CLOEXEC);
+		expectErr("open() after closing one", fd, errno, 0);
+		if (fd >= 0)
+			fds.push_back(fd);
+	}
+	for (int fd : fds)
+		::close(fd);
+	expectEq("devinfo.open_count after closing them", devinfo(probe.get()).open_count, 1);
+}
+
+void partArgs()
+{
+	{
+		Fd f;
+		argsIoctlNumbers(f.get());
+		argsDevinfoCounters(f.get());
+		argsCmdFields(f.get());
+		argsSubmitFields(f.get());
+		argsReset(f.get());
+		argsBadPointers(f.get());
+		argsRead(f.get());
+	}
+	argsClaim();
+	argsOpenLimit();
+}
+
+// ======================================================================
+// part perm
+// ======================================================================
+
+/// ECAT_WKC_CONTI_ERR_MAX_GET: the value, or -1.
+int wkcMax(int fd)
+{
+	ecmxf_cmd c = cmdOf(kWkcMaxGet);
+	if (::ioctl(fd, ECMXF_IOC_CMD, &c) < 0 || c.status)
+		return -1;
+	return c.rsp.ret;
+}
+
+bool hasCapSysAdmin()
+{
+	__user_cap_header_struct h{ _LINUX_CAPABILITY_VERSION_3, 0 };
+	__user_cap_data_struct d[2]{};
+	if (::syscall(SYS_capget, &h, d) < 0)
+		return false;
+	return d[CAP_TO_INDEX(CAP_SYS_ADMIN)].effective & CAP_TO_MASK(CAP_SYS_ADMIN);
+}
+
+void permReadOnly()
+{
+	Fd ro(O_RDONLY);
+	const int fd = ro.get();
+	const int wmax = wkcMax(fd);
+	expectTrue("read-only: ECAT_WKC_CONTI_ERR_MAX_GET (a read) works", wmax > 0, std::to_string(wmax));
+	expectWorks("read-only", fd);
+	expectEq("read-only: ECAT_SLV_CNT_GET", slaveCount(fd), kSlaves);
+	ecmxf_cmd c = cmdOf(kStateUpdate);
+	Res r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("read-only: ECAT_STATE_UPDATE (async, not bus-changing)", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+
+	c = cmdOf(kWkcMaxSet, static_cast<std::uint8_t>(wmax));
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("read-only: ECAT_WKC_CONTI_ERR_MAX_SET (bus-changing)", r.ret, r.err, EPERM);
+	ecmxf_submit s = subOf(kWkcMaxSet, 1, static_cast<std::uint8_t>(wmax));
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("read-only: SUBMIT of a bus-changing command", r.ret, r.err, EPERM);
+	c = cmdOf(kCrcTypeSet, kCheckCrc32);
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("read-only, root: CRC_TYPE_SET (destructive)", r.ret, r.err, EPERM);
+	c = cmdOf(kUnknownCode);
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("read-only: unknown code 200", r.ret, r.err, EPERM);
+	r = doReset(fd, ECMXF_RESET_F_LINK);
+	expectErr("read-only: RESET LINK", r.ret, r.err, EPERM);
+	r = doReset(fd, ECMXF_RESET_F_ASYNC_CMD, ECMXF_RESET_ASYNC_CLEAR_BUSY);
+	expectErr("read-only: RESET ASYNC_CMD", r.ret, r.err, EPERM);
+	r = doReset(fd, ECMXF_RESET_F_WARM);
+	expectErr("read-only: RESET WARM", r.ret, r.err, EPERM);
+	r = ioc(fd, ECMXF_IOC_CLAIM, 0);
+	expectErr("read-only: CLAIM", r.ret, r.err, EPERM);
+	expectEq("  devinfo.flags: not claimed", devinfo(fd).flags & ECMXF_DEVINFO_F_CLAIMED, 0);
+	// submit and read work on a read-only file
+	s = subOf(kSlvCntGet, 9);
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("read-only: SUBMIT ECAT_SLV_CNT_GET", r.ret, r.err, 0);
+	ecmxf_completion rec{};
+	const long n = ::read(fd, &rec, sizeof(rec));
+	expectTrue("read-only: its completion", n == static_cast<long>(kRec) && rec.cookie == 9 && rec.status == 0 &&
+							rec.rsp.ret == kSlaves,
+		   errText(n, errno));
+}
+
+/// In a child: the file opened as root, then setuid(65534), which drops
+/// every capability.
+int permUnprivilegedChild()
+{
+	Fd rw(O_RDWR), other(O_RDWR);
+	const int fd = rw.get();
+	const int wmax = wkcMax(fd);
+	if (::setgid(65534) < 0 || ::setuid(65534) < 0)
+		fatal("setuid(65534)");
+	expectTrue("child: CAP_SYS_ADMIN dropped by setuid(65534)", !hasCapSysAdmin());
+
+	expectWorks("unprivileged", fd);
+	ecmxf_cmd c = cmdOf(kWkcMaxSet, static_cast<std::uint8_t>(wmax));
+	Res r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("unprivileged, writable: ECAT_WKC_CONTI_ERR_MAX_SET (bus-changing)", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	c = cmdOf(kCrcTypeSet, kCheckCrc32);
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("unprivileged, no claim: CRC_TYPE_SET (destructive)", r.ret, r.err, EPERM);
+	ecmxf_submit s = subOf(kCrcTypeSet, 1, kCheckCrc32);
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("unprivileged, no claim: SUBMIT CRC_TYPE_SET", r.ret, r.err, EPERM);
+	c = cmdOf(kSpiReconfig);
+	c.hdr.len = kDataSize;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("unprivileged, no claim: SPI_RECONFIG_OP", r.ret, r.err, EPERM);
+	c = cmdOf(kUnknownCode);
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("unprivileged, no claim: unknown code 200 (destructive)", r.ret, r.err, EPERM);
+	r = doReset(fd, ECMXF_RESET_F_WARM);
+	expectErr("unprivileged, no claim: RESET WARM", r.ret, r.err, EPERM);
+	r = doReset(fd, ECMXF_RESET_F_LINK);
+	expectErr("unprivileged, writable: RESET LINK", r.ret, r.err, 0);
+
+	r = ioc(fd, ECMXF_IOC_CLAIM, 0);
+	expectErr("unprivileged: CLAIM", r.ret, r.err, 0);
+	c = cmdOf(kCrcTypeSet, kCheckCrc32);   // the type in force: no change
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("unprivileged with the claim: CRC_TYPE_SET 3 (the type in force)", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	c = cmdOf(kCrcTypeSet, kCheckCrc32);
+	r = ioc(other.get(), ECMXF_IOC_CMD, &c);
+	expectErr("unprivileged, another file of the same process (no claim): CRC_TYPE_SET", r.ret, r.err, EPERM);
+	r = ioc(fd, ECMXF_IOC_RELEASE, 0);
+	expectErr("unprivileged: RELEASE", r.ret, r.err, 0);
+	c = cmdOf(kCrcTypeSet, kCheckCrc32);
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("unprivileged after RELEASE: CRC_TYPE_SET", r.ret, r.err, EPERM);
+	expectWorks("unprivileged, at the end", fd);
+	return gFailures ? 1 : 0;
+}
+
+void partPerm()
+{
+	permReadOnly();
+	std::fflush(stdout);
+	const pid_t pid = ::fork();
+	if (pid < 0)
+		fatal("fork");
+	if (pid == 0)
+		std::_Exit(permUnprivilegedChild());
+	int st = 0;
+	::waitpid(pid, &st, 0);
+	expectTrue("the unprivileged child passed", WIFEXITED(st) && WEXITSTATUS(st) == 0,
+		   "status " + std::to_string(st));
+	Fd f;
+	expectWorks("after the permission checks", f.get());
+	expectEq("CRC-32 still in force", devinfo(f.get()).check_type, kCheckCrc32);
+}
+
+// ======================================================================
+// part concurrency
+// ======================================================================
+
+void partConcurrency()
+{
+	constexpr int kThreads = 4;
+	constexpr int kPerThread = 150;
+	constexpr int kProcs = 2;
+	constexpr int kPerProc = 40;
+	// under this load a command may wait in the queue for longer than the
+	// default 100 ms (time in the queue counts): allow 10 s
+	constexpr std::uint32_t kTimeoutUs = 10'000'000;
+
+	std::fflush(stdout);
+	// processes: each submits async (ECAT_STATE_UPDATE) and immediate
+	// commands on its own file, up to queue_depth in flight, and reads
+	// every completion
+	std::vector<pid_t> kids;
+	for (int p = 0; p < kProcs; p++) {
+		const pid_t pid = ::fork();
+		if (pid < 0)
+			fatal("fork");
+		if (pid == 0) {
+			Fd f;
+			std::set<std::uint64_t> open;
+			int bad = 0, next = 0, finished = 0;
+			while (finished < kPerProc) {
+				while (next < kPerProc && open.size() < 8) {
+					const bool async = next % 2 == 0;
+					const std::uint64_t cookie = (static_cast<std::uint64_t>(p) << 32) |
+								     static_cast<std::uint64_t>(next);
+					ecmxf_submit s = subOf(async ? kStateUpdate : kSlvCntGet, cookie);
+					s.timeout_us = kTimeoutUs;
+					if (::ioctl(f.get(), ECMXF_IOC_SUBMIT, &s) < 0) {
+						std::printf("guest-test: FAIL process %d: SUBMIT: %s\n", p,
+							    errName(errno));
+						std::_Exit(1);
+					}
+					open.insert(cookie);
+					next++;
+				}
+				ecmxf_completion rec[8];
+				const long n = ::read(f.get(), rec, sizeof(rec));
+				if (n <= 0) {
+					std::printf("guest-test: FAIL process %d: read: %s\n", p, errName(errno));
+					std::_Exit(1);
+				}
+				for (long i = 0; i < n / static_cast<long>(kRec); i++) {
+					const auto &c = rec[i];
+					const auto idx = static_cast<int>(c.cookie & 0xFFFFFFFFu);
+					const bool async = idx % 2 == 0;
+					// an async command's rsp is the header that
+					// showed the busy bit clear (of whatever packet)
+					const bool ok = open.erase(c.cookie) == 1 && c.status == 0 &&
+							(async ? !(c.rsp.ecm_status & 0x80u)
+							       : c.rsp.code == kSlvCntGet && c.rsp.ret == kSlaves);
+					if (!ok) {
+						std::printf("guest-test: FAIL process %d: completion cookie 0x%llx status %d code %u ret %u ecm_status 0x%x\n",
+							    p, static_cast<unsigned long long>(c.cookie), c.status,
+							    c.rsp.code, c.rsp.ret, c.rsp.ecm_status);
+						bad++;
+					}
+					finished++;
+				}
+			}
+			std::fflush(stdout);
+			std::_Exit(bad ? 1 : 0);
+		}
+		kids.push_back(pid);
+	}
+
+	// threads: 2 with a file each, 2 sharing one file; sync commands
+	Fd shared;
+	std::atomic<int> bad{ 0 };
+	std::vector<std::thread> threads;
+	std::vector<double> secs(kThreads), worst(kThreads);
+	for (int t = 0; t < kThreads; t++) {
+		threads.emplace_back([t, &shared, &bad, &secs, &worst] {
+			const auto t0 = std::chrono::steady_clock::now();
+			Fd own;
+			const int fd = t < 2 ? own.get() : shared.get();
+			for (int i = 0; i < kPerThread; i++) {
+				std::string why;
+				const auto c0 = std::chrono::steady_clock::now();
+				if (i % 2 == 0) {
+					if (!fwVersionOk(fd, &why, kTimeoutUs)) {
+						std::printf("guest-test: FAIL thread %d FW_VERSION_GET #%d: %s\n", t, i,
+							    why.c_str());
+						bad++;
+					}
+				} else {
+					const int n = slaveCount(fd, &why, kTimeoutUs);
+					if (n != static_cast<int>(kSlaves)) {
+						std::printf("guest-test: FAIL thread %d ECAT_SLV_CNT_GET #%d: %d %s\n", t,
+							    i, n, why.c_str());
+						bad++;
+					}
+				}
+				const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
+				worst[static_cast<std::size_t>(t)] = std::max(worst[static_cast<std::size_t>(t)], dt);
+			}
+			secs[static_cast<std::size_t>(t)] =
+				std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+		});
+	}
+	for (auto &th : threads)
+		th.join();
+	expectEq("threads: wrong answers among 4 x 150 sync commands", bad.load(), 0);
+	for (int t = 0; t < kThreads; t++)
+		std::printf("guest-test: info thread %d (%s) finished its %d commands in %.2f s, the slowest took %.1f ms\n",
+			    t, t < 2 ? "own file" : "shared file", kPerThread, secs[static_cast<std::size_t>(t)],
+			    worst[static_cast<std::size_t>(t)] * 1e3);
+	for (std::size_t p = 0; p < kids.size(); p++) {
+		int st = 0;
+		::waitpid(kids[p], &st, 0);
+		expectTrue("process " + std::to_string(p) + ": 40 submitted commands (async and immediate) all right",
+			   WIFEXITED(st) && WEXITSTATUS(st) == 0, "status " + std::to_string(st));
+	}
+	Fd f;
+	expectEq("devinfo.open_count afterwards", devinfo(f.get()).open_count, 2);
+	expectWorks("after the concurrent load", f.get());
+}
+
+// ======================================================================
+// part signals (and timeouts, and close with commands pending)
+// ======================================================================
+
+/// RESET ASYNC_CMD CLEAR_BUSY|ABANDON: ends a stuck async command.
+void unstick(int fd, const std::string &what)
+{
+	const Res r = doReset(fd, ECMXF_RESET_F_ASYNC_CMD, ECMXF_RESET_ASYNC_CLEAR_BUSY | ECMXF_RESET_ASYNC_ABANDON);
+	expectErr(what + ": RESET ASYNC_CMD CLEAR_BUSY|ABANDON", r.ret, r.err, 0);
+}
+
+void signalsSentCommand()
+{
+	Fd f;
+	const int fd = f.get();
+	ctl("async-stuck 1");
+	setAlarmHandler(false);
+	gAlarms = 0;
+	alarmIn(300);
+	ecmxf_cmd c = cmdOf(kStateUpdate);
+	c.timeout_us = 20'000'000;
+	Res r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("SIGALRM (no SA_RESTART) during a sync async command that the chip runs", r.ret, r.err, EINTR);
+	expectEq("  handler calls", gAlarms.load(), 1);
+
+	// the same with SA_RESTART: a sent command is not restarted
+	ecmxf_cmd c2 = cmdOf(kStateUpdate);
+	c2.timeout_us = 20'000'000;
+	// the abandoned one still runs: this one waits in the queue; end the
+	// first one so that this one is sent and gets stuck too
+	unstick(fd, "the abandoned command");
+	ctl("async-stuck 1");
+	setAlarmHandler(true);
+	gAlarms = 0;
+	alarmIn(300);
+	r = ioc(fd, ECMXF_IOC_CMD, &c2);
+	expectErr("SIGALRM (SA_RESTART) during a command the chip runs: not restarted", r.ret, r.err, EINTR);
+	expectEq("  handler calls", gAlarms.load(), 1);
+	unstick(fd, "after the SA_RESTART case");
+	expectEq("bridge: async-stuck consumed", bridgeState("async-stuck"), 0);
+	expectWorks("after the interrupted commands", fd);
+	c = cmdOf(kStateUpdate);
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("ECAT_STATE_UPDATE afterwards", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+}
+
+void signalsQueuedCommand()
+{
+	Fd a, b;
+	ctl("async-stuck 1");
+	// a's async command runs (stuck); b's waits in the queue behind it
+	ecmxf_submit s = subOf(kStateUpdate, 0xA1);
+	s.timeout_us = 20'000'000;
+	Res r = ioc(a.get(), ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT ECAT_STATE_UPDATE (gets stuck)", r.ret, r.err, 0);
+	::usleep(100'000);
+
+	setAlarmHandler(false);
+	gAlarms = 0;
+	alarmIn(300);
+	ecmxf_cmd c = cmdOf(kStateUpdate);
+	c.timeout_us = 20'000'000;
+	r = ioc(b.get(), ECMXF_IOC_CMD, &c);
+	expectErr("SIGALRM (no SA_RESTART) while the command waits in the queue", r.ret, r.err, EINTR);
+	expectEq("  handler calls", gAlarms.load(), 1);
+
+	setAlarmHandler(true);
+	gAlarms = 0;
+	alarmIn(300);
+	c = cmdOf(kStateUpdate);
+	c.timeout_us = 1'000'000;   // from the restarted call on
+	r = ioc(b.get(), ECMXF_IOC_CMD, &c);
+	expectErr("SIGALRM (SA_RESTART) while queued: the call restarts and ends", r.ret, r.err, 0);
+	expectStatus("  its status: still queued at its deadline", c.status, -ETIMEDOUT);
+	expectEq("  handler calls", gAlarms.load(), 1);
+
+	// blocking read() with nothing done
+	setAlarmHandler(false);
+	gAlarms = 0;
+	alarmIn(300);
+	ecmxf_completion rec{};
+	long n = ::read(b.get(), &rec, sizeof(rec));
+	expectErr("SIGALRM (no SA_RESTART) during a blocking read()", n, errno, EINTR);
+	expectEq("  handler calls", gAlarms.load(), 1);
+
+	// end a's command: it finishes with -ECANCELED
+	unstick(b.get(), "a's stuck command");
+	n = ::read(a.get(), &rec, sizeof(rec));
+	expectEq("a: the completion of the abandoned command", n, static_cast<long>(kRec));
+	expectEq("  its cookie", rec.cookie, 0xA1);
+	expectStatus("  its status (RESET ASYNC_CMD with ABANDON)", rec.status, -ECANCELED);
+
+	// blocking read() restarted by SA_RESTART, ended by a completion
+	ctl("async-stuck 1");
+	s = subOf(kStateUpdate, 0xA2);
+	s.timeout_us = 1'000'000;
+	r = ioc(a.get(), ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT ECAT_STATE_UPDATE with timeout_us 1 s (gets stuck)", r.ret, r.err, 0);
+	setAlarmHandler(true);
+	gAlarms = 0;
+	alarmIn(300);
+	n = ::read(a.get(), &rec, sizeof(rec));
+	expectEq("SIGALRM (SA_RESTART) during a blocking read(): restarted, one record", n, static_cast<long>(kRec));
+	expectEq("  handler calls", gAlarms.load(), 1);
+	expectEq("  its cookie", rec.cookie, 0xA2);
+	expectStatus("  its status: the chip stayed busy past timeout_us", rec.status, -ETIMEDOUT);
+
+	// the chip is still busy with it: a new async command is refused
+	c = cmdOf(kStateUpdate);
+	r = ioc(a.get(), ECMXF_IOC_CMD, &c);
+	expectErr("ECAT_STATE_UPDATE while the timed-out one still runs on the chip", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, -EBUSY);
+	expectWorks("immediate commands meanwhile", a.get());
+	const Res rr = doReset(a.get(), ECMXF_RESET_F_ASYNC_CMD, ECMXF_RESET_ASYNC_CLEAR_BUSY);
+	expectErr("RESET ASYNC_CMD CLEAR_BUSY", rr.ret, rr.err, 0);
+	c = cmdOf(kStateUpdate);
+	r = ioc(a.get(), ECMXF_IOC_CMD, &c);
+	expectErr("ECAT_STATE_UPDATE after the reset", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+
+	// per-command timeout of a sync command
+	ctl("async-stuck 1");
+	c = cmdOf(kStateUpdate);
+	c.timeout_us = 200'000;
+	const ecmxf_counters k0 = counters(a.get());
+	r = ioc(a.get(), ECMXF_IOC_CMD, &c);
+	expectErr("CMD ECAT_STATE_UPDATE timeout_us 200 ms, chip stuck busy", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, -ETIMEDOUT);
+	expectEq("  counters.timeouts increment", counters(a.get()).timeouts - k0.timeouts, 1);
+	const Res rl = doReset(a.get(), ECMXF_RESET_F_ASYNC_CMD, ECMXF_RESET_ASYNC_CLEAR_BUSY);
+	expectErr("RESET ASYNC_CMD CLEAR_BUSY", rl.ret, rl.err, 0);
+	c = cmdOf(kStateUpdate);
+	r = ioc(a.get(), ECMXF_IOC_CMD, &c);
+	expectErr("ECAT_STATE_UPDATE after the reset", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	setAlarmHandler(false);
+}
+
+void signalsClosePending()
+{
+	Fd keep;
+	const unsigned openBefore = devinfo(keep.get()).open_count;
+	{
+		Fd f;
+		ctl("async-stuck 1");
+		ecmxf_submit s = subOf(kStateUpdate, 1);
+		s.timeout_us = 20'000'000;
+		Res r = ioc(f.get(), ECMXF_IOC_SUBMIT, &s);
+		expectErr("close test: SUBMIT a command that gets stuck", r.ret, r.err, 0);
+		int ok = 0;
+		for (std::uint64_t i = 2; i < 12; i++) {
+			s = subOf(i % 3 ? kSlvCntGet : kStateUpdate, i);
+			std::uint8_t *rx = nullptr;
+			if (i % 3 == 1) {
+				static std::uint8_t buf[64];
+				rx = buf;
+				s = subOf(kFwVersionGet, i);
+				s.rx_ptr = ptr(rx);
+				s.rx_size = sizeof(buf);
+			}
+			r = ioc(f.get(), ECMXF_IOC_SUBMIT, &s);
+			if (r.ret == 0)
+				ok++;
+		}
+		expectEq("close test: 10 more submitted (they wait behind the stuck one)", ok, 10);
+		::usleep(100'000);
+		// close with: one running on the chip, immediate ones unread,
+		// async ones queued
+	}
+	expectEq("open_count after the close", devinfo(keep.get()).open_count, openBefore);
+	expectWorks("after closing with commands pending", keep.get());
+	unstick(keep.get(), "the closed file's stuck command");
+	ecmxf_cmd c = cmdOf(kStateUpdate);
+	const Res r = ioc(keep.get(), ECMXF_IOC_CMD, &c);
+	expectErr("ECAT_STATE_UPDATE after the close", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+
+	// close with unread completions only
+	{
+		Fd f;
+		for (std::uint64_t i = 0; i < 4; i++) {
+			ecmxf_submit s = subOf(kSlvCntGet, i);
+			(void)ioc(f.get(), ECMXF_IOC_SUBMIT, &s);
+		}
+		::usleep(50'000);
+	}
+	expectWorks("after closing with unread completions", keep.get());
+}
+
+void partSignals()
+{
+	signalsSentCommand();
+	signalsQueuedCommand();
+	signalsClosePending();
+	ctl("clear");
+}
+
+// ======================================================================
+// part faults
+// ======================================================================
+
+struct Delta {
+	long long check, start, notReady, retries, lost, exhausted, timeouts, polls;
+};
+
+Delta delta(const ecmxf_counters &a, const ecmxf_counters &b)
+{
+	auto d = [](__u64 x, __u64 y) { return static_cast<long long>(y - x); };
+	return { d(a.bad_check, b.bad_check),   d(a.bad_start, b.bad_start),  d(a.bad_not_ready, b.bad_not_ready),
+		 d(a.retries, b.retries),       d(a.lost_answers, b.lost_answers), d(a.exhausted, b.exhausted),
+		 d(a.timeouts, b.timeouts),     d(a.polls, b.polls) };
+}
+
+/// One command with a fault plan set just before it; the counter deltas.
+Delta withFault(int fd, const std::string &fault, ecmxf_cmd &c, Res &r, std::uint8_t *rx = nullptr,
+		std::uint32_t rxSize = 0)
+{
+	const ecmxf_counters k0 = counters(fd);
+	ctl(fault);
+	// the retry rules decide, not the speed of the emulated guest: an
+	// exchange can take milliseconds under TCG, so the default 100 ms
+	// would end a command with nine bad packets early
+	if (!c.timeout_us)
+		c.timeout_us = 5'000'000;
+	if (rx) {
+		c.rx_ptr = ptr(rx);
+		c.rx_size = rxSize;
+	}
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	return delta(k0, counters(fd));
+}
+
+void faultsBitErrors(int fd)
+{
+	std::uint8_t rx[64];
+	Res r{};
+	ecmxf_cmd c{};
+
+	// protocol-core.rst: a bad answer is re-sent with the same packet; the
+	// ninth bad packet in a row fails the command with the errno of the
+	// fault (check word: -EBADMSG).  Responses are one exchange late: the
+	// first corrupted response is the previous command's answer, the
+	// second this command's own; its loss shows as "our index, code 0",
+	// which an idempotent command survives by a fresh send, and any other
+	// fails with -EPROTO.
+	c = cmdOf(kFwVersionGet);
+	Delta d = withFault(fd, "miso-bit-errors 1", c, r, rx, sizeof(rx));
+	expectErr("miso-bit-errors 1: FW_VERSION_GET", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	expectEq("  its rsp.ret", c.rsp.ret, kFwVersion);
+	expectEq("  counters.bad_check increment", d.check, 1);
+	expectEq("  counters.retries increment", d.retries, 1);
+	expectEq("  counters.lost_answers increment", d.lost, 0);
+	expectEq("  counters.exhausted increment", d.exhausted, 0);
+	expectEq("  bridge: miso-bit-errors left", bridgeState("miso-bit-errors"), 0);
+
+	c = cmdOf(kFwVersionGet);
+	d = withFault(fd, "miso-bit-errors 2", c, r, rx, sizeof(rx));
+	expectErr("miso-bit-errors 2: FW_VERSION_GET (its answer lost, sent again)", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	expectEq("  its rsp.ret", c.rsp.ret, kFwVersion);
+	expectEq("  counters.bad_check increment", d.check, 2);
+	expectEq("  counters.lost_answers increment", d.lost, 1);
+	expectEq("  counters.retries increment (2 re-sends, 1 fresh send)", d.retries, 3);
+	expectEq("  counters.exhausted increment", d.exhausted, 0);
+
+	const int wmax = wkcMax(fd);
+	c = cmdOf(kWkcMaxSet, static_cast<std::uint8_t>(wmax));
+	d = withFault(fd, "miso-bit-errors 2", c, r);
+	expectErr("miso-bit-errors 2: ECAT_WKC_CONTI_ERR_MAX_SET (not idempotent)", r.ret, r.err, 0);
+	expectStatus("  its status: answer lost, not run twice", c.status, -EPROTO);
+	expectEq("  counters.bad_check increment", d.check, 2);
+	expectEq("  counters.lost_answers increment", d.lost, 1);
+	expectEq("  counters.retries increment", d.retries, 2);
+	expectEq("  the value is set (it ran once)", wkcMax(fd), wmax);
+
+	c = cmdOf(kFwVersionGet);
+	d = withFault(fd, "miso-bit-errors 8", c, r, rx, sizeof(rx));
+	expectErr("miso-bit-errors 8 (the retry budget): FW_VERSION_GET", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	expectEq("  counters.bad_check increment", d.check, 8);
+	expectEq("  counters.lost_answers increment", d.lost, 1);
+	expectEq("  counters.retries increment", d.retries, 9);
+	expectEq("  counters.exhausted increment", d.exhausted, 0);
+
+	c = cmdOf(kFwVersionGet);
+	d = withFault(fd, "miso-bit-errors 9", c, r, rx, sizeof(rx));
+	expectErr("miso-bit-errors 9 (one more than the budget): FW_VERSION_GET", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, -EBADMSG);
+	expectEq("  counters.bad_check increment", d.check, 9);
+	expectEq("  counters.retries increment", d.retries, 9);
+	expectEq("  counters.exhausted increment", d.exhausted, 1);
+	expectEq("  bridge: miso-bit-errors left", bridgeState("miso-bit-errors"), 0);
+	expectWorks("after the exhausted retries", fd);
+
+	// not ready: the chip does not take the packet in
+	c = cmdOf(kFwVersionGet);
+	d = withFault(fd, "not-ready 3", c, r, rx, sizeof(rx));
+	expectErr("not-ready 3: FW_VERSION_GET", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	expectEq("  counters.bad_not_ready increment", d.notReady, 3);
+	expectEq("  counters.retries increment", d.retries, 3);
+	c = cmdOf(kFwVersionGet);
+	d = withFault(fd, "not-ready 9", c, r, rx, sizeof(rx));
+	expectErr("not-ready 9: FW_VERSION_GET", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, -EIO);
+	expectEq("  counters.bad_not_ready increment", d.notReady, 9);
+	expectEq("  counters.exhausted increment", d.exhausted, 1);
+	expectWorks("after not-ready", fd);
+
+	// MOSI: the chip rejects the corrupted command packets (its CRC error
+	// count, error bit 6) and runs the first good copy; no bad response
+	c = cmdOf(kFwVersionGet);
+	Res r0{};
+	(void)withFault(fd, "mosi-bit-errors 0", c, r0, rx, sizeof(rx));
+	const unsigned crc0 = c.rsp.crc_err_cnt;
+	c = cmdOf(kFwVersionGet);
+	d = withFault(fd, "mosi-bit-errors 2", c, r, rx, sizeof(rx));
+	expectErr("mosi-bit-errors 2: FW_VERSION_GET", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	expectEq("  rsp.crc_err_cnt increment (the chip's count)", c.rsp.crc_err_cnt - crc0, 2);
+	expectTrue("  rsp.err_status has the SPI CRC error bit", c.rsp.err_status & kErrSpiCrc);
+	expectEq("  counters: bad responses", d.check + d.start + d.notReady, 0);
+	expectEq("  counters.retries increment", d.retries, 0);
+	expectTrue("  counters.polls increment >= 2", d.polls >= 2, std::to_string(d.polls));
+	expectEq("  bridge: mosi-bit-errors left", bridgeState("mosi-bit-errors"), 0);
+	// clear the chip's CRC count and bit again
+	c = cmdOf(kInfoUpdate);
+	c.hdr.control = kCtlClrCrcCnt | kCtlClrSpiCrcErr;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	c = cmdOf(kFwVersionGet);
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectTrue("INFO_UPDATE with the clear bits: CRC count 0, bit 6 clear",
+		   r.ret == 0 && c.rsp.crc_err_cnt == 0 && !(c.rsp.err_status & kErrSpiCrc));
+}
+
+void faultsInt0Stuck(int fd)
+{
+	const ecmxf_counters k0 = counters(fd);
+	ctl("int0-stuck 1");
+	std::string why = "ok";
+	bool ok = true;
+	for (int i = 0; i < 5 && ok; i++)
+		ok = fwVersionOk(fd, &why);
+	const ecmxf_counters k1 = counters(fd);
+	report(ok, "int0-stuck 1: 5 x FW_VERSION_GET still work (the 5 ms INT0 wait, then exchange)", why, "ok");
+	expectEq("  counters.int0_irqs increment while stuck", k1.int0_irqs - k0.int0_irqs, 0);
+	ctl("int0-stuck 0");
+	expectWorks("int0-stuck 0", fd);
+}
+
+void faultsSilent(int fd)
+{
+	const char *param = "/sys/module/ecmxf_vspi/parameters/timeout_ms";
+	char old[32] = "2000";
+	if (FILE *f = std::fopen(param, "r")) {
+		if (!std::fgets(old, sizeof(old), f))
+			std::strcpy(old, "2000\n");
+		std::fclose(f);
+	}
+	auto setTimeout = [param](const char *v) {
+		FILE *f = std::fopen(param, "w");
+		if (!f || std::fputs(v, f) < 0 || std::fclose(f) != 0)
+			fatal(std::string("write ") + param);
+	};
+	setTimeout("300");
+
+	std::uint8_t rx[64];
+	ecmxf_cmd c = cmdOf(kFwVersionGet);
+	c.timeout_us = 100'000;
+	Res r{};
+	Delta d = withFault(fd, "silent 1", c, r, rx, sizeof(rx));
+	expectErr("silent 1: FW_VERSION_GET (timeout_us 100 ms, transfers fail after 300 ms)", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, -ETIMEDOUT);
+	expectEq("  counters.timeouts increment", d.timeouts, 1);
+	expectTrue("  counters.bad_start increment >= 1 (an all-zero packet per failed transfer)", d.start >= 1,
+		   std::to_string(d.start));
+
+	c = cmdOf(kFwVersionGet);
+	c.timeout_us = 30'000'000;
+	d = withFault(fd, "silent 1", c, r, rx, sizeof(rx));
+	expectErr("silent 1: FW_VERSION_GET with timeout_us 30 s", r.ret, r.err, 0);
+	expectStatus("  its status: retries exhausted on start words", c.status, -EPROTO);
+	expectEq("  counters.bad_start increment", d.start, 9);
+	expectEq("  counters.exhausted increment", d.exhausted, 1);
+
+	c = cmdOf(kStateUpdate);
+	c.timeout_us = 500'000;
+	d = withFault(fd, "silent 1", c, r);
+	expectErr("silent 1: ECAT_STATE_UPDATE timeout_us 500 ms", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, -ETIMEDOUT);
+
+	ctl("silent 0");
+	setTimeout(old);
+	const Res rl = doReset(fd, ECMXF_RESET_F_LINK);
+	expectErr("silent 0, then RESET LINK", rl.ret, rl.err, 0);
+	expectWorks("after the silent chip", fd);
+	expectEq("  ECAT_SLV_CNT_GET", slaveCount(fd), kSlaves);
+}
+
+void partFaults()
+{
+	Fd f;
+	ctl("clear");
+	faultsBitErrors(f.get());
+	faultsInt0Stuck(f.get());
+	faultsSilent(f.get());
+	ctl("clear");
+	expectWorks("at the end of the fault checks", f.get());
+}
+
+void partSmoke()
+{
+	Fd f;
+	expectWorks("smoke", f.get());
+	expectEq("smoke: ECAT_SLV_CNT_GET", slaveCount(f.get()), kSlaves);
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+	if (argc < 2) {
+		std::fprintf(stderr, "usage: ecmxf-guest-abuse args|perm|concurrency|signals|faults|smoke [/dev/ecmxfN]\n");
+		return 2;
+	}
+	const std::string_view part = argv[1];
+	if (argc > 2)
+		gPath = argv[2];
+	std::setvbuf(stdout, nullptr, _IOLBF, 0);
+	watchdog(240, argv[1]);
+	if (part == "args")
+		partArgs();
+	else if (part == "perm")
+		partPerm();
+	else if (part == "concurrency")
+		partConcurrency();
+	else if (part == "signals")
+		partSignals();
+	else if (part == "faults")
+		partFaults();
+	else if (part == "smoke")
+		partSmoke();
+	else {
+		std::fprintf(stderr, "ecmxf-guest-abuse: unknown part %s\n", argv[1]);
+		return 2;
+	}
+	std::printf("guest-test: abuse %s: %d failure(s)\n", argv[1], gFailures.load());
+	return gFailures ? 1 : 0;
+}
