@@ -168,7 +168,9 @@ run_flavour() {
 	tr -d '\r' <"$log" >"$log.txt"
 	grep -E '^(ECMXF-KTEST|guest-test|bench|bridge|sysfs):' "$log.txt" || true
 	[ "$rc" -eq 124 ] && die "$kver: QEMU did not finish within ${timeout_f}s (see $log)"
-	bad=$(grep -nE 'WARNING:|BUG:|Oops|Call Trace|sleeping function called from invalid context|possible circular locking|possible recursive locking|lockdep|KASAN|UBSAN|general protection fault|kernel panic|Kernel panic' \
+	# not a bare "lockdep": the debug kernel prints "RCU lockdep checking is
+	# enabled" at every boot; lockdep's reports all carry WARNING:/BUG:
+	bad=$(grep -nE 'WARNING:|BUG:|Oops|Call Trace|sleeping function called from invalid context|possible circular locking|possible recursive locking|locking correctness validator|lockdep is turned off|KASAN|UBSAN|general protection fault|kernel panic|Kernel panic' \
 		"$log.txt" || true)
 	if [ -n "$bad" ]; then
 		echo "$bad" >&2
