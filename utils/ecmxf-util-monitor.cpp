@@ -397,30 +397,7 @@ namespace {
 
 std::string counterLines(const ecmxf::NetlinkCounters &c, bool json)
 {
-	const ecmxf::KernelCounters &k = c.link;
-	const std::pair<const char *, std::uint64_t> v[] = {
-		{ "exchanges", k.exchanges },
-		{ "bad_not_ready", k.badNotReady },
-		{ "bad_start", k.badStart },
-		{ "bad_end", k.badEnd },
-		{ "bad_check", k.badCheck },
-		{ "bad_length", k.badLength },
-		{ "retries", k.retries },
-		{ "polls", k.polls },
-		{ "exhausted", k.exhausted },
-		{ "timeouts", k.timeouts },
-		{ "async_errors", k.asyncErrors },
-		{ "busy_rejects", k.busyRejects },
-		{ "lost_answers", k.lostAnswers },
-		{ "chip_resets", k.chipResets },
-		{ "wkc_errors", k.wkcErrors },
-		{ "out_ring_underruns", k.outRingUnderruns },
-		{ "in_ring_overruns", k.inRingOverruns },
-		{ "rx_fifo_underruns", k.rxFifoUnderruns },
-		{ "rx_fifo_overruns", k.rxFifoOverruns },
-		{ "tx_fifo_overruns", k.txFifoOverruns },
-		{ "int0_irqs", k.int0Irqs },
-		{ "int1_irqs", k.int1Irqs },
+	const std::pair<const char *, std::uint64_t> events[] = {
 		{ "events", c.events },
 		{ "events_suppressed", c.eventsSuppressed },
 		{ "events_failed", c.eventsFailed },
@@ -428,12 +405,16 @@ std::string counterLines(const ecmxf::NetlinkCounters &c, bool json)
 	std::string s;
 	if (json)
 		s = "{\"device\": " + jsonString(c.device) + ", \"minor\": " + std::to_string(c.minor);
-	for (const auto &[name, value] : v) {
+	const auto put = [&](const char *name, std::uint64_t value) {
 		if (json)
 			s.append(", ").append(jsonString(name)).append(": ").append(std::to_string(value));
 		else
 			s.append(name).append(" ").append(std::to_string(value)).append("\n");
-	}
+	};
+	for (const auto &[name, value] : ecmxf::counterFields(c.link))
+		put(name, value);
+	for (const auto &[name, value] : events)
+		put(name, value);
 	if (json)
 		s += "}\n";
 	return s;

@@ -59,31 +59,7 @@ int main(int argc, char **argv)
 			// the transport alone: opening it sends no command
 			const ecmxf::KernelTransport kt(path);
 			const ecmxf::KernelCounters k = kt.counters();
-			const std::pair<const char *, std::uint64_t> v[] = {
-				{ "exchanges", k.exchanges },
-				{ "bad_not_ready", k.badNotReady },
-				{ "bad_start", k.badStart },
-				{ "bad_end", k.badEnd },
-				{ "bad_check", k.badCheck },
-				{ "bad_length", k.badLength },
-				{ "retries", k.retries },
-				{ "polls", k.polls },
-				{ "exhausted", k.exhausted },
-				{ "timeouts", k.timeouts },
-				{ "async_errors", k.asyncErrors },
-				{ "busy_rejects", k.busyRejects },
-				{ "lost_answers", k.lostAnswers },
-				{ "chip_resets", k.chipResets },
-				{ "wkc_errors", k.wkcErrors },
-				{ "out_ring_underruns", k.outRingUnderruns },
-				{ "in_ring_overruns", k.inRingOverruns },
-				{ "rx_fifo_underruns", k.rxFifoUnderruns },
-				{ "rx_fifo_overruns", k.rxFifoOverruns },
-				{ "tx_fifo_overruns", k.txFifoOverruns },
-				{ "int0_irqs", k.int0Irqs },
-				{ "int1_irqs", k.int1Irqs },
-			};
-			for (const auto &[name, value] : v)
+			for (const auto &[name, value] : ecmxf::counterFields(k))
 				std::printf("%s %llu\n", name, static_cast<unsigned long long>(value));
 			return 0;
 		}
