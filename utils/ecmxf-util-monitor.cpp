@@ -107,7 +107,6 @@ constexpr BitName kEcmBits[] = {
 	{ 6, "FIFO enabled" },
 };
 constexpr std::uint8_t kErrLink = 0x01;
-constexpr std::uint8_t kStateOp = 0x08;
 constexpr std::uint8_t kStateError = 0x10;
 
 template <std::size_t N>
