@@ -25,10 +25,11 @@
  *   }
  * @endcode
  *
- * Today's path uses the chip's FIFO commands over the Device's raw command
- * path (Device::transact()); the exchange is behind an internal interface
- * so that a kernel transport with mmap'd PDO rings can serve the same API.
- * Documentation/process-data.rst describes the semantics.
+ * Over the simulator or spidev, the chip's FIFO commands go over the
+ * Device's raw command path (Device::transact()); over /dev/ecmxfN (a
+ * KernelTransport) the frames go through the kernel's mmap()ed PDO rings
+ * and cycle() makes no system call. The API and its semantics are the
+ * same; Documentation/process-data.rst describes both paths.
  *
  * Thread safety: none; the thread that calls cycle() owns the Device and
  * the image while the Cyclic exists.
@@ -180,6 +181,9 @@ public:
 	/// RxPDO frames one command carries, TxPDO frames one answer carries.
 	[[nodiscard]] unsigned framesPerWrite() const noexcept;
 	[[nodiscard]] unsigned framesPerRead() const noexcept;
+	/// The frames go through the kernel's mmap()ed PDO rings (the Device's
+	/// transport is a KernelTransport); false: FIFO commands.
+	[[nodiscard]] bool usesKernelRings() const noexcept;
 
 	class Impl;
 
