@@ -56,6 +56,10 @@ fuzz:
 	cmake --build $(FUZZ_BUILD) -j $(JOBS)
 	tests/fuzz/run-fuzzers.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
 
+# make bench ends with the in-guest round trip /dev/ecmxf0 vs spidev under
+# QEMU (Documentation/kernel-testing.rst, "Benchmarks"); KBENCH_FLAVOURS=
+# picks the kernels.
+KBENCH_FLAVOURS ?= amd64 rt-amd64
 bench:
 	@$(DEPS) --bench
 	cmake -S . -B $(BENCH_BUILD) -DECMXF_BUILD_BENCH=ON -DECMXF_BUILD_TESTS=OFF \
@@ -65,6 +69,7 @@ bench:
 	$(BENCH_BUILD)/tests/bench/bench-sim
 	$(BENCH_BUILD)/tests/bench/bench-sdo
 	$(BENCH_BUILD)/tests/bench/bench-cyclic
+	BUILD=$(BENCH_BUILD) tests/kernel/run-qemu.sh --bench $(KBENCH_FLAVOURS)
 
 # The tour of the stack on the simulator (utils/ecmxf-demo.cpp), paced in
 # real time; DEMO_ARGS=--fast skips the pacing.
@@ -135,7 +140,7 @@ help:
 	@echo "make check     build and run every test: ctest, then check-kernel"
 	@echo "make check-user    the userspace tests only (ctest)"
 	@echo "make demo      ecmxf-demo: a tour of the stack on the simulator (DEMO_ARGS=--fast)"
-	@echo "make bench     build and run the benchmarks"
+	@echo "make bench     build and run the benchmarks (also in the QEMU guest: KBENCH_FLAVOURS=)"
 	@echo "make kmod      build kmod/ecmxf.ko (KDIR=/path/to/headers)"
 	@echo "make kernel-lint  checkpatch --strict, W=1, sparse and kernel-doc"
 	@echo "               over lib/core and kmod (also: make checkpatch, make kmod-check)"

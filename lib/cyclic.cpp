@@ -235,6 +235,7 @@ bool FifoCommandPath::fifoOp(CycleResult &r, unsigned frames, bool read, Respons
 	c.data[0] = static_cast<std::uint8_t>((frames ? 0x01 : 0x00) | (read ? 0x02 : 0x00));
 	// error status bits 5 and 7 then belong to this command alone
 	c.control = ECMXF_CTL_CLR_CMD_ERR | ECMXF_CTL_CLR_FIFO_ERR;
+	c.timeout = cfg_.commandTimeout;
 	const int err = dev_.transact(c, std::span<const std::uint8_t>(txBuf_.data(), frames * frameBytes), rxBuf_, h);
 	r.commands++;
 	if (err) {
@@ -353,6 +354,7 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 		c.code = ECMXF_CMD_ECAT_PDO_WC_GET;
 		c.param = 3;
 		c.control = ECMXF_CTL_CLR_CMD_ERR;
+		c.timeout = cfg_.commandTimeout;
 		std::array<std::uint8_t, 4> v{};
 		const int err = dev_.transact(c, {}, v, h);
 		r.commands++;

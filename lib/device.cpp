@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <optional>
 #include <span>
 #include <string>
 #include <thread>
@@ -362,11 +363,29 @@ std::uint16_t Device::dataSize() const
 
 CheckType Device::checkType() const
 {
-	// the kernel's engine talks to the chip, not impl_->engine: the ECM
-	// status bits 1-0 of the last response say which check word is in use
-	if (impl_->transport->runsProtocol())
+	// the kernel's engine talks to the chip, not impl_->engine: the
+	// driver's own view if it gives one (the ECM status bits of the last
+	// response lag behind CRC_TYPE_SET and a reset), else those bits
+	if (impl_->transport->runsProtocol()) {
+		const auto &ct = static_cast<const CommandTransport &>(*impl_->transport);
+		if (const std::optional<std::uint8_t> now = ct.checkTypeNow())
+			return static_cast<CheckType>(*now & ECMXF_STS_CHECK_MASK);
 		return static_cast<CheckType>(lastHeader().ecmStatus & ECMXF_STS_CHECK_MASK);
+	}
 	return static_cast<CheckType>(impl_->engine.check & ECMXF_STS_CHECK_MASK);
+}
+
+void Device::assumeFormat(std::uint16_t dataSize, CheckType check)
+{
+	if (impl_->transport->runsProtocol())
+		throw Error("ecmxf::Device::assumeFormat: the transport runs the protocol itself and tracks the "
+			    "chip's format (kernel device)",
+			    EOPNOTSUPP);
+	if (ecmxf_engine_set_format(&impl_->engine, dataSize, static_cast<enum ecmxf_check>(check)) != 0)
+		throw Error("ecmxf::Device::assumeFormat: data section size " + std::to_string(dataSize) +
+				    " or check type " + std::to_string(static_cast<unsigned>(check)) +
+				    " is out of range (32..1408 bytes; 0 fixed .. 3 CRC-32)",
+			    EINVAL);
 }
 
 Transport &Device::transport() noexcept

@@ -118,7 +118,8 @@ DeviceUri parseDeviceUri(std::string_view uri)
 				bad(uri, "option " + quoted(key) + " given twice");
 		seen.push_back(key);
 
-		const bool spidevKey = key == "int0" || key == "int1" || key == "speed" || key == "mode" || key == "ready";
+		const bool spidevKey = key == "int0" || key == "int1" || key == "speed" || key == "mode" ||
+				       key == "ready" || key == "size" || key == "check";
 		if (key == "trace") {
 			if (value.empty())
 				bad(uri, "option \"trace\" needs a file name (trace=<file>)");
@@ -147,9 +148,27 @@ DeviceUri parseDeviceUri(std::string_view uri)
 				bad(uri, "bad ready value " + quoted(value) +
 						 ": expected high or low (the INT0 level that means ready; high by default)");
 			u.spidev.readyHigh = value == "high";
+		} else if (key == "size") {
+			const auto v = number(value);
+			if (!v || *v < 32 || *v > 1408)
+				bad(uri, "bad size value " + quoted(value) +
+						 ": expected 32..1408 (the data section the chip uses now, in bytes)");
+			u.dataSize = static_cast<std::uint16_t>(*v);
+		} else if (key == "check") {
+			if (value == "fixed")
+				u.checkType = CheckType::Fixed;
+			else if (value == "crc8")
+				u.checkType = CheckType::Crc8;
+			else if (value == "ccitt")
+				u.checkType = CheckType::Ccitt;
+			else if (value == "crc32")
+				u.checkType = CheckType::Crc32;
+			else
+				bad(uri, "bad check value " + quoted(value) +
+						 ": expected fixed, crc8, ccitt or crc32 (the check word the chip uses now)");
 		} else {
 			bad(uri, "unknown option " + quoted(key) +
-					 (spidev ? " (spidev: takes int0, int1, speed, mode, ready, trace)"
+					 (spidev ? " (spidev: takes int0, int1, speed, mode, ready, size, check, trace)"
 						 : " (only trace=<file> is accepted here)"));
 		}
 		if (amp == std::string_view::npos)
@@ -183,6 +202,9 @@ std::unique_ptr<Device> Device::open(std::string_view uri)
 		break;
 	}
 	auto dev = std::make_unique<Device>(std::move(t));
+	if (u.dataSize || u.checkType)
+		dev->assumeFormat(u.dataSize.value_or(static_cast<std::uint16_t>(kDataDefault)),
+				  u.checkType.value_or(CheckType::Fixed));
 	if (!u.trace.empty())
 		dev->startTrace(u.trace);
 	return dev;

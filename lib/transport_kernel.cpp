@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include "lib_text.hpp"
@@ -86,6 +87,15 @@ KernelTransport::~KernelTransport()
 {
 	if (fd_ >= 0)
 		::close(fd_);
+}
+
+std::optional<std::uint8_t> KernelTransport::checkTypeNow() const noexcept
+{
+	try {
+		return devInfo().checkType;
+	} catch (...) {
+		return std::nullopt;
+	}
 }
 
 std::uint16_t KernelTransport::dataSize() const noexcept

@@ -71,6 +71,10 @@ struct CyclicConfig {
 	/// slower); the span is valid during the call only.
 	void (*onInputFrame)(void *context, std::span<const std::uint8_t> frame) noexcept = nullptr;
 	void *context = nullptr;
+	/// Time allowed for each command of cycle() (ECAT_PDO_DATA_FIFO_OP,
+	/// ECAT_PDO_WC_GET) until its answer; zero: the command table's 100 ms.
+	/// Raise it where the host can stall that long (e.g. under emulation).
+	std::chrono::microseconds commandTimeout{ 0 };
 };
 
 /// What one cycle() did.

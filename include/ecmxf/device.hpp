@@ -152,6 +152,13 @@ public:
 	[[nodiscard]] std::uint16_t dataSize() const;
 	/// The check word type the library's engine uses now (no exchange).
 	[[nodiscard]] CheckType checkType() const;
+	/// Tells the library's engine the packet format the chip speaks now,
+	/// without an exchange: for a chip that another driver (e.g. ecmxf.ko,
+	/// which sets CRC-32 at probe) reconfigured and did not reset. The
+	/// spidev URI options size= and check= call it. Byte transports only:
+	/// EOPNOTSUPP over a command transport (its far side tracks the
+	/// format); EINVAL for a size outside 32..1408.
+	void assumeFormat(std::uint16_t dataSize, CheckType check);
 	/// SPI_PACK_SIZE_GET (20): the data section size the chip reports.
 	[[nodiscard]] std::uint16_t queryDataSize();
 	/// SPI_RECONFIG_OP (23): data section of @p bytes (32..1408) from the

@@ -6,17 +6,22 @@
  *  - "sim:" / "sim:<network file>": the in-process simulator;
  *  - "/dev/ecmxfN" (any absolute path): the kernel module's device;
  *  - "spidev:/dev/spidevB.C[?int0=<chip>:<line>][&int1=<chip>:<line>]
- *    [&speed=<Hz>][&mode=0..3][&ready=high|low]": spidev + libgpiod.
+ *    [&speed=<Hz>][&mode=0..3][&ready=high|low][&size=<bytes>]
+ *    [&check=fixed|crc8|ccitt|crc32]": spidev + libgpiod; size= and check=
+ *    give the packet format the chip speaks now (Device::assumeFormat()),
+ *    e.g. after ecmxf.ko set CRC-32; default: the power-on format.
  *
  * Each may end in "?trace=<file>" (after the other options: "&trace=..."),
  * which records every exchange to <file> (Documentation/trace.rst).
  */
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 
 #include <ecmxf/export.hpp>
+#include <ecmxf/protocol.hpp>
 #include <ecmxf/spidev_transport.hpp>
 
 namespace ecmxf {
@@ -25,7 +30,7 @@ namespace ecmxf {
 inline constexpr std::string_view kDeviceUriForms =
 	"\"sim:\", \"sim:<network file>\", \"/dev/ecmxfN\" (kernel module), "
 	"\"spidev:/dev/spidevB.C[?int0=<chip>:<line>][&int1=<chip>:<line>][&speed=<Hz>]"
-	"[&mode=0..3][&ready=high|low]\"; each may add \"trace=<file>\" as an option";
+	"[&mode=0..3][&ready=high|low][&size=<bytes>][&check=fixed|crc8|ccitt|crc32]\"; each may add \"trace=<file>\" as an option";
 
 /// A parsed device URI.
 struct DeviceUri {
@@ -36,6 +41,10 @@ struct DeviceUri {
 	std::string path;
 	/// Spidev: the options (defaults from the chip manual otherwise).
 	SpidevOptions spidev;
+	/// Spidev: the format the chip speaks now (size=, check=); unset: the
+	/// power-on format (112 bytes, fixed check word).
+	std::optional<std::uint16_t> dataSize;
+	std::optional<CheckType> checkType;
 	/// The trace= option: where to record the exchanges; empty: none.
 	std::string trace;
 };

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <ecmxf/export.hpp>
@@ -77,6 +78,9 @@ public:
 	/// The driver's data section size now (ECMXF_IOC_DEVINFO; the value
 	/// read at open if that ioctl fails).
 	[[nodiscard]] std::uint16_t dataSize() const noexcept override;
+	/// The driver's check word type now (ECMXF_IOC_DEVINFO); nullopt when
+	/// that ioctl fails.
+	[[nodiscard]] std::optional<std::uint8_t> checkTypeNow() const noexcept override;
 	/// ECMXF_IOC_COUNTERS.
 	[[nodiscard]] KernelCounters counters() const;
 	/// ECMXF_IOC_RESET; @p param only for KernelReset::AsyncCmd;

@@ -141,6 +141,11 @@ public:
 	/// The data section size the far side uses now (0 when it cannot
 	/// tell). Device::dataSize() reports it for such transports.
 	[[nodiscard]] virtual std::uint16_t dataSize() const noexcept { return 0; }
+	/// The check word type the far side uses now (0..3), if it can tell;
+	/// Device::checkType() reports it for such transports, else the ECM
+	/// status bits of the last answer (which lag one command behind
+	/// CRC_TYPE_SET and know nothing of a WARM_RESET made since).
+	[[nodiscard]] virtual std::optional<std::uint8_t> checkTypeNow() const noexcept { return std::nullopt; }
 
 	/// The header of the latest answer, if any.
 	[[nodiscard]] std::optional<ResponseHeader> lastHeader() const noexcept { return last_; }

@@ -62,6 +62,24 @@ for src in "$top"/tests/kernel/*.cpp; do
 	name=$(basename "$src" .cpp)
 	$cxx -o "$bin/ecmxf-$name" "$src" "$lib" -lgpiod -pthread || die "building $src failed"
 done
+# the library's integration suite (tests/integration/, Catch2 v2, header
+# only) as /bin/ecmxf-test-integration, and the network its steps give the
+# bridge as /bin/ecmxf-integration.net; objects kept between runs, ccache
+# when there is one
+iobj="$cache/obj-integration"
+mkdir -p "$iobj"
+ccache=""
+command -v ccache >/dev/null 2>&1 && ccache=ccache
+iobjs=""
+for src in "$top"/tests/integration/*.cpp; do
+	o="$iobj/$(basename "$src" .cpp).o"
+	$ccache $cxx -DECMXF_TEST_DEFAULT_URI='"/dev/ecmxf0"' -c -o "$o" "$src" ||
+		die "building $src failed"
+	iobjs="$iobjs $o"
+done
+# shellcheck disable=SC2086
+$cxx -o "$bin/ecmxf-test-integration" $iobjs "$lib" -lgpiod -pthread || die "linking test-integration failed"
+cp "$top/tests/integration/est584x2-io-loopback.net" "$bin/ecmxf-integration.net"
 
 # ---- one kernel flavour
 run_flavour() {

@@ -263,3 +263,14 @@ TEST_CASE("dataSize() over a CommandTransport is the driver's, not the library's
 	r.k->driverDataSize = 1408;
 	CHECK(r.dev->dataSize() == 1408);
 }
+
+TEST_CASE("assumeFormat() over a CommandTransport is refused: the far side tracks the format",
+	  "[transport][kernel]")
+{
+	Rig r;
+	const ecmxf::Error e = thrown([&] { r.dev->assumeFormat(112, ecmxf::CheckType::Crc32); });
+	CHECK(e.errnoValue() == EOPNOTSUPP);
+	CHECK_THAT(e.what(), Equals("ecmxf::Device::assumeFormat: the transport runs the protocol itself and tracks "
+				    "the chip's format (kernel device)"));
+	CHECK(r.k->calls == 0);
+}

@@ -231,3 +231,41 @@ TEST_CASE("the device stays usable after a failed transfer", "[transport][spidev
 	r.faults.transferErrno = 0;
 	CHECK(r.dev->command(simple(kFwVersionGet)).ret == ecmxf::sim::ChipConfig{}.fwVersion);
 }
+
+TEST_CASE("a chip left in CRC-32 by another driver: assumeFormat() makes it reachable, without it the "
+	  "power-on guess fails",
+	  "[transport][spidev]")
+{
+	test::SpidevRig r;
+	// another owner (e.g. ecmxf.ko at probe) switches the chip to CRC-32
+	r.dev->setCheckType(ecmxf::CheckType::Crc32);
+	CHECK(r.dev->firmwareVersion().version == 0x30);
+
+	// a new Device over the same chip assumes the power-on format (fixed
+	// check word): the chip rejects its packets, the retry bound runs out
+	{
+		auto fake = std::make_unique<test::FakeSpidev>(r.chip, true, false, r.faults);
+		ecmxf::SpidevOptions o;
+		o.device = "/dev/spidev-fake";
+		ecmxf::Device fresh(std::make_unique<ecmxf::SpidevTransport>(std::move(fake), o));
+		CHECK(fresh.checkType() == ecmxf::CheckType::Fixed);
+		const ecmxf::Error e = thrown([&] { (void)fresh.firmwareVersion(); });
+		CHECK((e.errnoValue() == EBADMSG || e.errnoValue() == EPROTO));
+	}
+	// told the format, it talks
+	auto fake = std::make_unique<test::FakeSpidev>(r.chip, true, false, r.faults);
+	ecmxf::SpidevOptions o;
+	o.device = "/dev/spidev-fake";
+	ecmxf::Device told(std::make_unique<ecmxf::SpidevTransport>(std::move(fake), o));
+	told.assumeFormat(112, ecmxf::CheckType::Crc32);
+	CHECK(told.checkType() == ecmxf::CheckType::Crc32);
+	CHECK(told.dataSize() == 112);
+	CHECK(told.firmwareVersion().version == 0x30);
+	CHECK(told.queryDataSize() == 112);
+
+	const ecmxf::Error bad = thrown([&] { told.assumeFormat(31, ecmxf::CheckType::Crc32); });
+	CHECK(bad.errnoValue() == EINVAL);
+	CHECK_THAT(bad.what(), Equals("ecmxf::Device::assumeFormat: data section size 31 or check type 3 is out of "
+				      "range (32..1408 bytes; 0 fixed .. 3 CRC-32)"));
+	CHECK(told.checkType() == ecmxf::CheckType::Crc32); // unchanged
+}

@@ -8,7 +8,9 @@
 #include <catch2/catch.hpp>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include <ecmxf/device.hpp>
@@ -57,7 +59,7 @@ TEST_CASE("the accepted URI forms are listed in every URI error", "[transport][u
 	CHECK_THAT(forms, Contains("\"sim:<network file>\""));
 	CHECK_THAT(forms, Contains("\"/dev/ecmxfN\""));
 	CHECK_THAT(forms, Contains("spidev:/dev/spidevB.C[?int0=<chip>:<line>][&int1=<chip>:<line>][&speed=<Hz>]"
-				   "[&mode=0..3][&ready=high|low]"));
+				   "[&mode=0..3][&ready=high|low][&size=<bytes>][&check=fixed|crc8|ccitt|crc32]"));
 	CHECK_THAT(forms, Contains("trace=<file>"));
 }
 
@@ -150,12 +152,37 @@ TEST_CASE("bad URIs throw EINVAL naming the bad part and the accepted forms", "[
 	checkBad("spidev:/dev/spidev0.0?mode", "option \"mode\" is not key=value");
 	checkBad("spidev:/dev/spidev0.0?mode=0&", "empty option (options are key=value, separated by '&')");
 	checkBad("spidev:/dev/spidev0.0?cs=1",
-		 "unknown option \"cs\" (spidev: takes int0, int1, speed, mode, ready, trace)");
+		 "unknown option \"cs\" (spidev: takes int0, int1, speed, mode, ready, size, check, trace)");
 	checkBad("sim:?speed=1", "option \"speed\" applies to spidev: URIs only (sim: takes only trace=<file>)");
 	checkBad("/dev/ecmxf0?int0=gpiochip0:1",
 		 "option \"int0\" applies to spidev: URIs only (the kernel device takes only trace=<file>)");
 	checkBad("/dev/ecmxf0?foo=1", "unknown option \"foo\" (only trace=<file> is accepted here)");
 	checkBad("sim:?trace=", "option \"trace\" needs a file name (trace=<file>)");
+	checkBad("spidev:/dev/spidev0.0?size=31",
+		 "bad size value \"31\": expected 32..1408 (the data section the chip uses now, in bytes)");
+	checkBad("spidev:/dev/spidev0.0?size=1409",
+		 "bad size value \"1409\": expected 32..1408 (the data section the chip uses now, in bytes)");
+	checkBad("spidev:/dev/spidev0.0?check=crc16",
+		 "bad check value \"crc16\": expected fixed, crc8, ccitt or crc32 (the check word the chip uses now)");
+	checkBad("sim:?check=crc32", "option \"check\" applies to spidev: URIs only (sim: takes only trace=<file>)");
+	checkBad("/dev/ecmxf0?size=112",
+		 "option \"size\" applies to spidev: URIs only (the kernel device takes only trace=<file>)");
+}
+
+TEST_CASE("spidev URIs: size= and check= give the format the chip speaks now", "[transport][uri]")
+{
+	auto u = ecmxf::parseDeviceUri("spidev:/dev/spidev1.0?int0=gpiochip2:0&check=crc32");
+	CHECK_FALSE(u.dataSize);
+	REQUIRE(u.checkType);
+	CHECK(*u.checkType == ecmxf::CheckType::Crc32);
+	u = ecmxf::parseDeviceUri("spidev:/dev/spidev1.0?size=256&check=fixed");
+	CHECK(u.dataSize == std::optional<std::uint16_t>(256));
+	CHECK(u.checkType == std::optional<ecmxf::CheckType>(ecmxf::CheckType::Fixed));
+	CHECK(ecmxf::parseDeviceUri("spidev:/dev/spidev1.0?check=crc8").checkType == ecmxf::CheckType::Crc8);
+	CHECK(ecmxf::parseDeviceUri("spidev:/dev/spidev1.0?check=ccitt").checkType == ecmxf::CheckType::Ccitt);
+	u = ecmxf::parseDeviceUri("spidev:/dev/spidev1.0");
+	CHECK_FALSE(u.dataSize);
+	CHECK_FALSE(u.checkType);
 }
 
 TEST_CASE("Device::open of a missing kernel node names the path and the reason", "[transport][uri][kernel]")

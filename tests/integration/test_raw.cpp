@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: MIT
+// The raw paths (Device::command(), Device::transact()), a packet trace,
+// and the transport's own evidence that INT0 drove the exchanges, on the
+// device of ECMXF_TEST_URI.
+//
+// Expected values: FW_VERSION_GET (56) answers the version 0x30 as its
+// return value and 20 data bytes, bytes 4.. the build id (050); ECAT_SLV_
+// CNT_GET (16) returns the slave count; GPIO_FUNC_OP (32) with an undefined
+// sub-operation is a command error (error status bit 7, sim-peripherals.rst).
+
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+
+#include <ecmxf/trace.hpp>
+
+#include "integration.hpp"
+
+using Catch::Matchers::Contains;
+using integ::Rig;
+
+TEST_CASE("raw: command() and transact() of FW_VERSION_GET, SLV_CNT_GET and a refused command", "[raw]")
+{
+	Rig r;
+	ecmxf::Device &d = r.d();
+	ecmxf::Command c;
+	c.code = 56; // FW_VERSION_GET
+	const ecmxf::Response fw = d.command(c);
+	CHECK(fw.ret == 0x30);
+	CHECK(fw.header.code == 56);
+	REQUIRE(fw.data.size() == 20);
+	CHECK(std::string(fw.data.begin() + 4, fw.data.begin() + 19) == "ecmxf-simulator");
+
+	integ::initBus(d);
+	c = ecmxf::Command{};
+	c.code = 16; // ECAT_SLV_CNT_GET
+	CHECK(d.command(c).ret == 3);
+
+	ecmxf::RawCommand rc;
+	rc.code = 56;
+	std::array<std::uint8_t, 1408> rx{};
+	ecmxf::ResponseHeader h;
+	CHECK(d.transact(rc, {}, rx, h) == 0);
+	CHECK(h.ret == 0x30);
+	CHECK(h.len == 20);
+	CHECK(rx[4] == 'e');
+	CHECK(d.pdoDataCapacity() == 112);
+
+	// GPIO_FUNC_OP sub-operation 4 does not exist: a command error, which
+	// transact() reports in the header, not as a failure
+	rc = ecmxf::RawCommand{};
+	rc.code = 32;
+	rc.param = 4;
+	rc.control = 0x80; // clear an older command error first
+	CHECK(d.transact(rc, {}, rx, h) == 0);
+	CHECK((h.errStatus & 0x80) == 0x80);
+	// and the next command is clean again
+	rc = ecmxf::RawCommand{};
+	rc.code = 56;
+	rc.control = 0x80;
+	CHECK(d.transact(rc, {}, rx, h) == 0);
+	CHECK((h.errStatus & 0x80) == 0);
+}
+
+TEST_CASE("trace: the exchanges of a few commands are recorded and decode", "[raw][trace]")
+{
+	Rig r;
+	ecmxf::Device &d = r.d();
+	const std::filesystem::path path =
+		std::filesystem::temp_directory_path() / ("ecmxf-integ-trace-" + std::to_string(::getpid()) + ".txt");
+	d.startTrace(path.string());
+	CHECK(d.tracing());
+	CHECK(d.firmwareVersion().version == 0x30);
+	CHECK(d.queryDataSize() == 112);
+	d.stopTrace();
+	CHECK_FALSE(d.tracing());
+
+	std::ifstream in(path);
+	REQUIRE(in);
+	std::ostringstream out;
+	const ecmxf::TraceSummary s = ecmxf::decodeTrace(in, out);
+	std::filesystem::remove(path);
+	// two commands went out and were answered; nothing bad on the link
+	CHECK(s.commands >= 2);
+	CHECK(s.responses >= 2);
+	CHECK(s.bad == 0);
+	CHECK_THAT(out.str(), Contains("FW_VERSION_GET"));
+	CHECK_THAT(out.str(), Contains("SPI_PACK_SIZE_GET"));
+}
+
+TEST_CASE("transport: INT0 drove the exchanges (the transport's own counters)", "[transport]")
+{
+	Rig r;
+	ecmxf::Device &d = r.d();
+	auto *k = dynamic_cast<ecmxf::KernelTransport *>(&d.transport());
+	const ecmxf::KernelCounters before = k ? k->counters() : ecmxf::KernelCounters{};
+	integ::initBus(d); // an async command: the chip is busy for a while
+	for (int i = 0; i < 10; i++)
+		CHECK(d.firmwareVersion().version == 0x30);
+	if (auto *sp = dynamic_cast<ecmxf::SpidevTransport *>(&d.transport())) {
+		// libgpiod edge events on INT0 ended the waits, none timed out
+		const ecmxf::SpidevStats &st = sp->stats();
+		INFO("exchanges " << st.exchanges << ", ready " << st.int0Ready << ", edges " << st.int0Edges
+				  << ", timeouts " << st.int0Timeouts);
+		CHECK(st.exchanges > 10);
+		CHECK(st.int0Edges > 0);
+		CHECK(st.int0Timeouts == 0);
+		CHECK(st.fallbackWaits == 0);
+		CHECK(st.int0Ready >= st.exchanges);
+	} else if (k) {
+		// the driver's INT0 interrupt fired and no packet went bad
+		const ecmxf::KernelCounters c = k->counters();
+		INFO("exchanges " << c.exchanges - before.exchanges << ", INT0 IRQs " << c.int0Irqs - before.int0Irqs);
+		CHECK(c.exchanges - before.exchanges > 10);
+		CHECK(c.int0Irqs > before.int0Irqs);
+		CHECK(c.badCheck == before.badCheck);
+		CHECK(c.badStart == before.badStart);
+		CHECK(c.exhausted == before.exhausted);
+		CHECK(c.timeouts == before.timeouts);
+		const ecmxf::KernelDevInfo info = k->devInfo();
+		CHECK(info.dataSize == 112);
+		CHECK(info.checkType == 3);
+		CHECK(info.fwVersion == 0x30);
+	} else {
+		// the simulator: no exchange started while the chip said busy
+		auto &sim = dynamic_cast<ecmxf::SimTransport &>(d.transport());
+		CHECK(sim.chip().stats().exchanges > 10);
+		CHECK(sim.chip().stats().busyExchanges == 0);
+		CHECK(sim.chip().stats().badPackets == 0);
+	}
+}
