@@ -44,6 +44,12 @@
 #define ECMXF_RING_STATUS_OFF	192
 #define ECMXF_RING_FRAMES_OFF	256
 
+/*
+ * time allowed for each pump command: longer than the table's 100 ms,
+ * since a frame whose command timed out is dropped, never sent again
+ */
+#define ECMXF_PUMP_TIMEOUT_US	500000
+
 /* pump timer period: default and bounds (microseconds) */
 #define ECMXF_POLL_US_DEFAULT	1000
 #define ECMXF_POLL_US_MIN	50
@@ -436,6 +442,7 @@ static bool ecmxf_pump_build(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 	unsigned int data_size = ecmxf_engine_data_size(&edev->e);
 	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
 	u32 level, space, per_write, k = 0, i, head;
+	bool after_wkc = p->wkc;
 	int avail;
 
 	memset(x, 0, sizeof(*x));
@@ -446,7 +453,11 @@ static bool ecmxf_pump_build(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 	p->pushed = 0;
 	p->wkc = false;
 
-	if (r->wkc_ns && now >= r->next_wkc_ns) {
+	/*
+	 * the working counter when due, but never twice in a row: on a slow
+	 * link (each command longer than wkc_us) it would starve the FIFOs
+	 */
+	if (r->wkc_ns && now >= r->next_wkc_ns && !after_wkc) {
 		x->hdr.code = ECMXF_CMD_ECAT_PDO_WC_GET;
 		x->hdr.param = 3;
 		x->hdr.control = ECMXF_CTL_CLR_CMD_ERR;
@@ -508,7 +519,7 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 			ret = -EFAULT;
 		goto drop;
 	}
-	p->x.timeout_us = 0;	/* the table's default */
+	p->x.timeout_us = ECMXF_PUMP_TIMEOUT_US;
 	if (!ecmxf_engine_can_submit(&edev->e, &p->x)) {
 		ret = -EBUSY;
 		goto drop;
@@ -662,6 +673,28 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 		ecmxf_rings_wake(edev, wake);
 }
 
+/*
+ * The command failed after it may have reached the chip (no answer, bad
+ * packets): its output frames are dropped and counted, never sent again,
+ * because a second copy would reach the bus after newer frames; lock held.
+ */
+static void ecmxf_pump_failed(struct ecmxf_dev *edev, struct ecmxf_rings *r,
+			      const struct ecmxf_xfer *x, u32 pushed)
+{
+	u32 deltas[5] = { 0 };
+
+	if (pushed) {
+		/* the slots are read: pairs with the producer's acquire */
+		smp_store_release(r->out.head, READ_ONCE(*r->out.head) + pushed);
+		WRITE_ONCE(*r->out.dropped, READ_ONCE(*r->out.dropped) + pushed);
+		edev->rx_fifo_overruns++;
+		deltas[1]++;
+		ecmxf_rings_wake(edev, EPOLLOUT | EPOLLWRNORM);
+	}
+	r->unconfirmed = pushed;
+	ecmxf_status_update(r, &x->rsp, x->status, deltas);
+}
+
 /**
  * ecmxf_pump_collect() - the pump's command left the engine: finish it
  * @edev: the device, lock held (called by ecmxf_collect())
@@ -671,7 +704,6 @@ void ecmxf_pump_collect(struct ecmxf_dev *edev)
 	struct ecmxf_pump *p = &edev->pump;
 	struct ecmxf_rings *r = p->rings;
 	const struct ecmxf_xfer *x = &p->x;
-	u32 none[5] = { 0 };
 
 	lockdep_assert_held(&edev->lock);
 	if (!p->busy || x->status == -EINPROGRESS)
@@ -682,8 +714,7 @@ void ecmxf_pump_collect(struct ecmxf_dev *edev)
 		if (x->status == -ECONNRESET)
 			ecmxf_rings_stop(edev, x->status);
 		else if (x->status)
-			/* frames stay in the ring for the next command */
-			ecmxf_status_update(r, &x->rsp, x->status, none);
+			ecmxf_pump_failed(edev, r, x, p->pushed);
 		else if (p->wkc)
 			ecmxf_pump_wkc_done(r, x);
 		else
