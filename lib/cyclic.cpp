@@ -429,6 +429,9 @@ private:
 	void *inMap_ = MAP_FAILED;
 	std::size_t outLen_ = 0, inLen_ = 0;
 	detail::PdoRingView out_, in_;
+	/// the interrupt enables found by start(), restored by stop()
+	InterruptConfig savedIrq_{};
+	bool irqSaved_ = false;
 	/// the kernel's counts as seen by the previous cycle
 	std::uint32_t wkcReads_ = 0, outDropped_ = 0, inDropped_ = 0, txOverflows_ = 0, rxRefusals_ = 0;
 };
@@ -463,6 +466,15 @@ RingPath::RingPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg, Ke
 
 RingPath::~RingPath()
 {
+	// not stopped (an exception on the way): the FIFO off and the
+	// interrupt enables back, as far as the link lets us
+	if (irqSaved_) {
+		try {
+			stop();
+		} catch (const Error &) {
+			// nothing more to do in a destructor
+		}
+	}
 	unmap();
 	::ioctl(kt_.fd(), ECMXF_IOC_RELEASE);
 }
@@ -526,6 +538,9 @@ void RingPath::start()
 	th.rxLow = static_cast<std::uint8_t>(rxFill > 1 ? rxFill / 2 : 0);
 	dev_.fifoSetThresholds(th);
 	InterruptConfig ic = dev_.interruptConfig();
+	if (!irqSaved_)
+		savedIrq_ = ic;
+	irqSaved_ = true;
 	ic.sources |= irq::kTxFifoHigh | irq::kRxFifoLow;
 	dev_.setInterruptConfig(ic);
 	dev_.fifoEnable(true);
@@ -534,6 +549,10 @@ void RingPath::start()
 void RingPath::stop()
 {
 	dev_.fifoEnable(false);
+	if (irqSaved_) {
+		irqSaved_ = false;
+		dev_.setInterruptConfig(savedIrq_);
+	}
 }
 
 void RingPath::exchange(CycleResult &r, bool) noexcept

@@ -74,6 +74,8 @@ struct CyclicConfig {
 	/// Time allowed for each command of cycle() (ECAT_PDO_DATA_FIFO_OP,
 	/// ECAT_PDO_WC_GET) until its answer; zero: the command table's 100 ms.
 	/// Raise it where the host can stall that long (e.g. under emulation).
+	/// Over the kernel's PDO rings cycle() sends no command (the kernel's
+	/// pump allows each of its commands 500 ms) and this is not used.
 	std::chrono::microseconds commandTimeout{ 0 };
 };
 
