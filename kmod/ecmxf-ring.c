@@ -441,7 +441,7 @@ static bool ecmxf_pump_build(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 	struct ecmxf_xfer *x = &p->x;
 	unsigned int data_size = ecmxf_engine_data_size(&edev->e);
 	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
-	u32 level, space, per_write, k = 0, i, head;
+	u32 level, space, per_write, k = 0, i, head, skip;
 	bool after_wkc = p->wkc;
 	int avail;
 
@@ -451,6 +451,7 @@ static bool ecmxf_pump_build(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 	x->tx_data = r->tx_buf;
 	x->status = -EINPROGRESS;
 	p->pushed = 0;
+	p->skipped = 0;
 	p->wkc = false;
 
 	/*
@@ -473,11 +474,26 @@ static bool ecmxf_pump_build(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 	space = r->rx_fill > level ? r->rx_fill - level : 0;
 	per_write = r->out.frame_size ?
 		    min_t(u32, 255, data_size / r->out.frame_size) : 0;
+	head = READ_ONCE(*r->out.head);
+	/*
+	 * Fallen behind (the application produces faster than the chip
+	 * takes): skip the oldest frames beyond what the RxFIFO can take now
+	 * plus the fill level, so that the newest outputs reach the bus
+	 * within about twice the fill level.  Counted, never silent.
+	 */
+	if ((u32)avail > space + r->rx_fill) {
+		skip = (u32)avail - space - r->rx_fill;
+		head += skip;
+		/* the slots are done with: pairs with the producer's acquire */
+		smp_store_release(r->out.head, head);
+		WRITE_ONCE(*r->out.dropped, READ_ONCE(*r->out.dropped) + skip);
+		p->skipped = skip;
+		avail -= (int)skip;
+	}
 	k = min3((u32)avail, space, per_write);
 	if (!k && !r->in.frame_size)
 		return false;
 
-	head = READ_ONCE(*r->out.head);
 	for (i = 0; i < k; i++)
 		memcpy(r->tx_buf + i * r->out.frame_size,
 		       r->out.frames + ((head + i) & (r->out.entries - 1)) *
@@ -535,6 +551,8 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 	return 0;
 drop:
 	mutex_lock(&edev->lock);
+	edev->out_ring_skipped += p->skipped;
+	p->skipped = 0;
 	if (ret == -EFAULT && edev->rings == r)
 		ecmxf_rings_stop(edev, -EFAULT);
 	ecmxf_rings_put(r);
@@ -545,7 +563,7 @@ drop:
 /* Publish the header and the counters in the status block; lock held. */
 static void ecmxf_status_update(struct ecmxf_rings *r,
 				const struct ecmxf_rsp_hdr *h, int err,
-				const u32 deltas[5])
+				const u32 deltas[6])
 {
 	struct ecmxf_ring_status *st = r->status;
 
@@ -565,6 +583,7 @@ static void ecmxf_status_update(struct ecmxf_rings *r,
 	WRITE_ONCE(st->tx_overflows, st->tx_overflows + deltas[2]);
 	WRITE_ONCE(st->rx_underruns, st->rx_underruns + deltas[3]);
 	WRITE_ONCE(st->out_underruns, st->out_underruns + deltas[4]);
+	WRITE_ONCE(st->out_skipped, st->out_skipped + deltas[5]);
 	smp_wmb();	/* the fields before the even seq */
 	WRITE_ONCE(st->seq, st->seq + 1);
 }
@@ -611,7 +630,7 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 				 const struct ecmxf_xfer *x, u32 pushed)
 {
 	const struct ecmxf_rsp_hdr *h = &x->rsp;
-	u32 deltas[5] = { 1, 0, 0, 0, 0 };
+	u32 deltas[6] = { 1, 0, 0, 0, 0, edev->pump.skipped };
 	u32 n = 0, stored, queued;
 	__poll_t wake = 0;
 	int avail;
@@ -681,7 +700,7 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 static void ecmxf_pump_failed(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 			      const struct ecmxf_xfer *x, u32 pushed)
 {
-	u32 deltas[5] = { 0 };
+	u32 deltas[6] = { 0, 0, 0, 0, 0, edev->pump.skipped };
 
 	if (pushed) {
 		/* the slots are read: pairs with the producer's acquire */
@@ -710,6 +729,7 @@ void ecmxf_pump_collect(struct ecmxf_dev *edev)
 		return;
 	p->busy = false;
 	p->rings = NULL;
+	edev->out_ring_skipped += p->skipped;
 	if (r == edev->rings && !r->stopped) {
 		if (x->status == -ECONNRESET)
 			ecmxf_rings_stop(edev, x->status);

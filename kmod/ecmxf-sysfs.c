@@ -246,6 +246,7 @@ ECMXF_COUNTER_ATTR(in_ring_overruns);
 ECMXF_COUNTER_ATTR(rx_fifo_underruns);
 ECMXF_COUNTER_ATTR(rx_fifo_overruns);
 ECMXF_COUNTER_ATTR(tx_fifo_overruns);
+ECMXF_COUNTER_ATTR(out_ring_skipped);
 ECMXF_COUNTER_ATTR(int0_irqs);
 ECMXF_COUNTER_ATTR(int1_irqs);
 
@@ -270,6 +271,7 @@ static struct attribute *ecmxf_counter_attrs[] = {
 	&ecmxf_counter_rx_fifo_underruns.attr.attr,
 	&ecmxf_counter_rx_fifo_overruns.attr.attr,
 	&ecmxf_counter_tx_fifo_overruns.attr.attr,
+	&ecmxf_counter_out_ring_skipped.attr.attr,
 	&ecmxf_counter_int0_irqs.attr.attr,
 	&ecmxf_counter_int1_irqs.attr.attr,
 	NULL

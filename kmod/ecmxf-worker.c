@@ -815,6 +815,7 @@ void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k)
 	k->rx_fifo_underruns = edev->rx_fifo_underruns;
 	k->rx_fifo_overruns = edev->rx_fifo_overruns;
 	k->tx_fifo_overruns = edev->tx_fifo_overruns;
+	k->out_ring_skipped = edev->out_ring_skipped;
 	mutex_unlock(&edev->lock);
 	k->int0_irqs = atomic64_read(&edev->int0_irqs);
 	k->int1_irqs = atomic64_read(&edev->int1_irqs);

@@ -224,6 +224,8 @@ struct ecmxf_rings {
  * @busy: @x is in the engine
  * @turn: the pump goes before the files' commands when both are due
  * @pushed: output frames in @x
+ * @skipped: output frames skipped when @x was built (not yet counted in
+ *	&ecmxf_dev.out_ring_skipped)
  * @wkc: @x reads the working counter
  */
 struct ecmxf_pump {
@@ -232,6 +234,7 @@ struct ecmxf_pump {
 	bool busy;
 	bool turn;
 	u32 pushed;
+	u32 skipped;
 	bool wkc;
 };
 
@@ -296,6 +299,7 @@ struct ecmxf_pump {
  * @rx_fifo_underruns: &struct ecmxf_counters.rx_fifo_underruns
  * @rx_fifo_overruns: &struct ecmxf_counters.rx_fifo_overruns
  * @tx_fifo_overruns: &struct ecmxf_counters.tx_fifo_overruns
+ * @out_ring_skipped: &struct ecmxf_counters.out_ring_skipped
  */
 struct ecmxf_dev {
 	struct spi_device *spi;
@@ -352,6 +356,7 @@ struct ecmxf_dev {
 	u64 rx_fifo_underruns;
 	u64 rx_fifo_overruns;
 	u64 tx_fifo_overruns;
+	u64 out_ring_skipped;
 };
 
 /* module parameters (ecmxf-main.c) */

@@ -53,6 +53,8 @@ struct KernelCounters {
 		      asyncErrors = 0, busyRejects = 0, lostAnswers = 0, chipResets = 0,
 		      wkcErrors = 0, outRingUnderruns = 0, inRingOverruns = 0, rxFifoUnderruns = 0,
 		      rxFifoOverruns = 0, txFifoOverruns = 0, int0Irqs = 0, int1Irqs = 0;
+	/// Output frames the kernel's PDO pump skipped when it had fallen behind.
+	std::uint64_t outRingSkipped = 0;
 };
 
 /// What ECMXF_IOC_RESET does.

@@ -292,6 +292,9 @@ struct ecmxf_devinfo {
  *	chip dropped its oldest frames
  * @int0_irqs: INT0 (ready) interrupts handled
  * @int1_irqs: INT1 (event) interrupts handled
+ * @out_ring_skipped: output frames the pump skipped because it had fallen
+ *	behind (more frames waiting than the RxFIFO could take plus the fill
+ *	level): the newest outputs go first
  * @reserved: zeroed by the kernel
  */
 struct ecmxf_counters {
@@ -317,7 +320,8 @@ struct ecmxf_counters {
 	__aligned_u64 tx_fifo_overruns;
 	__aligned_u64 int0_irqs;
 	__aligned_u64 int1_irqs;
-	__aligned_u64 reserved[10];
+	__aligned_u64 out_ring_skipped;
+	__aligned_u64 reserved[9];
 };
 
 /*
@@ -441,6 +445,7 @@ struct ecmxf_ring_offsets {
  * @rx_underruns: answers that showed the chip's RxFIFO empty
  * @out_underruns: of those, the ones that found the output ring empty too
  * @error: 0, or the positive errno of the pump's last failed command
+ * @out_skipped: output frames skipped because the pump had fallen behind
  * @reserved: zero
  *
  * Written by the kernel only.  The counters wrap at 2^32 and count since
@@ -465,7 +470,8 @@ struct ecmxf_ring_status {
 	__u32 rx_underruns;
 	__u32 out_underruns;
 	__u32 error;
-	__u32 reserved[4];
+	__u32 out_skipped;
+	__u32 reserved[3];
 };
 
 /**
