@@ -108,7 +108,7 @@ double taskCpuUs(long pid)
 /// System calls made by @p body, run in a child process traced with
 /// PTRACE_SYSCALL (between two getppid() markers); -1 where that cannot be
 /// counted (not x86-64).
-long countSyscalls(const std::function<void()> &body)
+long countSyscalls(const std::function<void()> &body, std::string &which)
 {
 #if defined(__x86_64__)
 	std::fflush(stdout);
@@ -128,6 +128,7 @@ long countSyscalls(const std::function<void()> &body)
 	::ptrace(PTRACE_SETOPTIONS, pid, nullptr, reinterpret_cast<void *>(PTRACE_O_TRACESYSGOOD | PTRACE_O_EXITKILL));
 	long count = 0;
 	int markers = 0;
+	std::vector<long> nrs; // syscall number -> count
 	bool entry = true;
 	long sig = 0;
 	for (;;) {
@@ -144,8 +145,15 @@ long countSyscalls(const std::function<void()> &body)
 				::ptrace(PTRACE_GETREGS, pid, nullptr, &regs);
 				if (static_cast<long>(regs.orig_rax) == SYS_getppid)
 					markers++;
-				else if (markers == 1)
+				else if (markers == 1) {
 					count++;
+					const auto nr = static_cast<std::size_t>(regs.orig_rax);
+					if (nr < 1024) {
+						if (nrs.size() <= nr)
+							nrs.resize(nr + 1, 0);
+						nrs[nr]++;
+					}
+				}
 			}
 			entry = !entry;
 		} else {
@@ -153,9 +161,13 @@ long countSyscalls(const std::function<void()> &body)
 		}
 	}
 	::waitpid(pid, &st, 0);
+	for (std::size_t nr = 0; nr < nrs.size(); nr++)
+		if (nrs[nr])
+			which += " nr" + std::to_string(nr) + "=" + std::to_string(nrs[nr]);
 	return markers >= 2 ? count : -1;
 #else
 	(void)body;
+	(void)which;
 	return -1;
 #endif
 }
@@ -182,11 +194,16 @@ Figures measure(const char *name, unsigned n, const std::function<void()> &once)
 	f.appCpuUs = (cpuUs() - c0) / n;
 	f.workerCpuUs = (taskCpuUs(wpid) - w0) / n;
 	f.wallUs = std::chrono::duration<double, std::micro>(t1 - t0).count() / n;
-	const long calls = countSyscalls([&] {
-		for (unsigned i = 0; i < kTraced; i++)
-			once();
-	});
+	std::string which;
+	const long calls = countSyscalls(
+		[&] {
+			for (unsigned i = 0; i < kTraced; i++)
+				once();
+		},
+		which);
 	f.syscalls = calls < 0 ? -1 : static_cast<double>(calls) / kTraced;
+	std::printf("bench: cyclic %s: system calls in %u traced cycles by number (x86-64):%s\n", name, kTraced,
+		    which.c_str());
 	std::printf("bench: cyclic %s: %.2f syscalls per cycle, CPU %.1f us per cycle in the application + %.1f us in "
 		    "the kernel worker, %.0f us wall per cycle (%u cycles, 1 ms period)\n",
 		    name, f.syscalls, f.appCpuUs, f.workerCpuUs, f.wallUs, n);
