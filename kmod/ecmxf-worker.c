@@ -630,7 +630,8 @@ static int ecmxf_worker_fn(void *data)
 		pump = NULL;
 
 		mutex_lock(&edev->lock);
-		if (!edev->cur_req) {
+		/* a reset needs the engine's command slot: not the pump's */
+		if (!edev->cur_req && !edev->pump.busy) {
 			reset = list_first_entry_or_null(&edev->resets,
 							 struct ecmxf_req,
 							 node);
