@@ -3,9 +3,9 @@
  * ecmxf-main.c - NEXTW ECM-XF SPI EtherCAT master: module init and exit
  *
  * Checks the protocol core, creates the "ecmxf" class and the character
- * device region (/dev/ecmxf0, /dev/ecmxf1, ... one per chip), and
- * registers the spi_driver.  The module parameters give the defaults that
- * device properties override.
+ * device region (/dev/ecmxf0, /dev/ecmxf1, ... one per chip), registers
+ * the generic netlink family of the events and the spi_driver.  The
+ * module parameters give the defaults that device properties override.
  *
  * Copyright (C) 2026 The ecmxf authors
  */
@@ -109,13 +109,18 @@ static int __init ecmxf_init(void)
 	ret = class_register(&ecmxf_class);
 	if (ret)
 		goto out_unregister_region;
-	ret = ecmxf_spi_register();
+	ret = ecmxf_nl_register();
 	if (ret)
 		goto out_unregister_class;
+	ret = ecmxf_spi_register();
+	if (ret)
+		goto out_unregister_genl;
 	pr_info("protocol core self-test passed; uAPI version %u\n",
 		ECMXF_UAPI_VERSION);
 	return 0;
 
+out_unregister_genl:
+	ecmxf_nl_unregister();
 out_unregister_class:
 	class_unregister(&ecmxf_class);
 out_unregister_region:
@@ -127,6 +132,7 @@ module_init(ecmxf_init);
 static void __exit ecmxf_exit(void)
 {
 	ecmxf_spi_unregister();
+	ecmxf_nl_unregister();	/* every worker has stopped */
 	class_unregister(&ecmxf_class);
 	unregister_chrdev_region(ecmxf_devt, ECMXF_MAX_DEVICES);
 	ida_destroy(&ecmxf_ida);

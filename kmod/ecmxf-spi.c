@@ -20,13 +20,17 @@
 #include "ecmxf.h"
 
 /*
- * INT0 ("ready") and INT1 (event) interrupts.  Threaded, with no hard
- * handler: they only count, record a flag and wake the worker, which is
- * bounded work and needs no lock.  The worker (or probe, while it owns
- * the link) never depends on an edge: it also reads the line level and
- * bounds every wait, so a lost edge costs time, not correctness.
+ * INT0 ("ready") and INT1 (event) interrupts.  The handlers only count,
+ * record a flag and wake the worker: bounded work that needs no lock and
+ * is safe in hard IRQ context, so they run there when the GPIO controller
+ * allows it (devm_request_any_context_irq(); no IRQ thread between the
+ * edge and the worker) and threaded behind a nested (e.g. I2C expander)
+ * controller; PREEMPT_RT threads them anyway.  The worker (or probe,
+ * while it owns the link) never depends on an edge: it also reads the
+ * line level and bounds every wait, so a lost edge costs time, not
+ * correctness.
  */
-static irqreturn_t ecmxf_int0_thread(int irq, void *data)
+static irqreturn_t ecmxf_int0_irq(int irq, void *data)
 {
 	struct ecmxf_dev *edev = data;
 
@@ -36,7 +40,7 @@ static irqreturn_t ecmxf_int0_thread(int irq, void *data)
 	return IRQ_HANDLED;
 }
 
-static irqreturn_t ecmxf_int1_thread(int irq, void *data)
+static irqreturn_t ecmxf_int1_irq(int irq, void *data)
 {
 	struct ecmxf_dev *edev = data;
 
@@ -53,7 +57,7 @@ static irqreturn_t ecmxf_int1_thread(int irq, void *data)
  */
 static int ecmxf_request_line_irq(struct ecmxf_dev *edev,
 				  struct gpio_desc *desc, const char *name,
-				  irq_handler_t thread_fn, int *irq_out)
+				  irq_handler_t handler, int *irq_out)
 {
 	struct device *dev = &edev->spi->dev;
 	unsigned long trigger;
@@ -68,10 +72,9 @@ static int ecmxf_request_line_irq(struct ecmxf_dev *edev,
 				     name);
 	trigger = gpiod_is_active_low(desc) ? IRQF_TRIGGER_FALLING :
 					      IRQF_TRIGGER_RISING;
-	ret = devm_request_threaded_irq(dev, irq, NULL, thread_fn,
-					IRQF_ONESHOT | trigger,
-					name, edev);
-	if (ret)
+	ret = devm_request_any_context_irq(dev, irq, handler, trigger, name,
+					   edev);
+	if (ret < 0)
 		return dev_err_probe(dev, ret, "cannot request the %s IRQ %d\n",
 				     name, irq);
 	*irq_out = irq;
@@ -194,11 +197,11 @@ static int ecmxf_probe(struct spi_device *spi)
 		goto out_put_device;
 	}
 	ret = ecmxf_request_line_irq(edev, edev->int0, "ecmxf-int0",
-				     ecmxf_int0_thread, &edev->int0_irq);
+				     ecmxf_int0_irq, &edev->int0_irq);
 	if (ret)
 		goto out_put_device;
 	ret = ecmxf_request_line_irq(edev, edev->int1, "ecmxf-int1",
-				     ecmxf_int1_thread, &edev->int1_irq);
+				     ecmxf_int1_irq, &edev->int1_irq);
 	if (ret)
 		goto out_free_irqs;
 

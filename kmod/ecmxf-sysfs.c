@@ -13,6 +13,7 @@
  *                  reader's pid namespace
  *   worker_priority SCHED_FIFO priority of the link worker (1..99);
  *                  writable by root
+ *   ring_skipped   output frames the PDO pump skipped since probe
  *   counters/...   one file per field of struct ecmxf_counters
  *
  * Copyright (C) 2026 The ecmxf authors
@@ -183,6 +184,19 @@ static ssize_t worker_priority_store(struct device *dev,
 }
 static DEVICE_ATTR_RW(worker_priority);
 
+static ssize_t ring_skipped_show(struct device *dev,
+				 struct device_attribute *attr, char *buf)
+{
+	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
+	u64 v;
+
+	mutex_lock(&edev->lock);
+	v = edev->out_ring_skipped;
+	mutex_unlock(&edev->lock);
+	return sysfs_emit(buf, "%llu\n", (unsigned long long)v);
+}
+static DEVICE_ATTR_RO(ring_skipped);
+
 static struct attribute *ecmxf_attrs[] = {
 	&dev_attr_fw_version.attr,
 	&dev_attr_fw_info.attr,
@@ -194,6 +208,7 @@ static struct attribute *ecmxf_attrs[] = {
 	&dev_attr_open_count.attr,
 	&dev_attr_claim_pid.attr,
 	&dev_attr_worker_priority.attr,
+	&dev_attr_ring_skipped.attr,
 	NULL
 };
 
@@ -246,7 +261,6 @@ ECMXF_COUNTER_ATTR(in_ring_overruns);
 ECMXF_COUNTER_ATTR(rx_fifo_underruns);
 ECMXF_COUNTER_ATTR(rx_fifo_overruns);
 ECMXF_COUNTER_ATTR(tx_fifo_overruns);
-ECMXF_COUNTER_ATTR(out_ring_skipped);
 ECMXF_COUNTER_ATTR(int0_irqs);
 ECMXF_COUNTER_ATTR(int1_irqs);
 
@@ -271,7 +285,6 @@ static struct attribute *ecmxf_counter_attrs[] = {
 	&ecmxf_counter_rx_fifo_underruns.attr.attr,
 	&ecmxf_counter_rx_fifo_overruns.attr.attr,
 	&ecmxf_counter_tx_fifo_overruns.attr.attr,
-	&ecmxf_counter_out_ring_skipped.attr.attr,
 	&ecmxf_counter_int0_irqs.attr.attr,
 	&ecmxf_counter_int1_irqs.attr.attr,
 	NULL

@@ -52,7 +52,8 @@ void ecmxf_worker_kick(struct ecmxf_dev *edev)
  * ecmxf_wake_owner() - wake the task that owns the link, nothing more
  * @edev: the device
  *
- * For the IRQ threads, which record their own flag first.
+ * For the INT0/INT1 handlers (hard IRQ or threaded), which record their
+ * own flag first.
  */
 void ecmxf_wake_owner(struct ecmxf_dev *edev)
 {
@@ -138,7 +139,10 @@ static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
 				    ret);
 		memset(edev->rxbuf, 0, n);
 	}
-	ev = ecmxf_engine_input(&edev->e, ktime_get_ns(), edev->rxbuf, n);
+	now = ktime_get_ns();
+	ev = ecmxf_engine_input(&edev->e, now, edev->rxbuf, n);
+	if (ev & ECMXF_EV_HEADER)
+		ecmxf_nl_header(edev, now);	/* events (ecmxf-netlink.c) */
 	ecmxf_wait_ready(edev);
 	return ev;
 }
@@ -263,7 +267,7 @@ static int ecmxf_find_format(struct ecmxf_dev *edev)
 		ECMXF_DATA_DEFAULT, 992,
 	};
 	const unsigned int checks[] = { edev->want_check, ECMXF_CHECK_FIXED };
-	unsigned int i, j;
+	unsigned int i, j, k;
 	int ret = -ENODEV;
 
 	for (i = 0; i < ARRAY_SIZE(sizes); i++) {
@@ -273,10 +277,19 @@ static int ecmxf_find_format(struct ecmxf_dev *edev)
 			if (j && checks[j] == checks[0])
 				continue;
 			ecmxf_engine_reinit(edev, sizes[i], checks[j]);
-			ret = ecmxf_read_fw_version(edev);
-			dev_dbg(&edev->spi->dev,
-				"FW_VERSION_GET with %u bytes and the %s check word: %d\n",
-				sizes[i], ecmxf_check_name(checks[j]), ret);
+			/*
+			 * A timeout is no evidence of a wrong format (that
+			 * fails with bad packets): the link was too slow
+			 * to be scheduled.  Ask again in the same format.
+			 */
+			for (k = 0; k < ECMXF_PROBE_TRIES; k++) {
+				ret = ecmxf_read_fw_version(edev);
+				dev_dbg(&edev->spi->dev,
+					"FW_VERSION_GET with %u bytes and the %s check word: %d\n",
+					sizes[i], ecmxf_check_name(checks[j]), ret);
+				if (ret != -ETIMEDOUT)
+					break;
+			}
 			if (!ret)
 				return 0;
 		}
@@ -449,6 +462,7 @@ static int ecmxf_submit(struct ecmxf_dev *edev, struct ecmxf_req *req)
 		return -ETIMEDOUT;
 	left = div_u64(req->deadline_ns - now, NSEC_PER_USEC);
 	req->x.timeout_us = (u32)clamp_t(u64, left, 1, U32_MAX);
+	ecmxf_nl_req_sent(edev, &req->x);
 	return ecmxf_engine_submit(&edev->e, &req->x, now);
 }
 
@@ -502,6 +516,7 @@ static void ecmxf_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 		edev->slave_count = 0;
 	if (req->kind == ECMXF_REQ_RESET)
 		ecmxf_reset_done(edev, req);
+	ecmxf_nl_req_done(edev, &req->x);
 	ecmxf_req_finish(edev, req, status);
 }
 
@@ -515,6 +530,7 @@ static void ecmxf_collect(struct ecmxf_dev *edev)
 
 	lockdep_assert_held(&edev->lock);
 	ecmxf_snapshot(edev);
+	ecmxf_nl_collect(edev);
 	if (req && req->x.status != -EINPROGRESS) {
 		edev->cur_req = NULL;
 		ecmxf_done(edev, req);
@@ -548,6 +564,7 @@ static int ecmxf_reset_link(struct ecmxf_dev *edev)
 	mutex_unlock(&edev->lock);
 
 	ecmxf_engine_reinit(edev, size, check);
+	ecmxf_nl_link_reset(edev);
 	ret = ecmxf_read_fw_version(edev);
 	if (ret)
 		ret = ecmxf_find_format(edev);
@@ -589,27 +606,29 @@ static void ecmxf_start_reset(struct ecmxf_dev *edev, struct ecmxf_req *req)
 }
 
 /*
- * Sleep until there is work: a kick, INT1, kthread_stop(), or the PDO
- * pump's next timer deadline.
+ * Sleep until there is work: a kick, INT1, kthread_stop(), @until_ns
+ * (ktime_get_ns() clock; U64_MAX: no timeout) for the events' poll, or
+ * the PDO pump's next timer deadline.
  */
-static void ecmxf_idle(struct ecmxf_dev *edev)
+static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 {
-	ktime_t until;
+	ktime_t t;
 	u64 pump;
 
 	mutex_lock(&edev->lock);
 	pump = ecmxf_pump_deadline(edev);
 	mutex_unlock(&edev->lock);
+	if (pump && pump < until_ns)
+		until_ns = pump;
+	t = ns_to_ktime(until_ns);
 
 	set_current_state(TASK_IDLE);
 	if (!atomic_read(&edev->kick) && !atomic_read(&edev->int1_flag) &&
 	    !kthread_should_stop()) {
-		if (pump) {
-			until = ns_to_ktime(pump);
-			schedule_hrtimeout(&until, HRTIMER_MODE_ABS);
-		} else {
+		if (until_ns == U64_MAX)
 			schedule();
-		}
+		else
+			schedule_hrtimeout(&t, HRTIMER_MODE_ABS);
 	}
 	__set_current_state(TASK_RUNNING);
 }
@@ -619,10 +638,13 @@ static int ecmxf_worker_fn(void *data)
 	struct ecmxf_dev *edev = data;
 	struct ecmxf_req *reset, *req;
 	struct ecmxf_rings *pump;
+	bool slot_free;
 	u64 now;
 	int ret;
 
+	ecmxf_nl_start(edev);
 	while (!kthread_should_stop()) {
+		ecmxf_nl_flush(edev);	/* the events found since, no lock held */
 		atomic_set(&edev->kick, 0);
 		now = ktime_get_ns();
 		reset = NULL;
@@ -630,8 +652,13 @@ static int ecmxf_worker_fn(void *data)
 		pump = NULL;
 
 		mutex_lock(&edev->lock);
-		/* a reset needs the engine's command slot: not the pump's */
-		if (!edev->cur_req && !edev->pump.busy) {
+		/*
+		 * the events' AL status query, or the pump, may hold the
+		 * command slot; a reset needs it too
+		 */
+		slot_free = !edev->cur_req && !edev->nl.ix_busy &&
+			    !edev->pump.busy;
+		if (slot_free) {
 			reset = list_first_entry_or_null(&edev->resets,
 							 struct ecmxf_req,
 							 node);
@@ -644,7 +671,7 @@ static int ecmxf_worker_fn(void *data)
 			ecmxf_expire_queued(edev, now);
 			edev->next_expire_ns = now + ECMXF_EXPIRE_PERIOD_NS;
 		}
-		if (!reset && !edev->cur_req && !edev->pump.busy) {
+		if (!reset && slot_free && !ecmxf_nl_query_first(edev, false)) {
 			/* the pump and the files take turns */
 			if (edev->pump.turn)
 				pump = ecmxf_pump_take(edev, now);
@@ -654,6 +681,7 @@ static int ecmxf_worker_fn(void *data)
 				req->state = ECMXF_RS_ACTIVE;
 				edev->cur_req = req;
 				edev->pump.turn = true;
+				ecmxf_nl_query_first(edev, true);
 			} else if (!pump) {
 				pump = ecmxf_pump_take(edev, now);
 			}
@@ -677,10 +705,19 @@ static int ecmxf_worker_fn(void *data)
 			}
 		}
 
-		/* INT1: refresh the header (flags, state) with one exchange */
+		/* the slot is still free: the AL status query's next command */
+		if (!reset && !req && !pump && slot_free)
+			ecmxf_nl_query_submit(edev);
+
+		/*
+		 * INT1, or a poll for the events' listeners: refresh the
+		 * header (flags, state) with one exchange
+		 */
 		if (ecmxf_engine_idle(&edev->e) &&
-		    !atomic_xchg(&edev->int1_flag, 0)) {
-			ecmxf_idle(edev);
+		    !atomic_xchg(&edev->int1_flag, 0) &&
+		    !ecmxf_nl_poll_due(edev, now)) {
+			ecmxf_nl_flush(edev);	/* a burst that just ended */
+			ecmxf_idle(edev, ecmxf_nl_wake_at(edev, now));
 			continue;
 		}
 		ecmxf_exchange(edev);
@@ -690,6 +727,7 @@ static int ecmxf_worker_fn(void *data)
 	}
 
 	/* the device is going away: nothing in flight survives */
+	ecmxf_nl_stop(edev);
 	mutex_lock(&edev->lock);
 	if (edev->cur_req) {
 		req = edev->cur_req;
@@ -816,7 +854,6 @@ void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k)
 	k->rx_fifo_underruns = edev->rx_fifo_underruns;
 	k->rx_fifo_overruns = edev->rx_fifo_overruns;
 	k->tx_fifo_overruns = edev->tx_fifo_overruns;
-	k->out_ring_skipped = edev->out_ring_skipped;
 	mutex_unlock(&edev->lock);
 	k->int0_irqs = atomic64_read(&edev->int0_irqs);
 	k->int1_irqs = atomic64_read(&edev->int1_irqs);

@@ -12,6 +12,7 @@
  *   ecmxf-chrdev.c    /dev/ecmxfN: open/release, ioctls, read, poll
  *   ecmxf-ring.c      the mmap()ed PDO rings and the PDO pump
  *   ecmxf-sysfs.c     attributes of the class device
+ *   ecmxf-netlink.c   generic netlink family: events, counters
  *
  * Copyright (C) 2026 The ecmxf authors
  */
@@ -34,6 +35,7 @@
 #include <linux/ecmxf.h>	/* kmod/uapi -> include/uapi */
 
 #include "ecmxf-proto.h"
+#include "ecmxf-events.h"
 
 #define ECMXF_DRV_NAME		"ecmxf"
 /* minors (and so chips) the module can serve */
@@ -50,6 +52,8 @@
  * to be scheduled, and a timeout must not be taken for a wrong format
  */
 #define ECMXF_PROBE_TIMEOUT_US	500000
+/* probe: FW_VERSION_GETs per packet format while they time out */
+#define ECMXF_PROBE_TRIES	3
 
 /**
  * enum ecmxf_req_kind - who waits for a request and how it ends
@@ -137,6 +141,116 @@ struct ecmxf_client {
 	unsigned int in_flight;
 	wait_queue_head_t wq;
 	bool writable;
+};
+
+/* slaves whose AL status codes one state event can carry */
+#define ECMXF_NL_MAX_SLAVES	64
+/* events that wait in &ecmxf_nl_dev.queue to be sent */
+#define ECMXF_NL_QUEUE		32
+/* event types (&enum ecmxf_nl_event values) with a rate limit each */
+#define ECMXF_NL_TYPES		16
+
+/**
+ * struct ecmxf_nl_ev - one event on its way to the "events" group
+ * @d: what the detector (or the worker) saw
+ * @reset_reason: %ECMXF_NL_EV_RESET: &enum ecmxf_nl_reset_reason
+ * @action: %ECMXF_NL_EV_DEVICE: &enum ecmxf_nl_device_action
+ * @cmd_code: %ECMXF_NL_EV_ASYNC_ERROR: the command code
+ * @status: %ECMXF_NL_EV_ASYNC_ERROR: its negative errno
+ * @slaves: %ECMXF_NL_EV_STATE: the AL status query ran (for this event)
+ * @incomplete: the query could not read every slave
+ * @slave_count: slaves on the bus, from the query
+ * @n_slaves: entries of &ecmxf_nl_dev.slaves that belong to the event
+ */
+struct ecmxf_nl_ev {
+	struct ecmxf_det_event d;
+	u8 reset_reason;
+	u8 action;
+	u8 cmd_code;
+	s32 status;
+	bool slaves;
+	bool incomplete;
+	u16 slave_count;
+	u16 n_slaves;
+};
+
+/**
+ * struct ecmxf_nl_slave - a slave not in OP, for a state event
+ * @pos: position on the bus
+ * @state: ECAT_STATE_GET return value
+ * @have_al: @al is valid (the slave answered SLV_INFO_GET 7)
+ * @al: AL status code
+ */
+struct ecmxf_nl_slave {
+	u16 pos;
+	u8 state;
+	bool have_al;
+	u16 al;
+};
+
+/**
+ * struct ecmxf_nl_rate - rate limit of one event type (a token bucket)
+ * @tokens: events that may be sent now
+ * @last_ns: when the bucket was last refilled
+ * @suppressed: events not sent since the last one sent
+ */
+struct ecmxf_nl_rate {
+	u32 tokens;
+	u64 last_ns;
+	u32 suppressed;
+};
+
+/**
+ * struct ecmxf_nl_dev - per-device state of the events (ecmxf-netlink.c)
+ * @det: the header event detector of the protocol core
+ * @active: the worker runs: headers are fed, events are sent
+ * @warm_sent: a WARM_RESET went out; the next reset seen is its result
+ * @seq: number of the next event (sent or suppressed)
+ * @next_poll_ns: next INFO_UPDATE poll while someone listens
+ * @queue: events detected, not yet sent
+ * @queued: entries in @queue
+ * @rate: rate limit per event type
+ * @q_state: AL status query: 0 idle, else the step running
+ * @q_pos: slave position the query is at
+ * @q_skipped: times a user command went before the query
+ * @q_gen: number of the query (an answer of an older one is dropped)
+ * @q_ev: the state event that waits for the query
+ * @ix_busy: @ix is in the engine
+ * @ix_err: error status before @ix was sent
+ * @ix_gen: @q_gen when @ix was sent
+ * @ix: the query's command
+ * @ix_rx: its response data
+ * @slaves: slaves read by the query
+ * @events: events detected (atomic: read by the counters command)
+ * @events_suppressed: events not sent because of the rate limit
+ * @events_failed: events that could not be sent
+ *
+ * Everything but the three counters belongs to the worker (and to probe
+ * before the worker runs); the counters are atomics.
+ */
+struct ecmxf_nl_dev {
+	struct ecmxf_det det;
+	bool active;
+	bool warm_sent;
+	u32 seq;
+	u64 next_poll_ns;
+	struct ecmxf_nl_ev queue[ECMXF_NL_QUEUE];
+	unsigned int queued;
+	struct ecmxf_nl_rate rate[ECMXF_NL_TYPES];
+	u8 q_state;
+	u16 q_pos;
+	unsigned int q_skipped;
+	u32 q_gen;
+	struct ecmxf_nl_ev q_ev;
+	bool ix_busy;
+	u8 ix_err;
+	u32 ix_gen;
+	struct ecmxf_xfer ix;
+	u8 ix_rx[16];
+	struct ecmxf_nl_slave slaves[ECMXF_NL_MAX_SLAVES];
+	atomic64_t events;
+	atomic64_t events_suppressed;
+	atomic64_t events_failed;
 };
 
 /**
@@ -299,7 +413,8 @@ struct ecmxf_pump {
  * @rx_fifo_underruns: &struct ecmxf_counters.rx_fifo_underruns
  * @rx_fifo_overruns: &struct ecmxf_counters.rx_fifo_overruns
  * @tx_fifo_overruns: &struct ecmxf_counters.tx_fifo_overruns
- * @out_ring_skipped: &struct ecmxf_counters.out_ring_skipped
+ * @out_ring_skipped: output frames the pump skipped (sysfs ring_skipped)
+ * @nl: generic netlink events (worker only, see &struct ecmxf_nl_dev)
  */
 struct ecmxf_dev {
 	struct spi_device *spi;
@@ -357,6 +472,8 @@ struct ecmxf_dev {
 	u64 rx_fifo_overruns;
 	u64 tx_fifo_overruns;
 	u64 out_ring_skipped;
+
+	struct ecmxf_nl_dev nl;
 };
 
 /* module parameters (ecmxf-main.c) */
@@ -411,6 +528,22 @@ u64 ecmxf_pump_deadline(struct ecmxf_dev *edev);
 /* ecmxf-chrdev.c */
 extern const struct file_operations ecmxf_fops;
 void ecmxf_chrdev_fail_all(struct ecmxf_dev *edev, int status);
+
+/* ecmxf-netlink.c */
+int ecmxf_nl_register(void);
+void ecmxf_nl_unregister(void);
+void ecmxf_nl_start(struct ecmxf_dev *edev);
+void ecmxf_nl_stop(struct ecmxf_dev *edev);
+void ecmxf_nl_header(struct ecmxf_dev *edev, u64 now_ns);
+void ecmxf_nl_req_sent(struct ecmxf_dev *edev, const struct ecmxf_xfer *x);
+void ecmxf_nl_req_done(struct ecmxf_dev *edev, const struct ecmxf_xfer *x);
+void ecmxf_nl_link_reset(struct ecmxf_dev *edev);
+void ecmxf_nl_flush(struct ecmxf_dev *edev);
+bool ecmxf_nl_query_first(struct ecmxf_dev *edev, bool picked);
+bool ecmxf_nl_query_submit(struct ecmxf_dev *edev);
+void ecmxf_nl_collect(struct ecmxf_dev *edev);
+bool ecmxf_nl_poll_due(struct ecmxf_dev *edev, u64 now_ns);
+u64 ecmxf_nl_wake_at(struct ecmxf_dev *edev, u64 now_ns);
 
 /* ecmxf-sysfs.c */
 extern const struct attribute_group *ecmxf_groups[];

@@ -50,6 +50,7 @@ void Transport::sleepFor(std::chrono::nanoseconds duration)
 namespace {
 
 using std::chrono::nanoseconds;
+using std::chrono::microseconds;
 
 /// How long one wait for INT0 lasts before the engine's deadlines are
 /// applied without an exchange.
@@ -96,6 +97,20 @@ public:
 	bool ranAsync = false;
 	/// Pause between the polls of a running async command.
 	nanoseconds asyncPoll{ 0 };
+	microseconds minTimeout{ 0 };
+
+	/// @p t raised to minTimeout (t zero: the table's time for @p code).
+	[[nodiscard]] microseconds floored(std::uint8_t code, microseconds t) const noexcept
+	{
+		if (minTimeout <= microseconds::zero())
+			return t;
+		microseconds eff = t;
+		if (eff <= microseconds::zero()) {
+			const auto ci = commandInfo(code);
+			eff = std::chrono::milliseconds(ci ? ci->timeoutMs : 100u);
+		}
+		return eff < minTimeout ? minTimeout : t;
+	}
 	/// The packet trace being recorded (lib/trace.cpp), or null.
 	std::unique_ptr<detail::TraceWriter> trace;
 
@@ -330,7 +345,22 @@ Device::~Device() = default;
 
 Response Device::command(const Command &c)
 {
-	return impl_->command(c);
+	const microseconds t = impl_->floored(c.code, c.timeout);
+	if (t == c.timeout)
+		return impl_->command(c);
+	Command raised = c;
+	raised.timeout = t;
+	return impl_->command(raised);
+}
+
+void Device::setMinimumTimeout(std::chrono::microseconds floor) noexcept
+{
+	impl_->minTimeout = floor > microseconds::zero() ? floor : microseconds::zero();
+}
+
+std::chrono::microseconds Device::minimumTimeout() const noexcept
+{
+	return impl_->minTimeout;
 }
 
 void Device::setAsyncPollInterval(std::chrono::nanoseconds interval) noexcept
@@ -420,7 +450,12 @@ void TraceAccess::writeFormat(Device &d, detail::TraceWriter &w) noexcept
 int Device::transact(const RawCommand &c, std::span<const std::uint8_t> payload, std::span<std::uint8_t> rx,
 		     ResponseHeader &header) noexcept
 {
-	return impl_->transact(c, payload, rx, header);
+	const microseconds t = impl_->floored(c.code, c.timeout);
+	if (t == c.timeout)
+		return impl_->transact(c, payload, rx, header);
+	RawCommand raised = c;
+	raised.timeout = t;
+	return impl_->transact(raised, payload, rx, header);
 }
 
 std::size_t Device::pdoDataCapacity() const noexcept

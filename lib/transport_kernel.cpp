@@ -154,7 +154,6 @@ KernelCounters KernelTransport::counters() const
 	c.rxFifoUnderruns = k.rx_fifo_underruns;
 	c.rxFifoOverruns = k.rx_fifo_overruns;
 	c.txFifoOverruns = k.tx_fifo_overruns;
-	c.outRingSkipped = k.out_ring_skipped;
 	c.int0Irqs = k.int0_irqs;
 	c.int1Irqs = k.int1_irqs;
 	return c;

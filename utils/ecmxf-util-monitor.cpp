@@ -1,29 +1,40 @@
 // SPDX-License-Identifier: MIT
 /*
- * ecmxf-util monitor - live events of the chip: it polls the chip with
- * INFO_UPDATE and reports what changed in the response header (ECAT state,
- * error and ECM status bits, CRC and WKC error counters, FIFO levels, a
- * chip reset), one line (or one JSON object) per event.
+ * ecmxf-util monitor - live events of the chip, one line (or one JSON
+ * object) per event.
  *
- * Over /dev/ecmxfN the kernel module's generic-netlink events will replace
- * the polling (a later issue); the byte transports (sim:, spidev:) poll.
+ * Over /dev/ecmxfN it subscribes to the kernel module's generic netlink
+ * events (libmnl, through ecmxf::EventSubscriber) and needs no access to
+ * the device node; the kernel detects them (its worker sees every
+ * response header) and reads the slaves' AL status codes itself. On the
+ * byte transports (sim:, spidev:) it polls the chip with INFO_UPDATE and
+ * runs the same detector (ecmxf::EventDetector, lib/core/ecmxf-events.c)
+ * over the headers, and asks the slaves itself.
  */
 #include "ecmxf-util-monitor.hpp"
 #include "ecmxf-util.hpp"
+
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <ctime>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/events.hpp>
+#include <ecmxf/protocol.hpp>
 #include <ecmxf/sim_transport.hpp>
 #include <ecmxf/transport.hpp>
+#include <ecmxf/types_bus.hpp>
 
 namespace ecmxf_util {
 
@@ -31,33 +42,47 @@ const char *const kMonitorHelp =
 	"Usage: ecmxf-util [global options] monitor [--count N] [--duration MS]\n"
 	"                                           [--interval MS] [--tx-high N]\n"
 	"                                           [--rx-low N] [--json]\n"
+	"       ecmxf-util -d /dev/ecmxfN monitor --counters [--json]\n"
 	"\n"
-	"Poll the chip with INFO_UPDATE every --interval and print one line per\n"
-	"event, until --count events, --duration or Ctrl-C:\n"
-	"  state          the ECAT state changed; when it leaves OP (or becomes\n"
-	"                 ERROR), each slave not in OP with its state and AL\n"
-	"                 status code + text (STATE_GET, SLV_INFO_GET 7)\n"
+	"Print one line per event of the chip, until --count events, --duration\n"
+	"or Ctrl-C. With a kernel device (-d /dev/ecmxfN) the events come from the\n"
+	"kernel module over generic netlink (family \"ecmxf\", group \"events\"; no\n"
+	"access to the device node is needed); on sim: and spidev: devices the\n"
+	"chip is polled with INFO_UPDATE every --interval and the same rules run\n"
+	"over the response headers:\n"
+	"  state          the ECAT state changed; when it went down or to ERROR,\n"
+	"                 each slave not in OP with its state and AL status code\n"
+	"                 + text (STATE_GET, SLV_INFO_GET 7)\n"
+	"  link           the EtherCAT link went down or up (error status bit 0)\n"
 	"  reset          the chip reset (NOP answer, 'Ethernet initialised'\n"
-	"                 cleared or the ECAT state back to NONE)\n"
-	"  error_status   error-status bits set / cleared, by name\n"
+	"                 cleared or the ECAT state back to NONE); the kernel also\n"
+	"                 says why (warm reset, link resynchronised)\n"
+	"  error_status   error-status bits 1..7 set / cleared, by name\n"
 	"  ecm_status     ECM status bits (DC stable, Ethernet initialised, PDO\n"
 	"                 configured, FIFO enabled) set / cleared\n"
 	"  crc_errors     the SPI CRC error counter went up\n"
 	"  wkc_burst      the WKC error counter started going up; wkc_burst_end\n"
-	"                 when a poll shows no more (errors of the burst, length)\n"
+	"                 after 100 ms without new errors (errors of the burst,\n"
+	"                 first to last increase)\n"
 	"  fifo           the TxFIFO count crossed --tx-high, or the RxFIFO count\n"
 	"                 crossed --rx-low\n"
-	"A quiet bus prints nothing. Times are since the start, on the device's\n"
-	"clock (virtual time on sim:, where the loop runs as fast as it can).\n"
-	"Over /dev/ecmxfN the kernel's generic-netlink events will be used\n"
-	"instead of polling (not implemented yet).\n"
+	"  async_error    (kernel) an async command failed, timed out or was\n"
+	"                 refused as busy\n"
+	"  device         (kernel) the device was probed or is being removed\n"
+	"A quiet bus prints nothing. Times are since the start: CLOCK_MONOTONIC\n"
+	"for the kernel's events, the device's clock when polling (virtual time\n"
+	"on sim:, where the loop runs as fast as it can).\n"
 	"\n"
 	"Options:\n"
 	"  --count N      stop after N events\n"
 	"  --duration MS  stop after MS milliseconds\n"
-	"  --interval MS  poll period, default 10\n"
-	"  --tx-high N    TxFIFO high mark, default 10\n"
-	"  --rx-low N     RxFIFO low mark, default 0 (the RxFIFO ran dry)\n"
+	"  --interval MS  poll period, default 10 (polled devices only)\n"
+	"  --tx-high N    TxFIFO high mark, default 10 (polled devices only; the\n"
+	"                 kernel's is 10)\n"
+	"  --rx-low N     RxFIFO low mark, default 0 (polled devices only; the\n"
+	"                 kernel's is 0: the RxFIFO ran dry)\n"
+	"  --counters     print the kernel's counters of the device (netlink\n"
+	"                 ECMXF_NL_CMD_GET_COUNTERS) and exit\n"
 	"  --json         one JSON object per event and line (JSON Lines)\n"
 	"  -h, --help     show this help\n";
 
@@ -81,9 +106,9 @@ constexpr BitName kEcmBits[] = {
 	{ 4, "PDO configured" },
 	{ 6, "FIFO enabled" },
 };
-constexpr std::uint8_t kEcmNop = 1u << 5;
-constexpr std::uint8_t kEcmEthInit = 1u << 3;
-constexpr std::uint8_t kEcmWatched = 0x5C; // bits 2, 3, 4, 6
+constexpr std::uint8_t kErrLink = 0x01;
+constexpr std::uint8_t kStateOp = 0x08;
+constexpr std::uint8_t kStateError = 0x10;
 
 template <std::size_t N>
 std::vector<std::string> names(std::uint8_t v, const BitName (&table)[N])
@@ -113,11 +138,24 @@ std::string hex2(unsigned v)
 	return b;
 }
 
-Event bitsEvent(const char *type, const char *what, std::uint8_t prev, std::uint8_t cur,
+std::string hex4(unsigned v)
+{
+	char b[8];
+	std::snprintf(b, sizeof(b), "0x%04x", v);
+	return b;
+}
+
+std::string u8s(unsigned v)
+{
+	return std::to_string(v);
+}
+
+/// Bits set and cleared between @p prev and @p cur (only @p mask).
+Event bitsEvent(const char *type, const char *what, unsigned prev, unsigned cur, std::uint8_t mask,
 		std::vector<std::string> (*namer)(std::uint8_t))
 {
-	const auto set = namer(static_cast<std::uint8_t>(cur & ~prev));
-	const auto cleared = namer(static_cast<std::uint8_t>(prev & ~cur));
+	const auto set = namer(static_cast<std::uint8_t>(cur & ~prev & mask));
+	const auto cleared = namer(static_cast<std::uint8_t>(prev & ~cur & mask));
 	Event e;
 	e.type = type;
 	e.text = std::string(what) + " " + hex2(prev) + " -> " + hex2(cur) + ":";
@@ -127,11 +165,79 @@ Event bitsEvent(const char *type, const char *what, std::uint8_t prev, std::uint
 		e.text.append(";");
 	if (!cleared.empty())
 		e.text.append(" cleared ").append(joined(cleared, false));
-	e.fields = { { "previous", std::to_string(prev) },
-		     { "value", std::to_string(cur) },
+	e.fields = { { "previous", u8s(prev) },
+		     { "value", u8s(cur) },
 		     { "set", joined(set, true) },
 		     { "cleared", joined(cleared, true) } };
 	return e;
+}
+
+/// "; slave 1: not answering" etc. and the JSON array of a state event.
+void addSlaves(const ecmxf::Event &ev, Event &e)
+{
+	std::string json = "[";
+	for (const ecmxf::SlaveAlStatus &s : ev.slaves) {
+		const bool answering = s.state != kStateError;
+		const auto state = static_cast<std::uint8_t>(s.state & 0x0F);
+		const bool error = (s.state & kStateError) != 0;
+		e.text.append("; slave ").append(std::to_string(s.position)).append(": ");
+		if (!answering) {
+			e.text.append("not answering");
+		} else {
+			e.text.append(stateName(state)).append(error ? " + error" : "");
+			if (s.alStatus)
+				e.text.append(", AL status ")
+					.append(hex4(*s.alStatus))
+					.append(" (")
+					.append(std::string(ecmxf::alStatusText(*s.alStatus)))
+					.append(")");
+		}
+		if (json.size() > 1)
+			json += ", ";
+		json.append("{\"position\": ")
+			.append(std::to_string(s.position))
+			.append(", \"answering\": ")
+			.append(answering ? "true" : "false")
+			.append(", \"state\": ")
+			.append(std::to_string(state))
+			.append(", \"state_name\": ")
+			.append(jsonString(answering ? stateName(state) : "NONE"))
+			.append(", \"error\": ")
+			.append(error ? "true" : "false")
+			.append(", \"al_status_code\": ")
+			.append(s.alStatus ? std::to_string(*s.alStatus) : "null")
+			.append(", \"al_status_text\": ")
+			.append(s.alStatus ? jsonString(std::string(ecmxf::alStatusText(*s.alStatus))) : "null")
+			.append("}");
+	}
+	json += "]";
+	if (ev.slavesIncomplete)
+		e.text.append("; (not every slave could be read)");
+	e.fields.emplace_back("slave_count", std::to_string(ev.slaveCount));
+	e.fields.emplace_back("slaves", json);
+	e.fields.emplace_back("slaves_incomplete", ev.slavesIncomplete ? "true" : "false");
+	e.fields.emplace_back("al_status_code", ev.alStatus ? std::to_string(*ev.alStatus) : "null");
+}
+
+std::string resetReasonName(ecmxf::ResetReason r)
+{
+	switch (r) {
+	case ecmxf::ResetReason::Chip: return "chip";
+	case ecmxf::ResetReason::Warm: return "warm";
+	case ecmxf::ResetReason::Link: return "link";
+	case ecmxf::ResetReason::Unknown: break;
+	}
+	return "";
+}
+
+std::string errnoName(int negErrno)
+{
+	switch (-negErrno) {
+	case EREMOTEIO: return "EREMOTEIO";
+	case EBUSY: return "EBUSY";
+	case ETIMEDOUT: return "ETIMEDOUT";
+	default: return std::to_string(negErrno);
+	}
 }
 
 } // namespace
@@ -146,129 +252,184 @@ std::vector<std::string> ecmBitNames(std::uint8_t v)
 	return names(v, kEcmBits);
 }
 
-std::vector<Event> diffHeaders(const ecmxf::ResponseHeader &prev, const ecmxf::ResponseHeader &cur,
-			       const Thresholds &th)
+bool wantsSlaves(const ecmxf::Event &e)
 {
-	std::vector<Event> out;
-	const bool reset = (cur.ecmStatus & kEcmNop) != 0 ||
-			   ((prev.ecmStatus & kEcmEthInit) && !(cur.ecmStatus & kEcmEthInit)) ||
-			   (prev.ecatState != 0 && cur.ecatState == 0);
-	if (reset) {
-		Event e;
-		e.type = "reset";
-		e.text = "the chip reset (ECAT state " + stateName(cur.ecatState) + ", ECM status " +
-			 hex2(cur.ecmStatus) + ")";
-		e.fields = { { "state", std::to_string(cur.ecatState) },
-			     { "state_name", jsonString(stateName(cur.ecatState)) },
-			     { "ecm_status", std::to_string(cur.ecmStatus) } };
-		out.push_back(std::move(e));
-		return out;
-	}
-	if (cur.ecatState != prev.ecatState) {
-		Event e;
-		e.type = "state";
-		e.text = "ECAT state " + stateName(prev.ecatState) + " -> " + stateName(cur.ecatState);
-		e.fields = { { "from", std::to_string(prev.ecatState) },
-			     { "to", std::to_string(cur.ecatState) },
-			     { "from_name", jsonString(stateName(prev.ecatState)) },
-			     { "to_name", jsonString(stateName(cur.ecatState)) } };
-		out.push_back(std::move(e));
-	}
-	if (cur.errStatus != prev.errStatus)
-		out.push_back(bitsEvent("error_status", "error status", prev.errStatus, cur.errStatus,
-					errorBitNames));
-	if ((cur.ecmStatus & kEcmWatched) != (prev.ecmStatus & kEcmWatched))
-		out.push_back(bitsEvent("ecm_status", "ECM status",
-					static_cast<std::uint8_t>(prev.ecmStatus & kEcmWatched),
-					static_cast<std::uint8_t>(cur.ecmStatus & kEcmWatched), ecmBitNames));
-	if (cur.crcErrCnt > prev.crcErrCnt) {
-		const unsigned d = cur.crcErrCnt - prev.crcErrCnt;
-		Event e;
-		e.type = "crc_errors";
-		e.text = "SPI CRC errors +" + std::to_string(d) + " (count " +
-			 std::to_string(cur.crcErrCnt) + ")";
-		e.fields = { { "increase", std::to_string(d) }, { "count", std::to_string(cur.crcErrCnt) } };
-		out.push_back(std::move(e));
-	}
-	if (cur.wkcErrCnt > prev.wkcErrCnt) {
-		const unsigned d = cur.wkcErrCnt - prev.wkcErrCnt;
-		Event e;
-		e.type = "wkc";
-		e.text = "WKC errors +" + std::to_string(d) + " (count " + std::to_string(cur.wkcErrCnt) + ")";
-		e.fields = { { "increase", std::to_string(d) }, { "count", std::to_string(cur.wkcErrCnt) } };
-		out.push_back(std::move(e));
-	}
-	auto fifo = [&](const char *name, const char *fifoKey, unsigned p, unsigned c, unsigned mark,
-			bool high) {
-		// high mark: at or above it is "high"; low mark: at or below it is "low"
-		const bool was = high ? p >= mark : p <= mark;
-		const bool is = high ? c >= mark : c <= mark;
-		if (was == is)
-			return;
-		Event e;
-		e.type = "fifo";
-		const char *where = high ? (is ? "reached its high mark" : "fell below its high mark")
-					 : (is ? "fell to its low mark" : "rose above its low mark");
-		e.text = std::string(name) + " " + where + " " + std::to_string(mark) + " (count " +
-			 std::to_string(c) + ")";
-		e.fields = { { "fifo", jsonString(fifoKey) },
-			     { "count", std::to_string(c) },
-			     { "mark", std::to_string(mark) },
-			     { "crossing", jsonString(high ? (is ? "above" : "below") : (is ? "below" : "above")) } };
-		out.push_back(std::move(e));
-	};
-	fifo("TxFIFO", "tx", prev.txFifoCnt, cur.txFifoCnt, th.txHigh, true);
-	fifo("RxFIFO", "rx", prev.rxFifoCnt, cur.rxFifoCnt, th.rxLow, false);
-	return out;
+	return e.type == ecmxf::EventType::State &&
+	       ((e.newValue & kStateError) || (e.newValue & 0x0F) < (e.oldValue & 0x0F));
 }
 
-std::vector<Event> Detector::update(const ecmxf::ResponseHeader &cur, std::chrono::nanoseconds now)
+Event describe(const ecmxf::Event &ev)
 {
-	if (!prev_) {
-		prev_ = cur;
-		return {};
+	using T = ecmxf::EventType;
+	Event e;
+	e.type = ecmxf::eventTypeName(ev.type);
+	switch (ev.type) {
+	case T::State: {
+		const auto from = static_cast<std::uint8_t>(ev.oldValue);
+		const auto to = static_cast<std::uint8_t>(ev.newValue);
+		e.text = "ECAT state " + stateName(from) + " -> " + stateName(to);
+		e.fields = { { "from", u8s(from) },
+			     { "to", u8s(to) },
+			     { "from_name", jsonString(stateName(from)) },
+			     { "to_name", jsonString(stateName(to)) } };
+		if (ev.haveSlaves)
+			addSlaves(ev, e);
+		break;
 	}
-	std::vector<Event> raw = diffHeaders(*prev_, cur, th_);
-	prev_ = cur;
-	std::vector<Event> out;
-	bool wkcUp = false;
-	for (Event &e : raw) {
-		if (e.type == "reset") {
-			burst_ = false;
-			out.push_back(std::move(e));
-			return out;
-		}
-		if (e.type != "wkc") {
-			out.push_back(std::move(e));
-			continue;
-		}
-		wkcUp = true;
-		const unsigned d = static_cast<unsigned>(std::stoul(e.fields[0].second));
-		if (!burst_) {
-			burst_ = true;
-			burstErrors_ = d;
-			burstStart_ = now;
-			e.type = "wkc_burst";
-			e.text = "WKC error burst: " + e.text.substr(std::string("WKC errors ").size());
-			out.push_back(std::move(e));
-		} else {
-			burstErrors_ += d;
-		}
-	}
-	if (burst_ && !wkcUp) {
-		burst_ = false;
-		const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now - burstStart_).count();
-		Event e;
-		e.type = "wkc_burst_end";
-		e.text = "WKC error burst over: " + std::to_string(burstErrors_) + " errors in " +
-			 std::to_string(ms) + " ms (count " + std::to_string(cur.wkcErrCnt) +
-			 (cur.wkcErrCnt == 255 ? ", saturated)" : ")");
-		e.fields = { { "errors", std::to_string(burstErrors_) },
+	case T::Link:
+		e.text = std::string("EtherCAT link ") + (ev.linkUp ? "up" : "down") + " (error status " +
+			 hex2(ev.errStatus) + ")";
+		e.fields = { { "link_up", ev.linkUp ? "true" : "false" }, { "err_status", u8s(ev.errStatus) } };
+		break;
+	case T::ErrorStatus:
+		e = bitsEvent("error_status", "error status", ev.oldValue, ev.newValue,
+			      static_cast<std::uint8_t>(~kErrLink), errorBitNames);
+		break;
+	case T::EcmStatus:
+		e = bitsEvent("ecm_status", "ECM status", ev.oldValue, ev.newValue, 0xFF, ecmBitNames);
+		break;
+	case T::CrcErrors:
+		e.text = "SPI CRC errors +" + std::to_string(ev.increase) + " (count " + std::to_string(ev.count) + ")";
+		e.fields = { { "increase", std::to_string(ev.increase) }, { "count", std::to_string(ev.count) } };
+		break;
+	case T::WkcBurst:
+		e.text = "WKC error burst: +" + std::to_string(ev.increase) + " (count " + std::to_string(ev.count) + ")";
+		e.fields = { { "increase", std::to_string(ev.increase) }, { "count", std::to_string(ev.count) } };
+		break;
+	case T::WkcBurstEnd: {
+		const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(ev.duration).count();
+		e.text = "WKC error burst over: " + std::to_string(ev.errors) + " errors in " + std::to_string(ms) +
+			 " ms (count " + std::to_string(ev.count) + (ev.count == 255 ? ", saturated)" : ")");
+		e.fields = { { "errors", std::to_string(ev.errors) },
 			     { "duration_ms", std::to_string(ms) },
-			     { "count", std::to_string(cur.wkcErrCnt) } };
-		out.push_back(std::move(e));
+			     { "count", std::to_string(ev.count) } };
+		break;
 	}
-	return out;
+	case T::Fifo: {
+		const bool tx = ev.fifo == ecmxf::FifoId::Tx;
+		const char *where = tx ? (ev.above ? "reached its high mark" : "fell below its high mark")
+				       : (ev.above ? "rose above its low mark" : "fell to its low mark");
+		e.text = std::string(tx ? "TxFIFO " : "RxFIFO ") + where + " " + std::to_string(ev.mark) +
+			 " (count " + std::to_string(ev.count) + ")";
+		e.fields = { { "fifo", jsonString(tx ? "tx" : "rx") },
+			     { "count", std::to_string(ev.count) },
+			     { "mark", std::to_string(ev.mark) },
+			     { "crossing", jsonString(ev.above ? "above" : "below") } };
+		break;
+	}
+	case T::Reset: {
+		const auto st = static_cast<std::uint8_t>(ev.newValue);
+		const std::string what = ev.resetReason == ecmxf::ResetReason::Link ? "the link was resynchronised"
+					 : ev.resetReason == ecmxf::ResetReason::Warm ? "the chip reset (WARM_RESET)"
+										       : "the chip reset";
+		e.text = what + " (ECAT state " + stateName(st) + ", ECM status " + hex2(ev.ecmStatus) + ")";
+		const std::string reason = resetReasonName(ev.resetReason);
+		e.fields = { { "state", u8s(st) },
+			     { "state_name", jsonString(stateName(st)) },
+			     { "ecm_status", u8s(ev.ecmStatus) },
+			     { "reason", reason.empty() ? "null" : jsonString(reason) } };
+		break;
+	}
+	case T::Device: {
+		const bool added = ev.action == ecmxf::DeviceAction::Added;
+		const auto st = static_cast<std::uint8_t>(ev.newValue);
+		e.text = "device " + ev.device + (added ? " added" : " removed");
+		if (added)
+			e.text += " (ECAT state " + stateName(st) + ", link " +
+				  ((ev.errStatus & kErrLink) ? "up" : "down") + ")";
+		e.fields = { { "action", jsonString(added ? "added" : "removed") } };
+		if (added) {
+			e.fields.emplace_back("state", u8s(st));
+			e.fields.emplace_back("link_up", (ev.errStatus & kErrLink) ? "true" : "false");
+		}
+		break;
+	}
+	case T::AsyncError: {
+		const auto info = ecmxf::commandInfo(ev.cmdCode);
+		const std::string name = info ? std::string(info->name) : "command";
+		e.text = "async command " + name + " (" + std::to_string(ev.cmdCode) + ") failed: " +
+			 errnoName(ev.status) + " (error status " + hex2(ev.errStatus) + ")";
+		e.fields = { { "command", std::to_string(ev.cmdCode) },
+			     { "command_name", jsonString(name) },
+			     { "status", std::to_string(ev.status) },
+			     { "error", jsonString(errnoName(ev.status)) },
+			     { "err_status", u8s(ev.errStatus) } };
+		break;
+	}
+	default:
+		e.text = "event " + std::to_string(static_cast<std::uint32_t>(ev.type)) + " (unknown to this version)";
+		e.fields = { { "type_number", std::to_string(static_cast<std::uint32_t>(ev.type)) } };
+		break;
+	}
+	if (!ev.device.empty()) {
+		e.fields.emplace_back("device", jsonString(ev.device));
+		e.fields.emplace_back("seq", std::to_string(ev.seq));
+		if (ev.suppressed) {
+			e.fields.emplace_back("suppressed", std::to_string(ev.suppressed));
+			e.text += " [" + std::to_string(ev.suppressed) + " suppressed before]";
+		}
+	}
+	return e;
+}
+
+Detector::Detector(Thresholds th, std::chrono::nanoseconds wkcQuiet)
+	: det_([&] {
+		  ecmxf::EventDetector::Config c;
+		  c.txHigh = static_cast<std::uint8_t>(std::min(th.txHigh, 255u));
+		  c.rxLow = static_cast<std::uint8_t>(std::min(th.rxLow, 255u));
+		  c.wkcQuiet = wkcQuiet;
+		  return c;
+	  }())
+{
+}
+
+std::vector<ecmxf::Event> Detector::update(const ecmxf::ResponseHeader &cur, std::chrono::nanoseconds now)
+{
+	return det_.feed(cur, now);
+}
+
+std::vector<ecmxf::Event> Detector::rebase(std::chrono::nanoseconds now)
+{
+	return det_.rebase(now);
+}
+
+namespace {
+
+std::string counterLines(const ecmxf::NetlinkCounters &c, bool json)
+{
+	const std::pair<const char *, std::uint64_t> events[] = {
+		{ "events", c.events },
+		{ "events_suppressed", c.eventsSuppressed },
+		{ "events_failed", c.eventsFailed },
+	};
+	std::string s;
+	if (json)
+		s = "{\"device\": " + jsonString(c.device) + ", \"minor\": " + std::to_string(c.minor);
+	const auto put = [&](const char *name, std::uint64_t value) {
+		if (json)
+			s.append(", ").append(jsonString(name)).append(": ").append(std::to_string(value));
+		else
+			s.append(name).append(" ").append(std::to_string(value)).append("\n");
+	};
+	for (const auto &[name, value] : ecmxf::counterFields(c.link))
+		put(name, value);
+	for (const auto &[name, value] : events)
+		put(name, value);
+	if (json)
+		s += "}\n";
+	return s;
+}
+
+} // namespace
+
+std::string countersText(const ecmxf::NetlinkCounters &c)
+{
+	return counterLines(c, false);
+}
+
+std::string countersJson(const ecmxf::NetlinkCounters &c)
+{
+	return counterLines(c, true);
 }
 
 } // namespace monitor
@@ -370,55 +531,34 @@ void runSimAction(ecmxf::Device &dev, const SimAction &a)
 		dev.command(simpleCommand(kWarmReset));
 }
 
-/// Per-slave state and AL status code for a state event that leaves OP
-/// or enters ERROR: the slaves not in OP or with the error bit.
-void addSlaves(ecmxf::Device &dev, monitor::Event &e)
+/// The slaves not in OP of a polled state event that went down or into
+/// ERROR: their state and AL status code (STATE_GET, SLV_INFO_GET 7), as
+/// the kernel reads them for its events.
+void readSlaves(ecmxf::Device &dev, ecmxf::Event &e)
 {
 	const unsigned count = dev.command(simpleCommand(kSlvCntGet)).ret;
-	std::string json = "[";
+	e.haveSlaves = true;
+	e.slaveCount = count;
 	for (unsigned pos = 0; pos < count; pos++) {
 		const std::uint8_t st = dev.command(simpleCommand(kStateGet, static_cast<std::uint8_t>(pos))).ret;
 		if (st == kStateOp)
 			continue;
-		const bool answering = st != kStateError;
-		const auto state = static_cast<std::uint8_t>(st & 0x0F);
+		ecmxf::SlaveAlStatus s;
+		s.position = static_cast<std::uint16_t>(pos);
+		s.state = st;
 		// SLV_INFO_GET 7 of a slave that does not answer is a command
 		// error (sticky): ask only the ones that answer
-		std::optional<std::uint16_t> code;
-		if (answering) {
+		if (st != kStateError) {
 			ecmxf::Command info = simpleCommand(kSlvInfoGet, static_cast<std::uint8_t>(pos));
 			info.data[0] = 7;
-			code = le16(dev.command(info), "SLV_INFO_GET AL status code");
+			s.alStatus = le16(dev.command(info), "SLV_INFO_GET AL status code");
+			if (*s.alStatus && !e.alStatus) {
+				e.alStatus = s.alStatus;
+				e.alSlave = s.position;
+			}
 		}
-		e.text.append("; slave ").append(std::to_string(pos)).append(": ");
-		if (!answering) {
-			e.text.append("not answering");
-		} else {
-			char buf[16];
-			std::snprintf(buf, sizeof(buf), "0x%04x", *code);
-			e.text.append(stateName(state)).append(st & kStateError ? " + error" : "");
-			e.text.append(", AL status ").append(buf).append(" (").append(std::string(ecmxf::alStatusText(*code))).append(")");
-		}
-		if (json.size() > 1)
-			json += ", ";
-		json.append("{\"position\": ")
-			.append(std::to_string(pos))
-			.append(", \"answering\": ")
-			.append(answering ? "true" : "false")
-			.append(", \"state\": ")
-			.append(std::to_string(state))
-			.append(", \"state_name\": ")
-			.append(jsonString(answering ? stateName(state) : "NONE"))
-			.append(", \"error\": ")
-			.append(st & kStateError ? "true" : "false")
-			.append(", \"al_status_code\": ")
-			.append(code ? std::to_string(*code) : "null")
-			.append(", \"al_status_text\": ")
-			.append(code ? jsonString(std::string(ecmxf::alStatusText(*code))) : "null")
-			.append("}");
+		e.slaves.push_back(s);
 	}
-	json += "]";
-	e.fields.emplace_back("slaves", json);
 }
 
 void print(const Globals &g, std::chrono::nanoseconds t, const monitor::Event &e)
@@ -439,13 +579,72 @@ void print(const Globals &g, std::chrono::nanoseconds t, const monitor::Event &e
 	std::fflush(stdout);
 }
 
+/// /dev/ecmxfN (a character device): its minor, for the netlink path.
+std::optional<std::uint32_t> kernelMinor(const std::string &uri)
+{
+	struct stat st {};
+	if (uri.rfind("/dev/", 0) != 0 || ::stat(uri.c_str(), &st) != 0 || !S_ISCHR(st.st_mode))
+		return std::nullopt;
+	return static_cast<std::uint32_t>(minor(st.st_rdev));
+}
+
+std::chrono::nanoseconds monotonicNow()
+{
+	timespec ts{};
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
+}
+
+void installSignals()
+{
+	gStop = 0;
+	struct sigaction sa {};
+	sa.sa_handler = onSigint;
+	sigemptyset(&sa.sa_mask);
+	sigaction(SIGINT, &sa, nullptr);
+	sigaction(SIGTERM, &sa, nullptr);
+}
+
+/// The kernel's events of /dev/ecmxf@p minor over generic netlink.
+int monitorNetlink(const Globals &g, std::uint32_t minorNo, std::optional<std::uint64_t> count,
+		   std::optional<std::uint64_t> durationMs)
+{
+	ecmxf::EventSubscriber sub;
+	installSignals();
+	const std::chrono::nanoseconds t0 = monotonicNow();
+	std::uint64_t events = 0;
+	// say when the subscription stands (stderr: stdout is the events)
+	if (!g.quiet)
+		std::fprintf(stderr, "monitor: listening to the kernel's events of ecmxf%u\n", minorNo);
+	while (!gStop) {
+		auto wait = std::chrono::milliseconds(200);
+		if (durationMs) {
+			const auto left = std::chrono::milliseconds(*durationMs) -
+					  std::chrono::duration_cast<std::chrono::milliseconds>(monotonicNow() - t0);
+			if (left <= std::chrono::milliseconds(0))
+				break;
+			wait = std::min(wait, left);
+		}
+		const std::optional<ecmxf::Event> ev = sub.next(wait);
+		if (!ev || ev->minor != minorNo)
+			continue;
+		print(g, ev->time - t0, monitor::describe(*ev));
+		if (count && ++events >= *count)
+			break;
+	}
+	if (sub.lost())
+		std::fprintf(stderr, "monitor: the socket lost messages %llu times (receive buffer full)\n",
+			     static_cast<unsigned long long>(sub.lost()));
+	return 0;
+}
+
 } // namespace
 
 int cmdMonitor(Globals &g, const Args &args)
 {
-	std::optional<std::uint64_t> count, durationMs;
-	std::uint64_t intervalMs = 10;
-	monitor::Thresholds th;
+	std::optional<std::uint64_t> count, durationMs, intervalMs;
+	std::optional<unsigned> txHigh, rxLow;
+	bool counters = false;
 	std::vector<SimAction> actions;
 	for (std::size_t i = 0; i < args.size(); i++) {
 		const std::string_view a = args[i];
@@ -467,9 +666,11 @@ int cmdMonitor(Globals &g, const Args &args)
 		else if (a == "--interval")
 			intervalMs = number("--interval", value(), 1, 3'600'000);
 		else if (a == "--tx-high")
-			th.txHigh = static_cast<unsigned>(number("--tx-high", value(), 1, 255));
+			txHigh = static_cast<unsigned>(number("--tx-high", value(), 1, 255));
 		else if (a == "--rx-low")
-			th.rxLow = static_cast<unsigned>(number("--rx-low", value(), 0, 254));
+			rxLow = static_cast<unsigned>(number("--rx-low", value(), 0, 254));
+		else if (a == "--counters")
+			counters = true;
 		else if (a == "--sim-at")
 			actions.push_back(parseSimAction(value()));
 		else
@@ -477,21 +678,42 @@ int cmdMonitor(Globals &g, const Args &args)
 					 "' (try 'ecmxf-util monitor --help')");
 	}
 
+	const std::optional<std::uint32_t> kminor = kernelMinor(g.device);
+	if (kminor) {
+		const char *polledOnly = intervalMs ? "--interval"
+					 : txHigh   ? "--tx-high"
+					 : rxLow    ? "--rx-low"
+					 : !actions.empty() ? "--sim-at"
+							    : nullptr;
+		if (polledOnly)
+			throw UsageError(std::string("monitor: ") + polledOnly +
+					 " applies to polled devices (sim:, spidev:), not to the kernel's events");
+		if (counters) {
+			const ecmxf::NetlinkCounters c = ecmxf::readNetlinkCounters(*kminor);
+			std::fputs((g.json ? monitor::countersJson(c) : monitor::countersText(c)).c_str(), stdout);
+			return 0;
+		}
+		return monitorNetlink(g, *kminor, count, durationMs);
+	}
+	if (counters)
+		throw UsageError("monitor: --counters needs a kernel device (-d /dev/ecmxfN)");
+
+	monitor::Thresholds th;
+	if (txHigh)
+		th.txHigh = *txHigh;
+	if (rxLow)
+		th.rxLow = *rxLow;
+	const auto interval = std::chrono::milliseconds(intervalMs.value_or(10));
 	const std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open(g.device);
 	if (!actions.empty() && !dynamic_cast<ecmxf::SimTransport *>(&dev->transport()))
 		throw UsageError("monitor: --sim-at needs a sim: device");
 	ecmxf::Transport &tr = dev->transport();
+	installSignals();
 
-	gStop = 0;
-	struct sigaction sa {};
-	sa.sa_handler = onSigint;
-	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, &sa, nullptr);
-	sigaction(SIGTERM, &sa, nullptr);
-
-	const auto interval = std::chrono::milliseconds(intervalMs);
 	const std::chrono::nanoseconds t0 = tr.now();
-	monitor::Detector det(th);
+	// a burst ends after 100 ms without new errors, as in the kernel, but
+	// never because a single poll saw none
+	monitor::Detector det(th, std::max<std::chrono::nanoseconds>(std::chrono::milliseconds(100), 2 * interval));
 	std::uint64_t events = 0;
 	std::size_t nextAction = 0;
 	std::stable_sort(actions.begin(), actions.end(),
@@ -509,26 +731,29 @@ int cmdMonitor(Globals &g, const Args &args)
 			while (nextAction < actions.size() && actions[nextAction].at <= t)
 				runSimAction(*dev, actions[nextAction++]);
 		first = false;
-		std::vector<monitor::Event> evs;
+		std::vector<ecmxf::Event> evs;
+		bool nopAnswer = false;
 		try {
 			evs = det.update(dev->command(poll).header, tr.now());
 		} catch (const ecmxf::Error &e) {
 			if (e.errnoValue() != ECONNRESET)
 				throw;
-			monitor::Event r;
-			r.type = "reset";
-			r.text = "the chip reset (NOP answer)";
-			evs.push_back(std::move(r));
-			det.rebase();
+			// the poll itself was answered by a NOP: no header to show
+			evs = det.rebase(tr.now());
+			ecmxf::Event r;
+			r.type = ecmxf::EventType::Reset;
+			r.time = tr.now();
+			evs.push_back(r);
+			nopAnswer = true;
 		}
-		for (monitor::Event &e : evs) {
-			if (e.type == "state") {
-				const bool leavesOp = e.fields[0].second == std::to_string(kStateOp);
-				const bool error = e.fields[1].second == std::to_string(kStateError);
-				if (leavesOp || error)
-					addSlaves(*dev, e);
-			}
-			print(g, tr.now() - t0, e);
+		for (std::size_t i = 0; i < evs.size(); i++) {
+			ecmxf::Event &e = evs[i];
+			if (monitor::wantsSlaves(e))
+				readSlaves(*dev, e);
+			monitor::Event line = monitor::describe(e);
+			if (nopAnswer && i + 1 == evs.size())
+				line.text = "the chip reset (NOP answer)";
+			print(g, tr.now() - t0, line);
 			if (count && ++events >= *count)
 				return 0;
 		}

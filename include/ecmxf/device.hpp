@@ -129,6 +129,16 @@ public:
 	void setAsyncPollInterval(std::chrono::nanoseconds interval) noexcept;
 	[[nodiscard]] std::chrono::nanoseconds asyncPollInterval() const noexcept;
 
+	/// The least time any command is allowed (command() and transact(),
+	/// and so every typed call): a command whose own timeout, or whose
+	/// command table default when it sets none, is shorter gets
+	/// @p floor instead. Zero (the default) keeps the table's times. For
+	/// hosts that can stall longer than the table's 100 ms for reasons of
+	/// their own (a loaded or emulated machine, a chip shared by several
+	/// applications through the kernel's queue).
+	void setMinimumTimeout(std::chrono::microseconds floor) noexcept;
+	[[nodiscard]] std::chrono::microseconds minimumTimeout() const noexcept;
+
 	// ==== typed commands: chip, link, peripherals, EEPROM, FoE, raw,
 	// ==== MDIO, mailbox, interrupts, resets (lib/commands_chip.cpp)
 	//

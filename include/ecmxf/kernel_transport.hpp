@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <ecmxf/export.hpp>
 #include <ecmxf/transport.hpp>
@@ -53,9 +54,37 @@ struct KernelCounters {
 		      asyncErrors = 0, busyRejects = 0, lostAnswers = 0, chipResets = 0,
 		      wkcErrors = 0, outRingUnderruns = 0, inRingOverruns = 0, rxFifoUnderruns = 0,
 		      rxFifoOverruns = 0, txFifoOverruns = 0, int0Irqs = 0, int1Irqs = 0;
-	/// Output frames the kernel's PDO pump skipped when it had fallen behind.
-	std::uint64_t outRingSkipped = 0;
 };
+
+/// The fields of @p k with their names in struct ecmxf_counters, in its
+/// order (for printing them).
+inline std::array<std::pair<const char *, std::uint64_t>, 22> counterFields(const KernelCounters &k)
+{
+	return { {
+		{ "exchanges", k.exchanges },
+		{ "bad_not_ready", k.badNotReady },
+		{ "bad_start", k.badStart },
+		{ "bad_end", k.badEnd },
+		{ "bad_check", k.badCheck },
+		{ "bad_length", k.badLength },
+		{ "retries", k.retries },
+		{ "polls", k.polls },
+		{ "exhausted", k.exhausted },
+		{ "timeouts", k.timeouts },
+		{ "async_errors", k.asyncErrors },
+		{ "busy_rejects", k.busyRejects },
+		{ "lost_answers", k.lostAnswers },
+		{ "chip_resets", k.chipResets },
+		{ "wkc_errors", k.wkcErrors },
+		{ "out_ring_underruns", k.outRingUnderruns },
+		{ "in_ring_overruns", k.inRingOverruns },
+		{ "rx_fifo_underruns", k.rxFifoUnderruns },
+		{ "rx_fifo_overruns", k.rxFifoOverruns },
+		{ "tx_fifo_overruns", k.txFifoOverruns },
+		{ "int0_irqs", k.int0Irqs },
+		{ "int1_irqs", k.int1Irqs },
+	} };
+}
 
 /// What ECMXF_IOC_RESET does.
 enum class KernelReset : std::uint8_t {

@@ -223,7 +223,7 @@ TEST_CASE("monitor: SPI CRC errors, link lost and back, a chip reset (text lines
 			   "--sim-at 300:link-up --sim-at 400:reset --duration 500");
 	REQUIRE(r.status == 0);
 	const auto l = lines(r.out);
-	REQUIRE(l.size() >= 8);
+	REQUIRE(l.size() >= 9);
 	std::vector<std::string> text;
 	for (const std::string &x : l) {
 		REQUIRE(x.size() > 14);
@@ -233,11 +233,13 @@ TEST_CASE("monitor: SPI CRC errors, link lost and back, a chip reset (text lines
 	CHECK(text[0] == "ECAT state NONE -> OP");
 	CHECK(text[3] == "error status 0x03 -> 0x43: set SPI CRC error");
 	CHECK(text[4] == "SPI CRC errors +2 (count 2)");
-	// link down: ECAT state ERROR (the master's view), link bits cleared
+	// link down: ECAT state ERROR (the master's view), link bits cleared:
+	// the link event for bit 0, error_status for bit 1
 	CHECK(text[5] == "ECAT state OP -> ERROR; slave 0: not answering; slave 1: not answering; "
 			 "slave 2: not answering");
-	CHECK(text[6] == "error status 0x43 -> 0x40: cleared link, link at INIT_OP");
-	CHECK_THAT(r.out, Contains("error status 0x40 -> 0x41: set link\n"));
+	CHECK(text[6] == "EtherCAT link down (error status 0x40)");
+	CHECK(text[7] == "error status 0x43 -> 0x40: cleared link at INIT_OP");
+	CHECK_THAT(r.out, Contains("EtherCAT link up (error status 0x41)\n"));
 	CHECK(text.back() == "the chip reset (ECAT state NONE, ECM status 0x40)");
 }
 

@@ -85,7 +85,7 @@ comp "ecmxf-util gpio config 3 " in out
 comp "ecmxf-util eeprom -p 0 " read write
 comp "ecmxf-util raw --datagram F" FPRD FPWR FPRW FRMW
 comp "ecmxf-util raw --" --help --param --data --payload --len --datagram --json
-comp "ecmxf-util monitor --" --help --count --duration --interval --tx-high --rx-low --json
+comp "ecmxf-util monitor --" --help --count --duration --interval --tx-high --rx-low --counters --json
 comp "ecmxf-util reset --" --help --async --warm --force
 comp "ecmxf-util --trace $tmp/files/a" "$tmp/files/a.bin" "$tmp/files/a.trace"
 comp "ecmxf-util decode $tmp/files/a." "$tmp/files/a.bin" "$tmp/files/a.trace"

@@ -116,20 +116,20 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 	ecmxf::Cyclic cyc(d, image, cc);
 	cyc.start();
 
-	ecmxf::Cia402Axis a0(d, image, 0, { .modes = { cia402::kModePp } });
-	ecmxf::Cia402Axis a1(d, image, 1, { .modes = { cia402::kModeCsp } });
+	ecmxf::Cia402Axis a0(d, image, 0, integ::axisConfig(r.u, { cia402::kModePp }));
+	ecmxf::Cia402Axis a1(d, image, 1, integ::axisConfig(r.u, { cia402::kModeCsp }));
 	CHECK(a0.modeByPdo());
 	std::vector<ecmxf::Cia402Axis *> both{ &a0, &a1 };
 	// one exchange first: the modes start from positions actually read
-	ecmxf::runUntil(cyc, both, [&] { return cyc.lastResult().inputsUpdated; }, 5s, "the first inputs");
+	ecmxf::runUntil(cyc, both, [&] { return cyc.lastResult().inputsUpdated; }, integ::patience(r.u, 5s), "the first inputs");
 	a0.setMode(cia402::kModePp, d.transport().now());
 	a1.setMode(cia402::kModeCsp, d.transport().now());
-	ecmxf::runUntilDone(cyc, both, 5s, "the modes");
+	ecmxf::runUntilDone(cyc, both, integ::patience(r.u, 5s), "the modes");
 	CHECK(a0.modeDisplay() == 1);
 	CHECK(a1.modeDisplay() == 8);
 	for (auto *a : both)
 		a->enable(d.transport().now());
-	ecmxf::runUntilDone(cyc, both, 5s, "OPERATION ENABLED");
+	ecmxf::runUntilDone(cyc, both, integ::patience(r.u, 5s), "OPERATION ENABLED");
 	CHECK(a0.enabled());
 	CHECK(a1.enabled());
 	// PP at rest: 0x27 | voltage | remote | bit 10 target reached | bit 15
@@ -142,7 +142,7 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 	pp.velocity = 200000;
 	a0.moveTo(p0 + 20000, pp, d.transport().now());
 	std::vector<ecmxf::Cia402Axis *> one{ &a0 };
-	ecmxf::runUntilDone(cyc, one, 10s, "the PP move");
+	ecmxf::runUntilDone(cyc, one, integ::patience(r.u, 10s), "the PP move");
 	CHECK(a0.setPointAcknowledged());
 	CHECK(a0.targetReached());
 	CHECK(a0.position() == p0 + 20000);
@@ -155,7 +155,9 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 	a1.startCsp(d.transport().now());
 	const std::array<std::int32_t, 1> from{ a1.position() };
 	const std::array<std::int32_t, 1> to{ from[0] - 2000 };
-	const ecmxf::CspTrajectory traj(from, to, 1s);
+	// (over a real transport stretched by patience(): cycles can take
+	// hundreds of ms on a loaded host)
+	const ecmxf::CspTrajectory traj(from, to, std::chrono::duration_cast<std::chrono::nanoseconds>(integ::patience(r.u, 1s)));
 	std::vector<ecmxf::Cia402Axis *> csp{ &a1 };
 	const auto t0 = d.transport().now();
 	ecmxf::runUntil(
@@ -165,7 +167,7 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 			traj.apply(csp, t);
 			return traj.finished(t) && a1.position() == to[0];
 		},
-		10s, "the CSP move");
+		integ::patience(r.u, 10s), "the CSP move");
 	CHECK(a1.position() == to[0]);
 	CHECK(a1.cspTarget() == to[0]);
 	CHECK_FALSE(a1.failed());
@@ -173,7 +175,7 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 	// and both off again
 	for (auto *a : both)
 		a->disable(d.transport().now());
-	ecmxf::runUntilDone(cyc, both, 5s, "SWITCH ON DISABLED");
+	ecmxf::runUntilDone(cyc, both, integ::patience(r.u, 5s), "SWITCH ON DISABLED");
 	CHECK(a0.state() == Cia402State::SwitchOnDisabled);
 	CHECK(a1.state() == Cia402State::SwitchOnDisabled);
 	cyc.stop();

@@ -110,7 +110,11 @@ TEST_CASE("transport: INT0 drove the exchanges (the transport's own counters)", 
 		INFO("exchanges " << st.exchanges << ", ready " << st.int0Ready << ", edges " << st.int0Edges
 				  << ", timeouts " << st.int0Timeouts);
 		CHECK(st.exchanges > 10);
-		CHECK(st.int0Edges > 0);
+		// whether a wait needed an edge or found the line ready depends
+		// on how fast the bridge answered (an rt-amd64 run saw 194 of
+		// 194 ready at the first look): the edges are reported, not
+		// required; no wait may have timed out
+		WARN("INT0 edges waited for: " << st.int0Edges << " of " << st.exchanges << " exchanges");
 		CHECK(st.int0Timeouts == 0);
 		CHECK(st.fallbackWaits == 0);
 		CHECK(st.int0Ready >= st.exchanges);

@@ -35,4 +35,13 @@ cp -r "$steps" "$root/steps"
 for b in "$@"; do
 	cp "$b" "$root/bin/"
 done
+# a dynamically linked program (ecmxf-util: libmnl has no static library
+# in Debian) brings its shared libraries and loader, at the paths ldd names
+for b in "$@"; do
+	ldd "$b" >/dev/null 2>&1 || continue	# static: "not a dynamic executable"
+	for l in $(ldd "$b" | grep -o '/[^ ]*'); do
+		mkdir -p "$root$(dirname "$l")"
+		cp -L "$l" "$root$l"
+	done
+done
 (cd "$root" && find . -print0 | cpio --null -o -H newc --quiet) | gzip -1 >"$out"

@@ -81,6 +81,21 @@ done
 # shellcheck disable=SC2086
 $cxx -o "$bin/ecmxf-test-integration" $iobjs "$lib" -lgpiod -pthread || die "linking test-integration failed"
 cp "$top/tests/integration/est584x2-io-loopback.net" "$bin/ecmxf-integration.net"
+# ecmxf-util for the guest (the netlink step runs `ecmxf-util monitor`): it
+# links libmnl, which Debian ships only as a shared library, so it is
+# linked dynamically and mkinitramfs.sh copies its libraries along
+dyncxx="${cxx%% -static *} ${cxx#* -static }"
+uobj="$cache/obj-util"
+mkdir -p "$uobj"
+uobjs=""
+for src in "$top"/utils/ecmxf-util*.cpp; do
+	o="$uobj/$(basename "$src" .cpp).o"
+	# shellcheck disable=SC2086
+	$ccache $dyncxx -I"$top/utils" -c -o "$o" "$src" || die "building $src failed"
+	uobjs="$uobjs $o"
+done
+# shellcheck disable=SC2086
+$dyncxx -o "$bin/ecmxf-util" $uobjs "$lib" -lgpiod -lmnl -pthread || die "linking ecmxf-util failed"
 
 # ---- one kernel flavour
 run_flavour() {
@@ -154,7 +169,9 @@ run_flavour() {
 	tr -d '\r' <"$log" >"$log.txt"
 	grep -E '^(ECMXF-KTEST|guest-test|bench|bridge|sysfs):' "$log.txt" || true
 	[ "$rc" -eq 124 ] && die "$kver: QEMU did not finish within ${timeout_f}s (see $log)"
-	bad=$(grep -nE 'WARNING:|BUG:|Oops|Call Trace|sleeping function called from invalid context|possible circular locking|possible recursive locking|lockdep|KASAN|UBSAN|general protection fault|kernel panic|Kernel panic' \
+	# not a bare "lockdep": the debug kernel prints "RCU lockdep checking is
+	# enabled" at every boot; lockdep's reports all carry WARNING:/BUG:
+	bad=$(grep -nE 'WARNING:|BUG:|Oops|Call Trace|sleeping function called from invalid context|possible circular locking|possible recursive locking|locking correctness validator|lockdep is turned off|KASAN|UBSAN|general protection fault|kernel panic|Kernel panic' \
 		"$log.txt" || true)
 	if [ -n "$bad" ]; then
 		echo "$bad" >&2

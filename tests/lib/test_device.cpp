@@ -212,6 +212,52 @@ TEST_CASE("an async command that never completes throws 'timed out' after the co
 	CHECK(waited < 21ms);
 }
 
+TEST_CASE("setMinimumTimeout raises shorter timeouts and the table's default, never longer ones",
+	  "[lib][device]")
+{
+	SimDevice s;
+	s.chip.faults().asyncStuckBusy = true;
+	CHECK(s.dev->minimumTimeout() == 0us);
+	s.dev->setMinimumTimeout(50ms);
+	CHECK(s.dev->minimumTimeout() == 50ms);
+
+	// its own 20 ms is raised to 50 ms
+	ecmxf::Command c = initOp();
+	c.timeout = 20ms;
+	auto t0 = s.chip.now();
+	ecmxf::Error e = thrown([&] { s.dev->command(c); });
+	CHECK_THAT(e.what(),
+		   Contains("ECAT_INIT_OP: timed out after 50 ms waiting for the async command to complete"));
+	CHECK(s.chip.now() - t0 >= 50ms);
+	CHECK(s.chip.now() - t0 < 51ms);
+
+	// a longer one stays (a fresh chip: the stuck command still runs)
+	SimDevice s2;
+	s2.chip.faults().asyncStuckBusy = true;
+	s2.dev->setMinimumTimeout(5ms);
+	c.timeout = 30ms;
+	e = thrown([&] { s2.dev->command(c); });
+	CHECK_THAT(e.what(), Contains("ECAT_INIT_OP: timed out after 30 ms"));
+
+	// through transact() as well: ECAT_INIT_OP's 10 s table default
+	// (the manual's) becomes 12 s
+	SimDevice s3;
+	s3.chip.faults().asyncStuckBusy = true;
+	s3.dev->setMinimumTimeout(12s);
+	const ecmxf::Command ic = initOp();
+	ecmxf::RawCommand rc;
+	rc.code = ic.code;
+	rc.len = static_cast<std::int32_t>(ic.payload.size());
+	ecmxf::ResponseHeader h;
+	t0 = s3.chip.now();
+	CHECK(s3.dev->transact(rc, ic.payload, {}, h) == ETIMEDOUT);
+	CHECK(s3.chip.now() - t0 >= 12s);
+	CHECK(s3.chip.now() - t0 < 12100ms);
+
+	s.dev->setMinimumTimeout(-1ms);
+	CHECK(s.dev->minimumTimeout() == 0us);
+}
+
 TEST_CASE("bit errors on every response throw an Error naming the bad packets and the fault",
 	  "[lib][device]")
 {

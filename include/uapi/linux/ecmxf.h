@@ -292,9 +292,6 @@ struct ecmxf_devinfo {
  *	chip dropped its oldest frames
  * @int0_irqs: INT0 (ready) interrupts handled
  * @int1_irqs: INT1 (event) interrupts handled
- * @out_ring_skipped: output frames the pump skipped because it had fallen
- *	behind (more frames waiting than the RxFIFO could take plus the fill
- *	level): the newest outputs go first
  * @reserved: zeroed by the kernel
  */
 struct ecmxf_counters {
@@ -320,8 +317,7 @@ struct ecmxf_counters {
 	__aligned_u64 tx_fifo_overruns;
 	__aligned_u64 int0_irqs;
 	__aligned_u64 int1_irqs;
-	__aligned_u64 out_ring_skipped;
-	__aligned_u64 reserved[9];
+	__aligned_u64 reserved[10];
 };
 
 /*

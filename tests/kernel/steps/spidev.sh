@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 # Helpers for the steps that hand the SPI device from ecmxf.ko to spidev and
-# back (sourced by steps/check/50-spidev.sh and steps/bench/*; not a step
+# back (sourced by steps/check/74-spidev.sh and steps/bench/*; not a step
 # itself: only steps/<mode>/*.sh run).
 #
 # spidev_take: unbind ecmxf from the SPI device behind /dev/ecmxf0, bind

@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: MIT
+// ecmxf-nl-helper: the parts of the netlink guest step
+// (tests/kernel/steps/check/70-netlink.sh) that need the device node:
+//
+//   ecmxf-nl-helper op [/dev/ecmxfN]        ECAT_INIT_OP, then PRE-OP,
+//                                           SAFE-OP, OP for all slaves
+//   ecmxf-nl-helper refused [/dev/ecmxfN]   slave 0 to INIT, then straight
+//                                           to OP: the slave refuses (AL
+//                                           status 0x0011, error bit), the
+//                                           STATE_SET ends with the async
+//                                           error; exit 0 when it did fail
+//   ecmxf-nl-helper counters [/dev/ecmxfN]  ECMXF_IOC_COUNTERS as "name
+//                                           value" lines, in the order and
+//                                           with the names of
+//                                           `ecmxf-util monitor --counters`
+//
+// (ecmxf-util itself is the netlink side: it links libmnl, which Debian
+// ships without a static library, so it is the one dynamically linked
+// guest program.)
+
+#include <ecmxf/device.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/kernel_transport.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <string_view>
+#include <utility>
+
+int main(int argc, char **argv)
+{
+	const std::string_view what = argc > 1 ? argv[1] : "";
+	const std::string path = argc > 2 ? argv[2] : "/dev/ecmxf0";
+	try {
+		if (what == "op") {
+			auto dev = ecmxf::Device::open(path);
+			dev->initNetwork();
+			dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
+			dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::SafeOp);
+			dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::Op);
+			std::printf("guest-test: ok   %s: bus in OP (%u slaves)\n", path.c_str(), static_cast<unsigned>(dev->slaveCount()));
+			return 0;
+		}
+		if (what == "refused") {
+			auto dev = ecmxf::Device::open(path);
+			dev->stateSet(0, ecmxf::State::Init);
+			try {
+				dev->stateSet(0, ecmxf::State::Op); // INIT -> OP: not allowed
+			} catch (const ecmxf::Error &e) {
+				std::printf("guest-test: ok   %s: slave 0 INIT -> OP refused: %s\n", path.c_str(),
+					    e.what());
+				return 0;
+			}
+			std::printf("guest-test: FAIL %s: slave 0 INIT -> OP was not refused\n", path.c_str());
+			return 1;
+		}
+		if (what == "counters") {
+			// the transport alone: opening it sends no command
+			const ecmxf::KernelTransport kt(path);
+			const ecmxf::KernelCounters k = kt.counters();
+			for (const auto &[name, value] : ecmxf::counterFields(k))
+				std::printf("%s %llu\n", name, static_cast<unsigned long long>(value));
+			return 0;
+		}
+		std::fprintf(stderr, "usage: ecmxf-nl-helper op|refused|counters [/dev/ecmxfN]\n");
+		return 2;
+	} catch (const std::exception &e) {
+		std::printf("guest-test: FAIL %s %s: %s\n", std::string(what).c_str(), path.c_str(), e.what());
+		return 1;
+	}
+}
