@@ -226,6 +226,9 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 		ok(false, "the device is opened by the kernel transport");
 		return 1;
 	}
+	// the guest under TCG on a loaded host can stall beyond a command's
+	// default 100 ms (as the integration suite does)
+	dev->setMinimumTimeout(std::chrono::seconds(2));
 	ecmxf::Master master(*dev);
 	ecmxf::MasterConfig mc;
 	mc.init.dc.sync0Ns = static_cast<std::uint32_t>(bus.count());
@@ -259,8 +262,14 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 		}
 	}
 
-	ecmxf::Cia402Axis a0(*dev, image, 0, { .modes = { ecmxf::cia402::kModeCsp } });
-	ecmxf::Cia402Axis a1(*dev, image, 1, { .modes = { ecmxf::cia402::kModeCsp } });
+	// the axes time out on the guest's clock: K x the chip's time
+	ecmxf::Cia402AxisConfig ac;
+	ac.modes = { ecmxf::cia402::kModeCsp };
+	ac.state.timeout *= scale;
+	ac.modeTimeout *= scale;
+	ac.ackTimeout *= scale;
+	ecmxf::Cia402Axis a0(*dev, image, 0, ac);
+	ecmxf::Cia402Axis a1(*dev, image, 1, ac);
 	std::vector<ecmxf::Cia402Axis *> axes{ &a0, &a1 };
 	std::uint32_t seq = 0;
 	auto setSeq = [&] {
