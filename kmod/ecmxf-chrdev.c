@@ -5,8 +5,9 @@
  * The uAPI of include/uapi/linux/ecmxf.h (Documentation/uapi.rst and
  * Documentation/driver.rst): commands synchronously (ECMXF_IOC_CMD) or
  * submitted with their completions read() and poll()ed, device info,
- * counters, resets and the cyclic claim.  Every argument is checked here;
- * the commands themselves go to the worker (ecmxf-worker.c) through the
+ * counters, resets, the cyclic claim and the PDO rings (set up and mapped
+ * here, pumped by ecmxf-ring.c).  Every argument is checked here; the
+ * commands themselves go to the worker (ecmxf-worker.c) through the
  * file's queue.
  *
  * Copyright (C) 2026 The ecmxf authors
@@ -178,6 +179,11 @@ static int ecmxf_queue_req(struct ecmxf_client *c, struct ecmxf_req *req)
 		goto out_unlock;
 	if (ecmxf_is_fifo_cmd(req->x.hdr.code) && edev->claim &&
 	    edev->claim != c) {
+		ret = -EBUSY;
+		goto out_unlock;
+	}
+	/* while the rings exist, the pump owns the FIFO exchange */
+	if (req->x.hdr.code == ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP && edev->rings) {
 		ret = -EBUSY;
 		goto out_unlock;
 	}
@@ -378,6 +384,8 @@ static long ecmxf_ioc_devinfo(struct ecmxf_client *c, void __user *argp)
 		d.flags |= ECMXF_DEVINFO_F_CLAIMED;
 	if (edev->claim == c)
 		d.flags |= ECMXF_DEVINFO_F_CLAIM_MINE;
+	if (edev->rings)
+		d.flags |= ECMXF_DEVINFO_F_RINGS;
 	d.data_size = edev->data_size;
 	d.check_type = edev->check;
 	d.fw_version = edev->fw_version;
@@ -414,17 +422,117 @@ static long ecmxf_ioc_claim(struct ecmxf_client *c)
 	return ret;
 }
 
-/* Give the claim back if @c holds it; lock held. */
+/* Give the claim back if @c holds it, rings and all; lock held. */
 static bool ecmxf_unclaim(struct ecmxf_client *c)
 {
 	struct ecmxf_dev *edev = c->edev;
 
 	if (edev->claim != c)
 		return false;
+	ecmxf_rings_teardown(edev);
 	edev->claim = NULL;
 	put_pid(edev->claim_pid);
 	edev->claim_pid = NULL;
 	return true;
+}
+
+/*
+ * One command from the kernel itself (RING_SETUP's questions), queued on
+ * @c like an ECMXF_IOC_CMD.  @rx gets up to @rx_size data bytes.
+ * Return: the command's status, -ENODATA for a command error (the chip
+ * has no PDO configuration), or the queueing/waiting errno.
+ */
+static int ecmxf_kernel_cmd(struct ecmxf_client *c, u8 code, u8 param,
+			    u8 *rx, u32 rx_size, u8 *ret_val)
+{
+	struct ecmxf_cmd_header h;
+	struct ecmxf_req *req;
+	int ret;
+
+	memset(&h, 0, sizeof(h));
+	h.code = code;
+	h.param = param;
+	h.control = ECMXF_CTL_CLR_CMD_ERR;
+	req = ecmxf_req_new(c, ECMXF_REQ_SYNC, &h, 0, 0, rx_size, 0, 0);
+	if (IS_ERR(req))
+		return PTR_ERR(req);
+	ret = ecmxf_queue_req(c, req);
+	if (ret) {
+		kfree(req);
+		return ret;
+	}
+	ret = ecmxf_wait_req(c->edev, req);
+	if (ret)
+		return ret;
+	ret = req->x.status;
+	if (!ret && (req->x.rsp.err_status & ECMXF_ERR_CMD))
+		ret = -ENODATA;
+	if (!ret && rx_size && req->x.rx_len < rx_size)
+		ret = -EPROTO;
+	if (!ret) {
+		if (rx_size)
+			memcpy(rx, req->rx, rx_size);
+		*ret_val = req->x.rsp.ret;
+	}
+	kfree(req);
+	return ret;
+}
+
+static long ecmxf_ioc_ring_setup(struct ecmxf_client *c, void __user *argp)
+{
+	struct ecmxf_dev *edev = c->edev;
+	struct ecmxf_ring_setup rs;
+	struct ecmxf_rings *r = NULL;
+	u16 sizes[2];
+	u8 depths[2], v[2], rv;
+	int ret, i;
+
+	if (copy_from_user(&rs, argp, sizeof(rs)))
+		return -EFAULT;
+	if (!ecmxf_ring_setup_valid(&rs))
+		return -EINVAL;
+	mutex_lock(&edev->lock);
+	ret = edev->claim != c ? -EPERM : 0;
+	mutex_unlock(&edev->lock);
+	if (ret)
+		return ret;
+
+	/* the frame sizes and depths in force now */
+	for (i = 0; i < 2; i++) {
+		ret = ecmxf_kernel_cmd(c, ECMXF_CMD_FIFO_PACK_SIZE_GET, (u8)i,
+				       v, sizeof(v), &rv);
+		if (ret)
+			return ret;
+		sizes[i] = v[0] | v[1] << 8;
+	}
+	ret = ecmxf_kernel_cmd(c, ECMXF_CMD_FIFO_GET_RX_CNT, 0, NULL, 0,
+			       &depths[0]);
+	if (!ret)
+		ret = ecmxf_kernel_cmd(c, ECMXF_CMD_FIFO_GET_TX_CNT, 0, NULL,
+				       0, &depths[1]);
+	if (ret)
+		return ret;
+
+	ret = ecmxf_rings_create(edev, &rs, sizes, depths, &r);
+	if (ret)
+		return ret;
+	mutex_lock(&edev->lock);
+	/* the claim may have gone meanwhile (RELEASE from another thread) */
+	ret = edev->gone ? -ENODEV : edev->claim != c ? -EPERM : 0;
+	if (!ret) {
+		/* new rings replace the old ones (whose mappings stay memory) */
+		ecmxf_rings_teardown(edev);
+		edev->rings = r;
+		r = NULL;
+		ecmxf_worker_kick(edev);
+	}
+	mutex_unlock(&edev->lock);
+	if (ret) {
+		ecmxf_rings_put(r);
+		return ret;
+	}
+	memset(rs.reserved, 0, sizeof(rs.reserved));
+	return copy_to_user(argp, &rs, sizeof(rs)) ? -EFAULT : 0;
 }
 
 static long ecmxf_ioctl(struct file *f, unsigned int cmd, unsigned long arg)
@@ -464,8 +572,7 @@ static long ecmxf_ioctl(struct file *f, unsigned int cmd, unsigned long arg)
 		mutex_unlock(&edev->lock);
 		return ret;
 	case ECMXF_IOC_RING_SETUP:
-		/* the PDO rings come with a later version of the driver */
-		return -EOPNOTSUPP;
+		return ecmxf_ioc_ring_setup(c, argp);
 	default:
 		return -ENOTTY;
 	}
@@ -563,6 +670,8 @@ static __poll_t ecmxf_poll(struct file *f, poll_table *wait)
 	mutex_lock(&edev->lock);
 	if (!list_empty(&c->done))
 		mask |= EPOLLIN | EPOLLRDNORM;
+	if (edev->claim == c)
+		mask |= ecmxf_rings_poll(edev);
 	if (edev->gone)
 		mask |= EPOLLERR | EPOLLHUP;
 	mutex_unlock(&edev->lock);
@@ -660,6 +769,29 @@ void ecmxf_chrdev_fail_all(struct ecmxf_dev *edev, int status)
 	mutex_unlock(&edev->lock);
 }
 
+/*
+ * mmap() of a ring: the claim holder, MAP_SHARED, offset ECMXF_RING_OFF_OUT
+ * or ECMXF_RING_OFF_IN, at most mmap_size bytes.
+ */
+static int ecmxf_mmap(struct file *f, struct vm_area_struct *vma)
+{
+	struct ecmxf_client *c = f->private_data;
+	struct ecmxf_dev *edev = c->edev;
+	int ret;
+
+	mutex_lock(&edev->lock);
+	if (edev->gone)
+		ret = -ENODEV;
+	else if (edev->claim != c)
+		ret = -EPERM;
+	else if (!edev->rings)
+		ret = -EINVAL;
+	else
+		ret = ecmxf_rings_mmap(edev->rings, vma);
+	mutex_unlock(&edev->lock);
+	return ret;
+}
+
 /* The file operations of /dev/ecmxfN. */
 const struct file_operations ecmxf_fops = {
 	.owner = THIS_MODULE,
@@ -667,6 +799,7 @@ const struct file_operations ecmxf_fops = {
 	.release = ecmxf_release,
 	.read = ecmxf_read,
 	.poll = ecmxf_poll,
+	.mmap = ecmxf_mmap,
 	.unlocked_ioctl = ecmxf_ioctl,
 	.compat_ioctl = compat_ptr_ioctl,
 };

@@ -9,6 +9,11 @@
  *   check_type     fixed, crc8, crc-ccitt or crc32
  *   int0, int1     "wired" or "absent"
  *   open_count     open file descriptors
+ *   claim_pid      process holding the cyclic claim (0: none), in the
+ *                  reader's pid namespace
+ *   worker_priority SCHED_FIFO priority of the link worker (1..99);
+ *                  writable by root
+ *   ring_skipped   output frames the PDO pump skipped since probe
  *   counters/...   one file per field of struct ecmxf_counters
  *
  * Copyright (C) 2026 The ecmxf authors
@@ -139,6 +144,59 @@ static ssize_t open_count_show(struct device *dev,
 }
 static DEVICE_ATTR_RO(open_count);
 
+static ssize_t claim_pid_show(struct device *dev,
+			      struct device_attribute *attr, char *buf)
+{
+	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
+	pid_t v;
+
+	mutex_lock(&edev->lock);
+	v = edev->claim_pid ? pid_vnr(edev->claim_pid) : 0;
+	mutex_unlock(&edev->lock);
+	return sysfs_emit(buf, "%d\n", v);
+}
+static DEVICE_ATTR_RO(claim_pid);
+
+static ssize_t worker_priority_show(struct device *dev,
+				    struct device_attribute *attr, char *buf)
+{
+	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
+	unsigned int v;
+
+	mutex_lock(&edev->lock);
+	v = edev->worker_prio;
+	mutex_unlock(&edev->lock);
+	return sysfs_emit(buf, "%u\n", v);
+}
+
+static ssize_t worker_priority_store(struct device *dev,
+				     struct device_attribute *attr,
+				     const char *buf, size_t count)
+{
+	unsigned int prio;
+	int ret;
+
+	ret = kstrtouint(buf, 0, &prio);
+	if (ret)
+		return ret;
+	ret = ecmxf_worker_set_prio(ecmxf_from_dev(dev), prio);
+	return ret ? ret : count;
+}
+static DEVICE_ATTR_RW(worker_priority);
+
+static ssize_t ring_skipped_show(struct device *dev,
+				 struct device_attribute *attr, char *buf)
+{
+	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
+	u64 v;
+
+	mutex_lock(&edev->lock);
+	v = edev->out_ring_skipped;
+	mutex_unlock(&edev->lock);
+	return sysfs_emit(buf, "%llu\n", (unsigned long long)v);
+}
+static DEVICE_ATTR_RO(ring_skipped);
+
 static struct attribute *ecmxf_attrs[] = {
 	&dev_attr_fw_version.attr,
 	&dev_attr_fw_info.attr,
@@ -148,6 +206,9 @@ static struct attribute *ecmxf_attrs[] = {
 	&dev_attr_int0.attr,
 	&dev_attr_int1.attr,
 	&dev_attr_open_count.attr,
+	&dev_attr_claim_pid.attr,
+	&dev_attr_worker_priority.attr,
+	&dev_attr_ring_skipped.attr,
 	NULL
 };
 
@@ -195,6 +256,11 @@ ECMXF_COUNTER_ATTR(busy_rejects);
 ECMXF_COUNTER_ATTR(lost_answers);
 ECMXF_COUNTER_ATTR(chip_resets);
 ECMXF_COUNTER_ATTR(wkc_errors);
+ECMXF_COUNTER_ATTR(out_ring_underruns);
+ECMXF_COUNTER_ATTR(in_ring_overruns);
+ECMXF_COUNTER_ATTR(rx_fifo_underruns);
+ECMXF_COUNTER_ATTR(rx_fifo_overruns);
+ECMXF_COUNTER_ATTR(tx_fifo_overruns);
 ECMXF_COUNTER_ATTR(int0_irqs);
 ECMXF_COUNTER_ATTR(int1_irqs);
 
@@ -214,6 +280,11 @@ static struct attribute *ecmxf_counter_attrs[] = {
 	&ecmxf_counter_lost_answers.attr.attr,
 	&ecmxf_counter_chip_resets.attr.attr,
 	&ecmxf_counter_wkc_errors.attr.attr,
+	&ecmxf_counter_out_ring_underruns.attr.attr,
+	&ecmxf_counter_in_ring_overruns.attr.attr,
+	&ecmxf_counter_rx_fifo_underruns.attr.attr,
+	&ecmxf_counter_rx_fifo_overruns.attr.attr,
+	&ecmxf_counter_tx_fifo_overruns.attr.attr,
 	&ecmxf_counter_int0_irqs.attr.attr,
 	&ecmxf_counter_int1_irqs.attr.attr,
 	NULL

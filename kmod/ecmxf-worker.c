@@ -12,7 +12,9 @@
  * files (a file's own commands stay in order), so one busy opener cannot
  * starve the others; the engine itself allows one async command on the
  * chip at a time and immediate commands meanwhile.  Resets have their own
- * queue and go first.
+ * queue and go first.  While PDO rings exist, the PDO pump's commands
+ * (ecmxf-ring.c) take turns with the files' commands: when both are due,
+ * one of each.
  *
  * Locking: &ecmxf_dev.lock (a mutex, so sleeping and PREEMPT_RT-safe) is
  * taken around queue and state changes only; spi_sync() and every wait
@@ -488,6 +490,8 @@ static void ecmxf_reset_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 		ecmxf_fail_queued(edev, -ECONNRESET);
 		/* a warm reset forgets the bus: the count is unknown again */
 		edev->slave_count = 0;
+		/* and the FIFOs: the rings cannot go on */
+		ecmxf_rings_stop(edev, -ECONNRESET);
 	}
 }
 
@@ -539,6 +543,7 @@ static void ecmxf_collect(struct ecmxf_dev *edev)
 		edev->async_req = NULL;
 		ecmxf_done(edev, req);
 	}
+	ecmxf_pump_collect(edev);
 }
 
 /*
@@ -554,6 +559,8 @@ static int ecmxf_reset_link(struct ecmxf_dev *edev)
 
 	mutex_lock(&edev->lock);
 	ecmxf_cancel_async(edev, -ECONNRESET);
+	ecmxf_pump_cancel(edev);
+	ecmxf_rings_stop(edev, -ECONNRESET);
 	mutex_unlock(&edev->lock);
 
 	ecmxf_engine_reinit(edev, size, check);
@@ -599,12 +606,21 @@ static void ecmxf_start_reset(struct ecmxf_dev *edev, struct ecmxf_req *req)
 }
 
 /*
- * Sleep until there is work: a kick, INT1, kthread_stop(), or @until_ns
- * (ktime_get_ns() clock; U64_MAX: no timeout) for the events' poll.
+ * Sleep until there is work: a kick, INT1, kthread_stop(), @until_ns
+ * (ktime_get_ns() clock; U64_MAX: no timeout) for the events' poll, or
+ * the PDO pump's next timer deadline.
  */
 static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 {
-	ktime_t t = ns_to_ktime(until_ns);
+	ktime_t t;
+	u64 pump;
+
+	mutex_lock(&edev->lock);
+	pump = ecmxf_pump_deadline(edev);
+	mutex_unlock(&edev->lock);
+	if (pump && pump < until_ns)
+		until_ns = pump;
+	t = ns_to_ktime(until_ns);
 
 	set_current_state(TASK_IDLE);
 	if (!atomic_read(&edev->kick) && !atomic_read(&edev->int1_flag) &&
@@ -621,6 +637,7 @@ static int ecmxf_worker_fn(void *data)
 {
 	struct ecmxf_dev *edev = data;
 	struct ecmxf_req *reset, *req;
+	struct ecmxf_rings *pump;
 	bool slot_free;
 	u64 now;
 	int ret;
@@ -632,10 +649,15 @@ static int ecmxf_worker_fn(void *data)
 		now = ktime_get_ns();
 		reset = NULL;
 		req = NULL;
+		pump = NULL;
 
 		mutex_lock(&edev->lock);
-		/* the events' AL status query may hold the command slot */
-		slot_free = !edev->cur_req && !edev->nl.ix_busy;
+		/*
+		 * the events' AL status query, or the pump, may hold the
+		 * command slot; a reset needs it too
+		 */
+		slot_free = !edev->cur_req && !edev->nl.ix_busy &&
+			    !edev->pump.busy;
 		if (slot_free) {
 			reset = list_first_entry_or_null(&edev->resets,
 							 struct ecmxf_req,
@@ -650,11 +672,18 @@ static int ecmxf_worker_fn(void *data)
 			edev->next_expire_ns = now + ECMXF_EXPIRE_PERIOD_NS;
 		}
 		if (!reset && slot_free && !ecmxf_nl_query_first(edev, false)) {
-			req = ecmxf_pick(edev);
+			/* the pump and the files take turns */
+			if (edev->pump.turn)
+				pump = ecmxf_pump_take(edev, now);
+			if (!pump)
+				req = ecmxf_pick(edev);
 			if (req) {
 				req->state = ECMXF_RS_ACTIVE;
 				edev->cur_req = req;
+				edev->pump.turn = true;
 				ecmxf_nl_query_first(edev, true);
+			} else if (!pump) {
+				pump = ecmxf_pump_take(edev, now);
 			}
 		}
 		mutex_unlock(&edev->lock);
@@ -663,6 +692,8 @@ static int ecmxf_worker_fn(void *data)
 			ecmxf_start_reset(edev, reset);
 			continue;
 		}
+		if (pump)
+			ecmxf_pump_submit(edev, pump, now);
 		if (req) {
 			ret = ecmxf_submit(edev, req);
 			if (ret) {
@@ -675,7 +706,7 @@ static int ecmxf_worker_fn(void *data)
 		}
 
 		/* the slot is still free: the AL status query's next command */
-		if (!reset && !req && slot_free)
+		if (!reset && !req && !pump && slot_free)
 			ecmxf_nl_query_submit(edev);
 
 		/*
@@ -705,6 +736,7 @@ static int ecmxf_worker_fn(void *data)
 		ecmxf_req_finish(edev, req, -ENODEV);
 	}
 	ecmxf_cancel_async(edev, -ENODEV);
+	ecmxf_pump_cancel(edev);
 	mutex_unlock(&edev->lock);
 	return 0;
 }
@@ -728,6 +760,7 @@ int ecmxf_worker_start(struct ecmxf_dev *edev)
 	t = kthread_create(ecmxf_worker_fn, edev, "ecmxf%d", edev->id);
 	if (IS_ERR(t))
 		return PTR_ERR(t);
+	edev->worker_prio = ecmxf_param_worker_prio;
 	ret = sched_setattr_nocheck(t, &attr);
 	if (ret) {
 		kthread_stop(t);
@@ -738,6 +771,35 @@ int ecmxf_worker_start(struct ecmxf_dev *edev)
 	WRITE_ONCE(edev->owner, t);
 	wake_up_process(t);
 	return 0;
+}
+
+/**
+ * ecmxf_worker_set_prio() - change the worker's SCHED_FIFO priority
+ * @edev: the device
+ * @prio: 1..99
+ *
+ * Return: 0, -EINVAL for a priority out of range, -ENODEV without a
+ * worker, or the error of sched_setattr_nocheck().
+ */
+int ecmxf_worker_set_prio(struct ecmxf_dev *edev, unsigned int prio)
+{
+	struct sched_attr attr = {
+		.size = sizeof(attr),
+		.sched_policy = SCHED_FIFO,
+		.sched_priority = prio,
+	};
+	int ret = -ENODEV;
+
+	if (prio < 1 || prio > 99)
+		return -EINVAL;
+	mutex_lock(&edev->lock);
+	if (edev->worker) {
+		ret = sched_setattr_nocheck(edev->worker, &attr);
+		if (!ret)
+			edev->worker_prio = prio;
+	}
+	mutex_unlock(&edev->lock);
+	return ret;
 }
 
 /**
@@ -787,6 +849,11 @@ void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k)
 	k->lost_answers = s->lost_answers;
 	k->chip_resets = s->chip_resets;
 	k->wkc_errors = edev->wkc_errors;
+	k->out_ring_underruns = edev->out_ring_underruns;
+	k->in_ring_overruns = edev->in_ring_overruns;
+	k->rx_fifo_underruns = edev->rx_fifo_underruns;
+	k->rx_fifo_overruns = edev->rx_fifo_overruns;
+	k->tx_fifo_overruns = edev->tx_fifo_overruns;
 	mutex_unlock(&edev->lock);
 	k->int0_irqs = atomic64_read(&edev->int0_irqs);
 	k->int1_irqs = atomic64_read(&edev->int1_irqs);

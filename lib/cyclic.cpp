@@ -2,16 +2,22 @@
 // Cyclic: the allocation-free, exception-free cyclic exchange of the
 // process image (include/ecmxf/cyclic.hpp, Documentation/process-data.rst).
 //
-// The exchange itself is a strategy (CyclicPath). The one implemented here
-// drives the chip's FIFOs with ECAT_PDO_DATA_FIFO_OP over
-// Device::transact(); a kernel transport with mmap'd PDO rings (issue #6)
-// adds its own path and Cyclic picks it by the Device's transport.
+// The exchange itself is a strategy (CyclicPath). FifoCommandPath drives
+// the chip's FIFOs with ECAT_PDO_DATA_FIFO_OP over Device::transact();
+// RingPath, chosen when the Device's transport is a KernelTransport, moves
+// the frames through the kernel's mmap()ed PDO rings, whose pump in the
+// kernel sends those commands (Documentation/process-data.rst).
 
 #include <ecmxf/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/kernel_transport.hpp>
 #include <ecmxf/process_image.hpp>
 #include <ecmxf/transport.hpp>
+
+#include <sys/ioctl.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -21,6 +27,7 @@
 #include <vector>
 
 #include "ecmxf-proto.h"
+#include "pdo_ring.hpp"
 
 namespace ecmxf {
 
@@ -102,6 +109,12 @@ public:
 	virtual void exchange(CycleResult &r, bool readWkc) noexcept = 0;
 	/// The clock the cycle is paced on.
 	virtual Transport &clock() noexcept = 0;
+	/// The kernel's PDO rings carry the frames.
+	[[nodiscard]] virtual bool kernelRings() const noexcept { return false; }
+
+	/// Reads the frame sizes, slave counts and FIFO depths and checks the
+	/// image and the configuration against them (throws ecmxf::Error).
+	void readChip(Device &dev, const ProcessImage &image, const CyclicConfig &cfg);
 
 	// what the path found out when it was set up
 	FifoPackSizes sizes{};
@@ -144,8 +157,7 @@ private:
 	unsigned maxReads_ = 0;
 };
 
-FifoCommandPath::FifoCommandPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg)
-	: dev_(dev), image_(image), cfg_(cfg)
+void CyclicPath::readChip(Device &dev, const ProcessImage &image, const CyclicConfig &cfg)
 {
 	sizes = dev.fifoPackSizes();
 	counts = dev.pdoSlaveCounts();
@@ -175,7 +187,6 @@ FifoCommandPath::FifoCommandPath(Device &dev, ProcessImage &image, const CyclicC
 	}
 	perWrite = sizes.rxPdoBytes ? static_cast<unsigned>(std::min<std::size_t>(255, cap / sizes.rxPdoBytes)) : 0;
 	perRead = sizes.txPdoBytes ? static_cast<unsigned>(cap / sizes.txPdoBytes) : 0;
-	maxReads_ = perRead ? txDepth / perRead + 2 : 0;
 
 	const unsigned maxFill = rxDepth > kRxMargin ? rxDepth - kRxMargin : 1;
 	if (cfg.rxFill > maxFill)
@@ -184,6 +195,14 @@ FifoCommandPath::FifoCommandPath(Device &dev, ProcessImage &image, const CyclicC
 				    " minus a margin of 2)",
 			    EINVAL);
 	rxFill = cfg.rxFill ? cfg.rxFill : maxFill;
+}
+
+FifoCommandPath::FifoCommandPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg)
+	: dev_(dev), image_(image), cfg_(cfg)
+{
+	readChip(dev, image, cfg);
+	maxReads_ = perRead ? txDepth / perRead + 2 : 0;
+	const std::size_t cap = dev.pdoDataCapacity();
 	txBuf_.assign(cap, 0);
 	rxBuf_.assign(cap, 0);
 }
@@ -366,6 +385,245 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 	r.intFlags = h.intFlags;
 }
 
+// ---------------------------------------------------------------------------
+// RingPath: the kernel's PDO rings
+// ---------------------------------------------------------------------------
+
+constexpr const char *kPumpStopped =
+	"PDO rings: the kernel's pump stopped (the chip reset or the link was lost); stop() and start() again";
+constexpr const char *kNoRings = "PDO rings: not mapped (start() failed?)";
+
+std::uint32_t pow2AtLeast(std::uint64_t n) noexcept
+{
+	std::uint32_t p = 2;
+	while (p < n && p < 4096)
+		p <<= 1;
+	return p;
+}
+
+/// The kernel-ring path: claim, ECMXF_IOC_RING_SETUP, mmap(); each cycle
+/// one output frame into the output ring and every input frame out of the
+/// input ring, with no system call. The kernel's pump moves them to and
+/// from the chip's FIFOs and reads the working counter.
+class RingPath final : public CyclicPath
+{
+public:
+	RingPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg, KernelTransport &kt);
+	~RingPath() override;
+
+	void start() override;
+	void stop() override;
+	void exchange(CycleResult &r, bool readWkc) noexcept override;
+	Transport &clock() noexcept override { return dev_.transport(); }
+	[[nodiscard]] bool kernelRings() const noexcept override { return true; }
+
+private:
+	void unmap() noexcept;
+	[[noreturn]] void sysFail(const char *call, int err) const;
+
+	Device &dev_;
+	ProcessImage &image_;
+	const CyclicConfig &cfg_;
+	KernelTransport &kt_;
+	void *outMap_ = MAP_FAILED;
+	void *inMap_ = MAP_FAILED;
+	std::size_t outLen_ = 0, inLen_ = 0;
+	detail::PdoRingView out_, in_;
+	/// the interrupt enables found by start(), restored by stop()
+	InterruptConfig savedIrq_{};
+	bool irqSaved_ = false;
+	/// the kernel's counts as seen by the previous cycle
+	std::uint32_t wkcReads_ = 0, outDropped_ = 0, inDropped_ = 0, txOverflows_ = 0, rxRefusals_ = 0;
+};
+
+void RingPath::sysFail(const char *call, int err) const
+{
+	std::string m = kt_.name();
+	m.append(": ").append(call).append(" failed: ").append(std::strerror(err));
+	throw Error(m, err);
+}
+
+RingPath::RingPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg, KernelTransport &kt)
+	: dev_(dev), image_(image), cfg_(cfg), kt_(kt)
+{
+	readChip(dev, image, cfg);
+	if (::ioctl(kt_.fd(), ECMXF_IOC_CLAIM) < 0) {
+		const int err = errno;
+		if (err != EBUSY)
+			sysFail("ECMXF_IOC_CLAIM", err);
+		std::uint32_t pid = 0;
+		try {
+			pid = kt_.devInfo().claimPid;
+		} catch (const Error &) {
+			// the pid is a courtesy; EBUSY is the answer
+		}
+		throw Error(kt_.name() + ": the cyclic path (PDO rings) is claimed by " +
+				    (pid ? "process " + std::to_string(pid) : std::string("another process")) +
+				    " (ECMXF_IOC_CLAIM: EBUSY)",
+			    EBUSY);
+	}
+}
+
+RingPath::~RingPath()
+{
+	// not stopped (an exception on the way): the FIFO off and the
+	// interrupt enables back, as far as the link lets us
+	if (irqSaved_) {
+		try {
+			stop();
+		} catch (const Error &) {
+			// nothing more to do in a destructor
+		}
+	}
+	unmap();
+	::ioctl(kt_.fd(), ECMXF_IOC_RELEASE);
+}
+
+void RingPath::unmap() noexcept
+{
+	if (outMap_ != MAP_FAILED)
+		::munmap(outMap_, outLen_);
+	if (inMap_ != MAP_FAILED)
+		::munmap(inMap_, inLen_);
+	outMap_ = inMap_ = MAP_FAILED;
+	out_ = in_ = detail::PdoRingView();
+}
+
+void RingPath::start()
+{
+	// the FIFO off while the rings are made: the pump waits for it
+	dev_.fifoEnable(false);
+	if (sizes.rxPdoBytes)
+		dev_.pdoWrite(image_.outputs());
+
+	// rings deep enough for a few cycles' worth of bus cycles
+	const std::int64_t period = cfg_.period.count();
+	const std::int64_t bus = cfg_.busCycle.count();
+	const std::uint64_t perCycle = bus > 0 ? static_cast<std::uint64_t>((period + bus - 1) / bus) : 1;
+	ecmxf_ring_setup rs{};
+	rs.out_entries = pow2AtLeast(std::max<std::uint64_t>(16, 2ull * rxDepth));
+	rs.in_entries = pow2AtLeast(std::max<std::uint64_t>(32, 4 * perCycle + txDepth));
+	rs.flags = ECMXF_RING_F_POLL_IN;
+	// the pump's timer: once per cycle (INT1 wakes it earlier)
+	rs.poll_us = static_cast<std::uint32_t>(std::clamp<std::int64_t>(period / 1000, 50, 100000));
+	rs.rx_fill = rxFill;
+	const std::int64_t wkcUs = cfg_.wkcEvery ? period / 1000 * static_cast<std::int64_t>(cfg_.wkcEvery) : 0;
+	rs.wkc_us = static_cast<std::uint32_t>(std::clamp<std::int64_t>(wkcUs, cfg_.wkcEvery ? 1 : 0, 10'000'000));
+
+	unmap();
+	if (::ioctl(kt_.fd(), ECMXF_IOC_RING_SETUP, &rs) < 0)
+		sysFail("ECMXF_IOC_RING_SETUP", errno);
+	outMap_ = ::mmap(nullptr, rs.out.mmap_size, PROT_READ | PROT_WRITE, MAP_SHARED, kt_.fd(), ECMXF_RING_OFF_OUT);
+	if (outMap_ == MAP_FAILED)
+		sysFail("mmap of the output ring", errno);
+	outLen_ = rs.out.mmap_size;
+	inMap_ = ::mmap(nullptr, rs.in.mmap_size, PROT_READ | PROT_WRITE, MAP_SHARED, kt_.fd(), ECMXF_RING_OFF_IN);
+	if (inMap_ == MAP_FAILED) {
+		const int err = errno;
+		unmap();
+		sysFail("mmap of the input ring", err);
+	}
+	inLen_ = rs.in.mmap_size;
+	out_ = detail::PdoRingView(outMap_, rs.out);
+	in_ = detail::PdoRingView(inMap_, rs.in);
+	wkcReads_ = outDropped_ = inDropped_ = txOverflows_ = rxRefusals_ = 0;
+
+	dev_.fifoClear(FifoSelect::Both);
+	// INT1 on every TxPDO frame (TxFIFO high mark 1) and when the RxFIFO
+	// runs low: the pump runs when there is something to move
+	FifoThresholds th;
+	th.txHighEnabled = sizes.txPdoBytes > 0;
+	th.txHigh = 1;
+	th.rxLowEnabled = sizes.rxPdoBytes > 0 && rxFill > 1;
+	th.rxLow = static_cast<std::uint8_t>(rxFill > 1 ? rxFill / 2 : 0);
+	dev_.fifoSetThresholds(th);
+	InterruptConfig ic = dev_.interruptConfig();
+	if (!irqSaved_)
+		savedIrq_ = ic;
+	irqSaved_ = true;
+	ic.sources |= irq::kTxFifoHigh | irq::kRxFifoLow;
+	dev_.setInterruptConfig(ic);
+	dev_.fifoEnable(true);
+}
+
+void RingPath::stop()
+{
+	dev_.fifoEnable(false);
+	if (irqSaved_) {
+		irqSaved_ = false;
+		dev_.setInterruptConfig(savedIrq_);
+	}
+}
+
+void RingPath::exchange(CycleResult &r, bool) noexcept
+{
+	if (!in_.valid() || !out_.valid()) {
+		fail(r, EINVAL, kNoRings);
+		return;
+	}
+	if ((in_.flags() | out_.flags()) & ECMXF_RING_S_ERROR) {
+		ecmxf_ring_status st{};
+		in_.status(st);
+		fail(r, st.error ? static_cast<int>(st.error) : EIO, kPumpStopped);
+		return;
+	}
+	// outputs: this cycle's frame; a full ring refuses it
+	if (sizes.rxPdoBytes) {
+		if (out_.push(image_.outputs()))
+			r.framesPushed = 1;
+		else
+			r.rxRefused = true;
+	}
+	// inputs: every frame there is, oldest first; the newest to the image
+	if (sizes.txPdoBytes) {
+		const std::span<std::uint8_t> img = image_.inputs();
+		const std::uint32_t n = in_.consume([&](std::span<const std::uint8_t> f) {
+			if (cfg_.onInputFrame)
+				cfg_.onInputFrame(cfg_.context, f);
+			// the slot is freed after the loop: copy each, the newest last
+			std::memcpy(img.data(), f.data(), std::min(f.size(), img.size()));
+		});
+		r.framesPopped = n;
+		r.inputsUpdated = n > 0;
+	}
+	ecmxf_ring_status st{};
+	if (in_.status(st)) {
+		if (st.wkc_reads != wkcReads_) {
+			wkcReads_ = st.wkc_reads;
+			r.wkcRead = true;
+			r.wkc = st.wkc;
+			r.wkcOk = r.wkc == r.expectedWkc;
+		}
+		r.rxFifoCount = st.rx_fifo_cnt;
+		r.txFifoCount = st.tx_fifo_cnt;
+		r.wkcErrorCount = st.wkc_err_cnt;
+		r.ecatState = st.ecat_state;
+		r.errStatus = st.err_status;
+		r.ecmStatus = st.ecm_status;
+		r.intFlags = st.int_flags;
+		if (st.rx_refusals != rxRefusals_) {
+			rxRefusals_ = st.rx_refusals;
+			r.rxRefused = true;
+		}
+		if (st.tx_overflows != txOverflows_) {
+			txOverflows_ = st.tx_overflows;
+			r.txOverflow = true;
+		}
+	}
+	// frames the chip refused, frames the input ring had no room for
+	const std::uint32_t od = out_.dropped();
+	if (od != outDropped_) {
+		outDropped_ = od;
+		r.rxRefused = true;
+	}
+	const std::uint32_t id = in_.dropped();
+	if (id != inDropped_) {
+		r.txOverflow = true;
+		r.txDroppedEstimate += id - inDropped_;
+		inDropped_ = id;
+	}
+}
+
 } // namespace
 
 // ---------------------------------------------------------------------------
@@ -385,8 +643,11 @@ public:
 			throw Error("Cyclic: the bus cycle must not be negative (got " +
 					    std::to_string(cfg.busCycle.count()) + " ns)",
 				    EINVAL);
-		// the one path there is today; a kernel transport brings its own
-		path = std::make_unique<FifoCommandPath>(dev, image, cfg);
+		// a kernel transport brings its rings; anything else the commands
+		if (auto *kt = dynamic_cast<KernelTransport *>(&dev.transport()))
+			path = std::make_unique<RingPath>(dev, image, cfg, *kt);
+		else
+			path = std::make_unique<FifoCommandPath>(dev, image, cfg);
 		last.expectedWkc = path->counts.expectedWkc();
 	}
 
@@ -539,6 +800,11 @@ unsigned Cyclic::framesPerWrite() const noexcept
 unsigned Cyclic::framesPerRead() const noexcept
 {
 	return impl_->path->perRead;
+}
+
+bool Cyclic::usesKernelRings() const noexcept
+{
+	return impl_->path->kernelRings();
 }
 
 } // namespace ecmxf

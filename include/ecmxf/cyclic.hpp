@@ -25,10 +25,11 @@
  *   }
  * @endcode
  *
- * Today's path uses the chip's FIFO commands over the Device's raw command
- * path (Device::transact()); the exchange is behind an internal interface
- * so that a kernel transport with mmap'd PDO rings can serve the same API.
- * Documentation/process-data.rst describes the semantics.
+ * Over the simulator or spidev, the chip's FIFO commands go over the
+ * Device's raw command path (Device::transact()); over /dev/ecmxfN (a
+ * KernelTransport) the frames go through the kernel's mmap()ed PDO rings
+ * and cycle() makes no system call. The API and its semantics are the
+ * same; Documentation/process-data.rst describes both paths.
  *
  * Thread safety: none; the thread that calls cycle() owns the Device and
  * the image while the Cyclic exists.
@@ -73,6 +74,8 @@ struct CyclicConfig {
 	/// Time allowed for each command of cycle() (ECAT_PDO_DATA_FIFO_OP,
 	/// ECAT_PDO_WC_GET) until its answer; zero: the command table's 100 ms.
 	/// Raise it where the host can stall that long (e.g. under emulation).
+	/// Over the kernel's PDO rings cycle() sends no command (the kernel's
+	/// pump allows each of its commands 500 ms) and this is not used.
 	std::chrono::microseconds commandTimeout{ 0 };
 };
 
@@ -184,6 +187,9 @@ public:
 	/// RxPDO frames one command carries, TxPDO frames one answer carries.
 	[[nodiscard]] unsigned framesPerWrite() const noexcept;
 	[[nodiscard]] unsigned framesPerRead() const noexcept;
+	/// The frames go through the kernel's mmap()ed PDO rings (the Device's
+	/// transport is a KernelTransport); false: FIFO commands.
+	[[nodiscard]] bool usesKernelRings() const noexcept;
 
 	class Impl;
 

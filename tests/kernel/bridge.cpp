@@ -4,8 +4,18 @@
 // SPI controller (tests/kernel/modules/ecmxf-vspi.c) from an in-process
 // simulated chip, and drives the INT0/INT1 GPIO lines from the chip's lines.
 //
-//   ecmxf-bridge [network-file]      (no file: the default network)
+//   ecmxf-bridge [--time-scale K] [network-file]   (no file: the default network)
 //   ecmxf-bridge ctl COMMAND [ARG]   send one control command, print the reply
+//
+// Time: by default the chip runs in Paced mode (its clock is the guest's
+// monotonic clock). With --time-scale K (1..1000) its clock is virtual and
+// the bridge moves it to (guest time since start) / K: the bus runs K times
+// slower than on hardware, so that a guest under TCG can keep up with a
+// 1 kHz or 8 kHz bus (the cyclic tests scale the application's period and
+// the kernel pump's timer by the same K: every ratio between bus,
+// application and pump stays as on hardware). In this mode the SPI wire
+// and processing times are not modelled (an exchange under TCG takes far
+// longer than on hardware already): exchanges do not move the clock.
 //
 // Runs until SIGTERM/SIGINT; then prints the chip's counters to stderr.
 //
@@ -181,16 +191,21 @@ private:
 		ecmxf::sim::FaultPlan &f = chip_.faults();
 		if (cmd == "state") {
 			const auto &s = chip_.stats();
-			char b[512];
+			char b[768];
 			std::snprintf(b, sizeof(b),
-				      "ok state mosi-bit-errors=%u miso-bit-errors=%u not-ready=%u int0-stuck=%d async-stuck=%d link-lost=%d slave-dropped=%d sdo-abort=0x%x silent=%d transfers=%llu chip-exchanges=%llu chip-bad-packets=%llu chip-not-ready=%llu",
+				      "ok state mosi-bit-errors=%u miso-bit-errors=%u not-ready=%u int0-stuck=%d async-stuck=%d link-lost=%d slave-dropped=%d sdo-abort=0x%x silent=%d transfers=%llu chip-exchanges=%llu chip-bad-packets=%llu chip-not-ready=%llu bus-cycles=%llu rx-underruns=%llu rx-refused=%llu tx-dropped=%llu wkc-errors=%llu",
 				      f.mosiBitErrors, f.misoBitErrors, f.notReady, f.int0StuckBusy ? 1 : 0,
 				      f.asyncStuckBusy ? 1 : 0, f.linkLost ? 1 : 0, f.slaveDropped,
 				      static_cast<unsigned>(f.forcedSdoAbort), silent_ ? 1 : 0,
 				      static_cast<unsigned long long>(transfers_),
 				      static_cast<unsigned long long>(s.exchanges),
 				      static_cast<unsigned long long>(s.badPackets),
-				      static_cast<unsigned long long>(s.notReady));
+				      static_cast<unsigned long long>(s.notReady),
+				      static_cast<unsigned long long>(s.busCycles),
+				      static_cast<unsigned long long>(s.rxUnderruns),
+				      static_cast<unsigned long long>(s.rxRefused),
+				      static_cast<unsigned long long>(s.txDropped),
+				      static_cast<unsigned long long>(s.wkcErrors));
 			return b;
 		}
 		if (cmd == "clear") {
@@ -257,9 +272,41 @@ int main(int argc, char **argv)
 	if (argc > 1 && std::strcmp(argv[1], "ctl") == 0)
 		return ctlClient(argc, argv);
 	try {
+		long scale = 0;
+		int arg = 1;
+		if (argc > 2 && std::strcmp(argv[1], "--time-scale") == 0) {
+			char *end = nullptr;
+			scale = std::strtol(argv[2], &end, 10);
+			if (!end || *end || scale < 1 || scale > 1000) {
+				std::fprintf(stderr, "ecmxf-bridge: --time-scale wants 1..1000\n");
+				return 2;
+			}
+			arg = 3;
+		}
 		ecmxf::sim::ChipConfig cfg;
-		cfg.timeMode = ecmxf::sim::TimeMode::Paced; // guest wall clock
-		ecmxf::sim::Chip chip(argc > 1 ? std::string(argv[1]) : std::string(), cfg);
+		if (scale) {
+			// virtual time, moved by the loop below; exchanges cost none
+			cfg.timeMode = ecmxf::sim::TimeMode::Virtual;
+			cfg.processingTime = std::chrono::nanoseconds(0);
+			cfg.spiClockHz = 4'000'000'000u;
+		} else {
+			cfg.timeMode = ecmxf::sim::TimeMode::Paced; // guest wall clock
+		}
+		ecmxf::sim::Chip chip(argc > arg ? std::string(argv[arg]) : std::string(), cfg);
+		timespec t0{};
+		clock_gettime(CLOCK_MONOTONIC, &t0);
+		const std::chrono::nanoseconds v0 = chip.now();
+		// scaled mode: the chip's clock follows the guest's, K times slower
+		auto follow = [&] {
+			if (!scale)
+				return;
+			timespec t{};
+			clock_gettime(CLOCK_MONOTONIC, &t);
+			const std::int64_t wall = (t.tv_sec - t0.tv_sec) * 1'000'000'000LL + (t.tv_nsec - t0.tv_nsec);
+			const std::chrono::nanoseconds target = v0 + std::chrono::nanoseconds(wall / scale);
+			if (target > chip.now())
+				chip.advance(target - chip.now());
+		};
 
 		struct sigaction sa {};
 		sa.sa_handler = onSignal;
@@ -274,8 +321,9 @@ int main(int argc, char **argv)
 		std::uint32_t lines = linesOf(chip);
 		if (::ioctl(fd, ECMXF_VSPI_IOC_SET_LINES, &lines) < 0)
 			die("ECMXF_VSPI_IOC_SET_LINES");
-		std::fprintf(stderr, "ecmxf-bridge: ready (%zu-byte packets, control FIFO %s)\n",
-			     chip.packetSize(), ecmxf::ktest::kBridgeCtlPath);
+		std::fprintf(stderr, "ecmxf-bridge: ready (%zu-byte packets, control FIFO %s, time %s%ld)\n",
+			     chip.packetSize(), ecmxf::ktest::kBridgeCtlPath, scale ? "virtual, scale 1/" : "paced",
+			     scale ? scale : 1L);
 
 		std::vector<std::uint8_t> mosi(ECMXF_VSPI_MAX_XFER), miso(ECMXF_VSPI_MAX_XFER);
 		while (!gStop) {
@@ -291,6 +339,7 @@ int main(int argc, char **argv)
 			// commands first: one written before a transfer started
 			// applies to that transfer
 			ctl.drain();
+			follow();
 			if (n > 0 && np == 2 && (p[1].revents & POLLIN) && !ctl.silent()) {
 				const ssize_t len = ::read(fd, mosi.data(), mosi.size());
 				if (len < 0) {

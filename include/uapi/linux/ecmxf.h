@@ -387,6 +387,8 @@ struct ecmxf_reset {
  * @frame_stride: value: bytes from one frame slot to the next, a multiple
  *	of 8 and at least @frame_size
  * @mmap_size: value: length to pass to mmap(), a multiple of the page size
+ * @status: offset of the &struct ecmxf_ring_status that the kernel keeps
+ *	(input ring only; 0 in the output ring)
  * @reserved: zeroed by the kernel
  *
  * Slot i is at @frames + (i & mask) * @frame_stride.  Indices run freely
@@ -396,6 +398,11 @@ struct ecmxf_reset {
  * acquire; the consumer stores head with release after reading the frame,
  * the producer loads it with acquire.  Userspace produces the output ring
  * and consumes the input ring.
+ *
+ * The dropped counters are the kernel's: in the output ring, frames the
+ * chip refused (RxFIFO full); in the input ring, frames the kernel could
+ * not store because the ring was full (the newest frame is dropped, the
+ * consumer's head is never moved by the kernel).
  */
 struct ecmxf_ring_offsets {
 	__u32 head;
@@ -408,30 +415,91 @@ struct ecmxf_ring_offsets {
 	__u32 frame_size;
 	__u32 frame_stride;
 	__u32 mmap_size;
-	__u32 reserved[2];
+	__u32 status;
+	__u32 reserved;
+};
+
+/**
+ * struct ecmxf_ring_status - what the PDO pump saw last (in the input ring)
+ * @seq: sequence count: odd while the kernel writes the fields below; read
+ *	it (acquire), the fields, then it again (after a read barrier) and
+ *	retry when it was odd or changed
+ * @wkc: the working counter of the last ECAT_PDO_WC_GET 3 the pump read
+ * @wkc_reads: how many times the pump has read it (wraps)
+ * @int_flags: interrupt flags (0x10) of the pump's last answer
+ * @crc_err_cnt: header byte 0x04 of the pump's last answer
+ * @wkc_err_cnt: header byte 0x05
+ * @tx_fifo_cnt: header byte 0x06, TxPDO frames left in the chip
+ * @rx_fifo_cnt: header byte 0x07, RxPDO frames waiting in the chip
+ * @ecat_state: header byte 0x08
+ * @err_status: header byte 0x09
+ * @ecm_status: header byte 0x0A
+ * @padding: zero
+ * @pump_ops: ECAT_PDO_DATA_FIFO_OP commands the pump completed (wraps)
+ * @rx_refusals: pump commands whose output frames the chip refused
+ * @tx_overflows: answers that showed the chip's TxFIFO full
+ * @rx_underruns: answers that showed the chip's RxFIFO empty
+ * @out_underruns: of those, the ones that found the output ring empty too
+ * @error: 0, or the positive errno of the pump's last failed command
+ * @out_skipped: output frames skipped because the pump had fallen behind
+ * @reserved: zero
+ *
+ * Written by the kernel only.  The counters wrap at 2^32 and count since
+ * %ECMXF_IOC_RING_SETUP; &struct ecmxf_counters has the totals since probe.
+ */
+struct ecmxf_ring_status {
+	__u32 seq;
+	__u32 wkc;
+	__u32 wkc_reads;
+	__u32 int_flags;
+	__u8 crc_err_cnt;
+	__u8 wkc_err_cnt;
+	__u8 tx_fifo_cnt;
+	__u8 rx_fifo_cnt;
+	__u8 ecat_state;
+	__u8 err_status;
+	__u8 ecm_status;
+	__u8 padding;
+	__u32 pump_ops;
+	__u32 rx_refusals;
+	__u32 tx_overflows;
+	__u32 rx_underruns;
+	__u32 out_underruns;
+	__u32 error;
+	__u32 out_skipped;
+	__u32 reserved[3];
 };
 
 /**
  * struct ecmxf_ring_setup - create the PDO rings (%ECMXF_IOC_RING_SETUP)
- * @out_entries: frame slots of the output ring, a power of two
- * @in_entries: frame slots of the input ring, a power of two
+ * @out_entries: frame slots of the output ring, a power of two 2..4096
+ * @in_entries: frame slots of the input ring, a power of two 2..4096
  * @flags: %ECMXF_RING_F_* bits
- * @padding: must be zero
+ * @poll_us: period of the pump's timer in microseconds (50..100000; 0
+ *	selects 1000): the longest time an output frame waits in the ring
+ *	when no interrupt wakes the pump earlier
+ * @rx_fill: RxFIFO level (frames) the pump fills the chip's RxFIFO up to;
+ *	0 selects the depth minus two, at most the depth minus two
+ * @wkc_us: read the working counter (ECAT_PDO_WC_GET 3) into
+ *	&struct ecmxf_ring_status every this many microseconds; 0: never
  * @out: output: layout of the output ring (mmap at %ECMXF_RING_OFF_OUT)
  * @in: output: layout of the input ring (mmap at %ECMXF_RING_OFF_IN)
  * @reserved: must be zero
  *
  * Needs the cyclic claim.  Frame sizes come from the chip's PDO
- * configuration at the time of the call.
+ * configuration at the time of the call (FIFO_PACK_SIZE_GET), the RxFIFO
+ * and TxFIFO depths from FIFO_GET_RX_CNT and FIFO_GET_TX_CNT.
  */
 struct ecmxf_ring_setup {
 	__u32 out_entries;
 	__u32 in_entries;
 	__u32 flags;
-	__u32 padding;
+	__u32 poll_us;
 	struct ecmxf_ring_offsets out;
 	struct ecmxf_ring_offsets in;
-	__u32 reserved[4];
+	__u32 rx_fill;
+	__u32 wkc_us;
+	__u32 reserved[2];
 };
 
 /**

@@ -1,0 +1,360 @@
+// SPDX-License-Identifier: MIT
+// ecmxf-guest-cyclic-bench: inside the QEMU guest, system calls and CPU
+// time per cycle of the cyclic process-data exchange over three paths
+// (Documentation/kernel-testing.rst, "Benchmarks"):
+//
+//   ecmxf-guest-cyclic-bench kernel <N> [/dev/ecmxfN]
+//       1. rings: the library's Cyclic over /dev/ecmxf0 (the kernel's PDO
+//          rings; the pump in the kernel's worker sends the commands);
+//       2. ioctl: a loop of synchronous ECMXF_IOC_CMD ECAT_PDO_DATA_FIFO_OP
+//          (one output frame pushed, the inputs popped) per cycle;
+//       writes the figures to /tmp/ecmxf-cbench-kernel
+//   ecmxf-guest-cyclic-bench spidev <N> <spidev URI>
+//       3. spidev: the library's Cyclic over SpidevTransport (the same
+//          FIFO commands, from userspace); prints the ratios
+//
+// Each path: the bus up (2 x EST-584 + digital I/O, 1 ms SYNC0), 100
+// cycles of warm-up, N cycles at a 1 ms period measured (this process's
+// CPU time from getrusage(), the kernel worker's from its
+// /proc/PID/schedstat), then 200 cycles in a child process traced with
+// ptrace(PTRACE_SYSCALL): every system call between two markers is
+// counted. Every line starts with "bench:". Timings under TCG are
+// emulated: only ratios within one run mean something.
+
+#include <ecmxf/cyclic.hpp>
+#include <ecmxf/device.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/kernel_transport.hpp>
+#include <ecmxf/master.hpp>
+#include <ecmxf/process_image.hpp>
+
+#include <dirent.h>
+#include <signal.h>
+#include <sys/ioctl.h>
+#include <sys/ptrace.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <sys/user.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <uapi/linux/ecmxf.h>
+
+using namespace std::chrono_literals;
+
+namespace {
+
+constexpr const char *kResultFile = "/tmp/ecmxf-cbench-kernel";
+constexpr unsigned kWarmup = 100;
+constexpr unsigned kTraced = 200;
+
+double cpuUs()
+{
+	rusage ru{};
+	getrusage(RUSAGE_SELF, &ru);
+	const auto us = [](const timeval &t) {
+		return static_cast<double>(t.tv_sec) * 1e6 + static_cast<double>(t.tv_usec);
+	};
+	return us(ru.ru_utime) + us(ru.ru_stime);
+}
+
+/// The pid of the kernel thread "ecmxf0" (the link worker), or 0.
+long workerPid()
+{
+	DIR *d = ::opendir("/proc");
+	if (!d)
+		return 0;
+	long found = 0;
+	while (dirent *e = ::readdir(d)) {
+		const long pid = std::strtol(e->d_name, nullptr, 10);
+		if (pid <= 0)
+			continue;
+		std::ifstream comm("/proc/" + std::string(e->d_name) + "/comm");
+		std::string name;
+		if (std::getline(comm, name) && name == "ecmxf0") {
+			found = pid;
+			break;
+		}
+	}
+	::closedir(d);
+	return found;
+}
+
+/// CPU time of @p pid in microseconds (schedstat: ns on the CPU), or 0.
+double taskCpuUs(long pid)
+{
+	if (!pid)
+		return 0;
+	std::ifstream f("/proc/" + std::to_string(pid) + "/schedstat");
+	unsigned long long ns = 0;
+	f >> ns;
+	return static_cast<double>(ns) / 1000.0;
+}
+
+/// System calls made by @p body, run in a child process traced with
+/// PTRACE_SYSCALL (between two getppid() markers); -1 where that cannot be
+/// counted (not x86-64).
+long countSyscalls(const std::function<void()> &body, std::string &which)
+{
+#if defined(__x86_64__)
+	std::fflush(stdout);
+	const pid_t pid = ::fork();
+	if (pid < 0)
+		return -1;
+	if (pid == 0) {
+		::ptrace(PTRACE_TRACEME, 0, nullptr, nullptr);
+		::raise(SIGSTOP);
+		::syscall(SYS_getppid);
+		body();
+		::syscall(SYS_getppid);
+		::_exit(0);
+	}
+	int st = 0;
+	::waitpid(pid, &st, 0);
+	::ptrace(PTRACE_SETOPTIONS, pid, nullptr, reinterpret_cast<void *>(PTRACE_O_TRACESYSGOOD | PTRACE_O_EXITKILL));
+	long count = 0;
+	int markers = 0;
+	std::vector<long> nrs; // syscall number -> count
+	bool entry = true;
+	long sig = 0;
+	for (;;) {
+		if (::ptrace(PTRACE_SYSCALL, pid, nullptr, reinterpret_cast<void *>(sig)) < 0)
+			break;
+		sig = 0;
+		if (::waitpid(pid, &st, 0) < 0 || WIFEXITED(st) || WIFSIGNALED(st))
+			break;
+		if (!WIFSTOPPED(st))
+			continue;
+		if (WSTOPSIG(st) == (SIGTRAP | 0x80)) {
+			if (entry) {
+				user_regs_struct regs{};
+				::ptrace(PTRACE_GETREGS, pid, nullptr, &regs);
+				if (static_cast<long>(regs.orig_rax) == SYS_getppid)
+					markers++;
+				else if (markers == 1) {
+					count++;
+					const auto nr = static_cast<std::size_t>(regs.orig_rax);
+					if (nr < 1024) {
+						if (nrs.size() <= nr)
+							nrs.resize(nr + 1, 0);
+						nrs[nr]++;
+					}
+				}
+			}
+			entry = !entry;
+		} else {
+			sig = WSTOPSIG(st); // deliver it
+		}
+	}
+	::waitpid(pid, &st, 0);
+	for (std::size_t nr = 0; nr < nrs.size(); nr++)
+		if (nrs[nr])
+			which += " nr" + std::to_string(nr) + "=" + std::to_string(nrs[nr]);
+	return markers >= 2 ? count : -1;
+#else
+	(void)body;
+	(void)which;
+	return -1;
+#endif
+}
+
+struct Figures {
+	double syscalls = -1; ///< per cycle
+	double appCpuUs = 0;  ///< this process, per cycle
+	double workerCpuUs = 0; ///< the kernel's worker, per cycle
+	double wallUs = 0;    ///< per cycle
+};
+
+/// @p once runs one cycle (exchange and wait).
+Figures measure(const char *name, unsigned n, const std::function<void()> &once)
+{
+	for (unsigned i = 0; i < kWarmup; i++)
+		once();
+	const long wpid = workerPid();
+	const double c0 = cpuUs(), w0 = taskCpuUs(wpid);
+	const auto t0 = std::chrono::steady_clock::now();
+	for (unsigned i = 0; i < n; i++)
+		once();
+	const auto t1 = std::chrono::steady_clock::now();
+	Figures f;
+	f.appCpuUs = (cpuUs() - c0) / n;
+	f.workerCpuUs = (taskCpuUs(wpid) - w0) / n;
+	f.wallUs = std::chrono::duration<double, std::micro>(t1 - t0).count() / n;
+	std::string which;
+	const long calls = countSyscalls(
+		[&] {
+			for (unsigned i = 0; i < kTraced; i++)
+				once();
+		},
+		which);
+	f.syscalls = calls < 0 ? -1 : static_cast<double>(calls) / kTraced;
+	std::printf("bench: cyclic %s: system calls in %u traced cycles by number (x86-64):%s\n", name, kTraced,
+		    which.c_str());
+	std::printf("bench: cyclic %s: %.2f syscalls per cycle, CPU %.1f us per cycle in the application + %.1f us in "
+		    "the kernel worker, %.0f us wall per cycle (%u cycles, 1 ms period)\n",
+		    name, f.syscalls, f.appCpuUs, f.workerCpuUs, f.wallUs, n);
+	return f;
+}
+
+/// The bus up on the default network, 1 ms SYNC0; the process image.
+ecmxf::ProcessImage bringUp(ecmxf::Device &dev)
+{
+	ecmxf::Master m(dev);
+	ecmxf::MasterConfig mc;
+	mc.init.dc.sync0Ns = 1'000'000;
+	m.bringUp(mc);
+	return ecmxf::ProcessImage(m.pdos());
+}
+
+ecmxf::CyclicConfig config()
+{
+	ecmxf::CyclicConfig cc;
+	cc.period = 1ms;
+	cc.busCycle = 1ms;
+	cc.rxFill = 4;
+	cc.wkcEvery = 10;
+	cc.commandTimeout = 1s;
+	return cc;
+}
+
+/// The library's Cyclic; one cycle = cycle() + waitNextCycle().
+Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *name, unsigned n, bool wantRings)
+{
+	ecmxf::Cyclic cyc(dev, image, config());
+	if (cyc.usesKernelRings() != wantRings) {
+		std::printf("bench: FAIL %s: the Cyclic %s the kernel rings\n", name, wantRings ? "does not use" : "uses");
+		std::exit(1);
+	}
+	cyc.start();
+	unsigned errors = 0;
+	const Figures f = measure(name, n, [&] {
+		errors += cyc.cycle().error != 0;
+		(void)cyc.waitNextCycle();
+	});
+	const ecmxf::CyclicStats &s = cyc.stats();
+	std::printf("bench: cyclic %s: %llu cycles, %.2f commands per cycle from userspace, %u failed, %llu late\n", name,
+		    static_cast<unsigned long long>(s.cycles),
+		    s.cycles ? static_cast<double>(s.commands) / static_cast<double>(s.cycles) : 0.0, errors,
+		    static_cast<unsigned long long>(s.lateCycles));
+	cyc.stop();
+	return f;
+}
+
+/// One ECMXF_IOC_CMD ECAT_PDO_DATA_FIFO_OP per cycle (push one frame,
+/// pop the inputs), then a sleep to the next 1 ms boundary.
+Figures ioctlPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
+{
+	auto &kt = dynamic_cast<ecmxf::KernelTransport &>(dev.transport());
+	const int fd = kt.fd();
+	dev.pdoWrite(image.outputs());
+	dev.fifoClear(ecmxf::FifoSelect::Both);
+	dev.fifoEnable(true);
+	std::vector<std::uint8_t> out(image.outputs().begin(), image.outputs().end());
+	std::vector<std::uint8_t> in(1408);
+	timespec next{};
+	clock_gettime(CLOCK_MONOTONIC, &next);
+	unsigned errors = 0;
+	const Figures f = measure("ioctl (sync PDO_DATA_FIFO_OP)", n, [&] {
+		ecmxf_cmd c{};
+		c.hdr.code = 5; // ECAT_PDO_DATA_FIFO_OP
+		c.hdr.param = 1;
+		c.hdr.data[0] = 0x03;
+		c.hdr.control = 0xA0; // clear the command and FIFO error bits
+		c.tx_ptr = reinterpret_cast<std::uintptr_t>(out.data());
+		c.tx_len = static_cast<std::uint32_t>(out.size());
+		c.rx_ptr = reinterpret_cast<std::uintptr_t>(in.data());
+		c.rx_size = static_cast<std::uint32_t>(in.size());
+		c.timeout_us = 1'000'000;
+		if (::ioctl(fd, ECMXF_IOC_CMD, &c) < 0 || c.status)
+			errors++;
+		next.tv_nsec += 1'000'000;
+		if (next.tv_nsec >= 1'000'000'000) {
+			next.tv_nsec -= 1'000'000'000;
+			next.tv_sec++;
+		}
+		clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr);
+	});
+	std::printf("bench: cyclic ioctl: %u failed commands\n", errors);
+	dev.fifoEnable(false);
+	return f;
+}
+
+void save(const Figures &ring, const Figures &ioc)
+{
+	std::FILE *f = std::fopen(kResultFile, "w");
+	if (!f)
+		return;
+	std::fprintf(f, "%f %f %f %f %f %f\n", ring.syscalls, ring.appCpuUs, ring.workerCpuUs, ioc.syscalls,
+		     ioc.appCpuUs, ioc.workerCpuUs);
+	std::fclose(f);
+}
+
+double ratio(double a, double b)
+{
+	return b > 0 ? a / b : 0;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+	try {
+		if (argc < 4) {
+			std::fprintf(stderr, "usage: ecmxf-guest-cyclic-bench kernel N DEV | spidev N URI\n");
+			return 2;
+		}
+		const std::string_view mode = argv[1];
+		const auto n = static_cast<unsigned>(std::strtoul(argv[2], nullptr, 10));
+		auto dev = ecmxf::Device::open(argv[3]);
+		ecmxf::ProcessImage image = bringUp(*dev);
+		if (mode == "kernel") {
+			const Figures ring = cyclicPath(*dev, image, "rings", n, true);
+			const Figures ioc = ioctlPath(*dev, image, n);
+			save(ring, ioc);
+			std::printf("bench: cyclic rings/ioctl: syscalls per cycle %.2f, CPU per cycle %.2f (application "
+				    "only), %.2f (with the kernel worker)\n",
+				    ratio(ring.syscalls, ioc.syscalls), ratio(ring.appCpuUs, ioc.appCpuUs),
+				    ratio(ring.appCpuUs + ring.workerCpuUs, ioc.appCpuUs + ioc.workerCpuUs));
+			return 0;
+		}
+		if (mode == "spidev") {
+			const Figures sp = cyclicPath(*dev, image, "spidev (library, FIFO commands)", n, false);
+			std::FILE *f = std::fopen(kResultFile, "r");
+			Figures ring, ioc;
+			if (!f || std::fscanf(f, "%lf %lf %lf %lf %lf %lf", &ring.syscalls, &ring.appCpuUs,
+					      &ring.workerCpuUs, &ioc.syscalls, &ioc.appCpuUs, &ioc.workerCpuUs) != 6) {
+				std::printf("bench: no kernel figures in %s: no ratios\n", kResultFile);
+				return 0;
+			}
+			std::fclose(f);
+			std::printf("bench: cyclic rings/spidev: syscalls per cycle %.2f, CPU per cycle %.2f (with the "
+				    "kernel worker)\n",
+				    ratio(ring.syscalls, sp.syscalls),
+				    ratio(ring.appCpuUs + ring.workerCpuUs, sp.appCpuUs + sp.workerCpuUs));
+			std::printf("bench: cyclic ioctl/spidev: syscalls per cycle %.2f, CPU per cycle %.2f (with the "
+				    "kernel worker)\n",
+				    ratio(ioc.syscalls, sp.syscalls),
+				    ratio(ioc.appCpuUs + ioc.workerCpuUs, sp.appCpuUs + sp.workerCpuUs));
+			return 0;
+		}
+		std::fprintf(stderr, "unknown mode %s\n", argv[1]);
+		return 2;
+	} catch (const std::exception &e) {
+		std::printf("bench: FAIL exception: %s\n", e.what());
+		return 1;
+	}
+}

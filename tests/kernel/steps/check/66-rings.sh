@@ -1,0 +1,50 @@
+# SPDX-License-Identifier: MIT
+# The cyclic path through the kernel's mmap()ed PDO rings
+# (tests/kernel/guest-rings.cpp): 10 000 bus cycles at 1 kHz and at 8 kHz
+# of chip time, with the library's Cyclic over /dev/ecmxf0. The bridge
+# runs a network with a loopback I/O terminal, its clock scaled by K
+# (bridge --time-scale, kernel-testing.rst "PDO rings"); the application
+# runs once per bus cycle of chip time. Afterwards the default bridge again.
+rings_with() {
+	hz=$1 scale=$2
+	spidev=$(basename "$(readlink /sys/class/ecmxf/ecmxf0/device)")
+	echo "$spidev" >/sys/bus/spi/drivers/ecmxf/unbind || fail "unbind $spidev"
+	bridge_stop
+	/bin/ecmxf-guest-rings --network >/tmp/rings.net
+	bridge_start --time-scale "$scale" /tmp/rings.net
+	echo "$spidev" >/sys/bus/spi/drivers/ecmxf/bind || fail "bind $spidev"
+	[ -c /dev/ecmxf0 ] || fail "no /dev/ecmxf0 with the rings network"
+	/bin/ecmxf-guest-rings run /dev/ecmxf0 "$hz" 10000 "$scale" || fail "ecmxf-guest-rings at $hz Hz"
+	bridge_ctl state
+}
+# the worker's SCHED_FIFO priority through sysfs: /proc/PID/stat field 18
+# is -1 - rt_priority for a real-time task
+worker_prio_is() {
+	for c in /proc/[0-9]*/comm; do
+		[ "$(cat "$c" 2>/dev/null)" = ecmxf0 ] || continue
+		p=$(cut -d' ' -f18 "${c%/comm}/stat")
+		[ "$p" = "$((-1 - $1))" ] || fail "worker priority field $p, want $((-1 - $1))"
+		echo "guest-test: ok   worker ecmxf0 runs SCHED_FIFO at priority $1 (stat field 18: $p)"
+		return
+	done
+	fail "no ecmxf0 worker thread"
+}
+attr=/sys/class/ecmxf/ecmxf0/worker_priority
+[ "$(cat $attr)" = 50 ] || fail "worker_priority is $(cat $attr), want the default 50"
+worker_prio_is 50
+echo 70 >$attr || fail "writing 70 to worker_priority"
+[ "$(cat $attr)" = 70 ] || fail "worker_priority is $(cat $attr) after writing 70"
+worker_prio_is 70
+if echo 0 >$attr 2>/dev/null; then fail "worker_priority accepted 0"; fi
+if echo 100 >$attr 2>/dev/null; then fail "worker_priority accepted 100"; fi
+echo "guest-test: ok   worker_priority refuses 0 and 100"
+echo 50 >$attr || fail "writing 50 to worker_priority"
+worker_prio_is 50
+rings_with 1000 5
+rings_with 8000 40
+spidev=$(basename "$(readlink /sys/class/ecmxf/ecmxf0/device)")
+echo "$spidev" >/sys/bus/spi/drivers/ecmxf/unbind || fail "unbind $spidev"
+bridge_stop
+bridge_start
+echo "$spidev" >/sys/bus/spi/drivers/ecmxf/bind || fail "bind $spidev (default bridge)"
+[ -c /dev/ecmxf0 ] || fail "no /dev/ecmxf0 after the rings"
