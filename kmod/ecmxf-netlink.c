@@ -220,6 +220,12 @@ static int ecmxf_nl_put_event(struct sk_buff *skb, struct ecmxf_dev *edev,
 		      nla_put_u32(skb, ECMXF_NL_A_MARK, d->mark) ||
 		      nla_put_u8(skb, ECMXF_NL_A_ABOVE, d->above);
 		break;
+	case ECMXF_NL_EV_PDO_LOSS:
+		bad = nla_put_u8(skb, ECMXF_NL_A_LOSS, d->fifo) ||
+		      nla_put_u32(skb, ECMXF_NL_A_INCREASE, d->increase) ||
+		      nla_put_u64_64bit(skb, ECMXF_NL_A_TOTAL, ev->total,
+					ECMXF_NL_A_PAD);
+		break;
 	case ECMXF_NL_EV_ASYNC_ERROR:
 		bad = nla_put_u8(skb, ECMXF_NL_A_CMD_CODE, ev->cmd_code) ||
 		      nla_put_s32(skb, ECMXF_NL_A_STATUS, ev->status) ||
@@ -295,6 +301,68 @@ static bool ecmxf_nl_allow(struct ecmxf_nl_dev *nl, unsigned int type,
 	return true;
 }
 
+static void ecmxf_nl_queue(struct ecmxf_dev *edev,
+			   const struct ecmxf_nl_ev *ev);
+
+/* The cyclic path's counters, in &enum ecmxf_nl_loss order. */
+static void ecmxf_nl_loss_counters(const struct ecmxf_dev *edev,
+				   u64 v[ECMXF_NL_LOSS_KINDS])
+{
+	v[ECMXF_NL_LOSS_OUT_RING_UNDERRUN] = edev->out_ring_underruns;
+	v[ECMXF_NL_LOSS_IN_RING_OVERRUN] = edev->in_ring_overruns;
+	v[ECMXF_NL_LOSS_RX_FIFO_UNDERRUN] = edev->rx_fifo_underruns;
+	v[ECMXF_NL_LOSS_RX_FIFO_OVERRUN] = edev->rx_fifo_overruns;
+	v[ECMXF_NL_LOSS_TX_FIFO_OVERRUN] = edev->tx_fifo_overruns;
+	v[ECMXF_NL_LOSS_OUT_RING_SKIPPED] = edev->out_ring_skipped;
+}
+
+/* A counter of the cyclic path went up since the last look. */
+static bool ecmxf_nl_loss_pending(const struct ecmxf_dev *edev)
+{
+	u64 v[ECMXF_NL_LOSS_KINDS];
+	unsigned int i;
+
+	ecmxf_nl_loss_counters(edev, v);
+	for (i = 0; i < ECMXF_NL_LOSS_KINDS; i++)
+		if (v[i] != edev->nl.loss_seen[i])
+			return true;
+	return false;
+}
+
+/*
+ * At most every ECMXF_NL_LOSS_PERIOD_NS: one %ECMXF_NL_EV_PDO_LOSS event
+ * per counter of the cyclic path that went up since the last look.  The
+ * worker is the only writer of those counters, so it reads them without
+ * the lock.
+ */
+static void ecmxf_nl_losses(struct ecmxf_dev *edev, u64 now)
+{
+	struct ecmxf_nl_dev *nl = &edev->nl;
+	u64 v[ECMXF_NL_LOSS_KINDS];
+	struct ecmxf_nl_ev ev;
+	unsigned int i;
+
+	if (!nl->active || now < nl->next_loss_ns)
+		return;
+	nl->next_loss_ns = now + ECMXF_NL_LOSS_PERIOD_NS;
+	ecmxf_nl_loss_counters(edev, v);
+	for (i = 0; i < ECMXF_NL_LOSS_KINDS; i++) {
+		if (v[i] <= nl->loss_seen[i]) {
+			nl->loss_seen[i] = v[i];
+			continue;
+		}
+		memset(&ev, 0, sizeof(ev));
+		ev.d.type = ECMXF_NL_EV_PDO_LOSS;
+		ev.d.time_ns = now;
+		ev.d.fifo = (u8)i;
+		ev.d.increase = (u32)min_t(u64, v[i] - nl->loss_seen[i],
+					   U32_MAX);
+		ev.total = v[i];
+		nl->loss_seen[i] = v[i];
+		ecmxf_nl_queue(edev, &ev);
+	}
+}
+
 /**
  * ecmxf_nl_flush() - send the events that wait in the device's queue
  * @edev: the device
@@ -305,10 +373,13 @@ static bool ecmxf_nl_allow(struct ecmxf_nl_dev *nl, unsigned int type,
 void ecmxf_nl_flush(struct ecmxf_dev *edev)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
-	bool listening = nl->queued && ecmxf_nl_listening();
 	u64 now = ktime_get_ns();
+	bool listening;
 	unsigned int i;
 	int ret;
+
+	ecmxf_nl_losses(edev, now);
+	listening = nl->queued && ecmxf_nl_listening();
 
 	for (i = 0; i < nl->queued; i++) {
 		const struct ecmxf_nl_ev *ev = &nl->queue[i];
@@ -698,8 +769,9 @@ bool ecmxf_nl_poll_due(struct ecmxf_dev *edev, u64 now_ns)
  * @edev: the device
  * @now_ns: current time
  *
- * Return: the next poll or the end of a WKC burst (ktime_get_ns() clock),
- * or U64_MAX for "only when kicked".
+ * Return: the next poll, the end of a WKC burst, or when a loss of the
+ * cyclic path not reported yet is due (ktime_get_ns() clock), or U64_MAX
+ * for "only when kicked".
  */
 u64 ecmxf_nl_wake_at(struct ecmxf_dev *edev, u64 now_ns)
 {
@@ -710,6 +782,9 @@ u64 ecmxf_nl_wake_at(struct ecmxf_dev *edev, u64 now_ns)
 		return U64_MAX;
 	if (READ_ONCE(ecmxf_param_event_poll_ms) && nl->next_poll_ns < t)
 		t = max(nl->next_poll_ns, now_ns);
+	/* a loss not reported yet: look again when its period is over */
+	if (nl->next_loss_ns < t && ecmxf_nl_loss_pending(edev))
+		t = max(nl->next_loss_ns, now_ns);
 	return t;
 }
 
@@ -738,6 +813,8 @@ void ecmxf_nl_start(struct ecmxf_dev *edev)
 		ev.d.ecm_status = h->ecm_status;
 	}
 	nl->next_poll_ns = now;
+	ecmxf_nl_loss_counters(edev, nl->loss_seen);
+	nl->next_loss_ns = now;
 	nl->active = true;
 	ev.d.type = ECMXF_NL_EV_DEVICE;
 	ev.d.time_ns = now;

@@ -149,6 +149,10 @@ struct ecmxf_client {
 #define ECMXF_NL_QUEUE		32
 /* event types (&enum ecmxf_nl_event values) with a rate limit each */
 #define ECMXF_NL_TYPES		16
+/* the counters a %ECMXF_NL_EV_PDO_LOSS event names (&enum ecmxf_nl_loss) */
+#define ECMXF_NL_LOSS_KINDS	6
+/* how often the worker looks at them */
+#define ECMXF_NL_LOSS_PERIOD_NS	(10 * NSEC_PER_MSEC)
 
 /**
  * struct ecmxf_nl_ev - one event on its way to the "events" group
@@ -161,6 +165,8 @@ struct ecmxf_client {
  * @incomplete: the query could not read every slave
  * @slave_count: slaves on the bus, from the query
  * @n_slaves: entries of &ecmxf_nl_dev.slaves that belong to the event
+ * @total: %ECMXF_NL_EV_PDO_LOSS: the counter since probe (the kind is in
+ *	@d.fifo, the increase in @d.increase)
  */
 struct ecmxf_nl_ev {
 	struct ecmxf_det_event d;
@@ -172,6 +178,7 @@ struct ecmxf_nl_ev {
 	bool incomplete;
 	u16 slave_count;
 	u16 n_slaves;
+	u64 total;
 };
 
 /**
@@ -221,6 +228,9 @@ struct ecmxf_nl_rate {
  * @ix: the query's command
  * @ix_rx: its response data
  * @slaves: slaves read by the query
+ * @loss_seen: the cyclic path's counters as the last %ECMXF_NL_EV_PDO_LOSS
+ *	events reported them (&enum ecmxf_nl_loss order)
+ * @next_loss_ns: when the worker looks at those counters again
  * @events: events detected (atomic: read by the counters command)
  * @events_suppressed: events not sent because of the rate limit
  * @events_failed: events that could not be sent
@@ -248,6 +258,8 @@ struct ecmxf_nl_dev {
 	struct ecmxf_xfer ix;
 	u8 ix_rx[16];
 	struct ecmxf_nl_slave slaves[ECMXF_NL_MAX_SLAVES];
+	u64 loss_seen[ECMXF_NL_LOSS_KINDS];
+	u64 next_loss_ns;
 	atomic64_t events;
 	atomic64_t events_suppressed;
 	atomic64_t events_failed;

@@ -93,6 +93,20 @@ std::string eventTypeName(EventType t)
 	case EventType::WkcBurstEnd: return "wkc_burst_end";
 	case EventType::Fifo: return "fifo";
 	case EventType::AsyncError: return "async_error";
+	case EventType::PdoLoss: return "pdo_loss";
+	}
+	return "unknown";
+}
+
+std::string lossKindName(LossKind k)
+{
+	switch (k) {
+	case LossKind::OutRingUnderrun: return "out_ring_underrun";
+	case LossKind::InRingOverrun: return "in_ring_overrun";
+	case LossKind::RxFifoUnderrun: return "rx_fifo_underrun";
+	case LossKind::RxFifoOverrun: return "rx_fifo_overrun";
+	case LossKind::TxFifoOverrun: return "tx_fifo_overrun";
+	case LossKind::OutRingSkipped: return "out_ring_skipped";
 	}
 	return "unknown";
 }

@@ -200,6 +200,8 @@ Event decodeEventMessage(std::span<const std::uint8_t> msg)
 		case ECMXF_NL_A_AL_SLAVE: e.alSlave = u16(a, "AL_SLAVE"); break;
 		case ECMXF_NL_A_SLAVES_INCOMPLETE: e.slavesIncomplete = true; break;
 		case ECMXF_NL_A_ACTION: e.action = static_cast<DeviceAction>(u32(a, "ACTION")); break;
+		case ECMXF_NL_A_LOSS: e.loss = static_cast<LossKind>(u8(a, "LOSS")); break;
+		case ECMXF_NL_A_TOTAL: e.total = u64(a, "TOTAL"); break;
 		default: break;
 		}
 	});

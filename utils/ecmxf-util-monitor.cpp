@@ -343,6 +343,24 @@ Event describe(const ecmxf::Event &ev)
 		}
 		break;
 	}
+	case T::PdoLoss: {
+		const std::string kind = ecmxf::lossKindName(ev.loss);
+		static constexpr const char *kWhat[] = {
+			"output ring empty when the chip wanted a frame",
+			"input frames dropped: the input ring was full",
+			"the chip's RxFIFO ran empty: the bus repeated outputs",
+			"output frames refused: the chip's RxFIFO was full",
+			"the chip's TxFIFO was full: it dropped input frames",
+			"output frames skipped by the pump (it had fallen behind)",
+		};
+		const auto i = static_cast<std::size_t>(ev.loss);
+		e.text = "cyclic path: " + kind + " +" + std::to_string(ev.increase) + " (total " +
+			 std::to_string(ev.total) + ")" + (i < std::size(kWhat) ? std::string(": ") + kWhat[i] : "");
+		e.fields = { { "loss", jsonString(kind) },
+			     { "increase", std::to_string(ev.increase) },
+			     { "total", std::to_string(ev.total) } };
+		break;
+	}
 	case T::AsyncError: {
 		const auto info = ecmxf::commandInfo(ev.cmdCode);
 		const std::string name = info ? std::string(info->name) : "command";

@@ -43,6 +43,7 @@ enum class EventType : std::uint32_t {
 	WkcBurstEnd = 9, ///< a WKC burst is over (errors, duration, count)
 	Fifo = 10,       ///< a FIFO count crossed its mark (fifo, count, mark, above)
 	AsyncError = 11, ///< an async command failed (cmdCode, status, errStatus)
+	PdoLoss = 12,    ///< a counter of the cyclic path (PDO rings, pump) went up (loss, increase, total)
 };
 
 /// The name of an event type as `ecmxf-util monitor` prints it ("state",
@@ -54,6 +55,21 @@ enum class FifoId : std::uint8_t {
 	Tx = 0, ///< the chip's TxFIFO (inputs waiting for the host)
 	Rx = 1, ///< the chip's RxFIFO (outputs waiting for the bus)
 };
+
+/// Event::loss: which counter of the cyclic path went up (enum ecmxf_nl_loss;
+/// the KernelCounters field of the same name).
+enum class LossKind : std::uint8_t {
+	OutRingUnderrun = 0, ///< the output ring was empty when the chip's RxFIFO wanted a frame
+	InRingOverrun = 1,   ///< input frames dropped: the input ring was full
+	RxFifoUnderrun = 2,  ///< the chip's RxFIFO ran empty (the bus repeats the last outputs)
+	RxFifoOverrun = 3,   ///< the chip refused output frames: its RxFIFO was full
+	TxFifoOverrun = 4,   ///< the chip's TxFIFO was full: it dropped its oldest input frames
+	OutRingSkipped = 5,  ///< output frames the pump skipped when it had fallen behind
+};
+
+/// The name of a LossKind as `ecmxf-util monitor` prints it
+/// ("in_ring_overrun", ...), or "unknown".
+[[nodiscard]] ECMXF_EXPORT std::string lossKindName(LossKind k);
 
 /// Event::resetReason.
 enum class ResetReason : std::uint32_t {
@@ -97,7 +113,7 @@ struct Event {
 	std::uint8_t errStatus = 0; ///< error status byte of the header (Link, AsyncError, Device)
 	std::uint8_t ecmStatus = 0; ///< ECM status byte of the header (Reset, Device)
 	std::uint32_t count = 0;    ///< CrcErrors, WkcBurst, WkcBurstEnd: the counter; Fifo: the FIFO count
-	std::uint32_t increase = 0; ///< CrcErrors, WkcBurst
+	std::uint32_t increase = 0; ///< CrcErrors, WkcBurst, PdoLoss
 	std::uint32_t errors = 0;   ///< WkcBurstEnd: errors of the whole burst
 	std::chrono::nanoseconds duration{ 0 }; ///< WkcBurstEnd: first to last header with new errors
 	FifoId fifo = FifoId::Tx;   ///< Fifo
@@ -107,6 +123,8 @@ struct Event {
 	DeviceAction action = DeviceAction::Unknown;
 	std::uint8_t cmdCode = 0; ///< AsyncError: the command code
 	int status = 0;           ///< AsyncError: negative errno (-EREMOTEIO, -EBUSY, -ETIMEDOUT)
+	LossKind loss = LossKind::OutRingUnderrun; ///< PdoLoss: which counter (increase: by how much)
+	std::uint64_t total = 0;  ///< PdoLoss: that counter since probe
 
 	/// State: the kernel read the slaves (a change down or into ERROR).
 	bool haveSlaves = false;

@@ -314,6 +314,23 @@ TEST_CASE("monitor: the kernel's own events (device, async error, reset reasons,
 	r.resetReason = ecmxf::ResetReason::Link;
 	CHECK(describe(r).text == "the link was resynchronised (ECAT state NONE, ECM status 0x20)");
 
+	ecmxf::Event p;
+	p.type = ecmxf::EventType::PdoLoss;
+	p.device = "ecmxf0";
+	p.loss = ecmxf::LossKind::InRingOverrun;
+	p.increase = 12;
+	p.total = 40;
+	l = describe(p);
+	CHECK(l.type == "pdo_loss");
+	CHECK(l.text == "cyclic path: in_ring_overrun +12 (total 40): input frames dropped: the input ring was full");
+	CHECK(field(l, "loss") == "\"in_ring_overrun\"");
+	CHECK(field(l, "increase") == "12");
+	CHECK(field(l, "total") == "40");
+	p.loss = ecmxf::LossKind::RxFifoUnderrun;
+	p.increase = 1;
+	CHECK(describe(p).text ==
+	      "cyclic path: rx_fifo_underrun +1 (total 40): the chip's RxFIFO ran empty: the bus repeated outputs");
+
 	ecmxf::Event u;
 	u.type = static_cast<ecmxf::EventType>(99);
 	u.device = "ecmxf0";

@@ -44,6 +44,8 @@ enum Attr {
 	SlavesIncomplete = 28,
 	Action = 29,
 	Counters = 30,
+	Loss = 31,
+	Total = 32,
 };
 
 enum SlaveAttr { SaPosition = 1, SaState = 2, SaAlStatus = 3 };
@@ -60,6 +62,16 @@ enum Ev {
 	EvWkcBurstEnd = 9,
 	EvFifo = 10,
 	EvAsyncError = 11,
+	EvPdoLoss = 12,
+};
+
+enum Loss {
+	LossOutRingUnderrun = 0,
+	LossInRingOverrun = 1,
+	LossRxFifoUnderrun = 2,
+	LossRxFifoOverrun = 3,
+	LossTxFifoOverrun = 4,
+	LossOutRingSkipped = 5,
 };
 
 enum Counter {

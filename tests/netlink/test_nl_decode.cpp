@@ -190,6 +190,27 @@ TEST_CASE("netlink decode: link, reset, WKC burst end, FIFO, async error, device
 	CHECK(e.action == ecmxf::DeviceAction::Removed);
 }
 
+TEST_CASE("netlink decode: a loss of the cyclic path, its counter and total", "[netlink]")
+{
+	// a total beyond 32 bits, after a u8 and a u32 (the pad attribute in between)
+	Msg loss(CmdEvent);
+	loss.event(EvPdoLoss).u8(Loss, LossInRingOverrun).u32(Increase, 37).u64(Total, 0x1'0000'0025ull);
+	ecmxf::Event e = ecmxf::decodeEventMessage(loss.bytes());
+	CHECK(e.type == ecmxf::EventType::PdoLoss);
+	CHECK(ecmxf::eventTypeName(e.type) == "pdo_loss");
+	CHECK(e.loss == ecmxf::LossKind::InRingOverrun);
+	CHECK(ecmxf::lossKindName(e.loss) == "in_ring_overrun");
+	CHECK(e.increase == 37);
+	CHECK(e.total == 0x1'0000'0025ull);
+
+	Msg skipped(CmdEvent);
+	skipped.event(EvPdoLoss).u8(Loss, LossOutRingSkipped).u32(Increase, 1).u64(Total, 1);
+	e = ecmxf::decodeEventMessage(skipped.bytes());
+	CHECK(e.loss == ecmxf::LossKind::OutRingSkipped);
+	CHECK(ecmxf::lossKindName(e.loss) == "out_ring_skipped");
+	CHECK(ecmxf::lossKindName(static_cast<ecmxf::LossKind>(9)) == "unknown");
+}
+
 TEST_CASE("netlink decode: unknown attributes and event types are kept apart, not errors", "[netlink]")
 {
 	Msg m(CmdEvent);

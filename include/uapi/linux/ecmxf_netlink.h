@@ -112,6 +112,10 @@ enum ecmxf_nl_cmd {
  *	(a command failed, a reset came, or more than 64 slaves)
  * @ECMXF_NL_A_ACTION: u32, &enum ecmxf_nl_device_action
  * @ECMXF_NL_A_COUNTERS: nest of &enum ecmxf_nl_counter
+ * @ECMXF_NL_A_LOSS: u8, &enum ecmxf_nl_loss
+ * @ECMXF_NL_A_TOTAL: u64, the &struct ecmxf_counters field of that kind
+ *	since probe (the sum of every @ECMXF_NL_A_INCREASE, suppressed
+ *	events included)
  * @__ECMXF_NL_A_MAX: number of attributes (not an attribute)
  */
 enum ecmxf_nl_attr {
@@ -146,6 +150,8 @@ enum ecmxf_nl_attr {
 	ECMXF_NL_A_SLAVES_INCOMPLETE,
 	ECMXF_NL_A_ACTION,
 	ECMXF_NL_A_COUNTERS,
+	ECMXF_NL_A_LOSS,
+	ECMXF_NL_A_TOTAL,
 	__ECMXF_NL_A_MAX
 };
 #define ECMXF_NL_A_MAX		(__ECMXF_NL_A_MAX - 1)
@@ -213,6 +219,12 @@ enum ecmxf_nl_slave_attr {
  *	async-error bit (-EREMOTEIO), the chip refused it as busy (-EBUSY),
  *	or it timed out (-ETIMEDOUT): %ECMXF_NL_A_CMD_CODE,
  *	%ECMXF_NL_A_STATUS, %ECMXF_NL_A_ERR_STATUS
+ * @ECMXF_NL_EV_PDO_LOSS: the cyclic path (the PDO rings and the pump)
+ *	lost, refused or repeated frames, or found a FIFO or ring
+ *	empty or full: %ECMXF_NL_A_LOSS (which counter), %ECMXF_NL_A_INCREASE
+ *	(how much it went up since the previous event of that kind),
+ *	%ECMXF_NL_A_TOTAL.  The kernel looks at the counters at most every
+ *	10 ms and sends one event per counter that went up
  * @__ECMXF_NL_EV_MAX: number of event types (not an event)
  */
 enum ecmxf_nl_event {
@@ -228,6 +240,7 @@ enum ecmxf_nl_event {
 	ECMXF_NL_EV_WKC_BURST_END,
 	ECMXF_NL_EV_FIFO,
 	ECMXF_NL_EV_ASYNC_ERROR,
+	ECMXF_NL_EV_PDO_LOSS,
 	__ECMXF_NL_EV_MAX
 };
 #define ECMXF_NL_EV_MAX		(__ECMXF_NL_EV_MAX - 1)
@@ -242,6 +255,31 @@ enum ecmxf_nl_event {
 enum ecmxf_nl_fifo {
 	ECMXF_NL_FIFO_TX,
 	ECMXF_NL_FIFO_RX
+};
+
+/**
+ * enum ecmxf_nl_loss - %ECMXF_NL_A_LOSS values: which counter of
+ *	&struct ecmxf_counters went up
+ * @ECMXF_NL_LOSS_OUT_RING_UNDERRUN: out_ring_underruns: the output ring
+ *	was empty when the chip's RxFIFO wanted a frame
+ * @ECMXF_NL_LOSS_IN_RING_OVERRUN: in_ring_overruns: input frames dropped,
+ *	the input ring was full
+ * @ECMXF_NL_LOSS_RX_FIFO_UNDERRUN: rx_fifo_underruns: the chip's RxFIFO
+ *	ran empty (the bus repeats the last outputs)
+ * @ECMXF_NL_LOSS_RX_FIFO_OVERRUN: rx_fifo_overruns: the chip refused
+ *	output frames, its RxFIFO was full
+ * @ECMXF_NL_LOSS_TX_FIFO_OVERRUN: tx_fifo_overruns: the chip's TxFIFO was
+ *	full, it dropped its oldest input frames
+ * @ECMXF_NL_LOSS_OUT_RING_SKIPPED: output frames the pump skipped when it
+ *	had fallen behind (sysfs ring_skipped)
+ */
+enum ecmxf_nl_loss {
+	ECMXF_NL_LOSS_OUT_RING_UNDERRUN,
+	ECMXF_NL_LOSS_IN_RING_OVERRUN,
+	ECMXF_NL_LOSS_RX_FIFO_UNDERRUN,
+	ECMXF_NL_LOSS_RX_FIFO_OVERRUN,
+	ECMXF_NL_LOSS_TX_FIFO_OVERRUN,
+	ECMXF_NL_LOSS_OUT_RING_SKIPPED
 };
 
 /**
