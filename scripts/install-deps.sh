@@ -8,6 +8,10 @@
 #   scripts/install-deps.sh --bench    also Google Benchmark
 #   scripts/install-deps.sh --kernel   also Debian's kernel headers, normal and
 #                                      PREEMPT_RT (make kmod)
+#   scripts/install-deps.sh --qemu     also QEMU, busybox, cpio (make check-kernel)
+#   scripts/install-deps.sh --debug-kernel
+#                                      also linux-source-6.1 and what building
+#                                      it takes (make check-debug-kernel)
 #
 # It asks dpkg first and calls apt-get only for what is missing, so
 # running it on every `make` costs a few milliseconds.
@@ -19,6 +23,8 @@ for arg in "$@"; do
 	--ci) pkgs="$pkgs clang libclang-rt-14-dev llvm" ;;
 	--bench) pkgs="$pkgs libbenchmark-dev" ;;
 	--kernel) pkgs="$pkgs linux-headers-amd64 linux-headers-rt-amd64 kmod sparse" ;;
+	--qemu) pkgs="$pkgs qemu-system-x86 busybox-static cpio" ;;
+	--debug-kernel) pkgs="$pkgs linux-source-6.1 flex bison bc libelf-dev libssl-dev cpio xz-utils kmod" ;;
 	*) echo "install-deps.sh: unknown option '$arg'" >&2; exit 2 ;;
 	esac
 done
