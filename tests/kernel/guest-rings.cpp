@@ -7,6 +7,21 @@
 //
 //   ecmxf-guest-rings --network                  print the network file
 //   ecmxf-guest-rings run DEV HZ CYCLES K        the cyclic run (below)
+//   ecmxf-guest-rings run-lockstep DEV HZ CYCLES the strict run (below)
+//
+// run-lockstep: the bridge runs a lock-step bus (bridge --lockstep: a bus
+// cycle only when the chip's RxFIFO has its frame and the TxFIFO room, as
+// fast as frames come). The application is clocked by its inputs
+// (Cyclic::waitInputs()) with 8 output frames in flight, and every output
+// frame carries the next sequence number and CSP targets that are a
+// function of the frame's index. Strict checks: every TxPDO frame carries
+// exactly the previous sequence number + 1; after a drain, bus cycles run
+// = frames sent = frames received; chip RxFIFO underruns and TxFIFO drops,
+// kernel in_ring/rx_fifo/tx_fifo overruns, refused and skipped outputs,
+// failed cycles all 0; the WKC expected on every read; both drives' positions
+// in every input frame of the move equal the targets of that same output
+// frame (the one whose number the I/O terminal echoes), and end at the
+// targets.
 //
 // run: brings the bus up at HZ (SYNC0 = 1/HZ of chip time), maps the
 // drives for CSP, and runs the library's Cyclic (which picks the kernel
