@@ -14,6 +14,11 @@ rings_bridge() {
 	spidev=$(basename "$(readlink /sys/class/ecmxf/ecmxf0/device)")
 	echo "$spidev" >/sys/bus/spi/drivers/ecmxf/unbind || fail "unbind $spidev"
 	bridge_stop
+	# bridge_start waits for "ready" in /tmp/bridge.log, which the new
+	# bridge's redirection empties only once it runs: without this the
+	# old bridge's line can pass the wait, and the bind below then finds
+	# no bridge (seen on the debug kernel: probe -EPROTO after -ENOTCONN)
+	rm -f /tmp/bridge.log
 	/bin/ecmxf-guest-rings --network >/tmp/rings.net
 	bridge_start "$@" /tmp/rings.net
 	echo "$spidev" >/sys/bus/spi/drivers/ecmxf/bind || fail "bind $spidev"
@@ -64,6 +69,7 @@ rings_with 8000 40
 spidev=$(basename "$(readlink /sys/class/ecmxf/ecmxf0/device)")
 echo "$spidev" >/sys/bus/spi/drivers/ecmxf/unbind || fail "unbind $spidev"
 bridge_stop
+rm -f /tmp/bridge.log
 bridge_start
 echo "$spidev" >/sys/bus/spi/drivers/ecmxf/bind || fail "bind $spidev (default bridge)"
 [ -c /dev/ecmxf0 ] || fail "no /dev/ecmxf0 after the rings"
