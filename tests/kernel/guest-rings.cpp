@@ -689,11 +689,19 @@ int runLockstep(const std::string &path, unsigned hz, unsigned cycles)
 		    cspS > 0 ? cycles / cspS : 0.0, static_cast<double>(chipUs) / 1e6,
 		    static_cast<unsigned long long>(waits));
 	std::printf("guest-test: info lock-step %u Hz: kernel: exchanges %llu, int1 %llu, rx_fifo_underruns %llu "
-		    "(the bus waiting for the next frame), out_ring_underruns %llu; wkc reads %llu\n",
+		    "(the bus waiting for the next frame), out_ring_underruns %llu, timeouts %llu, retries %llu, "
+		    "lost_answers %llu, bad packets %llu; wkc reads %llu\n",
 		    hz, static_cast<unsigned long long>(k1.exchanges - k0.exchanges),
 		    static_cast<unsigned long long>(k1.int1Irqs - k0.int1Irqs),
 		    static_cast<unsigned long long>(k1.rxFifoUnderruns - k0.rxFifoUnderruns),
 		    static_cast<unsigned long long>(k1.outRingUnderruns - k0.outRingUnderruns),
+		    static_cast<unsigned long long>(k1.timeouts - k0.timeouts),
+		    static_cast<unsigned long long>(k1.retries - k0.retries),
+		    static_cast<unsigned long long>(k1.lostAnswers - k0.lostAnswers),
+		    static_cast<unsigned long long>((k1.badNotReady + k1.badStart + k1.badEnd + k1.badCheck +
+						     k1.badLength) -
+						    (k0.badNotReady + k0.badStart + k0.badEnd + k0.badCheck +
+						     k0.badLength)),
 		    static_cast<unsigned long long>(wkcReads));
 	eq("waitInputs failures (no inputs within 10 s)", waitFailures, 0);
 	eq("cycles with an error", s.failedCycles, 0);
