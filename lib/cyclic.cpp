@@ -15,6 +15,7 @@
 #include <ecmxf/process_image.hpp>
 #include <ecmxf/transport.hpp>
 
+#include <poll.h>
 #include <sys/ioctl.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -23,6 +24,7 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -109,6 +111,8 @@ public:
 	virtual void exchange(CycleResult &r, bool readWkc) noexcept = 0;
 	/// The clock the cycle is paced on.
 	virtual Transport &clock() noexcept = 0;
+	/// Cyclic::waitInputs() after its checks.
+	virtual int waitInputs(nanoseconds timeout) noexcept = 0;
 	/// The kernel's PDO rings carry the frames.
 	[[nodiscard]] virtual bool kernelRings() const noexcept { return false; }
 
@@ -136,6 +140,7 @@ public:
 	void stop() override;
 	void exchange(CycleResult &r, bool readWkc) noexcept override;
 	Transport &clock() noexcept override { return dev_.transport(); }
+	int waitInputs(nanoseconds timeout) noexcept override;
 
 private:
 	/// One ECAT_PDO_DATA_FIFO_OP: @p frames copies of the output frame,
@@ -266,6 +271,40 @@ int FifoCommandPath::takeFrames(CycleResult &r, const ResponseHeader &h) noexcep
 	r.framesPopped += static_cast<unsigned>(n);
 	r.inputsUpdated = true;
 	return static_cast<int>(n);
+}
+
+int FifoCommandPath::waitInputs(nanoseconds timeout) noexcept
+{
+	if (!sizes.txPdoBytes)
+		return EINVAL;
+	// once per bus cycle: a new input frame can only come with one
+	const nanoseconds step = cfg_.busCycle.count() > 0 ? cfg_.busCycle : cfg_.period;
+	try {
+		Transport &t = clock();
+		const nanoseconds deadline = t.now() + std::max(timeout, nanoseconds(0));
+		for (;;) {
+			// a FIFO command that moves no frame: its answer's header
+			// has the TxFIFO count
+			RawCommand c;
+			c.code = ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP;
+			c.control = ECMXF_CTL_CLR_CMD_ERR;
+			c.timeout = cfg_.commandTimeout;
+			ResponseHeader h{};
+			const int err = dev_.transact(c, {}, rxBuf_, h);
+			if (err)
+				return err;
+			if (h.errStatus & ECMXF_ERR_CMD)
+				return EREMOTEIO;
+			if (h.txFifoCnt > 0)
+				return 0;
+			const nanoseconds now = t.now();
+			if (now >= deadline)
+				return ETIMEDOUT;
+			t.sleepFor(std::min(step, deadline - now));
+		}
+	} catch (...) {
+		return EIO;
+	}
 }
 
 void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
@@ -416,6 +455,7 @@ public:
 	void exchange(CycleResult &r, bool readWkc) noexcept override;
 	Transport &clock() noexcept override { return dev_.transport(); }
 	[[nodiscard]] bool kernelRings() const noexcept override { return true; }
+	int waitInputs(nanoseconds timeout) noexcept override;
 
 private:
 	void unmap() noexcept;
@@ -624,6 +664,43 @@ void RingPath::exchange(CycleResult &r, bool) noexcept
 	}
 }
 
+int RingPath::waitInputs(nanoseconds timeout) noexcept
+{
+	if (!in_.valid() || !sizes.txPdoBytes)
+		return EINVAL;
+	const auto pumpError = [&]() -> int {
+		ecmxf_ring_status st{};
+		in_.status(st);
+		return st.error ? static_cast<int>(st.error) : EIO;
+	};
+	try {
+		Transport &t = clock();
+		const nanoseconds deadline = t.now() + std::max(timeout, nanoseconds(0));
+		for (;;) {
+			if (in_.count() > 0)
+				return 0;
+			if ((in_.flags() | out_.flags()) & ECMXF_RING_S_ERROR)
+				return pumpError();
+			const nanoseconds left = deadline - t.now();
+			if (left.count() <= 0)
+				return ETIMEDOUT;
+			// the ring was set up with ECMXF_RING_F_POLL_IN: POLLIN
+			// while the input ring holds frames, POLLERR once the pump
+			// stopped
+			pollfd p{ kt_.fd(), POLLIN, 0 };
+			timespec ts{ static_cast<time_t>(left.count() / 1'000'000'000),
+				     static_cast<long>(left.count() % 1'000'000'000) };
+			const int n = ::ppoll(&p, 1, &ts, nullptr);
+			if (n < 0 && errno != EINTR)
+				return errno;
+			if (n > 0 && (p.revents & (POLLERR | POLLHUP | POLLNVAL)) && in_.count() == 0)
+				return pumpError();
+		}
+	} catch (...) {
+		return EIO;
+	}
+}
+
 } // namespace
 
 // ---------------------------------------------------------------------------
@@ -745,6 +822,13 @@ int Cyclic::waitNextCycle() noexcept
 		return EIO;
 	}
 	return 0;
+}
+
+int Cyclic::waitInputs(std::chrono::nanoseconds timeout) noexcept
+{
+	if (!impl_->started)
+		return EINVAL;
+	return impl_->path->waitInputs(timeout);
 }
 
 const CycleResult &Cyclic::lastResult() const noexcept

@@ -172,6 +172,20 @@ public:
 	/// when the transport failed. Allocates nothing, throws nothing.
 	int waitNextCycle() noexcept;
 
+	/// Waits until at least one TxPDO frame that cycle() has not taken yet
+	/// is there (then cycle() returns it), at most @p timeout on the
+	/// transport's clock: for an application clocked by its inputs (one
+	/// cycle() per bus cycle, woken when the bus cycle's inputs arrive).
+	/// Over the kernel's PDO rings it poll()s the device for POLLIN (no
+	/// system call when frames are already there); over the FIFO commands
+	/// it asks the chip for its TxFIFO count (an ECAT_PDO_DATA_FIFO_OP
+	/// that moves no frame) once per bus cycle (CyclicConfig::busCycle, or
+	/// the period when that is zero) until one is queued.
+	/// Returns 0 (inputs there), ETIMEDOUT (none within @p timeout), EINVAL
+	/// (before start()), or the transport's or the pump's error (EIO...).
+	/// Allocates nothing, throws nothing.
+	int waitInputs(std::chrono::nanoseconds timeout) noexcept;
+
 	[[nodiscard]] const CycleResult &lastResult() const noexcept;
 	[[nodiscard]] const CyclicStats &stats() const noexcept;
 	[[nodiscard]] const CyclicConfig &config() const noexcept;

@@ -54,6 +54,17 @@ struct ChipConfig {
 	/// real chip would. false: the chip takes it in anyway and counts it in
 	/// ChipStats::busyExchanges (hosts that ignore INT0 still work).
 	bool notReadyWhileBusy = false;
+	/// Lock-step bus: while the PDO FIFO is on (FIFO_ENABLE 1, in a
+	/// configured layout), a bus cycle runs only when the RxFIFO holds its
+	/// output frame and the TxFIFO has room for its input frame; otherwise
+	/// the bus waits (the due cycle runs once an exchange brought the frame
+	/// or made room, and the next one a cycle time after it). So no RxFIFO
+	/// underrun and no TxFIFO drop can happen, however late the host is:
+	/// a host that exchanges one output frame per input frame sees every
+	/// frame exactly once. With the FIFO off, time runs the bus as usual
+	/// (bring-up, SDOs, states). Not a feature of the real chip: for tests
+	/// on slow hosts (Documentation/simulator.rst, "Lock-step bus").
+	bool lockstep = false;
 };
 
 /// Faults a test can inject. Counts are "the next N".
@@ -80,6 +91,7 @@ struct ChipStats {
 	std::uint64_t rxUnderruns = 0; ///< cycles with the FIFO on and the RxFIFO empty (outputs kept)
 	std::uint64_t rxRefused = 0;   ///< RxPDO frames refused because the RxFIFO was full
 	std::uint64_t txDropped = 0;   ///< TxPDO frames dropped because the TxFIFO was full
+	std::uint64_t busWaits = 0;    ///< lock-step: times a due bus cycle waited for the FIFOs
 };
 
 /// The simulated chip.
@@ -115,6 +127,14 @@ public:
 	void advance(std::chrono::nanoseconds dt);
 	/// Current simulated time since power-on.
 	[[nodiscard]] std::chrono::nanoseconds now() const;
+	/// Lock-step (ChipConfig::lockstep) with the FIFO on: when the next
+	/// bus cycle is due if it can run (its frame is in the RxFIFO and the
+	/// TxFIFO has room): the clock reaching that time runs it; a time
+	/// already past means it runs at the next advance(). nanoseconds::max()
+	/// when it waits for the FIFOs, or outside lock-step (time alone runs
+	/// the bus). Lets a driver of the clock run the bus as fast as frames
+	/// come (tests/kernel/bridge.cpp --lockstep).
+	[[nodiscard]] std::chrono::nanoseconds nextLockstepCycle() const;
 
 	/// Faults to inject from now on.
 	FaultPlan &faults();

@@ -131,6 +131,12 @@ std::chrono::nanoseconds Chip::now() const
 	return std::chrono::nanoseconds(impl_->now());
 }
 
+std::chrono::nanoseconds Chip::nextLockstepCycle() const
+{
+	const Nanos t = impl_->nextLockstepCycle();
+	return t < 0 ? std::chrono::nanoseconds::max() : std::chrono::nanoseconds(t);
+}
+
 FaultPlan &Chip::faults()
 {
 	return impl_->faults();
@@ -203,7 +209,10 @@ void Chip::Impl::advanceTo(Nanos t)
 {
 	for (;;) {
 		Nanos ev = t;
-		if (cyclesOn_ && nextCycle_ < ev)
+		// lock-step: a bus cycle that waits for the FIFOs is no event;
+		// it runs once an exchange gave it its frame (or TxFIFO room)
+		const bool waits = busWaits();
+		if (cyclesOn_ && !waits && nextCycle_ < ev)
 			ev = nextCycle_;
 		const bool timedJob = job_.active && !job_.stuck;
 		if (timedJob && job_.next < ev)
@@ -220,9 +229,18 @@ void Chip::Impl::advanceTo(Nanos t)
 		}
 		bool did = false;
 		if (cyclesOn_ && nextCycle_ <= now_) {
-			busCycle();
-			nextCycle_ += cycleNs_;
-			did = true;
+			if (waits) {
+				// the cycle is late by however long the bus waits
+				if (!waiting_)
+					stats_.busWaits++;
+				waiting_ = true;
+				nextCycle_ = now_;
+			} else {
+				waiting_ = false;
+				busCycle();
+				nextCycle_ += cycleNs_;
+				did = true;
+			}
 		}
 		if (job_.active && !job_.stuck && job_.next <= now_) {
 			stepJob();
@@ -231,6 +249,24 @@ void Chip::Impl::advanceTo(Nanos t)
 		if (!did && now_ >= t)
 			break;
 	}
+}
+
+bool Chip::Impl::busWaits() const
+{
+	if (!cfg_.lockstep || !cyclesOn_ || !fifoEnabled_ || !layoutValid_ || wkcStopped_)
+		return false;
+	// a frame for the cycle's outputs, room for its inputs (a lost link
+	// puts no frame into the TxFIFO)
+	return (rxSize_ > 0 && rxFifo_.count() == 0) ||
+	       (txSize_ > 0 && !faults_.linkLost && txFifo_.full());
+}
+
+Nanos Chip::Impl::nextLockstepCycle()
+{
+	syncPaced();
+	if (!cfg_.lockstep || !cyclesOn_ || !fifoEnabled_ || !layoutValid_ || wkcStopped_ || busWaits())
+		return -1;
+	return nextCycle_;
 }
 
 // ======================================================================

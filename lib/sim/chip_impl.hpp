@@ -214,6 +214,11 @@ public:
 
 	// ---- the EtherCAT master (chip_master.cpp) ----
 	void busCycle();
+	/// Lock-step (ChipConfig::lockstep): the FIFO is on and the next bus
+	/// cycle has no RxPDO frame or no TxFIFO room, so the bus waits.
+	[[nodiscard]] bool busWaits() const;
+	/// When the next bus cycle runs in lock-step, or -1 (see Chip).
+	Nanos nextLockstepCycle();
 	bool reachable(std::size_t pos) const;
 	void scanNetwork(std::uint16_t assignActivate, std::uint32_t sync0, std::uint32_t sync1,
 			 std::int32_t shift);
@@ -321,6 +326,7 @@ public:
 	bool cyclesOn_ = false;
 	Nanos cycleNs_ = kMs;
 	Nanos nextCycle_ = 0;
+	bool waiting_ = false; ///< lock-step: the due bus cycle waits (counted once)
 	std::uint64_t cycleCount_ = 0;
 	unsigned emcyEvery_ = 8;
 	bool dcActive_ = false;

@@ -4,7 +4,7 @@
 // SPI controller (tests/kernel/modules/ecmxf-vspi.c) from an in-process
 // simulated chip, and drives the INT0/INT1 GPIO lines from the chip's lines.
 //
-//   ecmxf-bridge [--time-scale K] [network-file]   (no file: the default network)
+//   ecmxf-bridge [--time-scale K] [--lockstep] [network-file]   (no file: the default network)
 //   ecmxf-bridge ctl COMMAND [ARG]   send one control command, print the reply
 //
 // Time: by default the chip runs in Paced mode (its clock is the guest's
@@ -16,6 +16,16 @@
 // application and pump stays as on hardware). In this mode the SPI wire
 // and processing times are not modelled (an exchange under TCG takes far
 // longer than on hardware already): exchanges do not move the clock.
+//
+// --lockstep (with or without --time-scale; K = 1 without): the chip's
+// lock-step bus (sim::ChipConfig::lockstep): with the PDO FIFO on, a bus
+// cycle runs only when the RxFIFO holds its frame and the TxFIFO has room,
+// so a slow guest can lose no frame, and any loss is a bug. The clock is
+// virtual as with --time-scale, and besides following the guest's clock
+// it jumps ahead to each bus cycle that can run (Chip::nextLockstepCycle())
+// right after every transfer: the bus runs as fast as the driver brings
+// frames and takes them away, not at the guest's pace. With the FIFO off
+// (bring-up, SDOs, states) time runs as with --time-scale K.
 //
 // Runs until SIGTERM/SIGINT; then prints the chip's counters to stderr.
 //
@@ -59,6 +69,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
@@ -191,9 +202,9 @@ private:
 		ecmxf::sim::FaultPlan &f = chip_.faults();
 		if (cmd == "state") {
 			const auto &s = chip_.stats();
-			char b[768];
+			char b[1024];
 			std::snprintf(b, sizeof(b),
-				      "ok state mosi-bit-errors=%u miso-bit-errors=%u not-ready=%u int0-stuck=%d async-stuck=%d link-lost=%d slave-dropped=%d sdo-abort=0x%x silent=%d transfers=%llu chip-exchanges=%llu chip-bad-packets=%llu chip-not-ready=%llu bus-cycles=%llu rx-underruns=%llu rx-refused=%llu tx-dropped=%llu wkc-errors=%llu",
+				      "ok state mosi-bit-errors=%u miso-bit-errors=%u not-ready=%u int0-stuck=%d async-stuck=%d link-lost=%d slave-dropped=%d sdo-abort=0x%x silent=%d transfers=%llu chip-exchanges=%llu chip-bad-packets=%llu chip-not-ready=%llu bus-cycles=%llu rx-underruns=%llu rx-refused=%llu tx-dropped=%llu wkc-errors=%llu bus-waits=%llu chip-time-us=%llu",
 				      f.mosiBitErrors, f.misoBitErrors, f.notReady, f.int0StuckBusy ? 1 : 0,
 				      f.asyncStuckBusy ? 1 : 0, f.linkLost ? 1 : 0, f.slaveDropped,
 				      static_cast<unsigned>(f.forcedSdoAbort), silent_ ? 1 : 0,
@@ -205,7 +216,9 @@ private:
 				      static_cast<unsigned long long>(s.rxUnderruns),
 				      static_cast<unsigned long long>(s.rxRefused),
 				      static_cast<unsigned long long>(s.txDropped),
-				      static_cast<unsigned long long>(s.wkcErrors));
+				      static_cast<unsigned long long>(s.wkcErrors),
+				      static_cast<unsigned long long>(s.busWaits),
+				      static_cast<unsigned long long>(chip_.now().count() / 1000));
 			return b;
 		}
 		if (cmd == "clear") {
@@ -273,17 +286,28 @@ int main(int argc, char **argv)
 		return ctlClient(argc, argv);
 	try {
 		long scale = 0;
+		bool lockstep = false;
 		int arg = 1;
-		if (argc > 2 && std::strcmp(argv[1], "--time-scale") == 0) {
-			char *end = nullptr;
-			scale = std::strtol(argv[2], &end, 10);
-			if (!end || *end || scale < 1 || scale > 1000) {
-				std::fprintf(stderr, "ecmxf-bridge: --time-scale wants 1..1000\n");
-				return 2;
+		for (;;) {
+			if (argc > arg + 1 && std::strcmp(argv[arg], "--time-scale") == 0) {
+				char *end = nullptr;
+				scale = std::strtol(argv[arg + 1], &end, 10);
+				if (!end || *end || scale < 1 || scale > 1000) {
+					std::fprintf(stderr, "ecmxf-bridge: --time-scale wants 1..1000\n");
+					return 2;
+				}
+				arg += 2;
+			} else if (argc > arg && std::strcmp(argv[arg], "--lockstep") == 0) {
+				lockstep = true;
+				arg++;
+			} else {
+				break;
 			}
-			arg = 3;
 		}
+		if (lockstep && !scale)
+			scale = 1;
 		ecmxf::sim::ChipConfig cfg;
+		cfg.lockstep = lockstep;
 		if (scale) {
 			// virtual time, moved by the loop below; exchanges cost none
 			cfg.timeMode = ecmxf::sim::TimeMode::Virtual;
@@ -308,6 +332,20 @@ int main(int argc, char **argv)
 				chip.advance(target - chip.now());
 		};
 
+		// lock-step: every bus cycle that can run, now (each takes its
+		// RxPDO frame, so this ends when the frames do)
+		auto runBus = [&] {
+			if (!lockstep)
+				return;
+			for (;;) {
+				const std::chrono::nanoseconds due = chip.nextLockstepCycle();
+				if (due == std::chrono::nanoseconds::max())
+					return;
+				const std::chrono::nanoseconds now = chip.now();
+				chip.advance(due > now ? due - now : std::chrono::nanoseconds(1));
+			}
+		};
+
 		struct sigaction sa {};
 		sa.sa_handler = onSignal;
 		sigaction(SIGTERM, &sa, nullptr);
@@ -321,9 +359,9 @@ int main(int argc, char **argv)
 		std::uint32_t lines = linesOf(chip);
 		if (::ioctl(fd, ECMXF_VSPI_IOC_SET_LINES, &lines) < 0)
 			die("ECMXF_VSPI_IOC_SET_LINES");
-		std::fprintf(stderr, "ecmxf-bridge: ready (%zu-byte packets, control FIFO %s, time %s%ld)\n",
+		std::fprintf(stderr, "ecmxf-bridge: ready (%zu-byte packets, control FIFO %s, time %s%ld%s)\n",
 			     chip.packetSize(), ecmxf::ktest::kBridgeCtlPath, scale ? "virtual, scale 1/" : "paced",
-			     scale ? scale : 1L);
+			     scale ? scale : 1L, lockstep ? ", lock-step bus" : "");
 
 		std::vector<std::uint8_t> mosi(ECMXF_VSPI_MAX_XFER), miso(ECMXF_VSPI_MAX_XFER);
 		while (!gStop) {
@@ -340,6 +378,7 @@ int main(int argc, char **argv)
 			// applies to that transfer
 			ctl.drain();
 			follow();
+			runBus();
 			if (n > 0 && np == 2 && (p[1].revents & POLLIN) && !ctl.silent()) {
 				const ssize_t len = ::read(fd, mosi.data(), mosi.size());
 				if (len < 0) {
@@ -351,6 +390,9 @@ int main(int argc, char **argv)
 				chip.exchange(std::span<const std::uint8_t>(mosi.data(), ulen),
 					      std::span<std::uint8_t>(miso.data(), ulen));
 				ctl.countTransfer();
+				// the frames it brought go out on the bus before the
+				// answer returns (an INT1 for their inputs follows it)
+				runBus();
 				// the chip is busy now: INT0 drops before the answer
 				// returns, and rises (an interrupt) when it is ready
 				const std::uint32_t l = linesOf(chip);

@@ -7,6 +7,21 @@
 //
 //   ecmxf-guest-rings --network                  print the network file
 //   ecmxf-guest-rings run DEV HZ CYCLES K        the cyclic run (below)
+//   ecmxf-guest-rings run-lockstep DEV HZ CYCLES the strict run (below)
+//
+// run-lockstep: the bridge runs a lock-step bus (bridge --lockstep: a bus
+// cycle only when the chip's RxFIFO has its frame and the TxFIFO room, as
+// fast as frames come). The application is clocked by its inputs
+// (Cyclic::waitInputs()) with 8 output frames in flight, and every output
+// frame carries the next sequence number and CSP targets that are a
+// function of the frame's index. Strict checks: every TxPDO frame carries
+// exactly the previous sequence number + 1; after a drain, bus cycles run
+// = frames sent = frames received; chip RxFIFO underruns and TxFIFO drops,
+// kernel in_ring/rx_fifo/tx_fifo overruns, refused and skipped outputs,
+// failed cycles all 0; the WKC expected on every read; both drives' positions
+// in every input frame of the move equal the targets of that same output
+// frame (the one whose number the I/O terminal echoes), and end at the
+// targets.
 //
 // run: brings the bus up at HZ (SYNC0 = 1/HZ of chip time), maps the
 // drives for CSP, and runs the library's Cyclic (which picks the kernel
@@ -466,6 +481,253 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 	return gFailures ? 1 : 0;
 }
 
+/// Lock-step: the checks on every TxPDO frame, inside onInputFrame.
+struct Strict {
+	// byte offsets in the frames
+	std::size_t seqIn = 0, pos0In = 0, pos1In = 0;
+	/// the targets each output frame carried, by its sequence number
+	const std::vector<std::array<std::int32_t, 2>> *targets = nullptr;
+	/// from this sequence number on the drives follow the targets
+	std::uint32_t cspFrom = UINT32_MAX;
+	std::uint32_t expect = 1; ///< the next sequence number due
+	std::uint64_t frames = 0, seqErrors = 0, cspFrames = 0, posErrors = 0;
+	int shown = 0;
+
+	static std::int32_t i32(std::span<const std::uint8_t> f, std::size_t off) noexcept
+	{
+		std::int32_t v = 0;
+		std::memcpy(&v, f.data() + off, sizeof(v));
+		return v;
+	}
+
+	static void onFrame(void *ctx, std::span<const std::uint8_t> f) noexcept
+	{
+		auto &c = *static_cast<Strict *>(ctx);
+		std::uint32_t v = 0;
+		std::memcpy(&v, f.data() + c.seqIn, sizeof(v));
+		c.frames++;
+		if (v != c.expect) {
+			if (c.shown++ < 5)
+				std::printf("guest-test: info frame %llu: sequence %u, want %u\n",
+					    static_cast<unsigned long long>(c.frames), v, c.expect);
+			c.seqErrors++;
+		}
+		c.expect = v + 1;
+		// the drives took the target of the same output frame as the
+		// I/O terminal its counter: positions of that frame's targets
+		if (v >= c.cspFrom && v < c.targets->size()) {
+			c.cspFrames++;
+			const auto &t = (*c.targets)[v];
+			const std::int32_t p0 = i32(f, c.pos0In), p1 = i32(f, c.pos1In);
+			if (p0 != t[0] || p1 != t[1]) {
+				if (c.shown++ < 5)
+					std::printf("guest-test: info frame %u: positions %d %d, targets %d %d\n", v, p0,
+						    p1, t[0], t[1]);
+				c.posErrors++;
+			}
+		}
+	}
+};
+
+/// run-lockstep: the bridge runs a lock-step bus (bridge --lockstep); the
+/// application is clocked by its inputs and keeps a few frames in flight.
+int runLockstep(const std::string &path, unsigned hz, unsigned cycles)
+{
+	const auto bus = std::chrono::nanoseconds(1'000'000'000LL / hz);
+	constexpr unsigned kInFlight = 8; // output frames ahead of the inputs
+	std::printf("guest-test: info lock-step: %u cycles at %u Hz (chip time), %u frames in flight\n", cycles, hz,
+		    kInFlight);
+
+	auto dev = ecmxf::Device::open(path);
+	auto *kt = dynamic_cast<ecmxf::KernelTransport *>(&dev->transport());
+	if (!kt) {
+		ok(false, "the device is opened by the kernel transport");
+		return 1;
+	}
+	dev->setMinimumTimeout(std::chrono::seconds(2));
+	ecmxf::Master master(*dev);
+	ecmxf::MasterConfig mc;
+	mc.init.dc.sync0Ns = static_cast<std::uint32_t>(bus.count());
+	mc.pdoAssignments = { ecmxf::est584MotionPdos(0), ecmxf::est584MotionPdos(1) };
+	master.bringUp(mc);
+	ecmxf::ProcessImage image(master.pdos());
+	const std::size_t ioOut = image.outputOffset(2);
+	const std::size_t tgt0 = image.outputOffset(0) + image.outputEntry(0, 0x607A, 0).bitOffset / 8;
+	const std::size_t tgt1 = image.outputOffset(1) + image.outputEntry(1, 0x607A, 0).bitOffset / 8;
+
+	std::vector<std::array<std::int32_t, 2>> targets;
+	targets.reserve(cycles + 40100);
+	targets.push_back({ 0, 0 }); // sequence numbers start at 1
+	Strict chk;
+	chk.seqIn = image.inputOffset(2);
+	chk.pos0In = image.inputOffset(0) + image.inputEntry(0, 0x6064, 0).bitOffset / 8;
+	chk.pos1In = image.inputOffset(1) + image.inputEntry(1, 0x6064, 0).bitOffset / 8;
+	chk.targets = &targets;
+
+	ecmxf::CyclicConfig cc;
+	cc.period = bus;
+	cc.busCycle = bus;
+	cc.rxFill = kInFlight; // the pump keeps up to this many in the RxFIFO
+	cc.wkcEvery = 10;
+	cc.onInputFrame = &Strict::onFrame;
+	cc.context = &chk;
+	ecmxf::Cyclic cyc(*dev, image, cc);
+	ok(cyc.usesKernelRings(), "Cyclic over /dev/ecmxf0 uses the kernel's PDO rings");
+
+	ecmxf::Cia402AxisConfig ac;
+	ac.modes = { ecmxf::cia402::kModeCsp };
+	ac.state.timeout *= 10;
+	ac.modeTimeout *= 10;
+	ac.ackTimeout *= 10;
+	ecmxf::Cia402Axis a0(*dev, image, 0, ac);
+	ecmxf::Cia402Axis a1(*dev, image, 1, ac);
+	std::vector<ecmxf::Cia402Axis *> axes{ &a0, &a1 };
+	for (auto *a : axes)
+		a->setMode(ecmxf::cia402::kModeCsp, kt->now());
+	cyc.start();
+
+	// from here on every bus cycle takes one of our frames
+	const std::uint64_t bus0 = bridgeStat("bus-cycles"), under0 = bridgeStat("rx-underruns");
+	const std::uint64_t txDrop0 = bridgeStat("tx-dropped"), waits0 = bridgeStat("bus-waits");
+	const std::uint64_t chipUs0 = bridgeStat("chip-time-us");
+	const std::uint64_t skip0 = ringSkipped();
+	const ecmxf::KernelCounters k0 = kt->counters();
+	const auto t0 = kt->now();
+
+	std::uint32_t seq = 0;
+	std::uint64_t waitFailures = 0, errors = 0, wkcReads = 0, wkcBad = 0;
+	auto read32 = [&](std::size_t off) {
+		std::int32_t v = 0;
+		std::memcpy(&v, image.outputs().data() + off, sizeof(v));
+		return v;
+	};
+	// one output frame: when kInFlight are on their way, first wait for
+	// the inputs of the oldest (cycle() then takes them)
+	auto push = [&] {
+		const ecmxf::CyclicStats &s = cyc.stats();
+		if (s.framesPushed - s.framesPopped >= kInFlight) {
+			const int rc = cyc.waitInputs(std::chrono::seconds(10));
+			if (rc && waitFailures++ < 5)
+				std::printf("guest-test: info waitInputs: %s\n", std::strerror(rc));
+		}
+		seq++;
+		std::memcpy(image.outputs().data() + ioOut, &seq, sizeof(seq));
+		targets.push_back({ read32(tgt0), read32(tgt1) });
+		const ecmxf::CycleResult &r = cyc.cycle();
+		if (r.error && errors++ < 5)
+			std::printf("guest-test: info cycle error %d: %s\n", r.error, r.message);
+		if (r.wkcRead) {
+			wkcReads++;
+			if (r.wkc != cyc.expectedWkc())
+				wkcBad++;
+		}
+		for (auto *a : axes)
+			a->update(kt->now());
+	};
+	auto allDone = [&] { return std::all_of(axes.begin(), axes.end(), [](auto *a) { return a->done(); }); };
+	for (int i = 0; i < 20000 && !allDone() && !waitFailures; i++)
+		push();
+	ok(a0.done() && a1.done(), "both drives in CSP mode");
+	for (auto *a : axes)
+		a->enable(kt->now());
+	for (int i = 0; i < 20000 && !allDone() && !waitFailures; i++)
+		push();
+	ok(a0.enabled() && a1.enabled(), "both drives OPERATION ENABLED over the rings");
+	for (auto *a : axes)
+		a->startCsp(kt->now());
+
+	// CYCLES frames of a CSP move as a function of the frame's index
+	const std::array<std::int32_t, 2> from{ a0.position(), a1.position() };
+	const std::array<std::int32_t, 2> to{ from[0] + 40000, from[1] - 25000 };
+	const ecmxf::CspTrajectory traj(from, to, bus * (cycles * 8 / 10));
+	chk.cspFrom = seq + 1;
+	const std::uint32_t seqCsp = seq + 1;
+	const auto tCsp = kt->now();
+	for (unsigned k = 0; k < cycles && !waitFailures; k++) {
+		traj.apply(axes, bus * (k + 1));
+		push();
+	}
+	const auto tCspEnd = kt->now();
+
+	// drain: no more frames; every one sent runs on the bus
+	std::uint64_t busNow = 0;
+	for (int i = 0; i < 250; i++) {
+		busNow = bridgeStat("bus-cycles") - bus0;
+		if (busNow >= cyc.stats().framesPushed)
+			break;
+		std::this_thread::sleep_for(20ms);
+	}
+	const std::uint64_t pushed = cyc.stats().framesPushed;
+	// the inputs still on their way (TxFIFO, input ring): INT1 and the
+	// pump's timer bring them within a few of its ticks
+	(void)cyc.waitInputs(std::chrono::seconds(2));
+	std::this_thread::sleep_for(300ms);
+	// one last cycle() takes every input frame there is (its own output
+	// frame is the only one not accounted for)
+	const std::uint64_t poppedBefore = cyc.stats().framesPopped;
+	const ecmxf::CycleResult &last = cyc.cycle();
+	if (last.error)
+		errors++;
+	const std::uint64_t popped = cyc.stats().framesPopped;
+	const auto t1 = kt->now();
+
+	const ecmxf::CyclicStats &s = cyc.stats();
+	const ecmxf::KernelCounters k1 = kt->counters();
+	const std::uint64_t under = bridgeStat("rx-underruns") - under0;
+	const std::uint64_t txDrop = bridgeStat("tx-dropped") - txDrop0;
+	const std::uint64_t waits = bridgeStat("bus-waits") - waits0;
+	const std::uint64_t chipUs = bridgeStat("chip-time-us") - chipUs0;
+	const std::uint64_t skipped = ringSkipped() - skip0;
+	const double guestS = std::chrono::duration<double>(t1 - t0).count();
+	const double cspS = std::chrono::duration<double>(tCspEnd - tCsp).count();
+	std::printf("guest-test: info lock-step %u Hz: %llu frames out, %llu bus cycles, %llu frames in (%llu "
+		    "in the last cycle), %llu CSP frames checked; guest time %.1f s (the %u CSP cycles %.1f s, %.0f "
+		    "cycles/s), chip time %.1f s; the bus waited %llu times\n",
+		    hz, static_cast<unsigned long long>(pushed), static_cast<unsigned long long>(busNow),
+		    static_cast<unsigned long long>(popped), static_cast<unsigned long long>(popped - poppedBefore),
+		    static_cast<unsigned long long>(chk.cspFrames), guestS, cycles, cspS,
+		    cspS > 0 ? cycles / cspS : 0.0, static_cast<double>(chipUs) / 1e6,
+		    static_cast<unsigned long long>(waits));
+	std::printf("guest-test: info lock-step %u Hz: kernel: exchanges %llu, int1 %llu, rx_fifo_underruns %llu "
+		    "(the bus waiting for the next frame), out_ring_underruns %llu, timeouts %llu, retries %llu, "
+		    "lost_answers %llu, bad packets %llu; wkc reads %llu\n",
+		    hz, static_cast<unsigned long long>(k1.exchanges - k0.exchanges),
+		    static_cast<unsigned long long>(k1.int1Irqs - k0.int1Irqs),
+		    static_cast<unsigned long long>(k1.rxFifoUnderruns - k0.rxFifoUnderruns),
+		    static_cast<unsigned long long>(k1.outRingUnderruns - k0.outRingUnderruns),
+		    static_cast<unsigned long long>(k1.timeouts - k0.timeouts),
+		    static_cast<unsigned long long>(k1.retries - k0.retries),
+		    static_cast<unsigned long long>(k1.lostAnswers - k0.lostAnswers),
+		    static_cast<unsigned long long>((k1.badNotReady + k1.badStart + k1.badEnd + k1.badCheck +
+						     k1.badLength) -
+						    (k0.badNotReady + k0.badStart + k0.badEnd + k0.badCheck +
+						     k0.badLength)),
+		    static_cast<unsigned long long>(wkcReads));
+	eq("waitInputs failures (no inputs within 10 s)", waitFailures, 0);
+	eq("cycles with an error", s.failedCycles, 0);
+	eq("bus cycles run = output frames sent (after the drain)", busNow, pushed);
+	eq("input frames received = bus cycles run", popped, busNow);
+	eq("sequence counter: frames not exactly the previous + 1 (lost, repeated or reordered)", chk.seqErrors, 0);
+	eq("sequence counter: the last frame's value is the last frame sent", chk.expect - 1, pushed);
+	eq("chip: RxFIFO underruns (bridge rx-underruns)", under, 0);
+	eq("chip: TxPDO frames dropped (bridge tx-dropped)", txDrop, 0);
+	eq("kernel: in_ring_overruns", k1.inRingOverruns - k0.inRingOverruns, 0);
+	eq("kernel: rx_fifo_overruns (frames the chip refused)", k1.rxFifoOverruns - k0.rxFifoOverruns, 0);
+	eq("kernel: tx_fifo_overruns", k1.txFifoOverruns - k0.txFifoOverruns, 0);
+	eq("output frames refused (cycles with a refusal)", s.rxRefusals, 0);
+	eq("output frames the pump skipped (ring_skipped)", skipped, 0);
+	eq("TxFIFO/input ring overflows seen by cycle()", s.txOverflows, 0);
+	ok(wkcReads >= cycles / 100, "the pump read the WKC (" + std::to_string(wkcReads) + " times)");
+	eq("WKC reads not the expected " + std::to_string(cyc.expectedWkc()), wkcBad, 0);
+	eq("CSP: frames checked", chk.cspFrames, pushed - seqCsp + 1);
+	eq("CSP: input frames whose positions are not their frame's targets", chk.posErrors, 0);
+	eq("CSP: drive 0 at its target", a0.position(), to[0]);
+	eq("CSP: drive 1 at its target", a1.position(), to[1]);
+	ok(!a0.failed() && !a1.failed(), "CSP: no following error, still OPERATION ENABLED");
+	cyc.stop();
+	return gFailures ? 1 : 0;
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -481,7 +743,14 @@ int main(int argc, char **argv)
 			std::printf("guest-test: rings: %d failure(s)\n", gFailures);
 			return rc;
 		}
-		std::fprintf(stderr, "usage: ecmxf-guest-rings --network | run DEV HZ CYCLES SCALE\n");
+		if (argc == 5 && std::string_view(argv[1]) == "run-lockstep") {
+			const int rc = runLockstep(argv[2], static_cast<unsigned>(std::atoi(argv[3])),
+						   static_cast<unsigned>(std::atoi(argv[4])));
+			std::printf("guest-test: rings (lock-step): %d failure(s)\n", gFailures);
+			return rc;
+		}
+		std::fprintf(stderr, "usage: ecmxf-guest-rings --network | run DEV HZ CYCLES SCALE | "
+				     "run-lockstep DEV HZ CYCLES\n");
 		return 2;
 	} catch (const std::exception &e) {
 		std::printf("guest-test: FAIL exception: %s\n", e.what());
