@@ -314,6 +314,7 @@ static void ecmxf_nl_loss_counters(const struct ecmxf_dev *edev,
 	v[ECMXF_NL_LOSS_RX_FIFO_OVERRUN] = edev->rx_fifo_overruns;
 	v[ECMXF_NL_LOSS_TX_FIFO_OVERRUN] = edev->tx_fifo_overruns;
 	v[ECMXF_NL_LOSS_OUT_RING_SKIPPED] = edev->out_ring_skipped;
+	v[ECMXF_NL_LOSS_PUMP_FAILURE] = edev->pump_failures;
 }
 
 /* A counter of the cyclic path went up since the last look. */
@@ -332,8 +333,10 @@ static bool ecmxf_nl_loss_pending(const struct ecmxf_dev *edev)
 /*
  * At most every ECMXF_NL_LOSS_PERIOD_NS: one %ECMXF_NL_EV_PDO_LOSS event
  * per counter of the cyclic path that went up since the last look.  The
- * worker is the only writer of those counters, so it reads them without
- * the lock.
+ * rate limit is applied here, not in ecmxf_nl_flush(): a counter whose
+ * event it holds back keeps its increase for the next event, so that none
+ * is suppressed and the last one always has the final total.  The worker
+ * is the only writer of those counters, so it reads them without the lock.
  */
 static void ecmxf_nl_losses(struct ecmxf_dev *edev, u64 now)
 {
@@ -351,6 +354,8 @@ static void ecmxf_nl_losses(struct ecmxf_dev *edev, u64 now)
 			nl->loss_seen[i] = v[i];
 			continue;
 		}
+		if (!ecmxf_nl_allow(nl, ECMXF_NL_EV_PDO_LOSS, now))
+			continue;
 		memset(&ev, 0, sizeof(ev));
 		ev.d.type = ECMXF_NL_EV_PDO_LOSS;
 		ev.d.time_ns = now;
@@ -386,7 +391,9 @@ void ecmxf_nl_flush(struct ecmxf_dev *edev)
 		struct ecmxf_nl_rate *r = &nl->rate[ev->d.type];
 		u32 seq = nl->seq++;
 
-		if (!ecmxf_nl_allow(nl, ev->d.type, now)) {
+		/* PDO_LOSS events passed the limit when they were queued */
+		if (ev->d.type != ECMXF_NL_EV_PDO_LOSS &&
+		    !ecmxf_nl_allow(nl, ev->d.type, now)) {
 			r->suppressed++;
 			atomic64_inc(&nl->events_suppressed);
 			continue;

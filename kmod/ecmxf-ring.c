@@ -45,10 +45,14 @@
 #define ECMXF_RING_FRAMES_OFF	256
 
 /*
- * time allowed for each pump command: longer than the table's 100 ms,
- * since a frame whose command timed out is dropped, never sent again
+ * time allowed for each pump command (module parameter pump_timeout_ms,
+ * 10..60000): longer than the table's 100 ms, since a frame whose command
+ * failed is dropped, never sent again
  */
-#define ECMXF_PUMP_TIMEOUT_US	500000
+static unsigned int ecmxf_param_pump_timeout_ms = 500;
+module_param_named(pump_timeout_ms, ecmxf_param_pump_timeout_ms, uint, 0644);
+MODULE_PARM_DESC(pump_timeout_ms,
+		 "time allowed for each PDO pump command, ms (10..60000, default 500)");
 
 /* pump timer period: default and bounds (microseconds) */
 #define ECMXF_POLL_US_DEFAULT	1000
@@ -535,7 +539,8 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 			ret = -EFAULT;
 		goto drop;
 	}
-	p->x.timeout_us = ECMXF_PUMP_TIMEOUT_US;
+	p->x.timeout_us = clamp(READ_ONCE(ecmxf_param_pump_timeout_ms),
+				10U, 60000U) * USEC_PER_MSEC;
 	if (!ecmxf_engine_can_submit(&edev->e, &p->x)) {
 		ret = -EBUSY;
 		goto drop;
@@ -563,7 +568,7 @@ drop:
 /* Publish the header and the counters in the status block; lock held. */
 static void ecmxf_status_update(struct ecmxf_rings *r,
 				const struct ecmxf_rsp_hdr *h, int err,
-				const u32 deltas[6])
+				const u32 deltas[7])
 {
 	struct ecmxf_ring_status *st = r->status;
 
@@ -584,6 +589,7 @@ static void ecmxf_status_update(struct ecmxf_rings *r,
 	WRITE_ONCE(st->rx_underruns, st->rx_underruns + deltas[3]);
 	WRITE_ONCE(st->out_underruns, st->out_underruns + deltas[4]);
 	WRITE_ONCE(st->out_skipped, st->out_skipped + deltas[5]);
+	WRITE_ONCE(st->pump_failures, st->pump_failures + deltas[6]);
 	smp_wmb();	/* the fields before the even seq */
 	WRITE_ONCE(st->seq, st->seq + 1);
 }
@@ -630,7 +636,7 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 				 const struct ecmxf_xfer *x, u32 pushed)
 {
 	const struct ecmxf_rsp_hdr *h = &x->rsp;
-	u32 deltas[6] = { 1, 0, 0, 0, 0, edev->pump.skipped };
+	u32 deltas[7] = { 1, 0, 0, 0, 0, edev->pump.skipped, 0 };
 	u32 n = 0, stored, queued;
 	__poll_t wake = 0;
 	int avail;
@@ -695,19 +701,20 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 /*
  * The command failed after it may have reached the chip (no answer, bad
  * packets): its output frames are dropped and counted, never sent again,
- * because a second copy would reach the bus after newer frames; lock held.
+ * because a second copy would reach the bus after newer frames; the input
+ * frames its answer carried are lost.  Counted as a pump failure, not as
+ * a refusal (the chip may well have taken the frames); lock held.
  */
 static void ecmxf_pump_failed(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 			      const struct ecmxf_xfer *x, u32 pushed)
 {
-	u32 deltas[6] = { 0, 0, 0, 0, 0, edev->pump.skipped };
+	u32 deltas[7] = { 0, 0, 0, 0, 0, edev->pump.skipped, 1 };
 
+	edev->pump_failures++;
 	if (pushed) {
 		/* the slots are read: pairs with the producer's acquire */
 		smp_store_release(r->out.head, READ_ONCE(*r->out.head) + pushed);
 		WRITE_ONCE(*r->out.dropped, READ_ONCE(*r->out.dropped) + pushed);
-		edev->rx_fifo_overruns++;
-		deltas[1]++;
 		ecmxf_rings_wake(edev, EPOLLOUT | EPOLLWRNORM);
 	}
 	r->unconfirmed = pushed;

@@ -14,6 +14,8 @@
  *   worker_priority SCHED_FIFO priority of the link worker (1..99);
  *                  writable by root
  *   ring_skipped   output frames the PDO pump skipped since probe
+ *   ring_failures  PDO pump commands that failed since probe (their
+ *                  frames are lost, never sent again)
  *   counters/...   one file per field of struct ecmxf_counters
  *
  * Copyright (C) 2026 The ecmxf authors
@@ -197,6 +199,19 @@ static ssize_t ring_skipped_show(struct device *dev,
 }
 static DEVICE_ATTR_RO(ring_skipped);
 
+static ssize_t ring_failures_show(struct device *dev,
+				  struct device_attribute *attr, char *buf)
+{
+	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
+	u64 v;
+
+	mutex_lock(&edev->lock);
+	v = edev->pump_failures;
+	mutex_unlock(&edev->lock);
+	return sysfs_emit(buf, "%llu\n", (unsigned long long)v);
+}
+static DEVICE_ATTR_RO(ring_failures);
+
 static struct attribute *ecmxf_attrs[] = {
 	&dev_attr_fw_version.attr,
 	&dev_attr_fw_info.attr,
@@ -209,6 +224,7 @@ static struct attribute *ecmxf_attrs[] = {
 	&dev_attr_claim_pid.attr,
 	&dev_attr_worker_priority.attr,
 	&dev_attr_ring_skipped.attr,
+	&dev_attr_ring_failures.attr,
 	NULL
 };
 

@@ -150,7 +150,7 @@ struct ecmxf_client {
 /* event types (&enum ecmxf_nl_event values) with a rate limit each */
 #define ECMXF_NL_TYPES		16
 /* the counters a %ECMXF_NL_EV_PDO_LOSS event names (&enum ecmxf_nl_loss) */
-#define ECMXF_NL_LOSS_KINDS	6
+#define ECMXF_NL_LOSS_KINDS	7
 /* how often the worker looks at them */
 #define ECMXF_NL_LOSS_PERIOD_NS	(10 * NSEC_PER_MSEC)
 
@@ -426,6 +426,7 @@ struct ecmxf_pump {
  * @rx_fifo_overruns: &struct ecmxf_counters.rx_fifo_overruns
  * @tx_fifo_overruns: &struct ecmxf_counters.tx_fifo_overruns
  * @out_ring_skipped: output frames the pump skipped (sysfs ring_skipped)
+ * @pump_failures: pump commands that failed (sysfs ring_failures)
  * @nl: generic netlink events (worker only, see &struct ecmxf_nl_dev)
  */
 struct ecmxf_dev {
@@ -484,6 +485,7 @@ struct ecmxf_dev {
 	u64 rx_fifo_overruns;
 	u64 tx_fifo_overruns;
 	u64 out_ring_skipped;
+	u64 pump_failures;
 
 	struct ecmxf_nl_dev nl;
 };

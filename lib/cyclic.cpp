@@ -431,6 +431,9 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 constexpr const char *kPumpStopped =
 	"PDO rings: the kernel's pump stopped (the chip reset or the link was lost); stop() and start() again";
 constexpr const char *kNoRings = "PDO rings: not mapped (start() failed?)";
+constexpr const char *kPumpFailed =
+	"PDO rings: a command of the kernel's pump failed (no answer in time, or bad packets): its output frames "
+	"are not sent again, the input frames of its answer are lost";
 
 std::uint32_t pow2AtLeast(std::uint64_t n) noexcept
 {
@@ -474,6 +477,7 @@ private:
 	bool irqSaved_ = false;
 	/// the kernel's counts as seen by the previous cycle
 	std::uint32_t wkcReads_ = 0, outDropped_ = 0, inDropped_ = 0, txOverflows_ = 0, rxRefusals_ = 0;
+	std::uint32_t pumpFailures_ = 0;
 };
 
 void RingPath::sysFail(const char *call, int err) const
@@ -566,7 +570,7 @@ void RingPath::start()
 	inLen_ = rs.in.mmap_size;
 	out_ = detail::PdoRingView(outMap_, rs.out);
 	in_ = detail::PdoRingView(inMap_, rs.in);
-	wkcReads_ = outDropped_ = inDropped_ = txOverflows_ = rxRefusals_ = 0;
+	wkcReads_ = outDropped_ = inDropped_ = txOverflows_ = rxRefusals_ = pumpFailures_ = 0;
 
 	dev_.fifoClear(FifoSelect::Both);
 	// INT1 on every TxPDO frame (TxFIFO high mark 1) and when the RxFIFO
@@ -648,6 +652,11 @@ void RingPath::exchange(CycleResult &r, bool) noexcept
 		if (st.tx_overflows != txOverflows_) {
 			txOverflows_ = st.tx_overflows;
 			r.txOverflow = true;
+		}
+		if (st.pump_failures != pumpFailures_) {
+			// frames lost in a failed command: this cycle reports it
+			pumpFailures_ = st.pump_failures;
+			fail(r, st.error ? static_cast<int>(st.error) : EIO, kPumpFailed);
 		}
 	}
 	// frames the chip refused, frames the input ring had no room for

@@ -107,6 +107,7 @@ std::string lossKindName(LossKind k)
 	case LossKind::RxFifoOverrun: return "rx_fifo_overrun";
 	case LossKind::TxFifoOverrun: return "tx_fifo_overrun";
 	case LossKind::OutRingSkipped: return "out_ring_skipped";
+	case LossKind::PumpFailure: return "pump_failure";
 	}
 	return "unknown";
 }

@@ -352,6 +352,7 @@ Event describe(const ecmxf::Event &ev)
 			"output frames refused: the chip's RxFIFO was full",
 			"the chip's TxFIFO was full: it dropped input frames",
 			"output frames skipped by the pump (it had fallen behind)",
+			"pump commands failed: their frames are lost, never sent again",
 		};
 		const auto i = static_cast<std::size_t>(ev.loss);
 		e.text = "cyclic path: " + kind + " +" + std::to_string(ev.increase) + " (total " +

@@ -65,6 +65,7 @@ enum class LossKind : std::uint8_t {
 	RxFifoOverrun = 3,   ///< the chip refused output frames: its RxFIFO was full
 	TxFifoOverrun = 4,   ///< the chip's TxFIFO was full: it dropped its oldest input frames
 	OutRingSkipped = 5,  ///< output frames the pump skipped when it had fallen behind
+	PumpFailure = 6,     ///< pump commands that failed (their frames lost, never sent again)
 };
 
 /// The name of a LossKind as `ecmxf-util monitor` prints it

@@ -72,6 +72,7 @@ enum Loss {
 	LossRxFifoOverrun = 3,
 	LossTxFifoOverrun = 4,
 	LossOutRingSkipped = 5,
+	LossPumpFailure = 6,
 };
 
 enum Counter {

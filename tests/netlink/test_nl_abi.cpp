@@ -72,6 +72,7 @@ SAME(ECMXF_NL_LOSS_RX_FIFO_UNDERRUN, nlabi::LossRxFifoUnderrun);
 SAME(ECMXF_NL_LOSS_RX_FIFO_OVERRUN, nlabi::LossRxFifoOverrun);
 SAME(ECMXF_NL_LOSS_TX_FIFO_OVERRUN, nlabi::LossTxFifoOverrun);
 SAME(ECMXF_NL_LOSS_OUT_RING_SKIPPED, nlabi::LossOutRingSkipped);
+SAME(ECMXF_NL_LOSS_PUMP_FAILURE, nlabi::LossPumpFailure);
 SAME(ECMXF_NL_C_PAD, nlabi::CPad);
 SAME(ECMXF_NL_C_EXCHANGES, nlabi::CExchanges);
 SAME(ECMXF_NL_C_INT1_IRQS, nlabi::CInt1Irqs);

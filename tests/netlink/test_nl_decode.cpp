@@ -208,6 +208,7 @@ TEST_CASE("netlink decode: a loss of the cyclic path, its counter and total", "[
 	e = ecmxf::decodeEventMessage(skipped.bytes());
 	CHECK(e.loss == ecmxf::LossKind::OutRingSkipped);
 	CHECK(ecmxf::lossKindName(e.loss) == "out_ring_skipped");
+	CHECK(ecmxf::lossKindName(ecmxf::LossKind::PumpFailure) == "pump_failure");
 	CHECK(ecmxf::lossKindName(static_cast<ecmxf::LossKind>(9)) == "unknown");
 }
 

@@ -442,6 +442,11 @@ struct ecmxf_ring_offsets {
  * @out_underruns: of those, the ones that found the output ring empty too
  * @error: 0, or the positive errno of the pump's last failed command
  * @out_skipped: output frames skipped because the pump had fallen behind
+ * @pump_failures: pump commands that failed after they may have reached
+ *	the chip (no answer in time, bad packets): their output frames are
+ *	not sent again (counted in the output ring's dropped count; they may
+ *	have reached the bus) and the input frames of the lost answer are
+ *	lost (at most what the command asked for); @error says why
  * @reserved: zero
  *
  * Written by the kernel only.  The counters wrap at 2^32 and count since
@@ -467,7 +472,8 @@ struct ecmxf_ring_status {
 	__u32 out_underruns;
 	__u32 error;
 	__u32 out_skipped;
-	__u32 reserved[3];
+	__u32 pump_failures;
+	__u32 reserved[2];
 };
 
 /**

@@ -224,7 +224,9 @@ enum ecmxf_nl_slave_attr {
  *	empty or full: %ECMXF_NL_A_LOSS (which counter), %ECMXF_NL_A_INCREASE
  *	(how much it went up since the previous event of that kind),
  *	%ECMXF_NL_A_TOTAL.  The kernel looks at the counters at most every
- *	10 ms and sends one event per counter that went up
+ *	10 ms and sends one event per counter that went up; when the rate
+ *	limit holds one back, the increase carries over into the next one
+ *	(never suppressed)
  * @__ECMXF_NL_EV_MAX: number of event types (not an event)
  */
 enum ecmxf_nl_event {
@@ -272,6 +274,9 @@ enum ecmxf_nl_fifo {
  *	full, it dropped its oldest input frames
  * @ECMXF_NL_LOSS_OUT_RING_SKIPPED: output frames the pump skipped when it
  *	had fallen behind (sysfs ring_skipped)
+ * @ECMXF_NL_LOSS_PUMP_FAILURE: pump commands that failed after they may
+ *	have reached the chip (sysfs ring_failures): their output frames are
+ *	not sent again, the input frames of the lost answer are lost
  */
 enum ecmxf_nl_loss {
 	ECMXF_NL_LOSS_OUT_RING_UNDERRUN,
@@ -279,7 +284,8 @@ enum ecmxf_nl_loss {
 	ECMXF_NL_LOSS_RX_FIFO_UNDERRUN,
 	ECMXF_NL_LOSS_RX_FIFO_OVERRUN,
 	ECMXF_NL_LOSS_TX_FIFO_OVERRUN,
-	ECMXF_NL_LOSS_OUT_RING_SKIPPED
+	ECMXF_NL_LOSS_OUT_RING_SKIPPED,
+	ECMXF_NL_LOSS_PUMP_FAILURE
 };
 
 /**

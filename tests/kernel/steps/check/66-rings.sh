@@ -33,11 +33,45 @@ rings_lockstep() {
 	echo "guest-test: info lock-step $hz Hz: $t0 s -> $t1 s of guest uptime"
 	bridge_ctl state
 }
+# rings_wait_for FILE PATTERN SECONDS: until grep -q finds PATTERN in FILE
+rings_wait_for() {
+	n=0
+	until grep -q "$2" "$1" 2>/dev/null; do
+		n=$((n + 1))
+		[ "$n" -gt $(($3 * 10)) ] && return 1
+		sleep 0.1
+	done
+	return 0
+}
+# the ratio-mode run; with "monitor", `ecmxf-util monitor` listens and must
+# report the input ring's overflow (which the run provokes) as a PDO_LOSS
+# event with the kernel's count
 rings_with() {
 	hz=$1 scale=$2
 	rings_bridge --time-scale "$scale"
+	if [ "${3:-}" = monitor ]; then
+		/bin/ecmxf-util -d /dev/ecmxf0 monitor --json >/tmp/rings-mon.json 2>/tmp/rings-mon.err &
+		rmon=$!
+		rings_wait_for /tmp/rings-mon.err listening 30 || fail "ecmxf-util monitor did not subscribe"
+	fi
 	/bin/ecmxf-guest-rings run /dev/ecmxf0 "$hz" 2000 "$scale" || fail "ecmxf-guest-rings at $hz Hz"
 	bridge_ctl state
+	if [ "${3:-}" = monitor ]; then
+		# the run overflowed the input ring: events up to the kernel's
+		# final count (the rate limit never drops the last one)
+		want=$(cat /sys/class/ecmxf/ecmxf0/counters/in_ring_overruns)
+		[ "$want" -gt 0 ] || fail "in_ring_overruns is $want after the overflow check"
+		loss="\"type\": \"pdo_loss\", \"loss\": \"in_ring_overrun\", \"increase\": [0-9]*, \"total\": $want[,}]"
+		if ! rings_wait_for /tmp/rings-mon.json "$loss" 30; then
+			kill "$rmon" 2>/dev/null
+			sed 's/^/monitor: /' /tmp/rings-mon.json /tmp/rings-mon.err
+			fail "ecmxf-util monitor reported no PDO_LOSS in_ring_overrun event with the total $want"
+		fi
+		kill "$rmon"
+		wait "$rmon" || fail "ecmxf-util monitor exited with an error after SIGTERM"
+		grep '"pdo_loss"' /tmp/rings-mon.json | sed 's/^/guest-test: event: /'
+		echo "guest-test: ok   ecmxf-util monitor: PDO_LOSS in_ring_overrun events up to the kernel's in_ring_overruns ($want)"
+	fi
 }
 # the worker's SCHED_FIFO priority through sysfs: /proc/PID/stat field 18
 # is -1 - rt_priority for a real-time task
@@ -62,10 +96,16 @@ if echo 100 >$attr 2>/dev/null; then fail "worker_priority accepted 100"; fi
 echo "guest-test: ok   worker_priority refuses 0 and 100"
 echo 50 >$attr || fail "writing 50 to worker_priority"
 worker_prio_is 50
+# a slow guest is not what is tested: the pump's commands get 10 s
+# (a failed one loses its frames, which the strict runs would report)
+echo 10000 >/sys/module/ecmxf/parameters/pump_timeout_ms || fail "setting pump_timeout_ms"
 rings_lockstep 1000
 rings_lockstep 8000
-rings_with 1000 5
+rings_with 1000 5 monitor
 rings_with 8000 40
+echo 500 >/sys/module/ecmxf/parameters/pump_timeout_ms
+failures=$(cat /sys/class/ecmxf/ecmxf0/ring_failures) || fail "no sysfs ring_failures"
+echo "guest-test: info pump commands failed (ring_failures): $failures"
 spidev=$(basename "$(readlink /sys/class/ecmxf/ecmxf0/device)")
 echo "$spidev" >/sys/bus/spi/drivers/ecmxf/unbind || fail "unbind $spidev"
 bridge_stop
