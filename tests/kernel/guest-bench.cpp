@@ -24,9 +24,12 @@
 // medians (and the median of the per-block ratios), so a host that slows
 // down for a while moves the spread, not the ratio.
 //
-// Before the timed blocks, every path (and Device::command() over
-// /dev/ecmxf0) runs in a child traced with ptrace(PTRACE_SYSCALL): the
-// system calls per command are counted exactly.
+// In the first block, every path (and Device::command() over
+// /dev/ecmxf0) also runs 50 commands in a child traced with
+// ptrace(PTRACE_SYSCALL): the system calls per command, counted exactly
+// (spidev's after its timed block: the child moves the chip's link state
+// on without the parent's protocol engine, so that Device is not used
+// again).
 //
 // Every line starts with "bench:". Timings under QEMU TCG are emulated:
 // only ratios within one run mean something. CPU time is this process's
@@ -444,8 +447,6 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 	const auto spidevPhase = [&](bool first) {
 		Spidev s(spi.uri);
 		const Once lib = [&] { return s.lib(); };
-		if (first)
-			traced("spidev library Device::transact()", lib);
 		const ecmxf::SpidevStats s0 = s.sp->stats();
 		warmup(c.name, lib);
 		block(c, per, lib, 0);
@@ -454,6 +455,10 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 		sEdges += s1.int0Edges - s0.int0Edges;
 		sTimeouts += s1.int0Timeouts - s0.int0Timeouts;
 		sCommands += kWarmup + per;
+		// last: the traced child moves the chip's link state on without
+		// this process's engine (s is not used again)
+		if (first)
+			traced("spidev library Device::transact()", lib);
 	};
 
 	// A B | C, C | B A, A B | C, ...: one hand-over per block
