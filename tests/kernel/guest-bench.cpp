@@ -78,8 +78,12 @@ constexpr std::uint8_t kFwVersionGet = 56; // FW_VERSION_GET, immediate, read-on
 constexpr std::uint8_t kFwVersion = 0x30;  // the simulated chip's (sim.hpp ChipConfig)
 constexpr unsigned kWarmup = 20;
 constexpr unsigned kTraced = 50;
+// every path's commands may take this long: the guest can stall beyond the
+// 100 ms FW_VERSION_GET allows (a loaded host, ptrace)
+constexpr std::chrono::microseconds kTimeout{ 2'000'000 };
 
 std::string gKernel;
+std::string gWhy; ///< what the last failed command returned
 
 [[noreturn]] void die(const std::string &why)
 {
@@ -151,9 +155,11 @@ const char *syscallName(std::size_t nr)
 
 /// System calls made by @p body, run in a child process traced with
 /// PTRACE_SYSCALL (between two getppid() markers); @p which gets them by
-/// name. -1 where that cannot be counted (not x86-64).
-long countSyscalls(const std::function<void()> &body, std::string &which)
+/// name, @p failed the number @p body returns (its failed commands). -1
+/// where that cannot be counted (not x86-64).
+long countSyscalls(const std::function<int()> &body, std::string &which, int &failed)
 {
+	failed = -1;
 #if defined(__x86_64__)
 	std::fflush(stdout);
 	const pid_t pid = ::fork();
@@ -163,9 +169,9 @@ long countSyscalls(const std::function<void()> &body, std::string &which)
 		::ptrace(PTRACE_TRACEME, 0, nullptr, nullptr);
 		::raise(SIGSTOP);
 		::syscall(SYS_getppid);
-		body();
+		const int f = body();
 		::syscall(SYS_getppid);
-		::_exit(0);
+		::_exit(std::min(f, 255));
 	}
 	int st = 0;
 	::waitpid(pid, &st, 0);
@@ -179,7 +185,13 @@ long countSyscalls(const std::function<void()> &body, std::string &which)
 		if (::ptrace(PTRACE_SYSCALL, pid, nullptr, reinterpret_cast<void *>(sig)) < 0)
 			break;
 		sig = 0;
-		if (::waitpid(pid, &st, 0) < 0 || WIFEXITED(st) || WIFSIGNALED(st))
+		if (::waitpid(pid, &st, 0) < 0)
+			break;
+		if (WIFEXITED(st)) {
+			failed = WEXITSTATUS(st);
+			break;
+		}
+		if (WIFSIGNALED(st))
 			break;
 		if (!WIFSTOPPED(st))
 			continue;
@@ -204,7 +216,8 @@ long countSyscalls(const std::function<void()> &body, std::string &which)
 			sig = WSTOPSIG(st); // deliver it
 		}
 	}
-	::waitpid(pid, &st, 0);
+	if (failed < 0 && ::waitpid(pid, &st, 0) == pid && WIFEXITED(st))
+		failed = WEXITSTATUS(st);
 	for (std::size_t nr = 0; nr < nrs.size(); nr++) {
 		if (!nrs[nr])
 			continue;
@@ -217,6 +230,7 @@ long countSyscalls(const std::function<void()> &body, std::string &which)
 #else
 	(void)body;
 	(void)which;
+	(void)failed;
 	return -1;
 #endif
 }
@@ -227,20 +241,25 @@ using Once = std::function<bool()>;
 void traced(const char *path, const Once &once)
 {
 	std::string which;
+	int failed = 0;
 	const long calls = countSyscalls(
 		[&] {
+			int f = 0;
 			for (unsigned i = 0; i < kTraced; i++)
 				if (!once())
-					::_exit(3);
+					f++;
+			return f;
 		},
-		which);
+		which, failed);
 	if (calls < 0) {
-		std::printf("bench: %s %s: system calls per command not counted (no ptrace count here)\n",
-			    gKernel.c_str(), path);
+		std::printf("bench: %s %s: system calls per command not counted (no ptrace count here; child "
+			    "status %d)\n",
+			    gKernel.c_str(), path, failed);
 		return;
 	}
-	std::printf("bench: %s %s: %.2f system calls per command (ptrace, %u commands:%s)\n", gKernel.c_str(), path,
-		    static_cast<double>(calls) / kTraced, kTraced, which.c_str());
+	std::printf("bench: %s %s: %.2f system calls per command (ptrace, %u commands:%s)%s\n", gKernel.c_str(),
+		    path, static_cast<double>(calls) / kTraced, kTraced, which.c_str(),
+		    failed ? (" - " + std::to_string(failed) + " FAILED").c_str() : "");
 	std::fflush(stdout);
 }
 
@@ -257,7 +276,7 @@ void warmup(const char *name, const Once &once)
 {
 	for (unsigned i = 0; i < kWarmup; i++)
 		if (!once())
-			die(std::string(name) + ": wrong answer in the warm-up");
+			die(std::string(name) + ": wrong answer in the warm-up: " + gWhy);
 }
 
 void block(Path &p, unsigned n, const Once &once, long worker)
@@ -266,7 +285,8 @@ void block(Path &p, unsigned n, const Once &once, long worker)
 	const auto t0 = std::chrono::steady_clock::now();
 	for (unsigned i = 0; i < n; i++)
 		if (!once())
-			die(std::string(p.name) + ": wrong answer in round " + std::to_string(p.commands + i));
+			die(std::string(p.name) + ": wrong answer in round " + std::to_string(p.commands + i) + ": " +
+			    gWhy);
 	const auto t1 = std::chrono::steady_clock::now();
 	p.cpuUs += cpuUs() - c0;
 	p.workerUs += taskCpuUs(worker) - w0;
@@ -365,6 +385,15 @@ void toEcmxf(const Spi &s)
 
 // ---- the paths
 
+/// A command's outcome: @p err (0 or an errno value) and the return value.
+bool check(int err, std::uint8_t ret)
+{
+	if (err == 0 && ret == kFwVersion)
+		return true;
+	gWhy = err ? std::strerror(err) : "FW_VERSION_GET returned " + std::to_string(ret);
+	return false;
+}
+
 struct Kernel {
 	std::unique_ptr<ecmxf::Device> dev;
 	ecmxf::KernelTransport *k = nullptr;
@@ -377,15 +406,21 @@ struct Kernel {
 	{
 		dev = ecmxf::Device::open(node);
 		k = &dynamic_cast<ecmxf::KernelTransport &>(dev->transport());
+		dev->setMinimumTimeout(kTimeout);
 		c.code = kFwVersionGet;
 		worker = workerPid();
 	}
-	bool lib() { return dev->transact(c, {}, rx, h) == 0 && h.ret == kFwVersion; }
+	bool lib() { return check(dev->transact(c, {}, rx, h), h.ret); }
 	bool command()
 	{
 		ecmxf::Command cmd;
 		cmd.code = kFwVersionGet;
-		return dev->command(cmd).ret == kFwVersion;
+		try {
+			return check(0, dev->command(cmd).ret);
+		} catch (const ecmxf::Error &e) {
+			gWhy = e.what();
+			return false;
+		}
 	}
 	bool raw()
 	{
@@ -393,7 +428,10 @@ struct Kernel {
 		cmd.hdr.code = kFwVersionGet;
 		cmd.rx_ptr = reinterpret_cast<std::uintptr_t>(rx.data());
 		cmd.rx_size = static_cast<std::uint32_t>(rx.size());
-		return ::ioctl(k->fd(), ECMXF_IOC_CMD, &cmd) == 0 && cmd.status == 0 && cmd.rsp.ret == kFwVersion;
+		cmd.timeout_us = static_cast<std::uint32_t>(kTimeout.count());
+		if (::ioctl(k->fd(), ECMXF_IOC_CMD, &cmd) < 0)
+			return check(errno, 0);
+		return check(-cmd.status, cmd.rsp.ret);
 	}
 };
 
@@ -408,9 +446,10 @@ struct Spidev {
 	{
 		dev = ecmxf::Device::open(uri);
 		sp = &dynamic_cast<ecmxf::SpidevTransport &>(dev->transport());
+		dev->setMinimumTimeout(kTimeout);
 		c.code = kFwVersionGet;
 	}
-	bool lib() { return dev->transact(c, {}, rx, h) == 0 && h.ret == kFwVersion; }
+	bool lib() { return check(dev->transact(c, {}, rx, h), h.ret); }
 };
 
 int run(unsigned n, unsigned blocks, const Spi &spi)
