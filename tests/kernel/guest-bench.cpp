@@ -410,7 +410,11 @@ struct Kernel {
 		c.code = kFwVersionGet;
 		worker = workerPid();
 	}
-	bool lib() { return check(dev->transact(c, {}, rx, h), h.ret); }
+	bool lib()
+	{
+		const int err = dev->transact(c, {}, rx, h);
+		return check(err, h.ret);
+	}
 	bool command()
 	{
 		ecmxf::Command cmd;
@@ -449,7 +453,11 @@ struct Spidev {
 		dev->setMinimumTimeout(kTimeout);
 		c.code = kFwVersionGet;
 	}
-	bool lib() { return check(dev->transact(c, {}, rx, h), h.ret); }
+	bool lib()
+	{
+		const int err = dev->transact(c, {}, rx, h);
+		return check(err, h.ret);
+	}
 };
 
 int run(unsigned n, unsigned blocks, const Spi &spi)
