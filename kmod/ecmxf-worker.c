@@ -626,7 +626,9 @@ static void ecmxf_start_reset(struct ecmxf_dev *edev, struct ecmxf_req *req)
 /*
  * Sleep until there is work: a kick, INT1, kthread_stop(), @until_ns
  * (ktime_get_ns() clock; U64_MAX: no timeout) for the events' poll, or
- * the PDO pump's next timer deadline.
+ * the PDO pump's next timer deadline.  A wake-up by INT0 (rising after
+ * the last exchange of a command) only puts it back to sleep, without a
+ * turn of the owner loop.
  */
 static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 {
@@ -640,13 +642,21 @@ static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 		until_ns = pump;
 	t = ns_to_ktime(until_ns);
 
-	set_current_state(TASK_IDLE);
-	if (!atomic_read(&edev->kick) && !atomic_read(&edev->int1_flag) &&
-	    !kthread_should_stop()) {
+	for (;;) {
+		set_current_state(TASK_IDLE);
+		if (atomic_read(&edev->kick) || atomic_read(&edev->int1_flag) ||
+		    kthread_should_stop())
+			break;
 		if (until_ns == U64_MAX)
 			schedule();
-		else
-			schedule_hrtimeout(&t, HRTIMER_MODE_ABS);
+		else if (!schedule_hrtimeout(&t, HRTIMER_MODE_ABS))
+			break;		/* @until_ns reached */
+		/*
+		 * an INT0 edge ("ready" after the last exchange) is no work:
+		 * sleep on (the next wait for "ready" reads the line level)
+		 */
+		if (!atomic_xchg(&edev->int0_flag, 0))
+			break;
 	}
 	__set_current_state(TASK_RUNNING);
 }
