@@ -24,8 +24,8 @@
 // medians (and the median of the per-block ratios), so a host that slows
 // down for a while moves the spread, not the ratio.
 //
-// In the first block, every path (and Device::command() over
-// /dev/ecmxf0) also runs 50 commands in a child traced with
+// In the first block, every path (and Device::command(), and transact()
+// after dataSize() and checkType(), over /dev/ecmxf0) also runs 50 commands in a child traced with
 // ptrace(PTRACE_SYSCALL): the system calls per command, counted exactly
 // (spidev's after its timed block: the child moves the chip's link state
 // on without the parent's protocol engine, so that Device is not used
@@ -476,6 +476,18 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 		if (first) {
 			traced("/dev/ecmxf0 library Device::transact()", lib);
 			traced("/dev/ecmxf0 library Device::command()", [&] { return k.command(); });
+			// as the typed commands that check a size first (FoE, PDO
+			// frames, mailbox reads): the format is kept, not asked
+			traced("/dev/ecmxf0 library Device::dataSize() + checkType() + transact()", [&] {
+				const ecmxf::KernelDevInfo &at = k.k->openInfo();
+				if (k.dev->dataSize() != at.dataSize ||
+				    static_cast<unsigned>(k.dev->checkType()) != at.checkType) {
+					gWhy = "dataSize() " + std::to_string(k.dev->dataSize()) + ", checkType() " +
+					       std::to_string(static_cast<unsigned>(k.dev->checkType()));
+					return false;
+				}
+				return k.lib();
+			});
 			traced("/dev/ecmxf0 raw ECMXF_IOC_CMD", raw);
 		}
 		const ecmxf::KernelCounters c0 = k.k->counters();
