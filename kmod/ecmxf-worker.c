@@ -75,21 +75,37 @@ static void ecmxf_sleep_until(struct ecmxf_dev *edev, u64 until_ns)
 }
 
 /*
- * After an exchange: wait until the chip is ready for the next one.
- * Without INT0 the chip needs up to 150 us.  With INT0, wait for its
- * level or its edge, but never longer than ECMXF_READY_TIMEOUT_US: a chip
- * that stays busy then answers "not ready", which the engine counts and
- * retries.
+ * Before an exchange: wait until the chip is ready for it, counted from
+ * the end of the previous one.  Without INT0 the chip needs up to 150 us.
+ * With INT0, wait for its level or its edge, but never longer than
+ * ECMXF_READY_TIMEOUT_US after that exchange: a chip that stays busy then
+ * answers "not ready", which the engine counts and retries.
+ *
+ * Waiting here rather than right after the exchange lets the worker hand
+ * an answer to its caller first: the chip's processing time after the
+ * exchange that brought the answer overlaps with the caller's wake-up,
+ * and the next command usually finds the chip ready.
  */
 static void ecmxf_wait_ready(struct ecmxf_dev *edev)
 {
+	u64 ready_ns = edev->xfer_end_ns + ECMXF_READY_WAIT_US * NSEC_PER_USEC;
 	ktime_t deadline;
 
+	if (!edev->xfer_end_ns)
+		return;		/* nothing exchanged yet */
 	if (!edev->int0) {
-		usleep_range(ECMXF_READY_WAIT_US, ECMXF_READY_WAIT_US + 50);
+		/* as usleep_range(): a wake-up does not end the wait */
+		deadline = ns_to_ktime(ready_ns);
+		while (ktime_get_ns() < ready_ns) {
+			set_current_state(TASK_IDLE);
+			schedule_hrtimeout_range(&deadline, 50 * NSEC_PER_USEC,
+						 HRTIMER_MODE_ABS);
+		}
+		__set_current_state(TASK_RUNNING);
 		return;
 	}
-	deadline = ktime_add_us(ktime_get(), ECMXF_READY_TIMEOUT_US);
+	deadline = ns_to_ktime(edev->xfer_end_ns +
+			       ECMXF_READY_TIMEOUT_US * NSEC_PER_USEC);
 	for (;;) {
 		if (gpiod_get_value_cansleep(edev->int0) > 0)
 			return;
@@ -119,10 +135,12 @@ static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
 		.rx_buf = edev->rxbuf,
 		.len = n,
 	};
-	u64 now = ktime_get_ns();
 	unsigned int ev;
+	u64 now;
 	int ret;
 
+	ecmxf_wait_ready(edev);
+	now = ktime_get_ns();
 	ret = ecmxf_engine_next(&edev->e, now, edev->txbuf, n);
 	if (ret == -EAGAIN) {
 		ecmxf_sleep_until(edev, ecmxf_engine_not_before(&edev->e));
@@ -140,10 +158,10 @@ static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
 		memset(edev->rxbuf, 0, n);
 	}
 	now = ktime_get_ns();
+	edev->xfer_end_ns = now;
 	ev = ecmxf_engine_input(&edev->e, now, edev->rxbuf, n);
 	if (ev & ECMXF_EV_HEADER)
 		ecmxf_nl_header(edev, now);	/* events (ecmxf-netlink.c) */
-	ecmxf_wait_ready(edev);
 	return ev;
 }
 
@@ -608,7 +626,9 @@ static void ecmxf_start_reset(struct ecmxf_dev *edev, struct ecmxf_req *req)
 /*
  * Sleep until there is work: a kick, INT1, kthread_stop(), @until_ns
  * (ktime_get_ns() clock; U64_MAX: no timeout) for the events' poll, or
- * the PDO pump's next timer deadline.
+ * the PDO pump's next timer deadline.  A wake-up by INT0 (rising after
+ * the last exchange of a command) only puts it back to sleep, without a
+ * turn of the owner loop.
  */
 static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 {
@@ -622,13 +642,21 @@ static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 		until_ns = pump;
 	t = ns_to_ktime(until_ns);
 
-	set_current_state(TASK_IDLE);
-	if (!atomic_read(&edev->kick) && !atomic_read(&edev->int1_flag) &&
-	    !kthread_should_stop()) {
+	for (;;) {
+		set_current_state(TASK_IDLE);
+		if (atomic_read(&edev->kick) || atomic_read(&edev->int1_flag) ||
+		    kthread_should_stop())
+			break;
 		if (until_ns == U64_MAX)
 			schedule();
-		else
-			schedule_hrtimeout(&t, HRTIMER_MODE_ABS);
+		else if (!schedule_hrtimeout(&t, HRTIMER_MODE_ABS))
+			break;		/* @until_ns reached */
+		/*
+		 * an INT0 edge ("ready" after the last exchange) is no work:
+		 * sleep on (the next wait for "ready" reads the line level)
+		 */
+		if (!atomic_xchg(&edev->int0_flag, 0))
+			break;
 	}
 	__set_current_state(TASK_RUNNING);
 }

@@ -387,6 +387,9 @@ struct ecmxf_pump {
  *	starts) touches it
  * @txbuf: DMA-safe packet buffer, host to chip (worker only)
  * @rxbuf: DMA-safe packet buffer, chip to host (worker only)
+ * @xfer_end_ns: when the last exchange ended (ktime_get_ns()), 0 before
+ *	the first; the wait for "ready" before the next one counts from it
+ *	(worker only)
  * @wkc_last: last WKC error count seen (worker only)
  * @wkc_valid: @wkc_last holds a value (worker only)
  * @next_expire_ns: next scan for expired queued requests (worker only)
@@ -448,6 +451,7 @@ struct ecmxf_dev {
 	struct ecmxf_engine e;
 	u8 *txbuf;
 	u8 *rxbuf;
+	u64 xfer_end_ns;
 	u8 wkc_last;
 	bool wkc_valid;
 	u64 next_expire_ns;

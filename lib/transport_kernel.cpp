@@ -16,6 +16,7 @@
 #include <optional>
 #include <string>
 
+#include "ecmxf-proto.h"
 #include "lib_text.hpp"
 #include "uapi/linux/ecmxf.h"
 
@@ -89,22 +90,29 @@ KernelTransport::~KernelTransport()
 		::close(fd_);
 }
 
+bool KernelTransport::refreshFormat() const noexcept
+{
+	if (!formatStale_)
+		return true;
+	try {
+		(void)devInfo(); // clears formatStale_
+		return true;
+	} catch (...) {
+		return false;
+	}
+}
+
 std::optional<std::uint8_t> KernelTransport::checkTypeNow() const noexcept
 {
-	try {
-		return devInfo().checkType;
-	} catch (...) {
+	if (!refreshFormat())
 		return std::nullopt;
-	}
+	return checkType_;
 }
 
 std::uint16_t KernelTransport::dataSize() const noexcept
 {
-	try {
-		return devInfo().dataSize;
-	} catch (...) {
-		return info_.dataSize;
-	}
+	refreshFormat(); // on failure: the last value known
+	return dataSize_;
 }
 
 KernelDevInfo KernelTransport::devInfo() const
@@ -125,6 +133,9 @@ KernelDevInfo KernelTransport::devInfo() const
 	i.claimPid = d.claim_pid;
 	i.queueDepth = d.queue_depth;
 	i.spiSpeedHz = d.spi_speed_hz;
+	dataSize_ = i.dataSize;
+	checkType_ = i.checkType;
+	formatStale_ = false;
 	return i;
 }
 
@@ -181,6 +192,7 @@ void KernelTransport::reset(KernelReset kind, std::uint32_t param, std::uint32_t
 	if (kind != KernelReset::AsyncCmd && param)
 		throw Error(name() + ": a reset parameter is only allowed for ASYNCCMD_RESET", EINVAL);
 	r.timeout_us = timeoutUs;
+	formatStale_ = true; // a warm reset goes back to the power-on format
 	if (::ioctl(fd_, ECMXF_IOC_RESET, &r) < 0)
 		ioctlFailed(name(), "ECMXF_IOC_RESET", errno);
 }
@@ -205,10 +217,15 @@ int KernelTransport::doCommand(const RawRequest &req, RawResult &res, const char
 	c.rx_size = static_cast<__u32>(req.rx.size());
 	c.timeout_us = req.timeoutUs;
 	c.flags = req.noAutoClear ? ECMXF_CMD_F_NO_AUTO_CLEAR : 0u;
+	// the one system call of a command: the format is kept, not asked
+	// (dataSize(), checkTypeNow())
 	if (::ioctl(fd_, ECMXF_IOC_CMD, &c) < 0) {
+		formatStale_ = true;
 		failedCall = "ECMXF_IOC_CMD";
 		return -errno;
 	}
+	if (c.status != 0 || req.code == ECMXF_CMD_SPI_RECONFIG_OP || req.code == ECMXF_CMD_CRC_TYPE_SET)
+		formatStale_ = true;
 	res.status = c.status;
 	res.header = fromUapi(c.rsp);
 	res.rxLen = std::min<std::size_t>(c.rx_len, req.rx.size());

@@ -103,14 +103,20 @@ public:
 	explicit KernelTransport(const std::string &path);
 	~KernelTransport() override;
 
-	/// ECMXF_IOC_DEVINFO now (the value read at open: openInfo()).
+	/// ECMXF_IOC_DEVINFO now (the value read at open: openInfo()); also
+	/// refreshes the packet format dataSize() and checkTypeNow() keep.
 	[[nodiscard]] KernelDevInfo devInfo() const;
 	[[nodiscard]] const KernelDevInfo &openInfo() const noexcept { return info_; }
-	/// The driver's data section size now (ECMXF_IOC_DEVINFO; the value
-	/// read at open if that ioctl fails).
+	/// The driver's data section size. Kept without a system call: read
+	/// at open and read again (ECMXF_IOC_DEVINFO) on the first call after
+	/// a command through this transport that can change the format
+	/// (SPI_RECONFIG_OP, CRC_TYPE_SET), after reset(), and after any
+	/// command that failed (the chip may have reset). A change made
+	/// through another open file of the device is seen after such an
+	/// event or devInfo(). If the ioctl fails, the last value known.
 	[[nodiscard]] std::uint16_t dataSize() const noexcept override;
-	/// The driver's check word type now (ECMXF_IOC_DEVINFO); nullopt when
-	/// that ioctl fails.
+	/// The driver's check word type, kept as dataSize(); nullopt when it
+	/// had to be read again and ECMXF_IOC_DEVINFO failed.
 	[[nodiscard]] std::optional<std::uint8_t> checkTypeNow() const noexcept override;
 	/// ECMXF_IOC_COUNTERS.
 	[[nodiscard]] KernelCounters counters() const;
@@ -125,8 +131,16 @@ protected:
 	[[nodiscard]] int doCommand(const RawRequest &req, RawResult &res, const char *&failedCall) noexcept override;
 
 private:
+	/// Reads ECMXF_IOC_DEVINFO into the kept format if it is stale;
+	/// false when that ioctl fails.
+	bool refreshFormat() const noexcept;
+
 	int fd_ = -1;
 	KernelDevInfo info_;
+	// the packet format in force as last read (dataSize(), checkTypeNow())
+	mutable std::uint16_t dataSize_ = 0;
+	mutable std::uint8_t checkType_ = 0;
+	mutable bool formatStale_ = false;
 };
 
 } // namespace ecmxf

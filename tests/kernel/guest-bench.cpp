@@ -4,30 +4,58 @@
 // /dev/ecmxf0 and through spidev, on the same virtual controller and the
 // same simulated chip (Documentation/kernel-testing.rst, "Benchmarks").
 //
+//   ecmxf-guest-bench <N> <blocks> <spi device> <gpiochip>
 //   ecmxf-guest-bench kernel <N> [/dev/ecmxfN]
-//       library Device over KernelTransport (Device::transact()), and the
-//       bare ECMXF_IOC_CMD ioctl; writes the means to /tmp/ecmxf-bench-kernel
-//   ecmxf-guest-bench spidev <N> <spidev URI>
-//       library Device over SpidevTransport (INT0 by libgpiod), the same
-//       Device::transact(); with /tmp/ecmxf-bench-kernel present, prints
-//       the kernel/spidev ratios
+//
+// The second form times only A and B (10 interleaved blocks), on the
+// device given, without handing the SPI device over (figures for
+// steps/check/72-integration.sh).
+//
+// Three paths, each N commands in <blocks> interleaved blocks (after 20
+// unmeasured rounds whenever a path starts again):
+//   A  library Device::transact() over KernelTransport (/dev/ecmxf0)
+//   B  the bare ECMXF_IOC_CMD ioctl on the same file
+//   C  library Device::transact() over SpidevTransport (INT0 by libgpiod)
+// The SPI device (e.g. spi0.0) is handed from ecmxf to spidev and back
+// between the blocks through sysfs (unbind, driver_override, bind), in the
+// order A B | C, C | B A, A B | C, ... so that every path sees the same
+// host load; ecmxf is bound at the start and at the end. Each path's
+// figure is the median of its block means, the ratios are ratios of
+// medians (and the median of the per-block ratios), so a host that slows
+// down for a while moves the spread, not the ratio.
+//
+// In the first block, every path (and Device::command(), and transact()
+// after dataSize() and checkType(), over /dev/ecmxf0) also runs 50 commands in a child traced with
+// ptrace(PTRACE_SYSCALL): the system calls per command, counted exactly
+// (spidev's after its timed block: the child moves the chip's link state
+// on without the parent's protocol engine, so that Device is not used
+// again).
 //
 // Every line starts with "bench:". Timings under QEMU TCG are emulated:
 // only ratios within one run mean something. CPU time is this process's
-// user + system time (getrusage): the driver's worker thread and the
-// bridge process are not in it.
+// user + system time (getrusage), and for /dev/ecmxf0 also the kernel
+// worker's (/proc/PID/schedstat of the kthread ecmxf0); the bridge
+// process (the chip) is in neither.
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/kernel_transport.hpp>
 #include <ecmxf/spidev_transport.hpp>
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/ioctl.h>
+#include <sys/ptrace.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <sys/user.h>
 #include <sys/utsname.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <chrono>
@@ -36,8 +64,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <fstream>
+#include <functional>
+#include <memory>
 #include <string>
-#include <string_view>
+#include <vector>
 
 #include <uapi/linux/ecmxf.h>
 
@@ -45,9 +76,20 @@ namespace {
 
 constexpr std::uint8_t kFwVersionGet = 56; // FW_VERSION_GET, immediate, read-only
 constexpr std::uint8_t kFwVersion = 0x30;  // the simulated chip's (sim.hpp ChipConfig)
-constexpr const char *kResultFile = "/tmp/ecmxf-bench-kernel";
+constexpr unsigned kWarmup = 20;
+constexpr unsigned kTraced = 50;
+// every path's commands may take this long: the guest can stall beyond the
+// 100 ms FW_VERSION_GET allows (a loaded host, ptrace)
+constexpr std::chrono::microseconds kTimeout{ 2'000'000 };
 
 std::string gKernel;
+std::string gWhy; ///< what the last failed command returned
+
+[[noreturn]] void die(const std::string &why)
+{
+	std::printf("bench: FAIL %s\n", why.c_str());
+	std::exit(1);
+}
 
 double cpuUs()
 {
@@ -59,121 +101,484 @@ double cpuUs()
 	return us(ru.ru_utime) + us(ru.ru_stime);
 }
 
-struct Result {
-	double meanUs = 0;
-	double cpuUs = 0;
-};
-
-/// Runs @p once @p n times (after 20 unmeasured warm-up rounds); @p once
-/// returns false on a wrong answer, which ends the program.
-template <typename F>
-Result measure(const char *path, unsigned n, F &&once)
+/// The pid of the kernel thread "ecmxf0" (the link worker), or 0.
+long workerPid()
 {
-	for (unsigned i = 0; i < 20; i++)
-		if (!once()) {
-			std::printf("bench: FAIL %s: wrong answer in the warm-up\n", path);
-			std::exit(1);
-		}
-	const double c0 = cpuUs();
-	const auto t0 = std::chrono::steady_clock::now();
-	// the first and the last tenth on their own: a path that slows down
-	// as commands accumulate shows here
-	const unsigned tenth = n / 10 ? n / 10 : 1;
-	auto tFirst = t0, tLast = t0;
-	for (unsigned i = 0; i < n; i++) {
-		if (i == tenth)
-			tFirst = std::chrono::steady_clock::now();
-		if (i == n - tenth)
-			tLast = std::chrono::steady_clock::now();
-		if (!once()) {
-			std::printf("bench: FAIL %s: wrong answer in round %u\n", path, i);
-			std::exit(1);
+	DIR *d = ::opendir("/proc");
+	if (!d)
+		return 0;
+	long found = 0;
+	while (dirent *e = ::readdir(d)) {
+		const long pid = std::strtol(e->d_name, nullptr, 10);
+		if (pid <= 0)
+			continue;
+		std::ifstream comm("/proc/" + std::string(e->d_name) + "/comm");
+		std::string name;
+		if (std::getline(comm, name) && name == "ecmxf0") {
+			found = pid;
+			break;
 		}
 	}
-	const auto t1 = std::chrono::steady_clock::now();
-	const double c1 = cpuUs();
-	Result r;
-	r.meanUs = std::chrono::duration<double, std::micro>(t1 - t0).count() / n;
-	r.cpuUs = (c1 - c0) / n;
-	std::printf("bench: %s %s: %.1f us per command, %.1f us cpu (user+sys) per command (%u commands; first "
-		    "tenth %.1f us, last tenth %.1f us per command)\n",
-		    gKernel.c_str(), path, r.meanUs, r.cpuUs, n,
-		    std::chrono::duration<double, std::micro>(tFirst - t0).count() / tenth,
-		    std::chrono::duration<double, std::micro>(t1 - tLast).count() / tenth);
-	std::fflush(stdout);
-	return r;
+	::closedir(d);
+	return found;
 }
 
-/// Device::transact() of FW_VERSION_GET: allocation-free, the same call
-/// over either transport.
-Result libraryPath(ecmxf::Device &dev, const char *path, unsigned n)
+/// CPU time of @p pid in microseconds (schedstat: ns on the CPU), or 0.
+double taskCpuUs(long pid)
 {
+	if (!pid)
+		return 0;
+	std::ifstream f("/proc/" + std::to_string(pid) + "/schedstat");
+	unsigned long long ns = 0;
+	f >> ns;
+	return static_cast<double>(ns) / 1000.0;
+}
+
+const char *syscallName(std::size_t nr)
+{
+	switch (nr) {
+	case SYS_read: return "read";
+	case SYS_write: return "write";
+	case SYS_poll: return "poll";
+	case SYS_ioctl: return "ioctl";
+	case SYS_brk: return "brk";
+	case SYS_mmap: return "mmap";
+	case SYS_munmap: return "munmap";
+	case SYS_futex: return "futex";
+	case SYS_clock_gettime: return "clock_gettime";
+	case SYS_clock_nanosleep: return "clock_nanosleep";
+	case SYS_nanosleep: return "nanosleep";
+	case SYS_ppoll: return "ppoll";
+	default: return nullptr;
+	}
+}
+
+/// System calls made by @p body, run in a child process traced with
+/// PTRACE_SYSCALL (between two getppid() markers); @p which gets them by
+/// name, @p failed the number @p body returns (its failed commands). -1
+/// where that cannot be counted (not x86-64).
+long countSyscalls(const std::function<int()> &body, std::string &which, int &failed)
+{
+	failed = -1;
+#if defined(__x86_64__)
+	std::fflush(stdout);
+	const pid_t pid = ::fork();
+	if (pid < 0)
+		return -1;
+	if (pid == 0) {
+		::ptrace(PTRACE_TRACEME, 0, nullptr, nullptr);
+		::raise(SIGSTOP);
+		::syscall(SYS_getppid);
+		const int f = body();
+		::syscall(SYS_getppid);
+		::_exit(std::min(f, 255));
+	}
+	int st = 0;
+	::waitpid(pid, &st, 0);
+	::ptrace(PTRACE_SETOPTIONS, pid, nullptr, reinterpret_cast<void *>(PTRACE_O_TRACESYSGOOD | PTRACE_O_EXITKILL));
+	long count = 0;
+	int markers = 0;
+	std::vector<long> nrs; // syscall number -> count
+	bool entry = true;
+	long sig = 0;
+	for (;;) {
+		if (::ptrace(PTRACE_SYSCALL, pid, nullptr, reinterpret_cast<void *>(sig)) < 0)
+			break;
+		sig = 0;
+		if (::waitpid(pid, &st, 0) < 0)
+			break;
+		if (WIFEXITED(st)) {
+			failed = WEXITSTATUS(st);
+			break;
+		}
+		if (WIFSIGNALED(st))
+			break;
+		if (!WIFSTOPPED(st))
+			continue;
+		if (WSTOPSIG(st) == (SIGTRAP | 0x80)) {
+			if (entry) {
+				user_regs_struct regs{};
+				::ptrace(PTRACE_GETREGS, pid, nullptr, &regs);
+				if (static_cast<long>(regs.orig_rax) == SYS_getppid)
+					markers++;
+				else if (markers == 1) {
+					count++;
+					const auto nr = static_cast<std::size_t>(regs.orig_rax);
+					if (nr < 1024) {
+						if (nrs.size() <= nr)
+							nrs.resize(nr + 1, 0);
+						nrs[nr]++;
+					}
+				}
+			}
+			entry = !entry;
+		} else {
+			sig = WSTOPSIG(st); // deliver it
+		}
+	}
+	if (failed < 0 && ::waitpid(pid, &st, 0) == pid && WIFEXITED(st))
+		failed = WEXITSTATUS(st);
+	for (std::size_t nr = 0; nr < nrs.size(); nr++) {
+		if (!nrs[nr])
+			continue;
+		const char *name = syscallName(nr);
+		which += " ";
+		which += name ? name : "nr" + std::to_string(nr);
+		which += "=" + std::to_string(nrs[nr]);
+	}
+	return markers >= 2 ? count : -1;
+#else
+	(void)body;
+	(void)which;
+	(void)failed;
+	return -1;
+#endif
+}
+
+/// One FW_VERSION_GET; false on a wrong answer.
+using Once = std::function<bool()>;
+
+void traced(const char *path, const Once &once)
+{
+	std::string which;
+	int failed = 0;
+	const long calls = countSyscalls(
+		[&] {
+			int f = 0;
+			for (unsigned i = 0; i < kTraced; i++)
+				if (!once())
+					f++;
+			return f;
+		},
+		which, failed);
+	if (calls < 0) {
+		std::printf("bench: %s %s: system calls per command not counted (no ptrace count here; child "
+			    "status %d)\n",
+			    gKernel.c_str(), path, failed);
+		return;
+	}
+	std::printf("bench: %s %s: %.2f system calls per command (ptrace, %u commands:%s)%s\n", gKernel.c_str(),
+		    path, static_cast<double>(calls) / kTraced, kTraced, which.c_str(),
+		    failed ? (" - " + std::to_string(failed) + " FAILED").c_str() : "");
+	std::fflush(stdout);
+}
+
+/// A path's blocks.
+struct Path {
+	const char *name;
+	std::vector<double> blockUs; ///< mean per command of each block
+	double cpuUs = 0;            ///< this process, summed over the blocks
+	double workerUs = 0;         ///< the kernel worker, summed
+	unsigned commands = 0;
+};
+
+void warmup(const char *name, const Once &once)
+{
+	for (unsigned i = 0; i < kWarmup; i++)
+		if (!once())
+			die(std::string(name) + ": wrong answer in the warm-up: " + gWhy);
+}
+
+void block(Path &p, unsigned n, const Once &once, long worker)
+{
+	const double c0 = cpuUs(), w0 = taskCpuUs(worker);
+	const auto t0 = std::chrono::steady_clock::now();
+	for (unsigned i = 0; i < n; i++)
+		if (!once())
+			die(std::string(p.name) + ": wrong answer in round " + std::to_string(p.commands + i) + ": " +
+			    gWhy);
+	const auto t1 = std::chrono::steady_clock::now();
+	p.cpuUs += cpuUs() - c0;
+	p.workerUs += taskCpuUs(worker) - w0;
+	p.blockUs.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count() / n);
+	p.commands += n;
+}
+
+double median(std::vector<double> v)
+{
+	if (v.empty())
+		return 0;
+	std::sort(v.begin(), v.end());
+	const std::size_t m = v.size() / 2;
+	return v.size() % 2 ? v[m] : (v[m - 1] + v[m]) / 2;
+}
+
+void report(const Path &p)
+{
+	const double med = median(p.blockUs);
+	const auto [lo, hi] = std::minmax_element(p.blockUs.begin(), p.blockUs.end());
+	std::printf("bench: %s %s: %.1f us per command (median of %zu blocks; blocks %.1f .. %.1f us), %.1f us cpu "
+		    "(user+sys) per command",
+		    gKernel.c_str(), p.name, med, p.blockUs.size(), *lo, *hi, p.cpuUs / p.commands);
+	if (p.workerUs > 0)
+		std::printf(" + %.1f us in the kernel worker", p.workerUs / p.commands);
+	std::printf(" (%u commands)\n", p.commands);
+}
+
+/// Median over the blocks of @p a's block time / @p b's same block.
+double pairedRatio(const Path &a, const Path &b)
+{
+	std::vector<double> r;
+	for (std::size_t i = 0; i < a.blockUs.size() && i < b.blockUs.size(); i++)
+		r.push_back(a.blockUs[i] / b.blockUs[i]);
+	return median(r);
+}
+
+void ratio(const char *what, const Path &a, const Path &b, const char *note)
+{
+	std::vector<double> r;
+	for (std::size_t i = 0; i < a.blockUs.size() && i < b.blockUs.size(); i++)
+		r.push_back(a.blockUs[i] / b.blockUs[i]);
+	std::sort(r.begin(), r.end());
+	std::printf("bench: %s: %.2f (ratio of the medians; per block: median %.2f, %.2f .. %.2f)%s\n", what,
+		    median(a.blockUs) / median(b.blockUs), pairedRatio(a, b), r.front(), r.back(), note);
+}
+
+// ---- handing the SPI device between ecmxf and spidev (sysfs)
+
+void sysfsWrite(const std::string &file, const std::string &value)
+{
+	const int fd = ::open(file.c_str(), O_WRONLY | O_CLOEXEC);
+	if (fd < 0)
+		die("open " + file + ": " + std::strerror(errno));
+	const ssize_t n = ::write(fd, value.data(), value.size());
+	const int err = errno;
+	::close(fd);
+	if (n != static_cast<ssize_t>(value.size()))
+		die("write \"" + value + "\" to " + file + ": " + std::strerror(err));
+}
+
+void waitNode(const std::string &node, bool present)
+{
+	struct stat sb {};
+	for (int i = 0; i < 500; i++) {
+		if ((::stat(node.c_str(), &sb) == 0) == present)
+			return;
+		::usleep(10'000);
+	}
+	die(node + (present ? " did not appear" : " did not go away"));
+}
+
+struct Spi {
+	std::string dev;   ///< e.g. spi0.0
+	std::string node;  ///< /dev/spidev0.0
+	std::string uri;   ///< the spidev: URI
+};
+
+void toSpidev(const Spi &s)
+{
+	sysfsWrite("/sys/bus/spi/drivers/ecmxf/unbind", s.dev);
+	waitNode("/dev/ecmxf0", false);
+	sysfsWrite("/sys/bus/spi/devices/" + s.dev + "/driver_override", "spidev");
+	sysfsWrite("/sys/bus/spi/drivers/spidev/bind", s.dev);
+	waitNode(s.node, true);
+}
+
+void toEcmxf(const Spi &s)
+{
+	sysfsWrite("/sys/bus/spi/drivers/spidev/unbind", s.dev);
+	waitNode(s.node, false);
+	sysfsWrite("/sys/bus/spi/devices/" + s.dev + "/driver_override", "\n");
+	sysfsWrite("/sys/bus/spi/drivers/ecmxf/bind", s.dev);
+	waitNode("/dev/ecmxf0", true);
+}
+
+// ---- the paths
+
+/// A command's outcome: @p err (0 or an errno value) and the return value.
+bool check(int err, std::uint8_t ret)
+{
+	if (err == 0 && ret == kFwVersion)
+		return true;
+	gWhy = err ? std::strerror(err) : "FW_VERSION_GET returned " + std::to_string(ret);
+	return false;
+}
+
+struct Kernel {
+	std::unique_ptr<ecmxf::Device> dev;
+	ecmxf::KernelTransport *k = nullptr;
 	ecmxf::RawCommand c;
-	c.code = kFwVersionGet;
 	std::array<std::uint8_t, 1408> rx{};
 	ecmxf::ResponseHeader h;
-	return measure(path, n, [&] { return dev.transact(c, {}, rx, h) == 0 && h.ret == kFwVersion; });
-}
+	long worker = 0;
 
-int runKernel(unsigned n, const std::string &node)
-{
-	auto dev = ecmxf::Device::open(node);
-	auto &k = dynamic_cast<ecmxf::KernelTransport &>(dev->transport());
-	const ecmxf::KernelCounters c0 = k.counters();
-	const Result lib = libraryPath(*dev, "/dev/ecmxf0 library (KernelTransport)", n);
-	const ecmxf::KernelCounters c1 = k.counters();
-	std::printf("bench: %s /dev/ecmxf0: %.2f SPI exchanges, %.2f INT0 interrupts per command\n", gKernel.c_str(),
-		    static_cast<double>(c1.exchanges - c0.exchanges) / (n + 20),
-		    static_cast<double>(c1.int0Irqs - c0.int0Irqs) / (n + 20));
-
-	// the bare ioctl, as a C program would make it
-	const int fd = k.fd();
-	std::array<std::uint8_t, 1408> rx{};
-	const Result raw = measure("/dev/ecmxf0 raw ECMXF_IOC_CMD", n, [&] {
+	explicit Kernel(const std::string &node = "/dev/ecmxf0")
+	{
+		dev = ecmxf::Device::open(node);
+		k = &dynamic_cast<ecmxf::KernelTransport &>(dev->transport());
+		dev->setMinimumTimeout(kTimeout);
+		c.code = kFwVersionGet;
+		worker = workerPid();
+	}
+	bool lib()
+	{
+		const int err = dev->transact(c, {}, rx, h);
+		return check(err, h.ret);
+	}
+	bool command()
+	{
+		ecmxf::Command cmd;
+		cmd.code = kFwVersionGet;
+		try {
+			return check(0, dev->command(cmd).ret);
+		} catch (const ecmxf::Error &e) {
+			gWhy = e.what();
+			return false;
+		}
+	}
+	bool raw()
+	{
 		ecmxf_cmd cmd{};
 		cmd.hdr.code = kFwVersionGet;
 		cmd.rx_ptr = reinterpret_cast<std::uintptr_t>(rx.data());
 		cmd.rx_size = static_cast<std::uint32_t>(rx.size());
-		return ::ioctl(fd, ECMXF_IOC_CMD, &cmd) == 0 && cmd.status == 0 && cmd.rsp.ret == kFwVersion;
-	});
-
-	FILE *f = std::fopen(kResultFile, "w");
-	if (!f) {
-		std::printf("bench: FAIL cannot write %s: %s\n", kResultFile, std::strerror(errno));
-		return 1;
+		cmd.timeout_us = static_cast<std::uint32_t>(kTimeout.count());
+		if (::ioctl(k->fd(), ECMXF_IOC_CMD, &cmd) < 0)
+			return check(errno, 0);
+		return check(-cmd.status, cmd.rsp.ret);
 	}
-	std::fprintf(f, "%f %f %f %f\n", lib.meanUs, lib.cpuUs, raw.meanUs, raw.cpuUs);
-	std::fclose(f);
+};
+
+struct Spidev {
+	std::unique_ptr<ecmxf::Device> dev;
+	ecmxf::SpidevTransport *sp = nullptr;
+	ecmxf::RawCommand c;
+	std::array<std::uint8_t, 1408> rx{};
+	ecmxf::ResponseHeader h;
+
+	explicit Spidev(const std::string &uri)
+	{
+		dev = ecmxf::Device::open(uri);
+		sp = &dynamic_cast<ecmxf::SpidevTransport &>(dev->transport());
+		dev->setMinimumTimeout(kTimeout);
+		c.code = kFwVersionGet;
+	}
+	bool lib()
+	{
+		const int err = dev->transact(c, {}, rx, h);
+		return check(err, h.ret);
+	}
+};
+
+int run(unsigned n, unsigned blocks, const Spi &spi)
+{
+	const unsigned per = n / blocks ? n / blocks : 1;
+	Path a{ "/dev/ecmxf0 library (KernelTransport)", {}, 0, 0, 0 };
+	Path b{ "/dev/ecmxf0 raw ECMXF_IOC_CMD", {}, 0, 0, 0 };
+	Path c{ "spidev library (SpidevTransport, INT0 by libgpiod)", {}, 0, 0, 0 };
+	std::uint64_t kExchanges = 0, kInt0 = 0, kCommands = 0;
+	std::uint64_t sExchanges = 0, sEdges = 0, sTimeouts = 0, sCommands = 0;
+
+	const auto kernelPhase = [&](bool first, bool reversed) {
+		Kernel k;
+		const Once lib = [&] { return k.lib(); };
+		const Once raw = [&] { return k.raw(); };
+		if (first) {
+			traced("/dev/ecmxf0 library Device::transact()", lib);
+			traced("/dev/ecmxf0 library Device::command()", [&] { return k.command(); });
+			// as the typed commands that check a size first (FoE, PDO
+			// frames, mailbox reads): the format is kept, not asked
+			traced("/dev/ecmxf0 library Device::dataSize() + checkType() + transact()", [&] {
+				const ecmxf::KernelDevInfo &at = k.k->openInfo();
+				if (k.dev->dataSize() != at.dataSize ||
+				    static_cast<unsigned>(k.dev->checkType()) != at.checkType) {
+					gWhy = "dataSize() " + std::to_string(k.dev->dataSize()) + ", checkType() " +
+					       std::to_string(static_cast<unsigned>(k.dev->checkType()));
+					return false;
+				}
+				return k.lib();
+			});
+			traced("/dev/ecmxf0 raw ECMXF_IOC_CMD", raw);
+		}
+		const ecmxf::KernelCounters c0 = k.k->counters();
+		for (int i = 0; i < 2; i++) {
+			const bool libNow = (i == 0) != reversed;
+			Path &p = libNow ? a : b;
+			const Once &once = libNow ? lib : raw;
+			warmup(p.name, once);
+			block(p, per, once, k.worker);
+		}
+		const ecmxf::KernelCounters c1 = k.k->counters();
+		kExchanges += c1.exchanges - c0.exchanges;
+		kInt0 += c1.int0Irqs - c0.int0Irqs;
+		kCommands += 2 * (kWarmup + per);
+	};
+	const auto spidevPhase = [&](bool first) {
+		Spidev s(spi.uri);
+		const Once lib = [&] { return s.lib(); };
+		const ecmxf::SpidevStats s0 = s.sp->stats();
+		warmup(c.name, lib);
+		block(c, per, lib, 0);
+		const ecmxf::SpidevStats s1 = s.sp->stats();
+		sExchanges += s1.exchanges - s0.exchanges;
+		sEdges += s1.int0Edges - s0.int0Edges;
+		sTimeouts += s1.int0Timeouts - s0.int0Timeouts;
+		sCommands += kWarmup + per;
+		// last: the traced child moves the chip's link state on without
+		// this process's engine (s is not used again)
+		if (first)
+			traced("spidev library Device::transact()", lib);
+	};
+
+	// A B | C, C | B A, A B | C, ...: one hand-over per block
+	for (unsigned i = 0; i < blocks; i++) {
+		if (i % 2 == 0) {
+			kernelPhase(i == 0, false);
+			toSpidev(spi);
+			spidevPhase(i == 0);
+		} else {
+			spidevPhase(false);
+			toEcmxf(spi);
+			kernelPhase(false, true);
+		}
+	}
+	if (blocks % 2)
+		toEcmxf(spi);
+
+	std::printf("bench: %s round trip of FW_VERSION_GET, %u blocks of %u commands per path, interleaved "
+		    "(A B | C, C | B A, ...)\n",
+		    gKernel.c_str(), blocks, per);
+	report(a);
+	report(b);
+	report(c);
+	std::printf("bench: %s /dev/ecmxf0: %.2f SPI exchanges, %.2f INT0 interrupts per command\n", gKernel.c_str(),
+		    static_cast<double>(kExchanges) / static_cast<double>(kCommands),
+		    static_cast<double>(kInt0) / static_cast<double>(kCommands));
+	std::printf("bench: %s spidev: %.2f SPI exchanges, %.2f INT0 edges, %llu INT0 timeouts per %llu commands\n",
+		    gKernel.c_str(), static_cast<double>(sExchanges) / static_cast<double>(sCommands),
+		    static_cast<double>(sEdges) / static_cast<double>(sCommands),
+		    static_cast<unsigned long long>(sTimeouts), static_cast<unsigned long long>(sCommands));
+	ratio("kernel/spidev round-trip ratio", a, c,
+	      " (library over /dev/ecmxf0 vs library over spidev; < 1: the kernel path is cheaper)");
+	ratio("kernel/spidev round-trip ratio, raw ECMXF_IOC_CMD", b, c, "");
+	ratio("library/raw round-trip ratio over /dev/ecmxf0", a, b, "");
+	std::printf("bench: kernel/spidev cpu ratio (this process only): %.2f; with the kernel worker: %.2f\n",
+		    c.cpuUs > 0 ? (a.cpuUs / a.commands) / (c.cpuUs / c.commands) : 0.0,
+		    c.cpuUs > 0 ? ((a.cpuUs + a.workerUs) / a.commands) / (c.cpuUs / c.commands) : 0.0);
+	std::printf("bench: (QEMU TCG: the times above are emulated; only the ratios within this run mean "
+		    "something)\n");
 	return 0;
 }
 
-int runSpidev(unsigned n, const std::string &uri)
+/// A and B only, on @p node, 10 interleaved blocks.
+int runKernelOnly(unsigned n, const std::string &node)
 {
-	auto dev = ecmxf::Device::open(uri);
-	auto &sp = dynamic_cast<ecmxf::SpidevTransport &>(dev->transport());
-	const ecmxf::SpidevStats s0 = sp.stats();
-	const Result lib = libraryPath(*dev, "spidev library (SpidevTransport, INT0 by libgpiod)", n);
-	const ecmxf::SpidevStats s1 = sp.stats();
-	std::printf("bench: %s spidev: %.2f SPI exchanges, %.2f INT0 edges, %llu INT0 timeouts per %u commands\n",
-		    gKernel.c_str(), static_cast<double>(s1.exchanges - s0.exchanges) / (n + 20),
-		    static_cast<double>(s1.int0Edges - s0.int0Edges) / (n + 20),
-		    static_cast<unsigned long long>(s1.int0Timeouts - s0.int0Timeouts), n + 20);
-
-	FILE *f = std::fopen(kResultFile, "r");
-	double kLib = 0, kLibCpu = 0, kRaw = 0, kRawCpu = 0;
-	if (!f || std::fscanf(f, "%lf %lf %lf %lf", &kLib, &kLibCpu, &kRaw, &kRawCpu) != 4) {
-		std::printf("bench: FAIL no kernel figures in %s (run \"kernel\" first)\n", kResultFile);
-		return 1;
+	const unsigned blocks = n >= 10 ? 10 : 1;
+	const unsigned per = n / blocks;
+	Path a{ "/dev/ecmxf0 library (KernelTransport)", {}, 0, 0, 0 };
+	Path b{ "/dev/ecmxf0 raw ECMXF_IOC_CMD", {}, 0, 0, 0 };
+	Kernel k(node);
+	const Once lib = [&] { return k.lib(); };
+	const Once raw = [&] { return k.raw(); };
+	warmup(a.name, lib);
+	warmup(b.name, raw);
+	for (unsigned i = 0; i < blocks; i++) {
+		block(i % 2 ? b : a, per, i % 2 ? raw : lib, k.worker);
+		block(i % 2 ? a : b, per, i % 2 ? lib : raw, k.worker);
 	}
-	std::fclose(f);
-	std::printf("bench: kernel/spidev round-trip ratio: %.2f (library over /dev/ecmxf0 vs library over "
-		    "spidev; < 1: the kernel path is cheaper)\n",
-		    kLib / lib.meanUs);
-	std::printf("bench: kernel/spidev round-trip ratio, raw ECMXF_IOC_CMD: %.2f\n", kRaw / lib.meanUs);
-	std::printf("bench: kernel/spidev cpu ratio (this process only): %.2f\n",
-		    lib.cpuUs > 0 ? kLibCpu / lib.cpuUs : 0.0);
-	std::printf("bench: (QEMU TCG: the times above are emulated; only the ratios within this run mean "
-		    "something)\n");
+	report(a);
+	report(b);
+	ratio("library/raw round-trip ratio over /dev/ecmxf0", a, b, "");
 	return 0;
 }
 
@@ -183,25 +588,38 @@ int main(int argc, char **argv)
 {
 	utsname u{};
 	gKernel = ::uname(&u) == 0 ? u.release : "?";
-	if (argc < 3) {
-		std::fprintf(stderr, "usage: ecmxf-guest-bench kernel <N> [/dev/ecmxfN] | spidev <N> <URI>\n");
-		return 2;
-	}
-	const std::string_view mode = argv[1];
-	const auto n = static_cast<unsigned>(std::strtoul(argv[2], nullptr, 10));
-	if (n == 0) {
-		std::fprintf(stderr, "ecmxf-guest-bench: N must be positive\n");
-		return 2;
-	}
 	try {
-		if (mode == "kernel")
-			return runKernel(n, argc > 3 ? argv[3] : "/dev/ecmxf0");
-		if (mode == "spidev" && argc > 3)
-			return runSpidev(n, argv[3]);
+		if (argc >= 3 && std::string(argv[1]) == "kernel") {
+			const auto n = static_cast<unsigned>(std::strtoul(argv[2], nullptr, 10));
+			if (n == 0) {
+				std::fprintf(stderr, "ecmxf-guest-bench: N must be positive\n");
+				return 2;
+			}
+			return runKernelOnly(n, argc > 3 ? argv[3] : "/dev/ecmxf0");
+		}
 	} catch (const std::exception &e) {
-		std::printf("bench: FAIL %s: %s\n", std::string(mode).c_str(), e.what());
+		std::printf("bench: FAIL kernel: %s\n", e.what());
 		return 1;
 	}
-	std::fprintf(stderr, "usage: ecmxf-guest-bench kernel <N> [/dev/ecmxfN] | spidev <N> <URI>\n");
-	return 2;
+	if (argc != 5) {
+		std::fprintf(stderr, "usage: ecmxf-guest-bench <N> <blocks> <spi device> <gpiochip> | kernel <N> [/dev/ecmxfN]\n");
+		return 2;
+	}
+	const auto n = static_cast<unsigned>(std::strtoul(argv[1], nullptr, 10));
+	const auto blocks = static_cast<unsigned>(std::strtoul(argv[2], nullptr, 10));
+	if (n == 0 || blocks == 0 || blocks > n) {
+		std::fprintf(stderr, "ecmxf-guest-bench: N and blocks must be positive, blocks <= N\n");
+		return 2;
+	}
+	Spi spi;
+	spi.dev = argv[3];
+	spi.node = "/dev/spidev" + spi.dev.substr(spi.dev.find_first_of("0123456789"));
+	const std::string chip = argv[4];
+	spi.uri = "spidev:" + spi.node + "?int0=" + chip + ":0&int1=" + chip + ":1&check=crc32";
+	try {
+		return run(n, blocks, spi);
+	} catch (const std::exception &e) {
+		std::printf("bench: FAIL %s\n", e.what());
+		return 1;
+	}
 }
