@@ -76,6 +76,10 @@ int main(int argc, char **argv)
 		if (gone)
 			return bridgeGone(path);
 		auto dev = ecmxf::Device::open(path);
+		// time limits are not what this checks: a loaded TCG guest (the
+		// debug kernel above all) can stall a command beyond the table's
+		// 100 ms
+		dev->setMinimumTimeout(std::chrono::seconds(5));
 
 		// what the bridge's chip is (ChipConfig defaults) and what
 		// ecmxf.ko set at probe: the power-on 112-byte data section
