@@ -1595,31 +1595,38 @@ void faultsSilent(int fd)
 		if (!f || std::fputs(v, f) < 0 || std::fclose(f) != 0)
 			fatal(std::string("write ") + param);
 	};
-	setTimeout("300");
+	// Each transfer fails after 2 s; a command allowed 1 s is sent
+	// (its first transfer starts) well within its deadline, which then
+	// passes during that transfer. With 100 ms against 300 ms the loaded
+	// debug-kernel guest once took longer than the deadline to hand the
+	// command to the link at all: it expired in the queue, no transfer
+	// was made and bad_start stayed 0.
+	setTimeout("2000");
 
 	std::uint8_t rx[64];
 	ecmxf_cmd c = cmdOf(kFwVersionGet);
-	c.timeout_us = 100'000;
+	c.timeout_us = 1'000'000;
 	Res r{};
 	Delta d = withFault(fd, "silent 1", c, r, rx, sizeof(rx));
-	expectErr("silent 1: FW_VERSION_GET (timeout_us 100 ms, transfers fail after 300 ms)", r.ret, r.err, 0);
+	expectErr("silent 1: FW_VERSION_GET (timeout_us 1 s, transfers fail after 2 s)", r.ret, r.err, 0);
 	expectStatus("  its status", c.status, -ETIMEDOUT);
 	expectEq("  counters.timeouts increment", d.timeouts, 1);
 	expectTrue("  counters.bad_start increment >= 1 (an all-zero packet per failed transfer)", d.start >= 1,
 		   std::to_string(d.start));
 
+	// nine failed transfers of 2 s each: 18 s
 	c = cmdOf(kFwVersionGet);
-	c.timeout_us = 30'000'000;
+	c.timeout_us = 60'000'000;
 	d = withFault(fd, "silent 1", c, r, rx, sizeof(rx));
-	expectErr("silent 1: FW_VERSION_GET with timeout_us 30 s", r.ret, r.err, 0);
+	expectErr("silent 1: FW_VERSION_GET with timeout_us 60 s", r.ret, r.err, 0);
 	expectStatus("  its status: retries exhausted on start words", c.status, -EPROTO);
 	expectEq("  counters.bad_start increment", d.start, 9);
 	expectEq("  counters.exhausted increment", d.exhausted, 1);
 
 	c = cmdOf(kStateUpdate);
-	c.timeout_us = 500'000;
+	c.timeout_us = 1'000'000;
 	d = withFault(fd, "silent 1", c, r);
-	expectErr("silent 1: ECAT_STATE_UPDATE timeout_us 500 ms", r.ret, r.err, 0);
+	expectErr("silent 1: ECAT_STATE_UPDATE timeout_us 1 s", r.ret, r.err, 0);
 	expectStatus("  its status", c.status, -ETIMEDOUT);
 
 	ctl("silent 0");
