@@ -53,6 +53,12 @@ MODULE_PARM_DESC(event_poll_ms,
 #define ECMXF_NL_EVENT_SIZE	256
 /* a user command may go before the AL status query this often in a row */
 #define ECMXF_NL_QUERY_PATIENCE	4
+/*
+ * time allowed for each command of the AL status query: not the table's
+ * 100 ms, which a loaded (or emulated) host exceeded for one exchange
+ * pair, losing the slaves of the event; the answer is what it is for
+ */
+#define ECMXF_NL_QUERY_TIMEOUT_US	(1000 * USEC_PER_MSEC)
 
 /* steps of the AL status query (&ecmxf_nl_dev.q_state) */
 enum {
@@ -527,7 +533,7 @@ bool ecmxf_nl_query_submit(struct ecmxf_dev *edev)
 		x->rx_size = sizeof(nl->ix_rx);
 		break;
 	}
-	/* immediate commands: the table's default timeout (100 ms) */
+	x->timeout_us = ECMXF_NL_QUERY_TIMEOUT_US;
 	nl->ix_err = h ? h->err_status : 0;
 	ret = ecmxf_engine_submit(&edev->e, x, ktime_get_ns());
 	if (ret) {

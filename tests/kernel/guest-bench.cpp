@@ -79,8 +79,8 @@ constexpr std::uint8_t kFwVersion = 0x30;  // the simulated chip's (sim.hpp Chip
 constexpr unsigned kWarmup = 20;
 constexpr unsigned kTraced = 50;
 // every path's commands may take this long: the guest can stall beyond the
-// 100 ms FW_VERSION_GET allows (a loaded host, ptrace)
-constexpr std::chrono::microseconds kTimeout{ 2'000'000 };
+// 100 ms FW_VERSION_GET allows (a loaded host, ptrace; the debug kernel)
+constexpr std::chrono::microseconds kTimeout{ 5'000'000 };
 
 std::string gKernel;
 std::string gWhy; ///< what the last failed command returned

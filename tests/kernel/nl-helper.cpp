@@ -22,11 +22,18 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/kernel_transport.hpp>
 
+#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <string>
 #include <string_view>
 #include <utility>
+
+namespace {
+// time limits are not what the step checks: a loaded TCG guest (the debug
+// kernel above all) can stall a command beyond the table's 100 ms
+constexpr std::chrono::seconds kPatience{ 5 };
+} // namespace
 
 int main(int argc, char **argv)
 {
@@ -35,6 +42,7 @@ int main(int argc, char **argv)
 	try {
 		if (what == "op") {
 			auto dev = ecmxf::Device::open(path);
+			dev->setMinimumTimeout(kPatience);
 			dev->initNetwork();
 			dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
 			dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::SafeOp);
@@ -44,6 +52,7 @@ int main(int argc, char **argv)
 		}
 		if (what == "refused") {
 			auto dev = ecmxf::Device::open(path);
+			dev->setMinimumTimeout(kPatience);
 			dev->stateSet(0, ecmxf::State::Init);
 			try {
 				dev->stateSet(0, ecmxf::State::Op); // INIT -> OP: not allowed
