@@ -72,6 +72,8 @@
 
 #include <uapi/linux/ecmxf.h>
 
+#include "bench-proc.hpp"
+
 namespace {
 
 constexpr std::uint8_t kFwVersionGet = 56; // FW_VERSION_GET, immediate, read-only
@@ -91,48 +93,9 @@ std::string gWhy; ///< what the last failed command returned
 	std::exit(1);
 }
 
-double cpuUs()
-{
-	rusage ru{};
-	getrusage(RUSAGE_SELF, &ru);
-	const auto us = [](const timeval &t) {
-		return static_cast<double>(t.tv_sec) * 1e6 + static_cast<double>(t.tv_usec);
-	};
-	return us(ru.ru_utime) + us(ru.ru_stime);
-}
-
-/// The pid of the kernel thread "ecmxf0" (the link worker), or 0.
-long workerPid()
-{
-	DIR *d = ::opendir("/proc");
-	if (!d)
-		return 0;
-	long found = 0;
-	while (dirent *e = ::readdir(d)) {
-		const long pid = std::strtol(e->d_name, nullptr, 10);
-		if (pid <= 0)
-			continue;
-		std::ifstream comm("/proc/" + std::string(e->d_name) + "/comm");
-		std::string name;
-		if (std::getline(comm, name) && name == "ecmxf0") {
-			found = pid;
-			break;
-		}
-	}
-	::closedir(d);
-	return found;
-}
-
-/// CPU time of @p pid in microseconds (schedstat: ns on the CPU), or 0.
-double taskCpuUs(long pid)
-{
-	if (!pid)
-		return 0;
-	std::ifstream f("/proc/" + std::to_string(pid) + "/schedstat");
-	unsigned long long ns = 0;
-	f >> ns;
-	return static_cast<double>(ns) / 1000.0;
-}
+using ecmxf::ktest::cpuUs;
+using ecmxf::ktest::taskCpuUs;
+using ecmxf::ktest::workerPid;
 
 const char *syscallName(std::size_t nr)
 {

@@ -30,6 +30,8 @@ fail() {
 bridge=""
 bridge_start() {
 	[ -n "$bridge" ] && fail "bridge_start: a bridge is already running"
+	# the wait below looks for "ready" in the log: not the old bridge's
+	rm -f /tmp/bridge.log
 	/bin/ecmxf-bridge "$@" 2>/tmp/bridge.log &
 	bridge=$!
 	i=0
@@ -54,6 +56,18 @@ bridge_stop() {
 # injection, see tests/kernel/bridge.cpp); prints the bridge's reply
 bridge_ctl() {
 	/bin/ecmxf-bridge ctl "$@" || fail "bridge_ctl $*"
+}
+
+# wait_for FILE PATTERN SECONDS: until grep -q finds PATTERN in FILE;
+# status 1 when it did not within SECONDS
+wait_for() {
+	n=0
+	until grep -q "$2" "$1" 2>/dev/null; do
+		n=$((n + 1))
+		[ "$n" -gt $(($3 * 10)) ] && return 1
+		sleep 0.1
+	done
+	return 0
 }
 
 ecmxf_load() {

@@ -14,11 +14,6 @@ rings_bridge() {
 	spidev=$(basename "$(readlink /sys/class/ecmxf/ecmxf0/device)")
 	echo "$spidev" >/sys/bus/spi/drivers/ecmxf/unbind || fail "unbind $spidev"
 	bridge_stop
-	# bridge_start waits for "ready" in /tmp/bridge.log, which the new
-	# bridge's redirection empties only once it runs: without this the
-	# old bridge's line can pass the wait, and the bind below then finds
-	# no bridge (seen on the debug kernel: probe -EPROTO after -ENOTCONN)
-	rm -f /tmp/bridge.log
 	/bin/ecmxf-guest-rings --network >/tmp/rings.net
 	bridge_start "$@" /tmp/rings.net
 	echo "$spidev" >/sys/bus/spi/drivers/ecmxf/bind || fail "bind $spidev"
@@ -33,16 +28,6 @@ rings_lockstep() {
 	echo "guest-test: info lock-step $hz Hz: $t0 s -> $t1 s of guest uptime"
 	bridge_ctl state
 }
-# rings_wait_for FILE PATTERN SECONDS: until grep -q finds PATTERN in FILE
-rings_wait_for() {
-	n=0
-	until grep -q "$2" "$1" 2>/dev/null; do
-		n=$((n + 1))
-		[ "$n" -gt $(($3 * 10)) ] && return 1
-		sleep 0.1
-	done
-	return 0
-}
 # the ratio-mode run; with "monitor", `ecmxf-util monitor` listens and must
 # report the input ring's overflow (which the run provokes) as a PDO_LOSS
 # event with the kernel's count
@@ -52,7 +37,7 @@ rings_with() {
 	if [ "${3:-}" = monitor ]; then
 		/bin/ecmxf-util -d /dev/ecmxf0 monitor --json >/tmp/rings-mon.json 2>/tmp/rings-mon.err &
 		rmon=$!
-		rings_wait_for /tmp/rings-mon.err listening 30 || fail "ecmxf-util monitor did not subscribe"
+		wait_for /tmp/rings-mon.err listening 30 || fail "ecmxf-util monitor did not subscribe"
 	fi
 	/bin/ecmxf-guest-rings run /dev/ecmxf0 "$hz" 2000 "$scale" || fail "ecmxf-guest-rings at $hz Hz"
 	bridge_ctl state
@@ -62,7 +47,7 @@ rings_with() {
 		want=$(cat /sys/class/ecmxf/ecmxf0/counters/in_ring_overruns)
 		[ "$want" -gt 0 ] || fail "in_ring_overruns is $want after the overflow check"
 		loss="\"type\": \"pdo_loss\", \"loss\": \"in_ring_overrun\", \"increase\": [0-9]*, \"total\": $want[,}]"
-		if ! rings_wait_for /tmp/rings-mon.json "$loss" 30; then
+		if ! wait_for /tmp/rings-mon.json "$loss" 30; then
 			kill "$rmon" 2>/dev/null
 			sed 's/^/monitor: /' /tmp/rings-mon.json /tmp/rings-mon.err
 			fail "ecmxf-util monitor reported no PDO_LOSS in_ring_overrun event with the total $want"
@@ -109,7 +94,6 @@ echo "guest-test: info pump commands failed (ring_failures): $failures"
 spidev=$(basename "$(readlink /sys/class/ecmxf/ecmxf0/device)")
 echo "$spidev" >/sys/bus/spi/drivers/ecmxf/unbind || fail "unbind $spidev"
 bridge_stop
-rm -f /tmp/bridge.log
 bridge_start
 echo "$spidev" >/sys/bus/spi/drivers/ecmxf/bind || fail "bind $spidev (default bridge)"
 [ -c /dev/ecmxf0 ] || fail "no /dev/ecmxf0 after the rings"

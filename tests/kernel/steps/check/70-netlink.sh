@@ -9,17 +9,6 @@
 mon_out=/tmp/monitor.json
 mon_err=/tmp/monitor.err
 
-# wait_for FILE PATTERN SECONDS: until grep -q finds PATTERN in FILE
-wait_for() {
-	n=0
-	until grep -q "$2" "$1" 2>/dev/null; do
-		n=$((n + 1))
-		[ "$n" -gt $(($3 * 10)) ] && return 1
-		sleep 0.1
-	done
-	return 0
-}
-
 /bin/ecmxf-nl-helper op /dev/ecmxf0 || fail "bus to OP before the netlink test"
 
 /bin/ecmxf-util -d /dev/ecmxf0 monitor --json --count 50 >"$mon_out" 2>"$mon_err" &
