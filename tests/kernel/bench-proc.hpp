@@ -4,9 +4,11 @@
 #pragma once
 
 #include <dirent.h>
+#include <sched.h>
 #include <sys/resource.h>
 #include <sys/time.h>
 
+#include <cerrno>
 #include <cstdlib>
 #include <fstream>
 #include <string>
@@ -24,8 +26,8 @@ inline double cpuUs()
 	return us(ru.ru_utime) + us(ru.ru_stime);
 }
 
-/// The pid of the kernel thread "ecmxf0" (the link worker), or 0.
-inline long workerPid()
+/// The pid of the first task whose /proc/PID/comm is @p comm, or 0.
+inline long pidOf(const std::string &comm)
 {
 	DIR *d = ::opendir("/proc");
 	if (!d)
@@ -35,15 +37,30 @@ inline long workerPid()
 		const long pid = std::strtol(e->d_name, nullptr, 10);
 		if (pid <= 0)
 			continue;
-		std::ifstream comm("/proc/" + std::string(e->d_name) + "/comm");
+		std::ifstream f("/proc/" + std::string(e->d_name) + "/comm");
 		std::string name;
-		if (std::getline(comm, name) && name == "ecmxf0") {
+		if (std::getline(f, name) && name == comm) {
 			found = pid;
 			break;
 		}
 	}
 	::closedir(d);
 	return found;
+}
+
+/// The pid of the kernel thread "ecmxf0" (the link worker), or 0.
+inline long workerPid()
+{
+	return pidOf("ecmxf0");
+}
+
+/// Runs @p pid (0: this thread) on CPU @p cpu only; 0 or the errno.
+inline int pinToCpu(long pid, unsigned cpu)
+{
+	cpu_set_t set;
+	CPU_ZERO(&set);
+	CPU_SET(cpu, &set);
+	return ::sched_setaffinity(static_cast<pid_t>(pid), sizeof(set), &set) ? errno : 0;
 }
 
 /// CPU time of @p pid in microseconds (schedstat: ns on the CPU), or 0.
