@@ -68,73 +68,6 @@ using ecmxf::ktest::cpuUs;
 using ecmxf::ktest::taskCpuUs;
 using ecmxf::ktest::workerPid;
 
-/// System calls made by @p body, run in a child process traced with
-/// PTRACE_SYSCALL (between two getppid() markers); -1 where that cannot be
-/// counted (not x86-64).
-long countSyscalls(const std::function<void()> &body, std::string &which)
-{
-#if defined(__x86_64__)
-	std::fflush(stdout);
-	const pid_t pid = ::fork();
-	if (pid < 0)
-		return -1;
-	if (pid == 0) {
-		::ptrace(PTRACE_TRACEME, 0, nullptr, nullptr);
-		::raise(SIGSTOP);
-		::syscall(SYS_getppid);
-		body();
-		::syscall(SYS_getppid);
-		::_exit(0);
-	}
-	int st = 0;
-	::waitpid(pid, &st, 0);
-	::ptrace(PTRACE_SETOPTIONS, pid, nullptr, reinterpret_cast<void *>(PTRACE_O_TRACESYSGOOD | PTRACE_O_EXITKILL));
-	long count = 0;
-	int markers = 0;
-	std::vector<long> nrs; // syscall number -> count
-	bool entry = true;
-	long sig = 0;
-	for (;;) {
-		if (::ptrace(PTRACE_SYSCALL, pid, nullptr, reinterpret_cast<void *>(sig)) < 0)
-			break;
-		sig = 0;
-		if (::waitpid(pid, &st, 0) < 0 || WIFEXITED(st) || WIFSIGNALED(st))
-			break;
-		if (!WIFSTOPPED(st))
-			continue;
-		if (WSTOPSIG(st) == (SIGTRAP | 0x80)) {
-			if (entry) {
-				user_regs_struct regs{};
-				::ptrace(PTRACE_GETREGS, pid, nullptr, &regs);
-				if (static_cast<long>(regs.orig_rax) == SYS_getppid)
-					markers++;
-				else if (markers == 1) {
-					count++;
-					const auto nr = static_cast<std::size_t>(regs.orig_rax);
-					if (nr < 1024) {
-						if (nrs.size() <= nr)
-							nrs.resize(nr + 1, 0);
-						nrs[nr]++;
-					}
-				}
-			}
-			entry = !entry;
-		} else {
-			sig = WSTOPSIG(st); // deliver it
-		}
-	}
-	::waitpid(pid, &st, 0);
-	for (std::size_t nr = 0; nr < nrs.size(); nr++)
-		if (nrs[nr])
-			which += " nr" + std::to_string(nr) + "=" + std::to_string(nrs[nr]);
-	return markers >= 2 ? count : -1;
-#else
-	(void)body;
-	(void)which;
-	return -1;
-#endif
-}
-
 struct Figures {
 	double syscalls = -1; ///< per cycle
 	double appCpuUs = 0;  ///< this process, per cycle
@@ -158,14 +91,16 @@ Figures measure(const char *name, unsigned n, const std::function<void()> &once)
 	f.workerCpuUs = (taskCpuUs(wpid) - w0) / n;
 	f.wallUs = std::chrono::duration<double, std::micro>(t1 - t0).count() / n;
 	std::string which;
-	const long calls = countSyscalls(
+	int failedUnused = 0;
+	const long calls = ecmxf::ktest::countSyscalls(
 		[&] {
 			for (unsigned i = 0; i < kTraced; i++)
 				once();
+			return 0;
 		},
-		which);
+		which, failedUnused);
 	f.syscalls = calls < 0 ? -1 : static_cast<double>(calls) / kTraced;
-	std::printf("bench: cyclic %s: system calls in %u traced cycles by number (x86-64):%s\n", name, kTraced,
+	std::printf("bench: cyclic %s: system calls in %u traced cycles (x86-64):%s\n", name, kTraced,
 		    which.c_str());
 	std::printf("bench: cyclic %s: %.2f syscalls per cycle, CPU %.1f us per cycle in the application + %.1f us in "
 		    "the kernel worker, %.0f us wall per cycle (%u cycles, 1 ms period)\n",
