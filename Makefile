@@ -21,7 +21,7 @@ KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
 
 DEPS := scripts/install-deps.sh
 
-.PHONY: all deps configure check check-user check-debug-kernel check-asan fuzz demo bench kmod kmod-deps \
+.PHONY: all deps configure check check-user check-stress check-debug-kernel check-asan fuzz demo bench kmod kmod-deps \
 	kmod-check kmod-check-all checkpatch kernel-lint check-kernel kmod-clean install install-udev clean help
 
 all: configure
@@ -40,6 +40,14 @@ check: check-user check-kernel
 # The userspace suites only (ctest).
 check-user: all
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+# The userspace suite repeated STRESS_ROUNDS times per test under load:
+# every core busy (stress-ng), then pinned to one core (taskset); zero
+# failures is the bar (scripts/check-stress.sh).  Not in CI: run it before
+# merging anything that touches threads or timing.
+STRESS_ROUNDS ?= 20
+check-stress: all
+	scripts/check-stress.sh $(BUILD) $(STRESS_ROUNDS)
 
 # The same tests with AddressSanitizer + UndefinedBehaviorSanitizer.
 check-asan: deps
@@ -139,6 +147,7 @@ help:
 	@echo "make [all]     build the library, ecmxf-util and the tests"
 	@echo "make check     build and run every test: ctest, then check-kernel"
 	@echo "make check-user    the userspace tests only (ctest)"
+	@echo "make check-stress  the userspace tests STRESS_ROUNDS (20) times each under load, then on one core"
 	@echo "make demo      ecmxf-demo: a tour of the stack on the simulator (DEMO_ARGS=--fast)"
 	@echo "make bench     build and run the benchmarks (also in the QEMU guest: KBENCH_FLAVOURS=)"
 	@echo "make kmod      build kmod/ecmxf.ko (KDIR=/path/to/headers)"

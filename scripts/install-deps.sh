@@ -6,6 +6,7 @@
 #   scripts/install-deps.sh            build + test dependencies
 #   scripts/install-deps.sh --ci       also clang (fuzzing, sanitizers)
 #   scripts/install-deps.sh --bench    also Google Benchmark
+#   scripts/install-deps.sh --stress   also stress-ng (make check-stress)
 #   scripts/install-deps.sh --kernel   also Debian's kernel headers, normal and
 #                                      PREEMPT_RT (make kmod)
 #   scripts/install-deps.sh --qemu     also QEMU, busybox, cpio (make check-kernel)
@@ -22,6 +23,7 @@ for arg in "$@"; do
 	case "$arg" in
 	--ci) pkgs="$pkgs clang libclang-rt-14-dev llvm" ;;
 	--bench) pkgs="$pkgs libbenchmark-dev" ;;
+	--stress) pkgs="$pkgs stress-ng" ;;
 	--kernel) pkgs="$pkgs linux-headers-amd64 linux-headers-rt-amd64 kmod sparse" ;;
 	--qemu) pkgs="$pkgs qemu-system-x86 busybox-static cpio" ;;
 	--debug-kernel) pkgs="$pkgs linux-source-6.1 flex bison bc libelf-dev libssl-dev cpio xz-utils kmod" ;;
