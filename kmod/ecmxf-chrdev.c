@@ -23,38 +23,46 @@
 
 #include "ecmxf.h"
 
-/* Commands whose use of the chip's FIFOs belongs to the claim holder. */
-static bool ecmxf_is_fifo_cmd(unsigned int code)
+/*
+ * May @c send something of class @perm (Documentation/uapi.rst,
+ * "Permissions")?  Queries: any file.  The rest: a file open for writing;
+ * process data and FIFOs only from the claim holder while a claim is held
+ * (-EBUSY; devinfo names the holder); resets and reflashes also
+ * CAP_SYS_ADMIN, whoever holds the claim.  Lock held (for the claim).
+ */
+static int ecmxf_check_perm(struct ecmxf_client *c, enum ecmxf_perm perm)
 {
-	switch (code) {
-	case ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP:
-	case ECMXF_CMD_FIFO_ENABLE:
-	case ECMXF_CMD_FIFO_CLR_OP:
-	case ECMXF_CMD_FIFO_SET_TX_CNT:
-	case ECMXF_CMD_FIFO_SET_RX_CNT:
-	case ECMXF_CMD_FIFO_INIT:
-	case ECMXF_CMD_ECAT_SET_FIFO_TH:
-		return true;
-	default:
-		return false;
-	}
+	struct ecmxf_dev *edev = c->edev;
+
+	lockdep_assert_held(&edev->lock);
+	if (perm == ECMXF_PERM_QUERY)
+		return 0;
+	if (!c->writable)
+		return -EPERM;
+	if (perm == ECMXF_PERM_ADMIN && !capable(CAP_SYS_ADMIN))
+		return -EPERM;
+	if (perm == ECMXF_PERM_PROCESS && edev->claim && edev->claim != c)
+		return -EBUSY;
+	return 0;
 }
 
 /*
- * May @c send a command with these table flags?  Bus-changing commands
- * need a writable open; destructive ones also CAP_SYS_ADMIN or the
- * claim.  Lock held (for the claim).
+ * The class of a command header's side-effect fields: clearing interrupt
+ * flags (the PDO pump waits on them) is process data's; clearing error or
+ * GPIO interrupt bits and driving the GPIO outputs change the chip.  The
+ * refresh-state bit of the control byte and the INIT_OP bits of the
+ * reserved word only ask (or belong to a command of their own class).
  */
-static int ecmxf_check_perm(struct ecmxf_client *c, unsigned int flags)
+static enum ecmxf_perm ecmxf_hdr_perm(const struct ecmxf_cmd_hdr *h)
 {
-	lockdep_assert_held(&c->edev->lock);
-	if ((flags & (ECMXF_CMDF_BUS | ECMXF_CMDF_DESTRUCTIVE)) &&
-	    !c->writable)
-		return -EPERM;
-	if ((flags & ECMXF_CMDF_DESTRUCTIVE) && c->edev->claim != c &&
-	    !capable(CAP_SYS_ADMIN))
-		return -EPERM;
-	return 0;
+	if (h->int_clear)
+		return ECMXF_PERM_PROCESS;
+	if ((h->control & ~ECMXF_CTL_REFRESH_STATE) ||
+	    h->gpio_int_clear[0] || h->gpio_int_clear[1] ||
+	    (h->reserved & ECMXF_RSV_GPIO_OUT) ||
+	    h->gpio_out[0] || h->gpio_out[1])
+		return ECMXF_PERM_CHIP;
+	return ECMXF_PERM_QUERY;
 }
 
 /* Checks of a command that do not depend on the device state. */
@@ -164,9 +172,9 @@ static void ecmxf_rsp_to_user(struct ecmxf_rsp_header *u,
 static int ecmxf_queue_req(struct ecmxf_client *c, struct ecmxf_req *req)
 {
 	struct ecmxf_dev *edev = c->edev;
-	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(req->x.hdr.code);
-	/* a code the table does not know is treated as destructive */
-	unsigned int flags = ci ? ci->flags : ECMXF_CMDF_DESTRUCTIVE;
+	const struct ecmxf_cmd_hdr *h = &req->x.hdr;
+	enum ecmxf_perm perm = ecmxf_cmd_perm(h->code, h->param, req->tx,
+					      req->x.tx_len);
 	int ret;
 
 	mutex_lock(&edev->lock);
@@ -174,14 +182,11 @@ static int ecmxf_queue_req(struct ecmxf_client *c, struct ecmxf_req *req)
 		ret = -ENODEV;
 		goto out_unlock;
 	}
-	ret = ecmxf_check_perm(c, flags);
+	ret = ecmxf_check_perm(c, perm);
+	if (!ret)
+		ret = ecmxf_check_perm(c, ecmxf_hdr_perm(h));
 	if (ret)
 		goto out_unlock;
-	if (ecmxf_is_fifo_cmd(req->x.hdr.code) && edev->claim &&
-	    edev->claim != c) {
-		ret = -EBUSY;
-		goto out_unlock;
-	}
 	/* while the rings exist, the pump owns the FIFO exchange */
 	if (req->x.hdr.code == ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP && edev->rings) {
 		ret = -EBUSY;
@@ -281,19 +286,18 @@ static long ecmxf_ioc_submit(struct ecmxf_client *c, void __user *argp)
 
 	if (copy_from_user(&sub, argp, sizeof(sub)))
 		return -EFAULT;
-	ret = ecmxf_check_cmd(&sub.hdr, sub.tx_len, sub.tx_ptr, sub.rx_size,
-			      sub.rx_ptr, sub.flags, sub.reserved,
-			      sizeof(sub.reserved));
+	ret = ecmxf_check_cmd(&sub.hdr, sub.tx_len, sub.tx_ptr, 0, 0,
+			      sub.flags, sub.reserved, sizeof(sub.reserved));
 	if (ret)
 		return ret;
-	if (sub.rx_size && !access_ok(u64_to_user_ptr(sub.rx_ptr), sub.rx_size))
-		return -EFAULT;
+	/* the answer travels in the completion record, never to a pointer */
+	if (sub.reserved_ptr || sub.rx_size > ECMXF_DATA_SIZE_MAX)
+		return -EINVAL;
 	req = ecmxf_req_new(c, ECMXF_REQ_SUBMIT, &sub.hdr, sub.tx_ptr,
 			    sub.tx_len, sub.rx_size, sub.timeout_us, sub.flags);
 	if (IS_ERR(req))
 		return PTR_ERR(req);
 	req->cookie = sub.cookie;
-	req->rx_ptr = sub.rx_ptr;
 	ret = ecmxf_queue_req(c, req);
 	if (ret)
 		kfree(req);
@@ -306,7 +310,7 @@ static long ecmxf_ioc_reset(struct ecmxf_client *c, void __user *argp)
 	struct ecmxf_cmd_header h;
 	struct ecmxf_reset r;
 	struct ecmxf_req *req;
-	unsigned int flags;
+	enum ecmxf_perm perm;
 	int ret;
 
 	if (copy_from_user(&r, argp, sizeof(r)))
@@ -324,19 +328,19 @@ static long ecmxf_ioc_reset(struct ecmxf_client *c, void __user *argp)
 			return -EINVAL;
 		h.code = ECMXF_CMD_ASYNCCMD_RESET;
 		h.param = (u8)r.param;
-		flags = ECMXF_CMDF_BUS;
+		perm = ECMXF_PERM_CHIP;
 		break;
 	case ECMXF_RESET_F_WARM:
 		if (r.param)
 			return -EINVAL;
 		h.code = ECMXF_CMD_WARM_RESET;
-		flags = ECMXF_CMDF_DESTRUCTIVE;
+		perm = ECMXF_PERM_ADMIN;
 		break;
 	case ECMXF_RESET_F_LINK:
 		if (r.param)
 			return -EINVAL;
 		h.code = ECMXF_CMD_INFO_UPDATE_OP;	/* not sent */
-		flags = ECMXF_CMDF_BUS;
+		perm = ECMXF_PERM_CHIP;
 		break;
 	default:
 		return -EINVAL;
@@ -348,7 +352,7 @@ static long ecmxf_ioc_reset(struct ecmxf_client *c, void __user *argp)
 	req->reset_param = r.param;
 
 	mutex_lock(&edev->lock);
-	ret = edev->gone ? -ENODEV : ecmxf_check_perm(c, flags);
+	ret = edev->gone ? -ENODEV : ecmxf_check_perm(c, perm);
 	if (!ret) {
 		list_add_tail(&req->node, &edev->resets);
 		ecmxf_worker_kick(edev);
@@ -406,8 +410,8 @@ static long ecmxf_ioc_claim(struct ecmxf_client *c)
 	int ret = 0;
 
 	/*
-	 * The claim drives the outputs and stands in for CAP_SYS_ADMIN:
-	 * a read-only opener must not hold it (nor keep others from it).
+	 * The claim drives the outputs: a read-only opener must not hold it
+	 * (nor keep others from it).
 	 */
 	if (!c->writable)
 		return -EPERM;
@@ -590,24 +594,27 @@ static struct ecmxf_req *ecmxf_take_done(struct ecmxf_client *c)
 }
 
 /*
- * Deliver one completion record: the response data to the submit's
- * rx_ptr (in the reader's address space), the record to @buf.  On a
- * fault the record goes back to the head of the list.
+ * Deliver one completion record to @buf, the response data inline (the
+ * rest of the data array zeroed): read() writes nothing but its buffer.
+ * On a fault the record goes back to the head of the list.
  */
 static int ecmxf_deliver(struct ecmxf_client *c, struct ecmxf_req *req,
 			 char __user *buf)
 {
+	struct ecmxf_completion __user *u = (void __user *)buf;
 	struct ecmxf_dev *edev = c->edev;
-	struct ecmxf_completion rec;
+	struct ecmxf_rsp_header rsp;
 	u32 n = req->x.rx_len;
 
-	memset(&rec, 0, sizeof(rec));
-	rec.cookie = req->cookie;
-	rec.status = req->x.status;
-	rec.rx_len = n;
-	ecmxf_rsp_to_user(&rec.rsp, &req->x.rsp);
-	if ((n && copy_to_user(u64_to_user_ptr(req->rx_ptr), req->rx, n)) ||
-	    copy_to_user(buf, &rec, sizeof(rec))) {
+	/* field by field: the whole record is too large for the stack */
+	ecmxf_rsp_to_user(&rsp, &req->x.rsp);
+	if (put_user(req->cookie, &u->cookie) ||
+	    put_user(req->x.status, &u->status) ||
+	    put_user(n, &u->rx_len) ||
+	    copy_to_user(&u->rsp, &rsp, sizeof(rsp)) ||
+	    clear_user(u->reserved, sizeof(u->reserved)) ||
+	    (n && copy_to_user(u->data, req->rx, n)) ||
+	    clear_user(u->data + n, sizeof(u->data) - n)) {
 		mutex_lock(&edev->lock);
 		list_add(&req->node, &c->done);
 		mutex_unlock(&edev->lock);

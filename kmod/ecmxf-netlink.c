@@ -84,9 +84,21 @@ static const struct genl_small_ops ecmxf_nl_ops[] = {
 	},
 };
 
-/* flags 0: joining needs no capability (genetlink allows non-root receive) */
+/*
+ * Joining the events group needs CAP_NET_ADMIN: a listener makes the
+ * worker poll an idle chip and run AL status queries (bus traffic), which
+ * no unprivileged socket may cause.  GET_COUNTERS only reads, so it needs
+ * nothing (GENL_ADMIN_PERM would be for ops that change state; there are
+ * none).  Kernels whose genetlink predates the flag (before 6.1.64 and
+ * 6.7) let anyone join.
+ */
 static const struct genl_multicast_group ecmxf_nl_mcgrps[] = {
-	{ .name = ECMXF_GENL_MCGRP_EVENTS },
+	{
+		.name = ECMXF_GENL_MCGRP_EVENTS,
+#ifdef GENL_MCAST_CAP_NET_ADMIN
+		.flags = GENL_MCAST_CAP_NET_ADMIN,
+#endif
+	},
 };
 
 static struct genl_family ecmxf_nl_family __ro_after_init = {

@@ -41,8 +41,8 @@
 #define ECMXF_RING_ENTRIES_OFF	132
 #define ECMXF_RING_FLAGS_OFF	136
 #define ECMXF_RING_DROPPED_OFF	140
-#define ECMXF_RING_STATUS_OFF	192
-#define ECMXF_RING_FRAMES_OFF	256
+#define ECMXF_RING_STATUS_OFF	256
+#define ECMXF_RING_FRAMES_OFF	512
 
 /*
  * time allowed for each pump command (module parameter pump_timeout_ms,
@@ -61,7 +61,7 @@ MODULE_PARM_DESC(pump_timeout_ms,
 /* the longest working counter period (microseconds) */
 #define ECMXF_WKC_US_MAX	10000000
 
-static_assert(sizeof(struct ecmxf_ring_status) <=
+static_assert(sizeof(struct ecmxf_ring_status_block) <=
 	      ECMXF_RING_FRAMES_OFF - ECMXF_RING_STATUS_OFF);
 
 static void ecmxf_ring_free(struct ecmxf_ring *ring)
@@ -301,6 +301,30 @@ void ecmxf_rings_teardown(struct ecmxf_dev *edev)
 	ecmxf_rings_put(r);
 }
 
+/*
+ * Publish @r->cur in the mapped status block, a latch of two copies
+ * (&struct ecmxf_ring_status_block, like the kernel's seqcount_latch):
+ * the count moves readers to copy 1 while copy 0 is rewritten, then back
+ * to copy 0 while copy 1 is.  A reader never waits for this writer, even
+ * one that preempted it on the same CPU.  The count the kernel goes by is
+ * its own (@r->status_seq): what userspace writes into the shared page
+ * cannot confuse it.  &ecmxf_dev.lock held (the one writer).
+ */
+static void ecmxf_status_publish(struct ecmxf_rings *r)
+{
+	struct ecmxf_ring_status_block *b = r->status;
+
+	r->cur.generation++;
+	smp_wmb();	/* copy 1 complete before readers are sent to it */
+	WRITE_ONCE(b->seq, ++r->status_seq);
+	smp_wmb();	/* readers see the count before copy 0 changes */
+	memcpy(&b->copy[0], &r->cur, sizeof(r->cur));
+	smp_wmb();	/* copy 0 complete before readers are sent back */
+	WRITE_ONCE(b->seq, ++r->status_seq);
+	smp_wmb();	/* readers see the count before copy 1 changes */
+	memcpy(&b->copy[1], &r->cur, sizeof(r->cur));
+}
+
 /**
  * ecmxf_rings_stop() - the pump stops for good (chip reset, lost link)
  * @edev: the device, lock held
@@ -312,18 +336,13 @@ void ecmxf_rings_teardown(struct ecmxf_dev *edev)
 void ecmxf_rings_stop(struct ecmxf_dev *edev, int err)
 {
 	struct ecmxf_rings *r = edev->rings;
-	struct ecmxf_ring_status *st;
 
 	lockdep_assert_held(&edev->lock);
 	if (!r || r->stopped)
 		return;
 	r->stopped = true;
-	st = r->status;
-	WRITE_ONCE(st->seq, st->seq + 1);
-	smp_wmb();	/* odd seq before the fields */
-	WRITE_ONCE(st->error, (u32)-err);
-	smp_wmb();	/* the fields before the even seq */
-	WRITE_ONCE(st->seq, st->seq + 1);
+	r->cur.error = (u32)-err;
+	ecmxf_status_publish(r);
 	/* pairs with the application's load-acquire of the flags word */
 	smp_store_release(r->out.flags, ECMXF_RING_S_ERROR);
 	/* the same for the input ring */
@@ -336,9 +355,10 @@ void ecmxf_rings_stop(struct ecmxf_dev *edev, int err)
  * ecmxf_rings_poll() - poll() bits of the rings for the claim holder
  * @edev: the device, lock held, caller holds the claim
  *
- * Return: EPOLLIN | EPOLLRDBAND while the input ring has frames (with
- * %ECMXF_RING_F_POLL_IN), EPOLLOUT | EPOLLWRNORM while the output ring
- * has room (with %ECMXF_RING_F_POLL_OUT), EPOLLERR once the pump stopped.
+ * Return: EPOLLRDBAND while the input ring has frames (with
+ * %ECMXF_RING_F_POLL_IN; EPOLLIN is the completions' bit), EPOLLOUT |
+ * EPOLLWRNORM while the output ring has room (with %ECMXF_RING_F_POLL_OUT),
+ * EPOLLERR once the pump stopped.
  */
 __poll_t ecmxf_rings_poll(struct ecmxf_dev *edev)
 {
@@ -356,7 +376,7 @@ __poll_t ecmxf_rings_poll(struct ecmxf_dev *edev)
 		head = smp_load_acquire(r->in.head);
 		tail = READ_ONCE(*r->in.tail);
 		if (head != tail)
-			mask |= EPOLLIN | EPOLLRDBAND;
+			mask |= EPOLLRDBAND;
 	}
 	if (r->setup_flags & ECMXF_RING_F_POLL_OUT) {
 		head = READ_ONCE(*r->out.head);
@@ -570,45 +590,38 @@ static void ecmxf_status_update(struct ecmxf_rings *r,
 				const struct ecmxf_rsp_hdr *h, int err,
 				const u32 deltas[7])
 {
-	struct ecmxf_ring_status *st = r->status;
+	struct ecmxf_ring_status *st = &r->cur;
 
-	WRITE_ONCE(st->seq, st->seq + 1);
-	smp_wmb();	/* odd seq before the fields */
-	WRITE_ONCE(st->int_flags, h->int_flags);
-	WRITE_ONCE(st->crc_err_cnt, h->crc_err_cnt);
-	WRITE_ONCE(st->wkc_err_cnt, h->wkc_err_cnt);
-	WRITE_ONCE(st->tx_fifo_cnt, h->tx_fifo_cnt);
-	WRITE_ONCE(st->rx_fifo_cnt, h->rx_fifo_cnt);
-	WRITE_ONCE(st->ecat_state, h->ecat_state);
-	WRITE_ONCE(st->err_status, h->err_status);
-	WRITE_ONCE(st->ecm_status, h->ecm_status);
-	WRITE_ONCE(st->error, (u32)-err);
-	WRITE_ONCE(st->pump_ops, st->pump_ops + deltas[0]);
-	WRITE_ONCE(st->rx_refusals, st->rx_refusals + deltas[1]);
-	WRITE_ONCE(st->tx_overflows, st->tx_overflows + deltas[2]);
-	WRITE_ONCE(st->rx_underruns, st->rx_underruns + deltas[3]);
-	WRITE_ONCE(st->out_underruns, st->out_underruns + deltas[4]);
-	WRITE_ONCE(st->out_skipped, st->out_skipped + deltas[5]);
-	WRITE_ONCE(st->pump_failures, st->pump_failures + deltas[6]);
-	smp_wmb();	/* the fields before the even seq */
-	WRITE_ONCE(st->seq, st->seq + 1);
+	st->int_flags = h->int_flags;
+	st->crc_err_cnt = h->crc_err_cnt;
+	st->wkc_err_cnt = h->wkc_err_cnt;
+	st->tx_fifo_cnt = h->tx_fifo_cnt;
+	st->rx_fifo_cnt = h->rx_fifo_cnt;
+	st->ecat_state = h->ecat_state;
+	st->err_status = h->err_status;
+	st->ecm_status = h->ecm_status;
+	st->error = (u32)-err;
+	st->pump_ops += deltas[0];
+	st->rx_refusals += deltas[1];
+	st->tx_overflows += deltas[2];
+	st->rx_underruns += deltas[3];
+	st->out_underruns += deltas[4];
+	st->out_skipped += deltas[5];
+	st->pump_failures += deltas[6];
+	ecmxf_status_publish(r);
 }
 
 /* The working counter arrived; lock held. */
 static void ecmxf_pump_wkc_done(struct ecmxf_rings *r,
 				const struct ecmxf_xfer *x)
 {
-	struct ecmxf_ring_status *st = r->status;
 	const u8 *v = r->rx_buf;
 
 	if (x->rsp.err_status & ECMXF_ERR_CMD || x->rx_len < 4)
 		return;
-	WRITE_ONCE(st->seq, st->seq + 1);
-	smp_wmb();	/* odd seq before the fields */
-	WRITE_ONCE(st->wkc, v[0] | v[1] << 8 | v[2] << 16 | (u32)v[3] << 24);
-	WRITE_ONCE(st->wkc_reads, st->wkc_reads + 1);
-	smp_wmb();	/* the fields before the even seq */
-	WRITE_ONCE(st->seq, st->seq + 1);
+	r->cur.wkc = v[0] | v[1] << 8 | v[2] << 16 | (u32)v[3] << 24;
+	r->cur.wkc_reads++;
+	ecmxf_status_publish(r);
 }
 
 /* Store @n TxPDO frames into the input ring; return how many fit. */
@@ -672,7 +685,7 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 			edev->in_ring_overruns += n - stored;
 		}
 		if (n)
-			wake |= EPOLLIN | EPOLLRDBAND;
+			wake |= EPOLLRDBAND;
 		/* what was queued: popped plus left; a full FIFO dropped */
 		queued = n + h->tx_fifo_cnt;
 		if (r->tx_depth && queued >= r->tx_depth) {

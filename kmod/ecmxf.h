@@ -91,8 +91,6 @@ enum ecmxf_req_state {
  * @deadline_ns: absolute time (ktime_get_ns()) by which it must finish,
  *	counted from the ioctl
  * @cookie: %ECMXF_REQ_SUBMIT: the caller's cookie
- * @rx_ptr: %ECMXF_REQ_SUBMIT: user pointer for the response data, written
- *	by read()
  * @reset_flags: %ECMXF_REQ_RESET: %ECMXF_RESET_F_* value
  * @reset_param: %ECMXF_REQ_RESET: %ECMXF_RESET_ASYNC_* bits
  * @done: completed when @state becomes %ECMXF_RS_DONE (sync and reset)
@@ -111,7 +109,6 @@ struct ecmxf_req {
 	bool abandoned;
 	u64 deadline_ns;
 	u64 cookie;
-	u64 rx_ptr;
 	u32 reset_flags;
 	u32 reset_param;
 	struct completion done;
@@ -303,7 +300,10 @@ struct ecmxf_ring {
  *	while a pump command uses them; the memory is freed with the last
  * @out: output ring (RxPDO frames, application to chip)
  * @in: input ring (TxPDO frames, chip to application)
- * @status: &struct ecmxf_ring_status in the input ring's memory
+ * @status: the status block (&struct ecmxf_ring_status_block) in the
+ *	input ring's memory, written only through ecmxf_status_publish()
+ * @cur: the status the kernel keeps; published into @status
+ * @status_seq: the latch count last written to @status
  * @setup_flags: %ECMXF_RING_F_* of the setup
  * @poll_ns: pump timer period
  * @wkc_ns: working counter read period, 0 never
@@ -326,7 +326,9 @@ struct ecmxf_rings {
 	struct kref ref;
 	struct ecmxf_ring out;
 	struct ecmxf_ring in;
-	struct ecmxf_ring_status *status;
+	struct ecmxf_ring_status_block *status;
+	struct ecmxf_ring_status cur;
+	u32 status_seq;
 	u32 setup_flags;
 	u64 poll_ns;
 	u64 wkc_ns;

@@ -693,10 +693,10 @@ int RingPath::waitInputs(nanoseconds timeout) noexcept
 			const nanoseconds left = deadline - t.now();
 			if (left.count() <= 0)
 				return ETIMEDOUT;
-			// the ring was set up with ECMXF_RING_F_POLL_IN: POLLIN
+			// the ring was set up with ECMXF_RING_F_POLL_IN: POLLRDBAND
 			// while the input ring holds frames, POLLERR once the pump
-			// stopped
-			pollfd p{ kt_.fd(), POLLIN, 0 };
+			// stopped (POLLIN is the completions' bit)
+			pollfd p{ kt_.fd(), POLLRDBAND, 0 };
 			timespec ts{ static_cast<time_t>(left.count() / 1'000'000'000),
 				     static_cast<long>(left.count() % 1'000'000'000) };
 			const int n = ::ppoll(&p, 1, &ts, nullptr);

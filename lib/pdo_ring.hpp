@@ -77,21 +77,23 @@ public:
 		return ref(off_.dropped).load(std::memory_order_relaxed);
 	}
 
-	/// A consistent copy of the status block (input ring); false when the
-	/// ring has none or the kernel kept writing it.
+	/// A consistent copy of the status (input ring); false when the ring
+	/// has none. The block is a latch of two copies
+	/// (ecmxf_ring_status_block): the copy read is never the one the kernel
+	/// is writing, so a read retries only when the kernel finished a whole
+	/// update meanwhile, and never waits for a writer it preempted. The
+	/// bound on retries only guards against a count gone wrong (false).
 	bool status(ecmxf_ring_status &out) const noexcept
 	{
 		if (!off_.status)
 			return false;
-		auto *st = reinterpret_cast<ecmxf_ring_status *>(base_ + off_.status);
+		auto *b = reinterpret_cast<ecmxf_ring_status_block *>(base_ + off_.status);
+		std::atomic_ref<std::uint32_t> seq(b->seq);
 		for (int tries = 0; tries < 64; tries++) {
-			const std::uint32_t s1 = std::atomic_ref<std::uint32_t>(st->seq).load(std::memory_order_acquire);
-			if (s1 & 1u)
-				continue;
-			copyStatus(*st, out);
+			const std::uint32_t s1 = seq.load(std::memory_order_acquire);
+			copyStatus(b->copy[s1 & 1u], out);
 			std::atomic_thread_fence(std::memory_order_acquire);
-			const std::uint32_t s2 = std::atomic_ref<std::uint32_t>(st->seq).load(std::memory_order_relaxed);
-			if (s1 == s2)
+			if (seq.load(std::memory_order_relaxed) == s1)
 				return true;
 		}
 		return false;
@@ -115,10 +117,10 @@ private:
 	static void copyStatus(ecmxf_ring_status &st, ecmxf_ring_status &out) noexcept
 	{
 		// field by field with relaxed atomic loads: the kernel may be
-		// writing them (the sequence count tells)
+		// writing them (the latch count tells)
 		auto ld = [](std::uint32_t &w) { return std::atomic_ref<std::uint32_t>(w).load(std::memory_order_relaxed); };
 		auto ld8 = [](std::uint8_t &b) { return std::atomic_ref<std::uint8_t>(b).load(std::memory_order_relaxed); };
-		out.seq = 0;
+		out.generation = ld(st.generation);
 		out.wkc = ld(st.wkc);
 		out.wkc_reads = ld(st.wkc_reads);
 		out.int_flags = ld(st.int_flags);
@@ -136,6 +138,9 @@ private:
 		out.rx_underruns = ld(st.rx_underruns);
 		out.out_underruns = ld(st.out_underruns);
 		out.error = ld(st.error);
+		out.out_skipped = ld(st.out_skipped);
+		out.pump_failures = ld(st.pump_failures);
+		out.reserved[0] = out.reserved[1] = 0;
 	}
 
 	std::uint8_t *base_ = nullptr;

@@ -3,7 +3,8 @@
  * ecmxf-cmds.c - the command table of ECM-XF manual ver. 038 and ver. 050
  *
  * Names, immediate/async kind, the partner that fetches the result or
- * reads back a setting, and the default time the engine allows.  The async
+ * reads back a setting, the default time the engine allows, and what a
+ * command does to the chip (the permission class, ecmxf_cmd_perm()).  The async
  * set is the one fixed in the protocol digest (shared/spec/ecm-xf.md);
  * RECV_MAILBOX is async only with command parameter 0.
  *
@@ -32,16 +33,16 @@ static const struct ecmxf_cmd_info ecmxf_cmds[] = {
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
 		      -1, 100),
 	ECMXF_CMD_ROW(5, "ECAT_PDO_DATA_FIFO_OP",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_PROCESS,
 		      -1, 100),
 	ECMXF_CMD_ROW(6, "ECAT_PDO_DATA_OP",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_PROCESS,
 		      -1, 100),
 	ECMXF_CMD_ROW(7, "ECAT_PDO_CONFIG_SET",
 		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      9, 3000),
 	ECMXF_CMD_ROW(8, "ECAT_PDO_CONFIG_REQ",
-		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      9, 3000),
 	ECMXF_CMD_ROW(9, "ECAT_PDO_CONFIG_GET",
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
@@ -65,7 +66,7 @@ static const struct ecmxf_cmd_info ecmxf_cmds[] = {
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
 		      -1, 100),
 	ECMXF_CMD_ROW(18, "FIFO_ENABLE",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_PROCESS,
 		      -1, 100),
 	ECMXF_CMD_ROW(19, "FIFO_PACK_SIZE_GET",
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
@@ -77,7 +78,7 @@ static const struct ecmxf_cmd_info ecmxf_cmds[] = {
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_DESTRUCTIVE,
 		      20, 1000),
 	ECMXF_CMD_ROW(24, "CRC_ERR_CNT_CLR",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      -1, 100),
 	ECMXF_CMD_ROW(25, "CRC_TYPE_SET",
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_DESTRUCTIVE,
@@ -98,19 +99,19 @@ static const struct ecmxf_cmd_info ecmxf_cmds[] = {
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
 		      -1, 100),
 	ECMXF_CMD_ROW(31, "GPIO_CONFIG_SET",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      -1, 100),
 	ECMXF_CMD_ROW(32, "GPIO_FUNC_OP",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      -1, 100),
 	ECMXF_CMD_ROW(33, "QEI_FUNC_OP",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      -1, 100),
 	ECMXF_CMD_ROW(34, "DAC_FUNC_OP",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      -1, 100),
 	ECMXF_CMD_ROW(35, "ADC_FUNC_OP",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      -1, 100),
 	ECMXF_CMD_ROW(38, "EEPROM_REQ",
 		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_DESTRUCTIVE,
@@ -125,16 +126,16 @@ static const struct ecmxf_cmd_info ecmxf_cmds[] = {
 		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      -1, 3000),
 	ECMXF_CMD_ROW(51, "FIFO_CLR_OP",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_PROCESS,
 		      -1, 100),
 	ECMXF_CMD_ROW(52, "FIFO_SET_TX_CNT",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_PROCESS,
 		      53, 100),
 	ECMXF_CMD_ROW(53, "FIFO_GET_TX_CNT",
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
 		      -1, 100),
 	ECMXF_CMD_ROW(54, "FIFO_SET_RX_CNT",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_PROCESS,
 		      55, 100),
 	ECMXF_CMD_ROW(55, "FIFO_GET_RX_CNT",
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
@@ -143,22 +144,22 @@ static const struct ecmxf_cmd_info ecmxf_cmds[] = {
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
 		      -1, 100),
 	ECMXF_CMD_ROW(57, "ECAT_STATE_UPDATE",
-		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      13, 3000),
 	ECMXF_CMD_ROW(58, "ECAT_INT_SET_ENABLE",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      59, 100),
 	ECMXF_CMD_ROW(59, "ECAT_INT_GET_ENABLE",
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
 		      -1, 100),
 	ECMXF_CMD_ROW(66, "FIFO_INIT",
-		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_PROCESS,
 		      -1, 100),
 	ECMXF_CMD_ROW(69, "ECAT_SDO_ABORTCODE_GET",
 		      ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
 		      -1, 100),
 	ECMXF_CMD_ROW(70, "ECAT_SET_FIFO_TH",
-		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_PROCESS,
 		      -1, 100),
 	ECMXF_CMD_ROW(71, "ECAT_CONFIG_SM",
 		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
@@ -176,7 +177,7 @@ static const struct ecmxf_cmd_info ecmxf_cmds[] = {
 		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      -1, 100),
 	ECMXF_CMD_ROW(81, "MDIO",
-		      ECMXF_CMDF_V050,
+		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      -1, 100),
 	ECMXF_CMD_ROW(82, "DIRECT_ASSIGN",
 		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
@@ -197,7 +198,7 @@ static const struct ecmxf_cmd_info ecmxf_cmds[] = {
 		      ECMXF_CMDF_V038 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      131, 100),
 	ECMXF_CMD_ROW(137, "RAW_ECAT_FUNC_REQ",
-		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_V050 | ECMXF_CMDF_DESTRUCTIVE,
 		      138, 1000),
 	ECMXF_CMD_ROW(138, "RAW_ECAT_FUNC_GET",
 		      ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
@@ -212,7 +213,7 @@ static const struct ecmxf_cmd_info ecmxf_cmds[] = {
 		      ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      -1, 100),
 	ECMXF_CMD_ROW(143, "RECV_MAILBOX",
-		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_ASYNC_PARAM0 | ECMXF_CMDF_V050,
+		      ECMXF_CMDF_ASYNC | ECMXF_CMDF_ASYNC_PARAM0 | ECMXF_CMDF_V050 | ECMXF_CMDF_BUS,
 		      -1, 3000),
 	ECMXF_CMD_ROW(144, "MBX_STAT",
 		      ECMXF_CMDF_V050 | ECMXF_CMDF_IDEMPOTENT,
@@ -274,4 +275,61 @@ bool ecmxf_cmd_is_async(unsigned int code, unsigned int param)
 	if (ci->flags & ECMXF_CMDF_ASYNC_PARAM0)
 		return param == 0;
 	return true;
+}
+
+/* EEPROM_REQ and RAW_ECAT_FUNC_REQ that only read (data byte 0) */
+static bool ecmxf_cmd_only_reads(unsigned int code, const u8 *data, size_t len)
+{
+	if (!len)
+		return false;
+	switch (code) {
+	case ECMXF_CMD_EEPROM_REQ:
+		/* operation word: 0 read */
+		return len >= 2 && data[0] == 0 && data[1] == 0;
+	case ECMXF_CMD_RAW_ECAT_FUNC_REQ:
+		/* datagram command: APRD, FPRD, BRD, LRD */
+		return data[0] == 1 || data[0] == 4 || data[0] == 7 ||
+		       data[0] == 10;
+	default:
+		return false;
+	}
+}
+
+/**
+ * ecmxf_cmd_perm() - the permission class of a command
+ * @code: command code
+ * @param: command parameter
+ * @data: the data section the command carries
+ * @len: bytes at @data
+ *
+ * The class of the table's row, refined where the parameter or the data
+ * choose between reading and writing: the read sub-operations of
+ * GPIO_FUNC_OP (get value, get interrupt flag) and QEI_FUNC_OP (get count)
+ * are queries; an EEPROM_REQ read and a RAW_ECAT_FUNC_REQ read datagram
+ * change no more than any bus command.  A code neither manual documents is
+ * treated as destructive.
+ *
+ * Return: %ECMXF_PERM_QUERY, %ECMXF_PERM_CHIP, %ECMXF_PERM_PROCESS or
+ * %ECMXF_PERM_ADMIN.
+ */
+enum ecmxf_perm ecmxf_cmd_perm(unsigned int code, unsigned int param,
+			       const u8 *data, size_t len)
+{
+	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(code);
+
+	if (!ci)
+		return ECMXF_PERM_ADMIN;
+	if (ci->flags & ECMXF_CMDF_DESTRUCTIVE)
+		return ecmxf_cmd_only_reads(code, data, len) ?
+		       ECMXF_PERM_CHIP : ECMXF_PERM_ADMIN;
+	if (ci->flags & ECMXF_CMDF_PROCESS)
+		return ECMXF_PERM_PROCESS;
+	if (!(ci->flags & ECMXF_CMDF_BUS))
+		return ECMXF_PERM_QUERY;
+	if (code == ECMXF_CMD_GPIO_FUNC_OP &&
+	    (param == 1 || param == 3 || param == 5 || param == 7))
+		return ECMXF_PERM_QUERY;
+	if (code == ECMXF_CMD_QEI_FUNC_OP && param == 21)
+		return ECMXF_PERM_QUERY;
+	return ECMXF_PERM_CHIP;
 }

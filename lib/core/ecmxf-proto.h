@@ -301,8 +301,21 @@ enum ecmxf_cmd_code {
 #define ECMXF_CMDF_V050		(1u << 3)	/* documented in ver. 050 */
 #define ECMXF_CMDF_IDEMPOTENT	(1u << 4)	/* a pure read: safe to re-issue */
 #define ECMXF_CMDF_OBSOLETE	(1u << 5)	/* kept for old firmware only */
-#define ECMXF_CMDF_DESTRUCTIVE	(1u << 6)	/* resets or rewrites the chip */
-#define ECMXF_CMDF_BUS		(1u << 7)	/* changes the bus or its slaves */
+#define ECMXF_CMDF_DESTRUCTIVE	(1u << 6)	/* resets, reflashes, changes the link */
+#define ECMXF_CMDF_BUS		(1u << 7)	/* changes the chip, the bus or its slaves */
+#define ECMXF_CMDF_PROCESS	(1u << 8)	/* process data or the PDO FIFOs */
+
+/*
+ * Permission classes: what /dev/ecmxfN asks of the file that sends a
+ * command (Documentation/uapi.rst, "Permissions"); ecmxf_cmd_perm() gives
+ * a command's class.
+ */
+enum ecmxf_perm {
+	ECMXF_PERM_QUERY = 0,	/* no side effect: any open file */
+	ECMXF_PERM_CHIP,	/* changes the chip or the bus: open for writing */
+	ECMXF_PERM_PROCESS,	/* process data, FIFOs: writing, the holder's */
+	ECMXF_PERM_ADMIN,	/* resets, reflashes: writing and CAP_SYS_ADMIN */
+};
 
 /**
  * struct ecmxf_cmd_info - one row of the command table
@@ -316,7 +329,7 @@ enum ecmxf_cmd_code {
  */
 struct ecmxf_cmd_info {
 	u8 code;
-	u8 flags;
+	u16 flags;
 	s16 partner;
 	u32 timeout_ms;
 	const char *name;
@@ -325,6 +338,8 @@ struct ecmxf_cmd_info {
 const struct ecmxf_cmd_info *ecmxf_cmd_lookup(unsigned int code);
 const struct ecmxf_cmd_info *ecmxf_cmd_table(size_t *count);
 bool ecmxf_cmd_is_async(unsigned int code, unsigned int param);
+enum ecmxf_perm ecmxf_cmd_perm(unsigned int code, unsigned int param,
+			       const u8 *data, size_t len);
 
 /* ---------------------------------------------------------------------- */
 /* Exchange engine                                                        */

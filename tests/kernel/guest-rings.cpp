@@ -55,6 +55,7 @@
 #include <ecmxf/process_image.hpp>
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/ioctl.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -226,6 +227,12 @@ void claimChecks(const std::string &path, int holder, std::uint32_t outEntries)
 	c.hdr.code = 5; // ECAT_PDO_DATA_FIFO_OP
 	c.hdr.data[0] = 0x02;
 	eq("holder: ECAT_PDO_DATA_FIFO_OP while the rings exist: EBUSY", ioc(holder, ECMXF_IOC_CMD, &c).err, EBUSY);
+
+	// poll(): EPOLLIN means a completion only, and the holder has submitted
+	// nothing, whatever the rings hold (their frames are EPOLLRDBAND, which
+	// Cyclic::waitInputs() waits for in the lock-step runs)
+	pollfd p{ holder, POLLIN | POLLRDNORM, 0 };
+	eq("holder: poll() for POLLIN with the rings running and no completion: nothing", ::poll(&p, 1, 200), 0);
 }
 
 int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)

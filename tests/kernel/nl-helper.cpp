@@ -9,6 +9,9 @@
 //                                           status 0x0011, error bit), the
 //                                           STATE_SET ends with the async
 //                                           error; exit 0 when it did fail
+//   ecmxf-nl-helper as UID PROG ARGS...     run PROG as user UID (group
+//                                           UID, no supplementary groups,
+//                                           no capabilities)
 //   ecmxf-nl-helper counters [/dev/ecmxfN]  ECMXF_IOC_COUNTERS as "name
 //                                           value" lines, in the order and
 //                                           with the names of
@@ -21,6 +24,9 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/kernel_transport.hpp>
+
+#include <grp.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -38,6 +44,16 @@ constexpr std::chrono::seconds kPatience{ 5 };
 int main(int argc, char **argv)
 {
 	const std::string_view what = argc > 1 ? argv[1] : "";
+	if (what == "as" && argc > 3) {
+		const auto id = static_cast<uid_t>(std::stoul(argv[2]));
+		if (::setgroups(0, nullptr) < 0 || ::setgid(id) < 0 || ::setuid(id) < 0) {
+			std::perror("ecmxf-nl-helper as: dropping privileges");
+			return 1;
+		}
+		::execv(argv[3], argv + 3);
+		std::perror(argv[3]);
+		return 1;
+	}
 	const std::string path = argc > 2 ? argv[2] : "/dev/ecmxf0";
 	try {
 		if (what == "op") {
@@ -72,7 +88,7 @@ int main(int argc, char **argv)
 				std::printf("%s %llu\n", name, static_cast<unsigned long long>(value));
 			return 0;
 		}
-		std::fprintf(stderr, "usage: ecmxf-nl-helper op|refused|counters [/dev/ecmxfN]\n");
+		std::fprintf(stderr, "usage: ecmxf-nl-helper op|refused|counters [/dev/ecmxfN] | as UID PROG ARGS...\n");
 		return 2;
 	} catch (const std::exception &e) {
 		std::printf("guest-test: FAIL %s %s: %s\n", std::string(what).c_str(), path.c_str(), e.what());

@@ -16,7 +16,7 @@
  *    returns -EINVAL otherwise) and are zeroed by the kernel on output, so
  *    that later versions can give them a meaning.
  *
- * ABI version 1.  See Documentation/uapi.rst.
+ * ABI version 2.  See Documentation/uapi.rst.
  *
  * Copyright (C) 2026 The ecmxf authors
  */
@@ -30,10 +30,20 @@
  * ECMXF_UAPI_VERSION - version of the ABI described by this header
  *
  * Reported by %ECMXF_IOC_GET_VERSION and in &struct ecmxf_devinfo.uapi_version.
- * Raised when a reserved field or flag gains a meaning; an existing layout
- * never changes.
+ * Raised when a reserved field or flag gains a meaning or a layout changes.
+ * Version 2 (from version 1): completion records carry the answer's data
+ * inline (&struct ecmxf_completion.data; &struct ecmxf_submit.reserved_ptr
+ * was rx_ptr and must now be zero) and the ring status block is a latch of
+ * two copies (&struct ecmxf_ring_status_block).  Userspace built against
+ * another version must refuse to run: compare the value first.
  */
-#define ECMXF_UAPI_VERSION		1
+#define ECMXF_UAPI_VERSION		2
+
+/**
+ * ECMXF_DATA_SIZE_MAX - the largest packet data section (bytes), and the
+ * most response data a command can return
+ */
+#define ECMXF_DATA_SIZE_MAX		1408
 
 /*
  * ECMXF_IOC_MAGIC - ioctl type byte of /dev/ecmxfN, sequence numbers 0x00-0x1F.
@@ -176,10 +186,13 @@ struct ecmxf_cmd {
  * struct ecmxf_submit - one asynchronous command (%ECMXF_IOC_SUBMIT)
  * @hdr: command header; the kernel allocates the index
  * @tx_ptr: user pointer to the data section bytes; copied during the ioctl
- * @rx_ptr: user pointer to a buffer for the response data; written when the
- *	completion record is read(), in the reader's address space
+ * @reserved_ptr: must be zero (version 1 had a reply pointer here: the
+ *	answer now travels inside the completion record, so that read() never
+ *	writes to an address the submitter chose)
  * @tx_len: bytes at @tx_ptr, at most &struct ecmxf_devinfo.data_size
- * @rx_size: capacity of @rx_ptr in bytes
+ * @rx_size: response data bytes wanted in the completion record
+ *	(0..%ECMXF_DATA_SIZE_MAX); a longer answer completes with -EMSGSIZE and
+ *	its first @rx_size bytes
  * @timeout_us: as &struct ecmxf_cmd.timeout_us, counted from the submit
  * @flags: %ECMXF_CMD_F_* bits
  * @cookie: any value; returned in &struct ecmxf_completion.cookie
@@ -190,7 +203,7 @@ struct ecmxf_cmd {
 struct ecmxf_submit {
 	struct ecmxf_cmd_header hdr;
 	__aligned_u64 tx_ptr;
-	__aligned_u64 rx_ptr;
+	__aligned_u64 reserved_ptr;
 	__u32 tx_len;
 	__u32 rx_size;
 	__u32 timeout_us;
@@ -203,12 +216,14 @@ struct ecmxf_submit {
  * struct ecmxf_completion - record read() from /dev/ecmxfN
  * @cookie: &struct ecmxf_submit.cookie of the finished command
  * @status: 0 or negative errno, as &struct ecmxf_cmd.status
- * @rx_len: response data bytes copied to the submit's rx_ptr
+ * @rx_len: response data bytes in @data (at most the submit's rx_size)
  * @rsp: the response header that answered the command
  * @reserved: zeroed by the kernel
+ * @data: the response data; bytes past @rx_len are zero
  *
  * read() returns whole records only; a buffer shorter than one record gives
  * -EINVAL.  Completions of one file descriptor are read in completion order.
+ * read() writes nothing but the buffer it is given.
  */
 struct ecmxf_completion {
 	__aligned_u64 cookie;
@@ -216,6 +231,7 @@ struct ecmxf_completion {
 	__u32 rx_len;
 	struct ecmxf_rsp_header rsp;
 	__u32 reserved[6];
+	__u8 data[ECMXF_DATA_SIZE_MAX];
 };
 
 /* &struct ecmxf_devinfo.flags */
@@ -366,6 +382,14 @@ struct ecmxf_reset {
 #define ECMXF_RING_OFF_IN		0x10000000ULL
 
 /* &struct ecmxf_ring_setup.flags */
+/*
+ * poll() on /dev/ecmxfN: EPOLLIN | EPOLLRDNORM means a completion record is
+ * readable and nothing else.  The rings of the claim holder have bits of
+ * their own: EPOLLRDBAND while the input ring holds frames (with
+ * ECMXF_RING_F_POLL_IN), EPOLLOUT | EPOLLWRNORM while the output ring has
+ * room (with ECMXF_RING_F_POLL_OUT; the file has no write()), EPOLLERR once
+ * the pump stopped, EPOLLERR | EPOLLHUP when the device is gone.
+ */
 #define ECMXF_RING_F_POLL_OUT	(1U << 0)	/* EPOLLOUT: output ring has room */
 #define ECMXF_RING_F_POLL_IN	(1U << 1)	/* EPOLLRDBAND: input ring has frames */
 
@@ -387,8 +411,8 @@ struct ecmxf_reset {
  * @frame_stride: value: bytes from one frame slot to the next, a multiple
  *	of 8 and at least @frame_size
  * @mmap_size: value: length to pass to mmap(), a multiple of the page size
- * @status: offset of the &struct ecmxf_ring_status that the kernel keeps
- *	(input ring only; 0 in the output ring)
+ * @status: offset of the &struct ecmxf_ring_status_block that the kernel
+ *	keeps (input ring only; 0 in the output ring)
  * @reserved: zeroed by the kernel
  *
  * Slot i is at @frames + (i & mask) * @frame_stride.  Indices run freely
@@ -421,9 +445,8 @@ struct ecmxf_ring_offsets {
 
 /**
  * struct ecmxf_ring_status - what the PDO pump saw last (in the input ring)
- * @seq: sequence count: odd while the kernel writes the fields below; read
- *	it (acquire), the fields, then it again (after a read barrier) and
- *	retry when it was odd or changed
+ * @generation: how many times the kernel has published the status (wraps);
+ *	this copy's number
  * @wkc: the working counter of the last ECAT_PDO_WC_GET 3 the pump read
  * @wkc_reads: how many times the pump has read it (wraps)
  * @int_flags: interrupt flags (0x10) of the pump's last answer
@@ -453,7 +476,7 @@ struct ecmxf_ring_offsets {
  * %ECMXF_IOC_RING_SETUP; &struct ecmxf_counters has the totals since probe.
  */
 struct ecmxf_ring_status {
-	__u32 seq;
+	__u32 generation;
 	__u32 wkc;
 	__u32 wkc_reads;
 	__u32 int_flags;
@@ -474,6 +497,28 @@ struct ecmxf_ring_status {
 	__u32 out_skipped;
 	__u32 pump_failures;
 	__u32 reserved[2];
+};
+
+/**
+ * struct ecmxf_ring_status_block - the status block (a latch of two copies)
+ * @seq: latch count, written by the kernel only: it increments @seq (store
+ *	release) before it rewrites a copy, so that @copy[@seq & 1] is never
+ *	the one being written
+ * @reserved: zero
+ * @copy: the two copies of the status; read @copy[@seq & 1]
+ *
+ * Reading: load @seq with acquire, copy @copy[@seq & 1], issue a read
+ * barrier (acquire fence), load @seq again and retry when it changed.  A
+ * retry is needed only when the kernel finished rewriting a copy during the
+ * read, so a reader never waits for the writer: a reader that preempted the
+ * kernel's writer (an RT thread of higher priority on the same CPU) reads
+ * the other copy and succeeds at once.  The copies differ at most by the
+ * last update.
+ */
+struct ecmxf_ring_status_block {
+	__u32 seq;
+	__u32 reserved[15];
+	struct ecmxf_ring_status copy[2];
 };
 
 /**

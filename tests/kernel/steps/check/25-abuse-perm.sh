@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-# Permissions: a read-only open (bus-changing and destructive commands
-# refused), and a child that drops every capability by setuid(65534) after
-# opening (destructive commands only with the claim).
+# Permissions (Documentation/uapi.rst): every class from a read-only open,
+# root, a member of the device group, an outsider, and during a claim held
+# by another file; each allowed row works, each forbidden one gets its errno.
 /bin/ecmxf-guest-abuse perm /dev/ecmxf0 || fail "ecmxf-guest-abuse perm"

@@ -11,6 +11,21 @@ mon_err=/tmp/monitor.err
 
 /bin/ecmxf-nl-helper op /dev/ecmxf0 || fail "bus to OP before the netlink test"
 
+# joining the events group needs CAP_NET_ADMIN (a listener makes the worker
+# poll the chip); reading the counters needs nothing
+if /bin/ecmxf-nl-helper as 1000 /bin/ecmxf-util -d /dev/ecmxf0 monitor --json --count 1 \
+	>/tmp/unpriv.out 2>/tmp/unpriv.err; then
+	fail "an unprivileged user joined the events group"
+fi
+grep -q "joining the group 'events'.*not permitted" /tmp/unpriv.err || {
+	cat /tmp/unpriv.err
+	fail "an unprivileged join failed, but not with EPERM"
+}
+/bin/ecmxf-nl-helper as 1000 /bin/ecmxf-util -d /dev/ecmxf0 monitor --counters >/tmp/unpriv.counters ||
+	fail "an unprivileged user could not read the netlink counters"
+grep -q '^exchanges [0-9]' /tmp/unpriv.counters || fail "unprivileged counters: no exchanges line"
+echo "guest-test: ok   netlink: joining the events group needs CAP_NET_ADMIN; counters need nothing"
+
 /bin/ecmxf-util -d /dev/ecmxf0 monitor --json --count 50 >"$mon_out" 2>"$mon_err" &
 mon=$!
 wait_for "$mon_err" "listening" 30 || {
