@@ -22,8 +22,8 @@ sed -n 's/^UAPI_NUMBER([A-Z]*, *\([A-Za-z0-9_]*\), .*/\1/p' "$def" | sort >"$tmp
 [ -s "$tmp/header" ] || { echo "check_numbers.sh: no protocol macros found in the header" >&2; exit 1; }
 if ! cmp -s "$tmp/header" "$tmp/def"; then
 	echo "check_numbers.sh: <linux/ecmxf.h> and uapi_numbers.def list different macros" >&2
-	echo "  only in the header:" $(comm -23 "$tmp/header" "$tmp/def") >&2
-	echo "  only in uapi_numbers.def:" $(comm -13 "$tmp/header" "$tmp/def") >&2
+	echo "  only in the header: $(comm -23 "$tmp/header" "$tmp/def" | tr '\n' ' ')" >&2
+	echo "  only in uapi_numbers.def: $(comm -13 "$tmp/header" "$tmp/def" | tr '\n' ' ')" >&2
 	exit 1
 fi
 echo "check_numbers.sh: $(wc -l <"$tmp/header") protocol macros, all in uapi_numbers.def"
