@@ -106,8 +106,8 @@ constexpr BitName kEcmBits[] = {
 	{ 4, "PDO configured" },
 	{ 6, "FIFO enabled" },
 };
-constexpr std::uint8_t kErrLink = 0x01;
-constexpr std::uint8_t kStateError = 0x10;
+constexpr std::uint8_t kErrLink = ECMXF_ERR_LINK_HW;
+constexpr std::uint8_t kStateError = ECMXF_ECAT_ERROR;
 
 template <std::size_t N>
 std::vector<std::string> names(std::uint8_t v, const BitName (&table)[N])
@@ -461,10 +461,10 @@ extern "C" void onSigint(int)
 	gStop = 1;
 }
 
-constexpr std::uint8_t kStateSet = 12;
-constexpr std::uint8_t kWarmReset = 127;
-constexpr std::uint8_t kStateOp = 0x08;
-constexpr std::uint8_t kStateError = 0x10;
+constexpr std::uint8_t kStateSet = ECMXF_CMD_ECAT_STATE_SET;
+constexpr std::uint8_t kWarmReset = ECMXF_CMD_WARM_RESET;
+constexpr std::uint8_t kStateOp = ECMXF_ECAT_OP;
+constexpr std::uint8_t kStateError = ECMXF_ECAT_ERROR;
 
 std::uint64_t number(std::string_view opt, std::string_view text, std::uint64_t min, std::uint64_t max)
 {

@@ -201,9 +201,9 @@ constexpr DatagramType kDatagramTypes[] = {
 	{ "LWR", 11 }, { "LRW", 12 },  { "ARMW", 13 }, { "FRMW", 14 },
 };
 
-constexpr std::uint8_t kRawEcatFuncReq = 137;
-constexpr std::uint8_t kErrCmd = 0x80; // error status bit 7
-constexpr std::uint8_t kRawEcatFuncGet = 138;
+constexpr std::uint8_t kRawEcatFuncReq = ECMXF_CMD_RAW_ECAT_FUNC_REQ;
+constexpr std::uint8_t kErrCmd = ECMXF_ERR_CMD; // error status bit 7
+constexpr std::uint8_t kRawEcatFuncGet = ECMXF_CMD_RAW_ECAT_FUNC_GET;
 constexpr std::uint32_t kDatagramTimeoutUs = 10'000;
 
 void put16(std::vector<std::uint8_t> &d, std::uint32_t v)

@@ -15,6 +15,8 @@
 
 #include <ecmxf/device.hpp>
 
+#include <uapi/linux/ecmxf.h> // the chip's command codes and header bits
+
 namespace ecmxf_util {
 
 /// Options given before the command (and --json also after it).
@@ -70,13 +72,13 @@ std::uint32_t le32(const ecmxf::Response &r, std::string_view what);
 /// BOOT, SAFEOP, OP; 0 is NONE (no network), 0x10 ERROR; others in hex.
 std::string stateName(std::uint8_t state);
 
-// command codes (manual ver. 050)
-inline constexpr std::uint8_t kInitOp = 1;
-inline constexpr std::uint8_t kStateGet = 13;
-inline constexpr std::uint8_t kSlvInfoGet = 15;
-inline constexpr std::uint8_t kSlvCntGet = 16;
-inline constexpr std::uint8_t kSpiPackSizeGet = 20;
-inline constexpr std::uint8_t kFwVersionGet = 56;
+// command codes (<linux/ecmxf.h>)
+inline constexpr std::uint8_t kInitOp = ECMXF_CMD_ECAT_INIT_OP;
+inline constexpr std::uint8_t kStateGet = ECMXF_CMD_ECAT_STATE_GET;
+inline constexpr std::uint8_t kSlvInfoGet = ECMXF_CMD_ECAT_SLV_INFO_GET;
+inline constexpr std::uint8_t kSlvCntGet = ECMXF_CMD_ECAT_SLV_CNT_GET;
+inline constexpr std::uint8_t kSpiPackSizeGet = ECMXF_CMD_SPI_PACK_SIZE_GET;
+inline constexpr std::uint8_t kFwVersionGet = ECMXF_CMD_FW_VERSION_GET;
 
 // ---- arguments with values, numbers, object addresses (ecmxf-util-common.cpp)
 

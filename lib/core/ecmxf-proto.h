@@ -15,6 +15,7 @@
 #define ECMXF_PROTO_H
 
 #include "ecmxf-compat.h"
+#include <linux/ecmxf.h>	/* include/uapi: protocol numbers */
 
 #ifdef __cplusplus
 extern "C" {
@@ -54,56 +55,11 @@ enum ecmxf_check {
 	ECMXF_CHECK_CRC32 = 3,
 };
 
-/* Command header 0x08 "reserved" word */
-#define ECMXF_RSV_LRW		(1u << 11)	/* INIT_OP: enable LRW */
-#define ECMXF_RSV_BUS_SHIFT	(1u << 12)	/* INIT_OP: bus shift mode */
-#define ECMXF_RSV_GPIO_OUT	(1u << 15)	/* 0x16/0x17 GPIO outputs valid */
-
-/* Command header 0x0A control byte (ver. 050) */
-#define ECMXF_CTL_REFRESH_STATE		(1u << 0)
-#define ECMXF_CTL_CLR_CRC_CNT		(1u << 1)
-#define ECMXF_CTL_CLR_ASYNC_ERR		(1u << 3)
-#define ECMXF_CTL_CLR_SPI_ERR		(1u << 4)
-#define ECMXF_CTL_CLR_FIFO_ERR		(1u << 5)
-#define ECMXF_CTL_CLR_SPI_CRC_ERR	(1u << 6)
-#define ECMXF_CTL_CLR_CMD_ERR		(1u << 7)
-
-/* Response header 0x09 error status (ver. 050) */
-#define ECMXF_ERR_LINK_HW	(1u << 0)
-#define ECMXF_ERR_LINK_SW	(1u << 1)
-#define ECMXF_ERR_ASYNC		(1u << 3)
-#define ECMXF_ERR_SPI		(1u << 4)
-#define ECMXF_ERR_FIFO		(1u << 5)
-#define ECMXF_ERR_SPI_CRC	(1u << 6)
-#define ECMXF_ERR_CMD		(1u << 7)
-/* the bits that report a fault (bits 0/1 report link presence) */
-#define ECMXF_ERR_FAULT_MASK	0xF8u
-
-/* Response header 0x0A ECM status */
-#define ECMXF_STS_CHECK_MASK	0x03u
-#define ECMXF_STS_DC_STABLE	(1u << 2)
-#define ECMXF_STS_ETH_INIT	(1u << 3)
-#define ECMXF_STS_PDO_CONFIGURED (1u << 4)
-#define ECMXF_STS_NOP		(1u << 5)
-#define ECMXF_STS_FIFO_EN	(1u << 6)
-#define ECMXF_STS_BUSY		(1u << 7)
-
-/* Interrupt flag / clear / enable bits (0x10..0x13) */
-#define ECMXF_INT_ECAT_PKT	(1u << 31)
-#define ECMXF_INT_ENCODER	(1u << 29)
-#define ECMXF_INT_RXFIFO_LOW	(1u << 25)
-#define ECMXF_INT_TXFIFO_HIGH	(1u << 24)
-#define ECMXF_INT_CRC_ERR	(1u << 23)
-#define ECMXF_INT_WKC_ERR	(1u << 22)
-
-/* ECAT states (response 0x08, STATE_SET/GET) */
-#define ECMXF_ECAT_NONE		0x00u
-#define ECMXF_ECAT_INIT		0x01u
-#define ECMXF_ECAT_PREOP	0x02u
-#define ECMXF_ECAT_BOOT		0x03u
-#define ECMXF_ECAT_SAFEOP	0x04u
-#define ECMXF_ECAT_OP		0x08u
-#define ECMXF_ECAT_ERROR	0x10u
+/*
+ * The header's bits (ECMXF_RSV_*, ECMXF_CTL_*, ECMXF_ERR_*, ECMXF_STS_*,
+ * ECMXF_INT_*), the EtherCAT states (ECMXF_ECAT_*) and the command codes
+ * (ECMXF_CMD_*) are the uAPI's: <linux/ecmxf.h>.
+ */
 
 /**
  * struct ecmxf_cmd_hdr - command header fields (host to chip)
@@ -222,77 +178,6 @@ const char *ecmxf_fault_name(enum ecmxf_fault fault);
 /* ---------------------------------------------------------------------- */
 /* Command table                                                          */
 /* ---------------------------------------------------------------------- */
-
-/* enum ecmxf_cmd_code - every command code of manual ver. 038 and ver. 050 */
-enum ecmxf_cmd_code {
-	ECMXF_CMD_INFO_UPDATE_OP = 0,
-	ECMXF_CMD_ECAT_INIT_OP = 1,
-	ECMXF_CMD_ECAT_RECONFIG_OP = 2,
-	ECMXF_CMD_ECAT_INIT_DC_OP = 3,
-	ECMXF_CMD_ECAT_PDO_WC_GET = 4,
-	ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP = 5,
-	ECMXF_CMD_ECAT_PDO_DATA_OP = 6,
-	ECMXF_CMD_ECAT_PDO_CONFIG_SET = 7,
-	ECMXF_CMD_ECAT_PDO_CONFIG_REQ = 8,
-	ECMXF_CMD_ECAT_PDO_CONFIG_GET = 9,
-	ECMXF_CMD_ECAT_SDO_REQ = 10,
-	ECMXF_CMD_ECAT_SDO_GET = 11,
-	ECMXF_CMD_ECAT_STATE_SET = 12,
-	ECMXF_CMD_ECAT_STATE_GET = 13,
-	ECMXF_CMD_ECAT_SLV_INFO_GET = 15,
-	ECMXF_CMD_ECAT_SLV_CNT_GET = 16,
-	ECMXF_CMD_FIFO_ENABLE = 18,
-	ECMXF_CMD_FIFO_PACK_SIZE_GET = 19,
-	ECMXF_CMD_SPI_PACK_SIZE_GET = 20,
-	ECMXF_CMD_SPI_RECONFIG_OP = 23,
-	ECMXF_CMD_CRC_ERR_CNT_CLR = 24,
-	ECMXF_CMD_CRC_TYPE_SET = 25,
-	ECMXF_CMD_402_CONFIG_SET = 26,
-	ECMXF_CMD_402_STATE_SET = 27,
-	ECMXF_CMD_402_STATE_GET = 28,
-	ECMXF_CMD_402_CTL_SET = 29,
-	ECMXF_CMD_402_CTL_GET = 30,
-	ECMXF_CMD_GPIO_CONFIG_SET = 31,
-	ECMXF_CMD_GPIO_FUNC_OP = 32,
-	ECMXF_CMD_QEI_FUNC_OP = 33,
-	ECMXF_CMD_DAC_FUNC_OP = 34,
-	ECMXF_CMD_ADC_FUNC_OP = 35,
-	ECMXF_CMD_EEPROM_REQ = 38,
-	ECMXF_CMD_EEPROM_GET = 39,
-	ECMXF_CMD_ECAT_STATE_CHECK = 41,
-	ECMXF_CMD_ECAT_DCSYNC = 50,
-	ECMXF_CMD_FIFO_CLR_OP = 51,
-	ECMXF_CMD_FIFO_SET_TX_CNT = 52,
-	ECMXF_CMD_FIFO_GET_TX_CNT = 53,
-	ECMXF_CMD_FIFO_SET_RX_CNT = 54,
-	ECMXF_CMD_FIFO_GET_RX_CNT = 55,
-	ECMXF_CMD_FW_VERSION_GET = 56,
-	ECMXF_CMD_ECAT_STATE_UPDATE = 57,
-	ECMXF_CMD_ECAT_INT_SET_ENABLE = 58,
-	ECMXF_CMD_ECAT_INT_GET_ENABLE = 59,
-	ECMXF_CMD_FIFO_INIT = 66,
-	ECMXF_CMD_ECAT_SDO_ABORTCODE_GET = 69,
-	ECMXF_CMD_ECAT_SET_FIFO_TH = 70,
-	ECMXF_CMD_ECAT_CONFIG_SM = 71,
-	ECMXF_CMD_ECAT_CONFIG_FMMU = 72,
-	ECMXF_CMD_ECAT_CONFIG_MAP = 73,
-	ECMXF_CMD_402_GET_STATUSWORD = 74,
-	ECMXF_CMD_ASYNCCMD_RESET = 75,
-	ECMXF_CMD_MDIO = 81,
-	ECMXF_CMD_DIRECT_ASSIGN = 82,
-	ECMXF_CMD_COE_EMERGENCY = 83,
-	ECMXF_CMD_WARM_RESET = 127,
-	ECMXF_CMD_ECAT_WKC_CONTI_ERR_CNT_GET = 130,
-	ECMXF_CMD_ECAT_WKC_CONTI_ERR_MAX_GET = 131,
-	ECMXF_CMD_ECAT_WKC_CONTI_ERR_MAX_SET = 132,
-	ECMXF_CMD_RAW_ECAT_FUNC_REQ = 137,
-	ECMXF_CMD_RAW_ECAT_FUNC_GET = 138,
-	ECMXF_CMD_FOE_FUNC_REQ = 139,
-	ECMXF_CMD_FOE_FUNC_GET = 140,
-	ECMXF_CMD_ENABLE_LRW = 142,
-	ECMXF_CMD_RECV_MAILBOX = 143,
-	ECMXF_CMD_MBX_STAT = 144,
-};
 
 /* struct ecmxf_cmd_info flags */
 #define ECMXF_CMDF_ASYNC	(1u << 0)	/* async ("blocking") command */

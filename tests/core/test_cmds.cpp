@@ -70,6 +70,49 @@ TEST_CASE("command table: exactly the digest's codes, with the digest's names", 
 		CHECK((ecmxf_cmd_lookup(code) != nullptr) == (kDigest.count(code) == 1));
 }
 
+// Every ECMXF_CMD_* macro of <linux/ecmxf.h> with its name as a string:
+// the table's codes and names must be these (the uAPI is the one list of
+// codes; tests/uapi checks the uAPI's numbers against the manuals).
+#define UAPI_CMD(n) { ECMXF_CMD_##n, #n }
+const std::map<unsigned, std::string> kUapi = {
+	UAPI_CMD(INFO_UPDATE_OP), UAPI_CMD(ECAT_INIT_OP), UAPI_CMD(ECAT_RECONFIG_OP),
+	UAPI_CMD(ECAT_INIT_DC_OP), UAPI_CMD(ECAT_PDO_WC_GET), UAPI_CMD(ECAT_PDO_DATA_FIFO_OP),
+	UAPI_CMD(ECAT_PDO_DATA_OP), UAPI_CMD(ECAT_PDO_CONFIG_SET), UAPI_CMD(ECAT_PDO_CONFIG_REQ),
+	UAPI_CMD(ECAT_PDO_CONFIG_GET), UAPI_CMD(ECAT_SDO_REQ), UAPI_CMD(ECAT_SDO_GET),
+	UAPI_CMD(ECAT_STATE_SET), UAPI_CMD(ECAT_STATE_GET), UAPI_CMD(ECAT_SLV_INFO_GET),
+	UAPI_CMD(ECAT_SLV_CNT_GET), UAPI_CMD(FIFO_ENABLE), UAPI_CMD(FIFO_PACK_SIZE_GET),
+	UAPI_CMD(SPI_PACK_SIZE_GET), UAPI_CMD(SPI_RECONFIG_OP), UAPI_CMD(CRC_ERR_CNT_CLR),
+	UAPI_CMD(CRC_TYPE_SET), UAPI_CMD(402_CONFIG_SET), UAPI_CMD(402_STATE_SET),
+	UAPI_CMD(402_STATE_GET), UAPI_CMD(402_CTL_SET), UAPI_CMD(402_CTL_GET),
+	UAPI_CMD(GPIO_CONFIG_SET), UAPI_CMD(GPIO_FUNC_OP), UAPI_CMD(QEI_FUNC_OP),
+	UAPI_CMD(DAC_FUNC_OP), UAPI_CMD(ADC_FUNC_OP), UAPI_CMD(EEPROM_REQ), UAPI_CMD(EEPROM_GET),
+	UAPI_CMD(ECAT_STATE_CHECK), UAPI_CMD(ECAT_DCSYNC), UAPI_CMD(FIFO_CLR_OP),
+	UAPI_CMD(FIFO_SET_TX_CNT), UAPI_CMD(FIFO_GET_TX_CNT), UAPI_CMD(FIFO_SET_RX_CNT),
+	UAPI_CMD(FIFO_GET_RX_CNT), UAPI_CMD(FW_VERSION_GET), UAPI_CMD(ECAT_STATE_UPDATE),
+	UAPI_CMD(ECAT_INT_SET_ENABLE), UAPI_CMD(ECAT_INT_GET_ENABLE), UAPI_CMD(FIFO_INIT),
+	UAPI_CMD(ECAT_SDO_ABORTCODE_GET), UAPI_CMD(ECAT_SET_FIFO_TH), UAPI_CMD(ECAT_CONFIG_SM),
+	UAPI_CMD(ECAT_CONFIG_FMMU), UAPI_CMD(ECAT_CONFIG_MAP), UAPI_CMD(402_GET_STATUSWORD),
+	UAPI_CMD(ASYNCCMD_RESET), UAPI_CMD(MDIO), UAPI_CMD(DIRECT_ASSIGN), UAPI_CMD(COE_EMERGENCY),
+	UAPI_CMD(WARM_RESET), UAPI_CMD(ECAT_WKC_CONTI_ERR_CNT_GET),
+	UAPI_CMD(ECAT_WKC_CONTI_ERR_MAX_GET), UAPI_CMD(ECAT_WKC_CONTI_ERR_MAX_SET),
+	UAPI_CMD(RAW_ECAT_FUNC_REQ), UAPI_CMD(RAW_ECAT_FUNC_GET), UAPI_CMD(FOE_FUNC_REQ),
+	UAPI_CMD(FOE_FUNC_GET), UAPI_CMD(ENABLE_LRW), UAPI_CMD(RECV_MAILBOX), UAPI_CMD(MBX_STAT),
+};
+#undef UAPI_CMD
+
+TEST_CASE("command table: every row is a command code of <linux/ecmxf.h>, under its name", "[cmds]")
+{
+	std::size_t n = 0;
+	const ecmxf_cmd_info *t = ecmxf_cmd_table(&n);
+	REQUIRE(kUapi.size() == n); // no two macros share a code, none is missing from the table
+	for (std::size_t i = 0; i < n; i++) {
+		INFO("table row " << t[i].name << ", code " << static_cast<unsigned>(t[i].code));
+		auto it = kUapi.find(t[i].code);
+		REQUIRE(it != kUapi.end());
+		CHECK(it->second == t[i].name);
+	}
+}
+
 TEST_CASE("command table: async commands are exactly the digest's list", "[cmds]")
 {
 	for (unsigned code = 0; code < 256; code++) {

@@ -8,7 +8,8 @@
 # (default: amd64 rt-amd64). amd64 and rt-amd64 are Debian's kernels, debug
 # the KASAN/UBSAN/lockdep kernel of scripts/build-debug-kernel.sh. For each:
 # build ecmxf.ko and ecmxf-vspi.ko against its headers, pack an initramfs
-# with busybox, the guest programs (tests/kernel/*.cpp, static) and the
+# with busybox, the guest programs (tests/kernel/*.cpp and the C example
+# examples/ecmxf-sdo-read.c, static) and the
 # step scripts of the mode (tests/kernel/steps/check, or steps/bench with
 # --bench), boot the kernel under QEMU (TCG) and check the console: the
 # marker line must be there and no kernel warning may be. Environment:
@@ -63,6 +64,10 @@ for src in "$top"/tests/kernel/*.cpp; do
 	name=$(basename "$src" .cpp)
 	$cxx -o "$bin/ecmxf-$name" "$src" "$lib" -lgpiod -pthread || die "building $src failed"
 done
+# the uAPI-only C example (examples/, Documentation/uapi.rst "Using the uAPI
+# from C"): C99 against include/uapi alone, no library
+gcc -std=c99 -O2 -static -Wall -Wextra -Werror -I"$top/include/uapi" -o "$bin/ecmxf-sdo-read" \
+	"$top/examples/ecmxf-sdo-read.c" || die "building examples/ecmxf-sdo-read.c failed"
 # the library's integration suite (tests/integration/, Catch2 v2, header
 # only) as /bin/ecmxf-test-integration, and the network its steps give the
 # bridge as /bin/ecmxf-integration.net; objects kept between runs, ccache

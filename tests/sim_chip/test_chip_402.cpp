@@ -157,8 +157,10 @@ TEST_CASE("chip: 402 commands check motor, offsets, state codes and the 0x5A key
 	CHECK(h.cmd(clr(Cmd(ECMXF_CMD_402_CONFIG_SET, 200).d(0, 0, 0x10, 0))).cmdError());
 	CHECK_FALSE(h.cmd(clr(Cmd(ECMXF_CMD_402_CONFIG_SET, 1).d(2, 2, 0x00, 1))).cmdError());
 	// not configured
-	for (std::uint8_t code : { ECMXF_CMD_402_STATE_SET, ECMXF_CMD_402_STATE_GET, ECMXF_CMD_402_CTL_SET,
-				   ECMXF_CMD_402_CTL_GET, ECMXF_CMD_402_GET_STATUSWORD }) {
+	// the codes are plain ints in <linux/ecmxf.h>
+	for (std::uint8_t code : std::initializer_list<std::uint8_t>{
+		     ECMXF_CMD_402_STATE_SET, ECMXF_CMD_402_STATE_GET, ECMXF_CMD_402_CTL_SET, ECMXF_CMD_402_CTL_GET,
+		     ECMXF_CMD_402_GET_STATUSWORD }) {
 		INFO("code " << int(code));
 		CHECK(h.cmd(clr(Cmd(code, 5).d(0x27, 0x5A, 1, 0))).cmdError());
 	}

@@ -3,7 +3,9 @@
 // checks as uapi_c.c against the hand-written uapi_layout.def, then runtime
 // checks that every struct is tiled by its fields with no hole, that the C
 // and the C++ compiler agree, and that the ioctl numbers and flag bits are
-// what Documentation/uapi.rst says.
+// what Documentation/uapi.rst says; the protocol numbers (command codes,
+// header bits, states, interrupt flags) against the manuals' numbers in
+// uapi_numbers.def.
 
 #include <catch2/catch.hpp>
 
@@ -40,6 +42,9 @@ static_assert(ECMXF_IOC_MAGIC == UAPI_WANT_MAGIC, "ECMXF_IOC_MAGIC changed");
 	static_assert(_IOC_SIZE(name) == 0, #name ": size bits are not 0");
 #include "uapi_layout.def"
 
+#define UAPI_NUMBER(group, name, value) static_assert((name) == (value), #name " != " #value);
+#include "uapi_numbers.def"
+
 // ecmxf_submit promises the first 56 bytes of ecmxf_cmd (rx_ptr is reserved
 // there), so one function can fill both.
 #define SAME_PREFIX(f)                                                         \
@@ -75,6 +80,28 @@ const std::vector<uapi_ioctl_layout> kIoctls = {
 #define UAPI_IOCTL_NOARG(name, nr) { #name, name, 0, UAPI_DIR_NONE, (nr) },
 #include "uapi_layout.def"
 };
+
+struct Number {
+	std::string group;
+	std::string name;
+	unsigned long value;
+	unsigned long want;
+};
+
+const std::vector<Number> kNumbers = {
+#define UAPI_NUMBER(group, name, value)                                        \
+	{ #group, #name, static_cast<unsigned long>(name), static_cast<unsigned long>(value) },
+#include "uapi_numbers.def"
+};
+
+std::vector<Number> group(const std::string &g)
+{
+	std::vector<Number> v;
+	for (const auto &n : kNumbers)
+		if (n.group == g)
+			v.push_back(n);
+	return v;
+}
 
 template <typename T>
 std::vector<T> fromC(const T *(*get)(std::size_t *))
@@ -228,4 +255,72 @@ TEST_CASE("uAPI flag bits do not overlap and ring mmap offsets are page aligned"
 	CHECK(ECMXF_RING_OFF_OUT != ECMXF_RING_OFF_IN);
 	// ... and fit a 32-bit off_t.
 	CHECK(ECMXF_RING_OFF_IN <= 0x7FFFFFFFu);
+}
+
+TEST_CASE("uAPI protocol numbers are the manuals' and the C compiler sees the same", "[uapi]")
+{
+	// one line per macro of each group; check_numbers.sh proves that the
+	// header has no ECMXF_{CMD,RSV,CTL,ERR,STS,ECAT,INT}_ macro missing here
+	CHECK(group("CMD").size() == 67);
+	CHECK(group("RSV").size() == 3);
+	CHECK(group("CTL").size() == 7);
+	CHECK(group("ERR").size() == 7);
+	CHECK(group("STS").size() == 6);
+	CHECK(group("ECAT").size() == 7);
+	CHECK(group("INT").size() == 6);
+	for (const auto &n : kNumbers) {
+		INFO(n.name);
+		CHECK(n.value == n.want);
+	}
+
+	std::size_t count = 0;
+	const uapi_number *c = ecmxf_uapi_c_numbers(&count);
+	REQUIRE(count == kNumbers.size());
+	for (std::size_t i = 0; i < count; i++) {
+		INFO(kNumbers[i].name);
+		CHECK(std::string(c[i].name) == kNumbers[i].name);
+		CHECK(c[i].value == kNumbers[i].value);
+		CHECK(c[i].want == kNumbers[i].want);
+	}
+}
+
+TEST_CASE("uAPI command codes are unique, header bits are single bits that do not overlap", "[uapi]")
+{
+	std::set<unsigned long> codes;
+	for (const auto &n : group("CMD")) {
+		INFO(n.name);
+		CHECK(codes.insert(n.value).second);
+		CHECK(n.value <= 0xFFu);
+	}
+	for (const char *g : { "RSV", "CTL", "ERR", "STS", "INT" }) {
+		INFO("group " << g);
+		std::uint64_t all = 0;
+		for (const auto &n : group(g)) {
+			INFO(n.name);
+			CHECK(n.value != 0);
+			CHECK((n.value & (n.value - 1)) == 0); // one bit
+			CHECK((all & n.value) == 0);
+			all |= n.value;
+		}
+	}
+	// the check-type field sits below the ECM status bits
+	CHECK((ECMXF_STS_CHECK_MASK & (ECMXF_STS_DC_STABLE | ECMXF_STS_ETH_INIT | ECMXF_STS_PDO_CONFIGURED |
+				       ECMXF_STS_NOP | ECMXF_STS_FIFO_EN | ECMXF_STS_BUSY)) == 0);
+	// each clear bit of the control byte clears the error bit of the same number
+	CHECK(ECMXF_CTL_CLR_ASYNC_ERR == ECMXF_ERR_ASYNC);
+	CHECK(ECMXF_CTL_CLR_SPI_ERR == ECMXF_ERR_SPI);
+	CHECK(ECMXF_CTL_CLR_FIFO_ERR == ECMXF_ERR_FIFO);
+	CHECK(ECMXF_CTL_CLR_SPI_CRC_ERR == ECMXF_ERR_SPI_CRC);
+	CHECK(ECMXF_CTL_CLR_CMD_ERR == ECMXF_ERR_CMD);
+	// the fault mask is the error bits that report a fault, not the link bits
+	CHECK(ECMXF_ERR_FAULT_MASK ==
+	      (ECMXF_ERR_ASYNC | ECMXF_ERR_SPI | ECMXF_ERR_FIFO | ECMXF_ERR_SPI_CRC | ECMXF_ERR_CMD));
+	CHECK((ECMXF_ERR_FAULT_MASK & (ECMXF_ERR_LINK_HW | ECMXF_ERR_LINK_SW)) == 0);
+	// the header fields these bits go in
+	CHECK(sizeof(ecmxf_cmd_header::rsv_word) == 2);
+	CHECK(sizeof(ecmxf_cmd_header::control) == 1);
+	CHECK(sizeof(ecmxf_rsp_header::err_status) == 1);
+	CHECK(sizeof(ecmxf_rsp_header::ecm_status) == 1);
+	CHECK(sizeof(ecmxf_cmd_header::int_clear) == 4);
+	CHECK(sizeof(ecmxf_rsp_header::int_flags) == 4);
 }

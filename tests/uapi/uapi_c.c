@@ -10,7 +10,10 @@
  * -m32 (see CMakeLists.txt) so the same numbers are proven for i386, where a
  * plain __u64 is only 4-aligned inside structs.
  *
- * It also exports the layout as tables, which test_uapi.cpp compares at
+ * The protocol numbers (command codes, header bits, EtherCAT states,
+ * interrupt flags) are checked the same way against uapi_numbers.def.
+ *
+ * It also exports the layout and the numbers as tables, which test_uapi.cpp compares at
  * runtime with the layout the C++ compiler sees.
  */
 #include <stddef.h>
@@ -56,6 +59,26 @@ _Static_assert(offsetof(struct uapi_i386_probe, b) == 4,
 	_Static_assert(_IOC_SIZE(name) == 0, #name ": size bits are not 0");
 #include "uapi_layout.def"
 
+/*
+ * Each number as the manual gives it, and small enough for the header field
+ * it goes in (8-bit code, control, status and state bytes, the 16-bit word
+ * at 0x08, the 32-bit interrupt word).
+ */
+#define UAPI_WIDTH_CMD		0xFFUL
+#define UAPI_WIDTH_RSV		0xFFFFUL
+#define UAPI_WIDTH_CTL		0xFFUL
+#define UAPI_WIDTH_ERR		0xFFUL
+#define UAPI_WIDTH_ERRMASK	0xFFUL
+#define UAPI_WIDTH_STS		0xFFUL
+#define UAPI_WIDTH_STSMASK	0xFFUL
+#define UAPI_WIDTH_ECAT		0xFFUL
+#define UAPI_WIDTH_INT		0xFFFFFFFFUL
+#define UAPI_NUMBER(group, name, value)						\
+	_Static_assert((name) == (value), #name " != " #value " (the manual's number)"); \
+	_Static_assert((unsigned long)(name) <= UAPI_WIDTH_##group,		\
+		       #name " does not fit its header field");
+#include "uapi_numbers.def"
+
 /* ---- the same, as tables for the runtime test ------------------------- */
 
 static const struct uapi_struct_layout structs[] = {
@@ -77,6 +100,12 @@ static const struct uapi_ioctl_layout ioctls[] = {
 #include "uapi_layout.def"
 };
 
+static const struct uapi_number numbers[] = {
+#define UAPI_NUMBER(group, name, value)						\
+	{ #group, #name, (unsigned long)(name), (unsigned long)(value) },
+#include "uapi_numbers.def"
+};
+
 const struct uapi_struct_layout *ecmxf_uapi_c_structs(size_t *count)
 {
 	*count = sizeof(structs) / sizeof(structs[0]);
@@ -93,4 +122,10 @@ const struct uapi_ioctl_layout *ecmxf_uapi_c_ioctls(size_t *count)
 {
 	*count = sizeof(ioctls) / sizeof(ioctls[0]);
 	return ioctls;
+}
+
+const struct uapi_number *ecmxf_uapi_c_numbers(size_t *count)
+{
+	*count = sizeof(numbers) / sizeof(numbers[0]);
+	return numbers;
 }

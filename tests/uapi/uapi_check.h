@@ -47,9 +47,18 @@ struct uapi_ioctl_layout {
 	unsigned int want_nr;
 };
 
+/* One line of uapi_numbers.def */
+struct uapi_number {
+	const char *group;
+	const char *name;
+	unsigned long value;	/* the macro's value as compiled */
+	unsigned long want;	/* from uapi_numbers.def */
+};
+
 const struct uapi_struct_layout *ecmxf_uapi_c_structs(size_t *count);
 const struct uapi_field_layout *ecmxf_uapi_c_fields(size_t *count);
 const struct uapi_ioctl_layout *ecmxf_uapi_c_ioctls(size_t *count);
+const struct uapi_number *ecmxf_uapi_c_numbers(size_t *count);
 
 #ifdef __cplusplus
 }

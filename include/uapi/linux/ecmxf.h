@@ -596,4 +596,156 @@ struct ecmxf_ring_setup {
  */
 #define ECMXF_IOC_RING_SETUP	_IOWR(ECMXF_IOC_MAGIC, 0x08, struct ecmxf_ring_setup)
 
+/*
+ * The chip's protocol numbers
+ *
+ * Everything below is what the ECM-XF user manuals (ver. 038 and ver. 050;
+ * ver. 050 wins where they differ) define for the packet header: command
+ * codes for &struct ecmxf_cmd_header.code, the bits of its rsv_word and
+ * control fields, and the bits of &struct ecmxf_rsp_header (err_status,
+ * ecm_status, ecat_state, int_flags).  The protocol core of the driver
+ * (lib/core) uses these very definitions; a program needs nothing else to
+ * talk to the chip through %ECMXF_IOC_CMD.
+ */
+
+/*
+ * Command codes (&struct ecmxf_cmd_header.code, &struct
+ * ecmxf_rsp_header.code): the manuals' ECM_CMD_* names without the ECM_
+ * prefix.  Async ("blocking" in ver. 038) commands are marked; %ECMXF_IOC_CMD
+ * waits for the end of their busy phase, and a *_REQ's result is then read
+ * with its *_GET partner.  %ECMXF_CMD_ASYNCCMD_RESET and %ECMXF_CMD_WARM_RESET
+ * are sent by %ECMXF_IOC_RESET only.
+ */
+#define ECMXF_CMD_INFO_UPDATE_OP		0	/* no-op, refreshes the header */
+#define ECMXF_CMD_ECAT_INIT_OP			1	/* async: scan and initialise the bus */
+#define ECMXF_CMD_ECAT_RECONFIG_OP		2	/* async */
+#define ECMXF_CMD_ECAT_INIT_DC_OP		3	/* async */
+#define ECMXF_CMD_ECAT_PDO_WC_GET		4
+#define ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP		5
+#define ECMXF_CMD_ECAT_PDO_DATA_OP		6
+#define ECMXF_CMD_ECAT_PDO_CONFIG_SET		7	/* async */
+#define ECMXF_CMD_ECAT_PDO_CONFIG_REQ		8	/* async, then PDO_CONFIG_GET */
+#define ECMXF_CMD_ECAT_PDO_CONFIG_GET		9
+#define ECMXF_CMD_ECAT_SDO_REQ			10	/* async, then SDO_GET */
+#define ECMXF_CMD_ECAT_SDO_GET			11
+#define ECMXF_CMD_ECAT_STATE_SET		12	/* async */
+#define ECMXF_CMD_ECAT_STATE_GET		13
+#define ECMXF_CMD_ECAT_SLV_INFO_GET		15
+#define ECMXF_CMD_ECAT_SLV_CNT_GET		16	/* return value: slave count */
+#define ECMXF_CMD_FIFO_ENABLE			18
+#define ECMXF_CMD_FIFO_PACK_SIZE_GET		19
+#define ECMXF_CMD_SPI_PACK_SIZE_GET		20
+#define ECMXF_CMD_SPI_RECONFIG_OP		23
+#define ECMXF_CMD_CRC_ERR_CNT_CLR		24
+#define ECMXF_CMD_CRC_TYPE_SET			25
+#define ECMXF_CMD_402_CONFIG_SET		26
+#define ECMXF_CMD_402_STATE_SET			27
+#define ECMXF_CMD_402_STATE_GET			28
+#define ECMXF_CMD_402_CTL_SET			29
+#define ECMXF_CMD_402_CTL_GET			30
+#define ECMXF_CMD_GPIO_CONFIG_SET		31
+#define ECMXF_CMD_GPIO_FUNC_OP			32
+#define ECMXF_CMD_QEI_FUNC_OP			33
+#define ECMXF_CMD_DAC_FUNC_OP			34
+#define ECMXF_CMD_ADC_FUNC_OP			35
+#define ECMXF_CMD_EEPROM_REQ			38	/* async, then EEPROM_GET */
+#define ECMXF_CMD_EEPROM_GET			39
+#define ECMXF_CMD_ECAT_STATE_CHECK		41	/* async */
+#define ECMXF_CMD_ECAT_DCSYNC			50	/* async */
+#define ECMXF_CMD_FIFO_CLR_OP			51
+#define ECMXF_CMD_FIFO_SET_TX_CNT		52
+#define ECMXF_CMD_FIFO_GET_TX_CNT		53
+#define ECMXF_CMD_FIFO_SET_RX_CNT		54
+#define ECMXF_CMD_FIFO_GET_RX_CNT		55
+#define ECMXF_CMD_FW_VERSION_GET		56
+#define ECMXF_CMD_ECAT_STATE_UPDATE		57	/* async */
+#define ECMXF_CMD_ECAT_INT_SET_ENABLE		58
+#define ECMXF_CMD_ECAT_INT_GET_ENABLE		59
+#define ECMXF_CMD_FIFO_INIT			66
+#define ECMXF_CMD_ECAT_SDO_ABORTCODE_GET	69	/* data: __le32 abort code */
+#define ECMXF_CMD_ECAT_SET_FIFO_TH		70
+#define ECMXF_CMD_ECAT_CONFIG_SM		71
+#define ECMXF_CMD_ECAT_CONFIG_FMMU		72	/* obsolete */
+#define ECMXF_CMD_ECAT_CONFIG_MAP		73	/* async */
+#define ECMXF_CMD_402_GET_STATUSWORD		74
+#define ECMXF_CMD_ASYNCCMD_RESET		75	/* %ECMXF_IOC_RESET only */
+#define ECMXF_CMD_MDIO				81
+#define ECMXF_CMD_DIRECT_ASSIGN			82
+#define ECMXF_CMD_COE_EMERGENCY			83
+#define ECMXF_CMD_WARM_RESET			127	/* %ECMXF_IOC_RESET only */
+#define ECMXF_CMD_ECAT_WKC_CONTI_ERR_CNT_GET	130
+#define ECMXF_CMD_ECAT_WKC_CONTI_ERR_MAX_GET	131
+#define ECMXF_CMD_ECAT_WKC_CONTI_ERR_MAX_SET	132
+#define ECMXF_CMD_RAW_ECAT_FUNC_REQ		137	/* async, then RAW_ECAT_FUNC_GET */
+#define ECMXF_CMD_RAW_ECAT_FUNC_GET		138
+#define ECMXF_CMD_FOE_FUNC_REQ			139	/* async, then FOE_FUNC_GET */
+#define ECMXF_CMD_FOE_FUNC_GET			140
+#define ECMXF_CMD_ENABLE_LRW			142
+#define ECMXF_CMD_RECV_MAILBOX			143	/* async with param 0 */
+#define ECMXF_CMD_MBX_STAT			144
+
+/* &struct ecmxf_cmd_header.rsv_word (packet word 0x08) */
+#define ECMXF_RSV_LRW			(1U << 11)	/* ECAT_INIT_OP: enable LRW */
+#define ECMXF_RSV_BUS_SHIFT		(1U << 12)	/* ECAT_INIT_OP: bus shift mode */
+#define ECMXF_RSV_GPIO_OUT		(1U << 15)	/* gpio_out is valid */
+
+/*
+ * &struct ecmxf_cmd_header.control (packet byte 0x0A, ver. 050): refresh the
+ * EtherCAT state, or clear a counter or an error status bit (each
+ * ECMXF_CTL_CLR_*_ERR clears the %ECMXF_ERR_* bit of the same number).
+ */
+#define ECMXF_CTL_REFRESH_STATE		(1U << 0)	/* read the state from the slaves */
+#define ECMXF_CTL_CLR_CRC_CNT		(1U << 1)	/* clear crc_err_cnt */
+#define ECMXF_CTL_CLR_ASYNC_ERR		(1U << 3)
+#define ECMXF_CTL_CLR_SPI_ERR		(1U << 4)
+#define ECMXF_CTL_CLR_FIFO_ERR		(1U << 5)
+#define ECMXF_CTL_CLR_SPI_CRC_ERR	(1U << 6)
+#define ECMXF_CTL_CLR_CMD_ERR		(1U << 7)
+
+/* &struct ecmxf_rsp_header.err_status (packet byte 0x09, ver. 050) */
+#define ECMXF_ERR_LINK_HW		(1U << 0)	/* Ethernet link up (hardware) */
+#define ECMXF_ERR_LINK_SW		(1U << 1)	/* link seen at bus initialisation */
+#define ECMXF_ERR_ASYNC			(1U << 3)	/* the async command failed */
+#define ECMXF_ERR_SPI			(1U << 4)
+#define ECMXF_ERR_FIFO			(1U << 5)
+#define ECMXF_ERR_SPI_CRC		(1U << 6)
+#define ECMXF_ERR_CMD			(1U << 7)	/* refused: bad parameter or busy */
+#define ECMXF_ERR_FAULT_MASK		0xF8U		/* the bits that report a fault */
+
+/* &struct ecmxf_rsp_header.ecm_status (packet byte 0x0A) */
+#define ECMXF_STS_CHECK_MASK		0x03U		/* check word type, as devinfo.check_type */
+#define ECMXF_STS_DC_STABLE		(1U << 2)
+#define ECMXF_STS_ETH_INIT		(1U << 3)	/* Ethernet initialised */
+#define ECMXF_STS_PDO_CONFIGURED	(1U << 4)
+#define ECMXF_STS_NOP			(1U << 5)	/* this response answers no command */
+#define ECMXF_STS_FIFO_EN		(1U << 6)	/* PDO FIFO enabled (the ring pump runs) */
+#define ECMXF_STS_BUSY			(1U << 7)	/* an async command runs */
+
+/*
+ * &struct ecmxf_rsp_header.ecat_state (packet byte 0x08), also the state
+ * byte of ECAT_STATE_SET (data[0]) and ECAT_STATE_GET (return value)
+ */
+#define ECMXF_ECAT_NONE			0x00U
+#define ECMXF_ECAT_INIT			0x01U
+#define ECMXF_ECAT_PREOP		0x02U
+#define ECMXF_ECAT_BOOT			0x03U
+#define ECMXF_ECAT_SAFEOP		0x04U
+#define ECMXF_ECAT_OP			0x08U
+#define ECMXF_ECAT_ERROR		0x10U
+
+/*
+ * INT1 interrupt flags: &struct ecmxf_rsp_header.int_flags and
+ * &struct ecmxf_ring_status.int_flags (packet 0x10..0x13, read),
+ * &struct ecmxf_cmd_header.int_clear (write 1 to clear), and the enable
+ * mask of ECAT_INT_SET_ENABLE.  INT1 is asserted while a flag is set and
+ * enabled; the PDO pump clears %ECMXF_INT_RXFIFO_LOW and
+ * %ECMXF_INT_TXFIFO_HIGH with each of its commands.
+ */
+#define ECMXF_INT_WKC_ERR		(1U << 22)	/* working counter error */
+#define ECMXF_INT_CRC_ERR		(1U << 23)	/* SPI CRC error */
+#define ECMXF_INT_TXFIFO_HIGH		(1U << 24)	/* TxFIFO reached its high mark */
+#define ECMXF_INT_RXFIFO_LOW		(1U << 25)	/* RxFIFO fell to its low mark */
+#define ECMXF_INT_ENCODER		(1U << 29)	/* encoder (QEI) */
+#define ECMXF_INT_ECAT_PKT		(1U << 31)	/* EtherCAT frame received (bus cycle) */
+
 #endif /* _UAPI_LINUX_ECMXF_H */
