@@ -22,7 +22,7 @@ KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
 DEPS := scripts/install-deps.sh
 
 .PHONY: all deps configure check check-user check-stress check-debug-kernel check-asan fuzz demo bench kmod kmod-deps \
-	kmod-check kmod-check-all checkpatch kernel-lint check-kernel kmod-clean install install-udev clean help
+	kmod-check kmod-check-all checkpatch dt-check kernel-lint check-kernel kmod-clean install install-udev clean help
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -112,8 +112,14 @@ kmod-check-all: kmod-deps
 checkpatch:
 	scripts/checkpatch.sh
 
+# The DT binding (dt-doc-validate, its examples through dt-validate) and
+# the Raspberry Pi overlay (dtc, applied with fdtoverlay, its node through
+# dt-validate): scripts/dt-check.sh.
+dt-check: kmod-deps
+	scripts/dt-check.sh
+
 # Everything the kernel asks of kernel code, before review.
-kernel-lint: checkpatch kmod-check
+kernel-lint: checkpatch kmod-check dt-check
 
 # ecmxf.ko under QEMU on a virtual SPI controller, with the simulator as the
 # chip, on Debian's normal and PREEMPT_RT kernels (Documentation/
@@ -152,7 +158,8 @@ help:
 	@echo "make bench     build and run the benchmarks (also in the QEMU guest: KBENCH_FLAVOURS=)"
 	@echo "make kmod      build kmod/ecmxf.ko (KDIR=/path/to/headers)"
 	@echo "make kernel-lint  checkpatch --strict, W=1, sparse and kernel-doc"
-	@echo "               over lib/core and kmod (also: make checkpatch, make kmod-check)"
+	@echo "               over lib/core and kmod, and the DT binding and overlay"
+	@echo "               (also: make checkpatch, make kmod-check, make dt-check)"
 	@echo "make check-kernel  ecmxf.ko under QEMU (normal + PREEMPT_RT kernel)"
 	@echo "make check-debug-kernel  the same on a KASAN/UBSAN/lockdep kernel (built once)"
 	@echo "make install   install to PREFIX (default /usr/local)"

@@ -378,9 +378,9 @@ static long ecmxf_ioc_devinfo(struct ecmxf_client *c, void __user *argp)
 	memset(&d, 0, sizeof(d));
 	d.uapi_version = ECMXF_UAPI_VERSION;
 	mutex_lock(&edev->lock);
-	if (edev->int0)
+	if (edev->int0_irq)
 		d.flags |= ECMXF_DEVINFO_F_INT0;
-	if (edev->int1)
+	if (edev->int1_irq)
 		d.flags |= ECMXF_DEVINFO_F_INT1;
 	if (edev->fw_valid)
 		d.flags |= ECMXF_DEVINFO_F_FW_VERSION;

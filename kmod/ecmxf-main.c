@@ -5,7 +5,8 @@
  * Checks the protocol core, creates the "ecmxf" class and the character
  * device region (/dev/ecmxf0, /dev/ecmxf1, ... one per chip), registers
  * the generic netlink family of the events and the spi_driver.  The
- * module parameters give the defaults that device properties override.
+ * module parameters set the packet format of every chip at probe: it is
+ * configuration, not hardware, so no device property gives it.
  *
  * Copyright (C) 2026 The ecmxf authors
  */
@@ -23,17 +24,12 @@
 unsigned int ecmxf_param_data_size;
 module_param_named(data_size, ecmxf_param_data_size, uint, 0444);
 MODULE_PARM_DESC(data_size,
-		 "packet data section size set at probe, 32..1408; 0 keeps the chip's (default 0; property nextw,data-size wins)");
+		 "packet data section size set at probe, 32..1408; 0 keeps the chip's (default 0)");
 
 unsigned int ecmxf_param_check_type = ECMXF_CHECK_CRC32;
 module_param_named(check_type, ecmxf_param_check_type, uint, 0444);
 MODULE_PARM_DESC(check_type,
-		 "check word set at probe: 0 fixed, 1 CRC-8, 2 CRC-CCITT, 3 CRC-32 (default 3; property nextw,check-type wins)");
-
-unsigned int ecmxf_param_worker_prio = 50;
-module_param_named(worker_prio, ecmxf_param_worker_prio, uint, 0444);
-MODULE_PARM_DESC(worker_prio,
-		 "SCHED_FIFO priority of the link worker, 1..99 (default 50)");
+		 "check word set at probe: 0 fixed, 1 CRC-8, 2 CRC-CCITT, 3 CRC-32 (default 3)");
 
 unsigned int ecmxf_param_max_open = 64;
 module_param_named(max_open, ecmxf_param_max_open, uint, 0444);
@@ -81,11 +77,6 @@ static int __init ecmxf_init(void)
 	if (ret) {
 		pr_err("protocol core self-test failed; not loading\n");
 		return ret;
-	}
-	if (ecmxf_param_worker_prio < 1 || ecmxf_param_worker_prio > 99) {
-		pr_err("worker_prio=%u is out of range (1..99)\n",
-		       ecmxf_param_worker_prio);
-		return -EINVAL;
 	}
 	if (ecmxf_param_data_size && !ecmxf_data_size_valid(ecmxf_param_data_size)) {
 		pr_err("data_size=%u is out of range (0, or 32..1408)\n",

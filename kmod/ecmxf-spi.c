@@ -1,39 +1,59 @@
 // SPDX-License-Identifier: GPL-2.0-only
 /*
- * ecmxf-spi.c - NEXTW ECM-XF: spi_driver, device properties, INT0/INT1
+ * ecmxf-spi.c - NEXTW ECM-XF: spi_driver, INT0/INT1 interrupts
  *
  * Binds to "nextw,ecm-xf" (devicetree), to the SPI modalias "ecm-xf"
- * (board code, software nodes, spi_new_device()) and reads everything
- * through device_property_*() and gpiod, so DT, ACPI and software nodes
- * all work.  Probe brings the link up (ecmxf_link_bringup()), starts the
- * worker and creates /dev/ecmxfN.
+ * (board code, software nodes, spi_new_device()) and finds INT0/INT1
+ * through fwnode and gpiod calls, so DT, ACPI, software nodes and board
+ * code all work (Documentation/devicetree/nextw,ecm-xf.yaml).  Probe
+ * brings the link up (ecmxf_link_bringup()), starts the worker and
+ * creates /dev/ecmxfN.
  *
  * Copyright (C) 2026 The ecmxf authors
  */
 #include <linux/interrupt.h>
+#include <linux/irq.h>
 #include <linux/kthread.h>
 #include <linux/mod_devicetable.h>
 #include <linux/module.h>
 #include <linux/property.h>
 #include <linux/slab.h>
+#include <linux/string.h>
 
 #include "ecmxf.h"
 
 /*
  * INT0 ("ready") and INT1 (event) interrupts.  The handlers only count,
  * record a flag and wake the worker: bounded work that needs no lock and
- * is safe in hard IRQ context, so they run there when the GPIO controller
- * allows it (devm_request_any_context_irq(); no IRQ thread between the
- * edge and the worker) and threaded behind a nested (e.g. I2C expander)
- * controller; PREEMPT_RT threads them anyway.  The worker (or probe,
- * while it owns the link) never depends on an edge: it also reads the
- * line level and bounds every wait, so a lost edge costs time, not
- * correctness.
+ * is safe in hard IRQ context, so they run there when the interrupt
+ * controller allows it (devm_request_any_context_irq(); no IRQ thread
+ * between the edge and the worker) and threaded behind a nested (e.g. I2C
+ * expander) controller; PREEMPT_RT threads them anyway.  The worker (or
+ * probe, while it owns the link) never depends on an interrupt alone: it
+ * bounds every wait, so a lost edge costs time, not correctness.
+ *
+ * A level-triggered line would fire again as soon as the handler returns,
+ * for as long as the chip holds it (INT0 "ready" is high whenever the chip
+ * is idle; INT1 stays asserted until the application clears the flag), so
+ * its handler also masks it (disable_irq_nosync()).  The worker unmasks it
+ * when it wants the next one: INT0 when it waits for "ready", INT1 once a
+ * packet with interrupt clear bits reached the chip, or after
+ * %ECMXF_INT1_HOLDOFF_NS (ecmxf-worker.c).
  */
+static void ecmxf_irq_hold(int irq, bool level, atomic_t *masked)
+{
+	if (!level)
+		return;
+	/* disabled before marked: ecmxf_irq_unmask() never unbalances */
+	disable_irq_nosync(irq);
+	atomic_set(masked, 1);
+}
+
 static irqreturn_t ecmxf_int0_irq(int irq, void *data)
 {
 	struct ecmxf_dev *edev = data;
 
+	ecmxf_irq_hold(irq, edev->int0_level, &edev->int0_masked);
 	atomic64_inc(&edev->int0_irqs);
 	atomic_set(&edev->int0_flag, 1);
 	ecmxf_wake_owner(edev);
@@ -44,46 +64,168 @@ static irqreturn_t ecmxf_int1_irq(int irq, void *data)
 {
 	struct ecmxf_dev *edev = data;
 
+	ecmxf_irq_hold(irq, edev->int1_level, &edev->int1_masked);
 	atomic64_inc(&edev->int1_irqs);
 	atomic_set(&edev->int1_flag, 1);
 	ecmxf_wake_owner(edev);
 	return IRQ_HANDLED;
 }
 
-/*
- * The interrupt of an optional GPIO line, triggered on the edge into the
- * line's active (logical 1) level: the polarity comes from the GPIO flags
- * (GPIO_ACTIVE_LOW in DT, or the ACPI/software-node equivalent).
+/**
+ * ecmxf_irq_unmask() - unmask a level-triggered line its handler masked
+ * @edev: the device
+ * @irq: the line's IRQ
+ * @masked: its &ecmxf_dev.int0_masked or &ecmxf_dev.int1_masked
+ *
+ * Nothing to do for an edge-triggered line, or one not masked.  Once
+ * ecmxf_free_irqs() has begun, it never enables the IRQ again.  Call from
+ * the task that owns the link, without &ecmxf_dev.lock.
  */
+void ecmxf_irq_unmask(struct ecmxf_dev *edev, int irq, atomic_t *masked)
+{
+	if (!atomic_read(masked))
+		return;
+	mutex_lock(&edev->lock);
+	if (!edev->irqs_off && atomic_xchg(masked, 0))
+		enable_irq(irq);
+	mutex_unlock(&edev->lock);
+}
+
+static const char *ecmxf_trigger_name(unsigned int type)
+{
+	switch (type) {
+	case IRQ_TYPE_EDGE_RISING:
+		return "rising edge";
+	case IRQ_TYPE_EDGE_FALLING:
+		return "falling edge";
+	case IRQ_TYPE_EDGE_BOTH:
+		return "both edges";
+	case IRQ_TYPE_LEVEL_HIGH:
+		return "level high";
+	case IRQ_TYPE_LEVEL_LOW:
+		return "level low";
+	default:
+		return "no trigger";
+	}
+}
+
+/**
+ * struct ecmxf_line - where one of INT0/INT1 comes from (probe only)
+ * @gpio: the GPIO of the "int0-gpios"/"int1-gpios" form, or NULL
+ * @irq: its Linux IRQ, 0 when the line is absent
+ * @type: IRQ_TYPE_* the IRQ is requested with
+ * @form: "interrupt" or "GPIO", for the probe message
+ */
+struct ecmxf_line {
+	struct gpio_desc *gpio;
+	int irq;
+	unsigned int type;
+	const char *form;
+};
+
+/*
+ * Find INT0 or INT1 (@name "int0"/"int1"); the first form that is there
+ * wins:
+ *
+ *  1. an interrupt named @name in "interrupt-names" (DT, ACPI _DSD),
+ *     triggered as the firmware describes it;
+ *  2. the GPIO "@name-gpios" (any firmware, gpiod lookup tables), its
+ *     interrupt triggered on the edge into the line's active level (the
+ *     polarity from the GPIO flags); the worker also reads INT0's level;
+ *  3. INT1 only: the device's one unnamed interrupt, when the firmware
+ *     has no "interrupt-names" (spi->irq: board code's
+ *     spi_board_info.irq, an ACPI GpioInt), triggered as configured.
+ *
+ * An interrupt without a trigger type is refused: whether the line is
+ * level or edge decides how it is handled.
+ */
+static int ecmxf_find_line(struct ecmxf_dev *edev, const char *name,
+			   struct ecmxf_line *l)
+{
+	struct device *dev = &edev->spi->dev;
+	struct fwnode_handle *fwnode = dev_fwnode(dev);
+	int idx, irq;
+
+	memset(l, 0, sizeof(*l));
+	idx = fwnode_property_match_string(fwnode, "interrupt-names", name);
+	if (idx >= 0) {
+		irq = fwnode_irq_get(fwnode, idx);
+		if (irq < 0)
+			return dev_err_probe(dev, irq,
+					     "cannot get the interrupt \"%s\"\n",
+					     name);
+		l->irq = irq;
+		l->type = irq_get_trigger_type(irq);
+		l->form = "interrupt";
+	} else {
+		l->gpio = devm_gpiod_get_optional(dev, name, GPIOD_IN);
+		if (IS_ERR(l->gpio))
+			return dev_err_probe(dev, PTR_ERR(l->gpio),
+					     "cannot get the %s GPIO\n", name);
+		if (l->gpio) {
+			irq = gpiod_to_irq(l->gpio);
+			if (irq < 0)
+				return dev_err_probe(dev, irq,
+						     "the %s GPIO has no interrupt\n",
+						     name);
+			l->irq = irq;
+			l->type = gpiod_is_active_low(l->gpio) ?
+				  IRQ_TYPE_EDGE_FALLING : IRQ_TYPE_EDGE_RISING;
+			l->form = "GPIO";
+		} else if (!strcmp(name, "int1") && edev->spi->irq > 0 &&
+			   !fwnode_property_present(fwnode, "interrupt-names")) {
+			l->irq = edev->spi->irq;
+			l->type = irq_get_trigger_type(l->irq);
+			l->form = "interrupt";
+		}
+	}
+	if (l->irq && !(l->type & IRQ_TYPE_SENSE_MASK))
+		return dev_err_probe(dev, -EINVAL,
+				     "the %s interrupt (IRQ %d) has no trigger type\n",
+				     name, l->irq);
+	return 0;
+}
+
+/* Request the IRQ of @l; *@irq_out becomes it once requested. */
 static int ecmxf_request_line_irq(struct ecmxf_dev *edev,
-				  struct gpio_desc *desc, const char *name,
+				  const struct ecmxf_line *l, const char *name,
 				  irq_handler_t handler, int *irq_out)
 {
 	struct device *dev = &edev->spi->dev;
-	unsigned long trigger;
-	int irq, ret;
+	int ret;
 
 	*irq_out = 0;
-	if (!desc)
+	if (!l->irq)
 		return 0;
-	irq = gpiod_to_irq(desc);
-	if (irq < 0)
-		return dev_err_probe(dev, irq, "%s GPIO has no interrupt\n",
-				     name);
-	trigger = gpiod_is_active_low(desc) ? IRQF_TRIGGER_FALLING :
-					      IRQF_TRIGGER_RISING;
-	ret = devm_request_any_context_irq(dev, irq, handler, trigger, name,
+	ret = devm_request_any_context_irq(dev, l->irq, handler,
+					   l->type & IRQ_TYPE_SENSE_MASK, name,
 					   edev);
 	if (ret < 0)
-		return dev_err_probe(dev, ret, "cannot request the %s IRQ %d\n",
-				     name, irq);
-	*irq_out = irq;
+		return dev_err_probe(dev, ret,
+				     "cannot request the %s IRQ %d (%s)\n", name,
+				     l->irq, ecmxf_trigger_name(l->type));
+	*irq_out = l->irq;
 	return 0;
+}
+
+/* Probe's summary of one line: "absent", "GPIO, rising edge", ... */
+static void ecmxf_line_desc(char *buf, size_t size,
+			    const struct ecmxf_line *l, const char *absent)
+{
+	if (!l->irq)
+		strscpy(buf, absent, size);
+	else
+		snprintf(buf, size, "%s IRQ %d, %s", l->form, l->irq,
+			 ecmxf_trigger_name(l->type));
 }
 
 /* Free the IRQs before the worker goes: their handlers wake it. */
 static void ecmxf_free_irqs(struct ecmxf_dev *edev, struct device *dev)
 {
+	/* the worker may still run: it must not enable them again */
+	mutex_lock(&edev->lock);
+	edev->irqs_off = true;
+	mutex_unlock(&edev->lock);
 	if (edev->int1_irq)
 		devm_free_irq(dev, edev->int1_irq, edev);
 	if (edev->int0_irq)
@@ -104,38 +246,21 @@ static void ecmxf_dev_release(struct device *dev)
 	kfree(edev);
 }
 
-/* Packet format wanted at probe: device property, else module parameter. */
-static int ecmxf_read_properties(struct ecmxf_dev *edev)
-{
-	struct device *dev = &edev->spi->dev;
-	u32 val;
-
-	edev->want_size = ecmxf_param_data_size;
-	edev->want_check = ecmxf_param_check_type;
-	if (!device_property_read_u32(dev, "nextw,data-size", &val)) {
-		if (!ecmxf_data_size_valid(val))
-			return dev_err_probe(dev, -EINVAL,
-					     "nextw,data-size = %u is out of range (32..1408)\n",
-					     val);
-		edev->want_size = val;
-	}
-	if (!device_property_read_u32(dev, "nextw,check-type", &val)) {
-		if (val > ECMXF_CHECK_CRC32)
-			return dev_err_probe(dev, -EINVAL,
-					     "nextw,check-type = %u is out of range (0 fixed, 1 CRC-8, 2 CRC-CCITT, 3 CRC-32)\n",
-					     val);
-		edev->want_check = val;
-	}
-	return 0;
-}
-
 static int ecmxf_probe(struct spi_device *spi)
 {
 	struct device *dev = &spi->dev;
+	struct ecmxf_line int0, int1;
 	struct ecmxf_dev *edev;
+	char d0[48], d1[48];
 	int id, ret;
 
 	spi->bits_per_word = 8;
+	/*
+	 * The worker runs SCHED_FIFO and waits in spi_sync(): the
+	 * controller's message pump (when a transfer is queued behind
+	 * another device's) must not run below it (as mcp251xfd, oa_tc6).
+	 */
+	spi->rt = true;
 	ret = spi_setup(spi);
 	if (ret)
 		return dev_err_probe(dev, ret, "SPI setup (mode %#x, 8 bits) failed\n",
@@ -157,6 +282,8 @@ static int ecmxf_probe(struct spi_device *spi)
 	INIT_LIST_HEAD(&edev->resets);
 	atomic_set(&edev->int0_flag, 0);
 	atomic_set(&edev->int1_flag, 0);
+	atomic_set(&edev->int0_masked, 0);
+	atomic_set(&edev->int1_masked, 0);
 	atomic_set(&edev->kick, 0);
 	atomic64_set(&edev->int0_irqs, 0);
 	atomic64_set(&edev->int1_irqs, 0);
@@ -180,28 +307,26 @@ static int ecmxf_probe(struct spi_device *spi)
 		goto out_put_device;
 	}
 
-	ret = ecmxf_read_properties(edev);
-	if (ret)
-		goto out_put_device;
+	/* configuration, not hardware: no device property (driver.rst) */
+	edev->want_size = ecmxf_param_data_size;
+	edev->want_check = ecmxf_param_check_type;
 
-	edev->int0 = devm_gpiod_get_optional(dev, "int0", GPIOD_IN);
-	if (IS_ERR(edev->int0)) {
-		ret = dev_err_probe(dev, PTR_ERR(edev->int0),
-				    "cannot get the INT0 (ready) GPIO\n");
-		goto out_put_device;
-	}
-	edev->int1 = devm_gpiod_get_optional(dev, "int1", GPIOD_IN);
-	if (IS_ERR(edev->int1)) {
-		ret = dev_err_probe(dev, PTR_ERR(edev->int1),
-				    "cannot get the INT1 (event) GPIO\n");
-		goto out_put_device;
-	}
-	ret = ecmxf_request_line_irq(edev, edev->int0, "ecmxf-int0",
-				     ecmxf_int0_irq, &edev->int0_irq);
+	ret = ecmxf_find_line(edev, "int0", &int0);
 	if (ret)
 		goto out_put_device;
-	ret = ecmxf_request_line_irq(edev, edev->int1, "ecmxf-int1",
-				     ecmxf_int1_irq, &edev->int1_irq);
+	ret = ecmxf_find_line(edev, "int1", &int1);
+	if (ret)
+		goto out_put_device;
+	edev->int0 = int0.gpio;
+	edev->int1 = int1.gpio;
+	edev->int0_level = int0.type & IRQ_TYPE_LEVEL_MASK;
+	edev->int1_level = int1.type & IRQ_TYPE_LEVEL_MASK;
+	ret = ecmxf_request_line_irq(edev, &int0, "ecmxf-int0", ecmxf_int0_irq,
+				     &edev->int0_irq);
+	if (ret)
+		goto out_free_irqs;
+	ret = ecmxf_request_line_irq(edev, &int1, "ecmxf-int1", ecmxf_int1_irq,
+				     &edev->int1_irq);
 	if (ret)
 		goto out_free_irqs;
 
@@ -225,11 +350,11 @@ static int ecmxf_probe(struct spi_device *spi)
 	}
 	spi_set_drvdata(spi, edev);
 
+	ecmxf_line_desc(d0, sizeof(d0), &int0, "absent (150 us waits)");
+	ecmxf_line_desc(d1, sizeof(d1), &int1, "absent");
 	dev_info(dev, "/dev/%s: firmware %u, %u-byte data section, %s check word, INT0 %s, INT1 %s\n",
 		 dev_name(&edev->dev), edev->fw_version, edev->data_size,
-		 ecmxf_check_name(edev->check),
-		 edev->int0 ? "wired" : "absent (150 us waits)",
-		 edev->int1 ? "wired" : "absent");
+		 ecmxf_check_name(edev->check), d0, d1);
 	return 0;
 
 out_stop_worker:

@@ -11,8 +11,6 @@
  *   open_count     open file descriptors
  *   claim_pid      process holding the cyclic claim (0: none), in the
  *                  reader's pid namespace
- *   worker_priority SCHED_FIFO priority of the link worker (1..99);
- *                  writable by root
  *   ring_skipped   output frames the PDO pump skipped since probe
  *   ring_failures  PDO pump commands that failed since probe (their
  *                  frames are lost, never sent again)
@@ -121,7 +119,7 @@ static ssize_t int0_show(struct device *dev, struct device_attribute *attr,
 			 char *buf)
 {
 	return sysfs_emit(buf, "%s\n",
-			  ecmxf_from_dev(dev)->int0 ? "wired" : "absent");
+			  ecmxf_from_dev(dev)->int0_irq ? "wired" : "absent");
 }
 static DEVICE_ATTR_RO(int0);
 
@@ -129,7 +127,7 @@ static ssize_t int1_show(struct device *dev, struct device_attribute *attr,
 			 char *buf)
 {
 	return sysfs_emit(buf, "%s\n",
-			  ecmxf_from_dev(dev)->int1 ? "wired" : "absent");
+			  ecmxf_from_dev(dev)->int1_irq ? "wired" : "absent");
 }
 static DEVICE_ATTR_RO(int1);
 
@@ -158,33 +156,6 @@ static ssize_t claim_pid_show(struct device *dev,
 	return sysfs_emit(buf, "%d\n", v);
 }
 static DEVICE_ATTR_RO(claim_pid);
-
-static ssize_t worker_priority_show(struct device *dev,
-				    struct device_attribute *attr, char *buf)
-{
-	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
-	unsigned int v;
-
-	mutex_lock(&edev->lock);
-	v = edev->worker_prio;
-	mutex_unlock(&edev->lock);
-	return sysfs_emit(buf, "%u\n", v);
-}
-
-static ssize_t worker_priority_store(struct device *dev,
-				     struct device_attribute *attr,
-				     const char *buf, size_t count)
-{
-	unsigned int prio;
-	int ret;
-
-	ret = kstrtouint(buf, 0, &prio);
-	if (ret)
-		return ret;
-	ret = ecmxf_worker_set_prio(ecmxf_from_dev(dev), prio);
-	return ret ? ret : count;
-}
-static DEVICE_ATTR_RW(worker_priority);
 
 static ssize_t ring_skipped_show(struct device *dev,
 				 struct device_attribute *attr, char *buf)
@@ -222,7 +193,6 @@ static struct attribute *ecmxf_attrs[] = {
 	&dev_attr_int1.attr,
 	&dev_attr_open_count.attr,
 	&dev_attr_claim_pid.attr,
-	&dev_attr_worker_priority.attr,
 	&dev_attr_ring_skipped.attr,
 	&dev_attr_ring_failures.attr,
 	NULL

@@ -31,7 +31,8 @@
 #include <linux/sched.h>
 #include <linux/sched/task.h>
 #include <linux/slab.h>
-#include <uapi/linux/sched/types.h>
+
+#include <asm/unaligned.h>
 
 #include "ecmxf.h"
 
@@ -77,9 +78,12 @@ static void ecmxf_sleep_until(struct ecmxf_dev *edev, u64 until_ns)
 /*
  * Before an exchange: wait until the chip is ready for it, counted from
  * the end of the previous one.  Without INT0 the chip needs up to 150 us.
- * With INT0, wait for its level or its edge, but never longer than
- * ECMXF_READY_TIMEOUT_US after that exchange: a chip that stays busy then
- * answers "not ready", which the engine counts and retries.
+ * With INT0, wait for its level (GPIO form), its interrupt since the
+ * previous exchange began (&ecmxf_dev.int0_flag; a level-triggered one is
+ * unmasked here and fires at once while the line is "ready"), but never
+ * longer than ECMXF_READY_TIMEOUT_US after that exchange: a chip that
+ * stays busy then answers "not ready", which the engine counts and
+ * retries.
  *
  * Waiting here rather than right after the exchange lets the worker hand
  * an answer to its caller first: the chip's processing time after the
@@ -93,7 +97,7 @@ static void ecmxf_wait_ready(struct ecmxf_dev *edev)
 
 	if (!edev->xfer_end_ns)
 		return;		/* nothing exchanged yet */
-	if (!edev->int0) {
+	if (!edev->int0_irq) {
 		/* as usleep_range(): a wake-up does not end the wait */
 		deadline = ns_to_ktime(ready_ns);
 		while (ktime_get_ns() < ready_ns) {
@@ -106,11 +110,12 @@ static void ecmxf_wait_ready(struct ecmxf_dev *edev)
 	}
 	deadline = ns_to_ktime(edev->xfer_end_ns +
 			       ECMXF_READY_TIMEOUT_US * NSEC_PER_USEC);
+	ecmxf_irq_unmask(edev, edev->int0_irq, &edev->int0_masked);
 	for (;;) {
-		if (gpiod_get_value_cansleep(edev->int0) > 0)
+		if (edev->int0 && gpiod_get_value_cansleep(edev->int0) > 0)
 			return;
 		set_current_state(TASK_IDLE);
-		if (atomic_xchg(&edev->int0_flag, 0)) {
+		if (atomic_read(&edev->int0_flag)) {
 			__set_current_state(TASK_RUNNING);
 			return;
 		}
@@ -118,6 +123,45 @@ static void ecmxf_wait_ready(struct ecmxf_dev *edev)
 			return;		/* timed out */
 		/* woken: by INT0, or by other work; look at the line again */
 	}
+}
+
+/*
+ * A level-triggered INT1 that its handler masked: unmask it once a packet
+ * with interrupt clear bits reached the chip (@cleared: the worker saw
+ * "ready" after it), else ECMXF_INT1_HOLDOFF_NS after the worker first
+ * found it masked.  Still asserted then (flags the application does not
+ * clear), it fires once more: one header refresh per hold-off, no storm.
+ *
+ * Return: when to look again (ktime_get_ns() clock), or U64_MAX.
+ */
+static u64 ecmxf_int1_rearm(struct ecmxf_dev *edev, u64 now, bool cleared)
+{
+	if (!edev->int1_level || !atomic_read(&edev->int1_masked)) {
+		edev->int1_rearm_ns = 0;
+		return U64_MAX;
+	}
+	if (!edev->int1_rearm_ns)
+		edev->int1_rearm_ns = now + ECMXF_INT1_HOLDOFF_NS;
+	if (!cleared && now < edev->int1_rearm_ns)
+		return edev->int1_rearm_ns;
+	edev->int1_rearm_ns = 0;
+	ecmxf_irq_unmask(edev, edev->int1_irq, &edev->int1_masked);
+	return U64_MAX;
+}
+
+/* After "ready": a clear sent in the last packet has reached the chip. */
+static void ecmxf_int1_cleared(struct ecmxf_dev *edev)
+{
+	if (!edev->int1_cleared)
+		return;
+	edev->int1_cleared = false;
+	ecmxf_int1_rearm(edev, ktime_get_ns(), true);
+}
+
+/* The packet in @pkt clears interrupt flags (int_clear, gpio_int_clear). */
+static bool ecmxf_pkt_clears(const u8 *pkt)
+{
+	return get_unaligned_le32(pkt + 0x10) || pkt[0x14] || pkt[0x15];
 }
 
 /*
@@ -140,6 +184,7 @@ static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
 	int ret;
 
 	ecmxf_wait_ready(edev);
+	ecmxf_int1_cleared(edev);
 	now = ktime_get_ns();
 	ret = ecmxf_engine_next(&edev->e, now, edev->txbuf, n);
 	if (ret == -EAGAIN) {
@@ -150,6 +195,8 @@ static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
 		return ecmxf_engine_poll_time(&edev->e, now);
 
 	atomic_set(&edev->int0_flag, 0);
+	if (edev->int1_level)
+		edev->int1_cleared = ecmxf_pkt_clears(edev->txbuf);
 	ret = spi_sync_transfer(edev->spi, &t, 1);
 	if (ret) {
 		/* nothing usable came back: the engine retries, then fails */
@@ -625,16 +672,23 @@ static void ecmxf_start_reset(struct ecmxf_dev *edev, struct ecmxf_req *req)
 
 /*
  * Sleep until there is work: a kick, INT1, kthread_stop(), @until_ns
- * (ktime_get_ns() clock; U64_MAX: no timeout) for the events' poll, or
- * the PDO pump's next timer deadline.  A wake-up by INT0 (rising after
- * the last exchange of a command) only puts it back to sleep, without a
- * turn of the owner loop.
+ * (ktime_get_ns() clock; U64_MAX: no timeout) for the events' poll or a
+ * masked level INT1, or the PDO pump's next timer deadline.  A wake-up by
+ * INT0 alone ("ready" after the last exchange of a command) only puts it
+ * back to sleep, without a turn of the owner loop; its flag stays for the
+ * next wait for "ready".
  */
 static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 {
+	s64 int0_seen;
 	ktime_t t;
 	u64 pump;
 
+	if (edev->int1_cleared) {
+		/* the clear must reach the chip before INT1 is unmasked */
+		ecmxf_wait_ready(edev);
+		ecmxf_int1_cleared(edev);
+	}
 	mutex_lock(&edev->lock);
 	pump = ecmxf_pump_deadline(edev);
 	mutex_unlock(&edev->lock);
@@ -642,6 +696,7 @@ static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 		until_ns = pump;
 	t = ns_to_ktime(until_ns);
 
+	int0_seen = atomic64_read(&edev->int0_irqs);
 	for (;;) {
 		set_current_state(TASK_IDLE);
 		if (atomic_read(&edev->kick) || atomic_read(&edev->int1_flag) ||
@@ -652,11 +707,12 @@ static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 		else if (!schedule_hrtimeout(&t, HRTIMER_MODE_ABS))
 			break;		/* @until_ns reached */
 		/*
-		 * an INT0 edge ("ready" after the last exchange) is no work:
-		 * sleep on (the next wait for "ready" reads the line level)
+		 * an INT0 interrupt ("ready" after the last exchange) is no
+		 * work: sleep on (the next wait for "ready" sees its flag)
 		 */
-		if (!atomic_xchg(&edev->int0_flag, 0))
+		if (atomic64_read(&edev->int0_irqs) == int0_seen)
 			break;
+		int0_seen = atomic64_read(&edev->int0_irqs);
 	}
 	__set_current_state(TASK_RUNNING);
 }
@@ -666,8 +722,8 @@ static int ecmxf_worker_fn(void *data)
 	struct ecmxf_dev *edev = data;
 	struct ecmxf_req *reset, *req;
 	struct ecmxf_rings *pump;
+	u64 now, int1_at;
 	bool slot_free;
-	u64 now;
 	int ret;
 
 	ecmxf_nl_start(edev);
@@ -675,6 +731,7 @@ static int ecmxf_worker_fn(void *data)
 		ecmxf_nl_flush(edev);	/* the events found since, no lock held */
 		atomic_set(&edev->kick, 0);
 		now = ktime_get_ns();
+		int1_at = ecmxf_int1_rearm(edev, now, false);
 		reset = NULL;
 		req = NULL;
 		pump = NULL;
@@ -745,7 +802,8 @@ static int ecmxf_worker_fn(void *data)
 		    !atomic_xchg(&edev->int1_flag, 0) &&
 		    !ecmxf_nl_poll_due(edev, now)) {
 			ecmxf_nl_flush(edev);	/* a burst that just ended */
-			ecmxf_idle(edev, ecmxf_nl_wake_at(edev, now));
+			ecmxf_idle(edev, min(ecmxf_nl_wake_at(edev, now),
+					     int1_at));
 			continue;
 		}
 		ecmxf_exchange(edev);
@@ -773,61 +831,28 @@ static int ecmxf_worker_fn(void *data)
  * ecmxf_worker_start() - create the link worker, SCHED_FIFO
  * @edev: the device, link up
  *
+ * The worker gets sched_set_fifo(): the middle real-time priority that
+ * the kernel gives its own real-time kthreads (50).  Which priority it
+ * needs depends on the machine (above the application's cyclic thread
+ * or below it, above or below the SPI controller's and the GPIO IRQ
+ * threads): the machine builder sets it with chrt(1) on the thread
+ * "ecmxfN", as for any kernel thread, not through the driver.
+ *
  * Return: 0 or a negative errno.
  */
 int ecmxf_worker_start(struct ecmxf_dev *edev)
 {
-	struct sched_attr attr = {
-		.size = sizeof(attr),
-		.sched_policy = SCHED_FIFO,
-		.sched_priority = ecmxf_param_worker_prio,
-	};
 	struct task_struct *t;
-	int ret;
 
 	t = kthread_create(ecmxf_worker_fn, edev, "ecmxf%d", edev->id);
 	if (IS_ERR(t))
 		return PTR_ERR(t);
-	edev->worker_prio = ecmxf_param_worker_prio;
-	ret = sched_setattr_nocheck(t, &attr);
-	if (ret) {
-		kthread_stop(t);
-		return ret;
-	}
+	sched_set_fifo(t);
 	get_task_struct(t);
 	edev->worker = t;
 	WRITE_ONCE(edev->owner, t);
 	wake_up_process(t);
 	return 0;
-}
-
-/**
- * ecmxf_worker_set_prio() - change the worker's SCHED_FIFO priority
- * @edev: the device
- * @prio: 1..99
- *
- * Return: 0, -EINVAL for a priority out of range, -ENODEV without a
- * worker, or the error of sched_setattr_nocheck().
- */
-int ecmxf_worker_set_prio(struct ecmxf_dev *edev, unsigned int prio)
-{
-	struct sched_attr attr = {
-		.size = sizeof(attr),
-		.sched_policy = SCHED_FIFO,
-		.sched_priority = prio,
-	};
-	int ret = -ENODEV;
-
-	if (prio < 1 || prio > 99)
-		return -EINVAL;
-	mutex_lock(&edev->lock);
-	if (edev->worker) {
-		ret = sched_setattr_nocheck(edev->worker, &attr);
-		if (!ret)
-			edev->worker_prio = prio;
-	}
-	mutex_unlock(&edev->lock);
-	return ret;
 }
 
 /**

@@ -44,6 +44,13 @@
 #define ECMXF_READY_WAIT_US	150
 /* with INT0: how long to wait for "ready" before exchanging anyway */
 #define ECMXF_READY_TIMEOUT_US	5000
+/*
+ * a level-triggered INT1 that its handler masked is unmasked at the latest
+ * this long after the worker saw it masked (sooner once a packet with
+ * interrupt clear bits reached the chip): a line the application never
+ * clears then costs one header refresh per period, not an interrupt storm
+ */
+#define ECMXF_INT1_HOLDOFF_NS	(10 * NSEC_PER_MSEC)
 /* how often the worker expires queued (not yet sent) commands */
 #define ECMXF_EXPIRE_PERIOD_NS	(1 * NSEC_PER_MSEC)
 /*
@@ -374,11 +381,19 @@ struct ecmxf_pump {
  *	cdev hold it)
  * @cdev: the character device
  * @id: N of /dev/ecmxfN
- * @int0: INT0 ("ready", logical 1 = ready) or NULL
- * @int1: INT1 (events, logical 1 = asserted) or NULL
- * @int0_irq: Linux IRQ of @int0, or 0
- * @int1_irq: Linux IRQ of @int1, or 0
- * @int0_flag: set by the INT0 handler, consumed by the worker
+ * @int0: the INT0 GPIO ("ready", logical 1 = ready) of the GPIO form, or
+ *	NULL (INT0 absent, or given as an interrupt: no level to read)
+ * @int1: the INT1 GPIO (events, logical 1 = asserted), or NULL (as @int0)
+ * @int0_irq: Linux IRQ of INT0 (interrupt or GPIO form), 0 when absent
+ * @int1_irq: Linux IRQ of INT1, 0 when absent
+ * @int0_level: @int0_irq is level-triggered: its handler masks it, the
+ *	worker unmasks it when it waits for "ready"
+ * @int1_level: @int1_irq is level-triggered: its handler masks it, the
+ *	worker unmasks it after an interrupt clear or a hold-off
+ * @int0_masked: the INT0 handler masked @int0_irq (level only)
+ * @int1_masked: the INT1 handler masked @int1_irq (level only)
+ * @int0_flag: set by the INT0 handler: "ready" since the last exchange
+ *	began; cleared by the worker before each exchange
  * @int1_flag: set by the INT1 handler, consumed by the worker
  * @kick: set when the worker has new work; consumed by the worker
  * @worker: the kthread that owns the link (a reference is held)
@@ -395,10 +410,15 @@ struct ecmxf_pump {
  * @wkc_last: last WKC error count seen (worker only)
  * @wkc_valid: @wkc_last holds a value (worker only)
  * @next_expire_ns: next scan for expired queued requests (worker only)
+ * @int1_cleared: the last packet sent carried interrupt clear bits
+ *	(worker only; level INT1)
+ * @int1_rearm_ns: when a masked level INT1 is unmasked at the latest, 0
+ *	when not set (worker only)
  * @want_size: data section size to set at probe; 0 keeps the chip's
  * @want_check: check type to set at probe
  * @lock: protects everything below it
  * @gone: the chip was removed; every file operation returns -ENODEV
+ * @irqs_off: ecmxf_free_irqs() began: no IRQ is enabled again
  * @cur_req: the request in the engine's command slot (written by the
  *	worker under @lock, read by it without)
  * @async_req: the async request the chip runs (as @cur_req)
@@ -424,7 +444,6 @@ struct ecmxf_pump {
  * @int1_irqs: INT1 interrupts handled (as @int0_irqs)
  * @rings: the PDO rings of the claim holder, or NULL (a reference held)
  * @pump: the PDO pump's command (worker only)
- * @worker_prio: SCHED_FIFO priority of @worker (sysfs worker_priority)
  * @out_ring_underruns: &struct ecmxf_counters.out_ring_underruns
  * @in_ring_overruns: &struct ecmxf_counters.in_ring_overruns
  * @rx_fifo_underruns: &struct ecmxf_counters.rx_fifo_underruns
@@ -444,6 +463,10 @@ struct ecmxf_dev {
 	struct gpio_desc *int1;
 	int int0_irq;
 	int int1_irq;
+	bool int0_level;
+	bool int1_level;
+	atomic_t int0_masked;
+	atomic_t int1_masked;
 	atomic_t int0_flag;
 	atomic_t int1_flag;
 	atomic_t kick;
@@ -457,11 +480,14 @@ struct ecmxf_dev {
 	u8 wkc_last;
 	bool wkc_valid;
 	u64 next_expire_ns;
+	bool int1_cleared;
+	u64 int1_rearm_ns;
 	u32 want_size;
 	u32 want_check;
 
 	struct mutex lock;	/* protects the fields below */
 	bool gone;
+	bool irqs_off;
 	struct ecmxf_req *cur_req;
 	struct ecmxf_req *async_req;
 	u64 queue_timeouts;
@@ -484,7 +510,6 @@ struct ecmxf_dev {
 	atomic64_t int1_irqs;
 	struct ecmxf_rings *rings;
 	struct ecmxf_pump pump;
-	unsigned int worker_prio;
 	u64 out_ring_underruns;
 	u64 in_ring_overruns;
 	u64 rx_fifo_underruns;
@@ -499,7 +524,6 @@ struct ecmxf_dev {
 /* module parameters (ecmxf-main.c) */
 extern unsigned int ecmxf_param_data_size;
 extern unsigned int ecmxf_param_check_type;
-extern unsigned int ecmxf_param_worker_prio;
 extern unsigned int ecmxf_param_max_open;
 extern unsigned int ecmxf_param_queue_depth;
 
@@ -515,6 +539,7 @@ int ecmxf_selftest(void);
 /* ecmxf-spi.c */
 int ecmxf_spi_register(void);
 void ecmxf_spi_unregister(void);
+void ecmxf_irq_unmask(struct ecmxf_dev *edev, int irq, atomic_t *masked);
 
 /* ecmxf-worker.c */
 int ecmxf_link_bringup(struct ecmxf_dev *edev);
@@ -525,8 +550,6 @@ void ecmxf_wake_owner(struct ecmxf_dev *edev);
 void ecmxf_req_finish(struct ecmxf_dev *edev, struct ecmxf_req *req,
 		      int status);
 void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k);
-
-int ecmxf_worker_set_prio(struct ecmxf_dev *edev, unsigned int prio);
 
 /* ecmxf-ring.c */
 int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,

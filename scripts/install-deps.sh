@@ -8,7 +8,8 @@
 #   scripts/install-deps.sh --bench    also Google Benchmark
 #   scripts/install-deps.sh --stress   also stress-ng (make check-stress)
 #   scripts/install-deps.sh --kernel   also Debian's kernel headers, normal and
-#                                      PREEMPT_RT (make kmod)
+#                                      PREEMPT_RT (make kmod), sparse, and the
+#                                      DT tools (make dt-check)
 #   scripts/install-deps.sh --qemu     also QEMU, busybox, cpio (make check-kernel)
 #   scripts/install-deps.sh --debug-kernel
 #                                      also linux-source-6.1 and what building
@@ -24,7 +25,7 @@ for arg in "$@"; do
 	--ci) pkgs="$pkgs clang libclang-rt-14-dev llvm" ;;
 	--bench) pkgs="$pkgs libbenchmark-dev" ;;
 	--stress) pkgs="$pkgs stress-ng" ;;
-	--kernel) pkgs="$pkgs linux-headers-amd64 linux-headers-rt-amd64 kmod sparse" ;;
+	--kernel) pkgs="$pkgs linux-headers-amd64 linux-headers-rt-amd64 kmod sparse dt-schema device-tree-compiler" ;;
 	--qemu) pkgs="$pkgs qemu-system-x86 busybox-static cpio" ;;
 	--debug-kernel) pkgs="$pkgs linux-source-6.1 flex bison bc libelf-dev libssl-dev cpio xz-utils kmod" ;;
 	*) echo "install-deps.sh: unknown option '$arg'" >&2; exit 2 ;;

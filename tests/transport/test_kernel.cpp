@@ -258,7 +258,7 @@ TEST_CASE("dataSize() over a CommandTransport is the driver's, not the library's
 	  "[transport][kernel]")
 {
 	// the library's engine starts at the power-on 112 bytes; the driver
-	// may run another size (e.g. the DT's nextw,data-size)
+	// may run another size (e.g. its data_size module parameter)
 	Rig r;
 	r.k->driverDataSize = 992;
 	CHECK(r.dev->dataSize() == 992);

@@ -6,8 +6,14 @@
  * ecmxf.ko binds to it), and a two-line gpio_chip with an irq_chip whose
  * lines are the chip's INT0 ("ready", active high) and INT1 (events,
  * active low), handed to the device through a gpiod lookup table as
- * "int0" and "int1".  Every SPI transfer goes to a bridge process through
- * /dev/ecmxf-vspi (see ecmxf-vspi.h); the bridge also sets the line levels.
+ * "int0" and "int1" (the GPIO form of the binding).  With int1=irq-level
+ * or int1=irq-edge, INT1 is the device's interrupt instead
+ * (spi_board_info.irq, level low or falling edge; the board-code
+ * interrupt form; x86 kernels without CONFIG_OF cannot give named
+ * interrupts).  The irq_chip emulates level lines too: an unmasked level
+ * interrupt fires again for as long as its line is at the active level.
+ * Every SPI transfer goes to a bridge process through /dev/ecmxf-vspi
+ * (see ecmxf-vspi.h); the bridge also sets the line levels.
  * A transfer the bridge does not answer within timeout_ms fails with
  * -ETIMEDOUT; without a bridge, transfers fail at once with -ENOTCONN.
  *
@@ -27,13 +33,20 @@
 #include <linux/poll.h>
 #include <linux/slab.h>
 #include <linux/spi/spi.h>
+#include <linux/string.h>
 #include <linux/uaccess.h>
 #include <linux/wait.h>
+#include <linux/workqueue.h>
 
 #include "ecmxf-vspi.h"
 
 #define VSPI_NAME	"ecmxf-vspi"
 #define VSPI_NLINES	2
+
+static char *int1 = "gpio";
+module_param(int1, charp, 0444);
+MODULE_PARM_DESC(int1,
+		 "INT1 to the device as: gpio (lookup table, default), irq-level (spi_board_info.irq, level low), irq-edge (spi_board_info.irq, falling edge), irq-none (spi_board_info.irq without a trigger type: ecmxf must refuse it)");
 
 static unsigned int timeout_ms = 2000;
 module_param(timeout_ms, uint, 0644);
@@ -70,7 +83,10 @@ enum vspi_state {
  * @line_lock: serialises the level changes of the ioctl
  * @levels: line levels, bit n = line n
  * @irq_enabled: bit n: the interrupt of line n is unmasked
- * @irq_type: IRQ_TYPE_EDGE_* of each line
+ * @irq_type: IRQ_TYPE_* of each line
+ * @level_work: raises the interrupts of unmasked level lines that are at
+ *	their active level (not from irq_unmask(), which runs under the
+ *	descriptor's lock)
  */
 struct vspi {
 	struct spi_controller *ctlr;
@@ -92,6 +108,7 @@ struct vspi {
 	unsigned long levels;
 	unsigned long irq_enabled;
 	unsigned int irq_type[VSPI_NLINES];
+	struct work_struct level_work;
 };
 
 /* ---- the SPI side ---------------------------------------------------- */
@@ -245,21 +262,56 @@ static __poll_t vspi_poll(struct file *file, poll_table *wait)
 	return READ_ONCE(v->state) == VSPI_PENDING ? EPOLLIN | EPOLLRDNORM : 0;
 }
 
-/* Raise the interrupt of an edge into @high on @line, if it wants one. */
-static void vspi_line_edge(struct vspi *v, unsigned int line, bool high)
+/* @line is level-triggered and at its active level */
+static bool vspi_level_active(struct vspi *v, unsigned int line)
 {
 	unsigned int type = READ_ONCE(v->irq_type[line]);
-	int ret;
+	bool high = READ_ONCE(v->levels) & BIT(line);
 
-	if (!test_bit(line, &v->irq_enabled))
-		return;
-	if (!(type & (high ? IRQ_TYPE_EDGE_RISING : IRQ_TYPE_EDGE_FALLING)))
-		return;
-	ret = generic_handle_domain_irq_safe(v->gc.irq.domain, line);
+	return (type == IRQ_TYPE_LEVEL_HIGH && high) ||
+	       (type == IRQ_TYPE_LEVEL_LOW && !high);
+}
+
+static void vspi_raise(struct vspi *v, unsigned int line)
+{
+	int ret = generic_handle_domain_irq_safe(v->gc.irq.domain, line);
+
 	if (ret)
 		dev_warn_ratelimited(v->misc.this_device,
 				     "cannot raise the interrupt of line %u: %d\n",
 				     line, ret);
+}
+
+/*
+ * @line changed to @high: raise its interrupt for an edge it wants, or
+ * when a level line became active.
+ */
+static void vspi_line_edge(struct vspi *v, unsigned int line, bool high)
+{
+	unsigned int type = READ_ONCE(v->irq_type[line]);
+
+	if (!test_bit(line, &v->irq_enabled))
+		return;
+	if (type & IRQ_TYPE_LEVEL_MASK) {
+		if (vspi_level_active(v, line))
+			vspi_raise(v, line);
+		return;
+	}
+	if (!(type & (high ? IRQ_TYPE_EDGE_RISING : IRQ_TYPE_EDGE_FALLING)))
+		return;
+	vspi_raise(v, line);
+}
+
+/* A level line unmasked while active fires again, as in hardware. */
+static void vspi_level_work(struct work_struct *work)
+{
+	struct vspi *v = container_of(work, struct vspi, level_work);
+	unsigned int line;
+
+	for (line = 0; line < VSPI_NLINES; line++)
+		if (test_bit(line, &v->irq_enabled) &&
+		    vspi_level_active(v, line))
+			vspi_raise(v, line);
 }
 
 static long vspi_set_lines(struct vspi *v, u32 __user *arg)
@@ -343,6 +395,8 @@ static void vspi_irq_unmask(struct irq_data *d)
 
 	gpiochip_enable_irq(gc, hwirq);
 	set_bit(hwirq, &v->irq_enabled);
+	if (vspi_level_active(v, hwirq))
+		schedule_work(&v->level_work);
 }
 
 static int vspi_irq_set_type(struct irq_data *d, unsigned int type)
@@ -350,10 +404,12 @@ static int vspi_irq_set_type(struct irq_data *d, unsigned int type)
 	struct gpio_chip *gc = irq_data_get_irq_chip_data(d);
 	struct vspi *v = gpiochip_get_data(gc);
 
-	/* edges only: a level interrupt would need re-triggering */
-	if (type & ~IRQ_TYPE_EDGE_BOTH)
+	if (type != IRQ_TYPE_LEVEL_HIGH && type != IRQ_TYPE_LEVEL_LOW &&
+	    (type & ~IRQ_TYPE_EDGE_BOTH))
 		return -EINVAL;
 	WRITE_ONCE(v->irq_type[irqd_to_hwirq(d)], type);
+	irq_set_handler_locked(d, type & IRQ_TYPE_LEVEL_MASK ?
+			       handle_level_irq : handle_simple_irq);
 	return 0;
 }
 
@@ -399,6 +455,32 @@ static void vspi_lookup_entry(struct gpiod_lookup *e, unsigned int line,
 	e->flags = flags;
 }
 
+/* int1=irq-level/irq-edge: INT1 as the device's one unnamed interrupt */
+static int vspi_int1_irq(struct vspi *v, struct spi_board_info *info)
+{
+	unsigned int type;
+	int irq, ret;
+
+	if (!strcmp(int1, "irq-level"))
+		type = IRQ_TYPE_LEVEL_LOW;
+	else if (!strcmp(int1, "irq-edge"))
+		type = IRQ_TYPE_EDGE_FALLING;
+	else if (!strcmp(int1, "irq-none"))
+		type = IRQ_TYPE_NONE;
+	else
+		return -EINVAL;
+	irq = irq_create_mapping(v->gc.irq.domain, 1);
+	if (!irq)
+		return -ENXIO;
+	if (type != IRQ_TYPE_NONE) {
+		ret = irq_set_irq_type(irq, type);
+		if (ret)
+			return ret;
+	}
+	info->irq = irq;
+	return 0;
+}
+
 static int vspi_probe(struct platform_device *pdev)
 {
 	struct device *dev = &pdev->dev;
@@ -421,6 +503,7 @@ static int vspi_probe(struct platform_device *pdev)
 	mutex_init(&v->line_lock);
 	init_waitqueue_head(&v->bridge_wq);
 	init_completion(&v->done);
+	INIT_WORK(&v->level_work, vspi_level_work);
 	/* INT0 "ready" (active high) is high, INT1 (active low) idle high */
 	v->levels = ECMXF_VSPI_LINE_INT0 | ECMXF_VSPI_LINE_INT1;
 	v->buf = devm_kzalloc(dev, ECMXF_VSPI_MAX_XFER, GFP_KERNEL);
@@ -468,9 +551,16 @@ static int vspi_probe(struct platform_device *pdev)
 		ret = -ENOMEM;
 		goto out_misc;
 	}
-	/* table[2] stays zero: the terminator */
+	/* table[2] (or [1]) stays zero: the terminator */
 	vspi_lookup_entry(&v->lookup->table[0], 0, "int0", GPIO_ACTIVE_HIGH);
-	vspi_lookup_entry(&v->lookup->table[1], 1, "int1", GPIO_ACTIVE_LOW);
+	if (!strcmp(int1, "gpio")) {
+		vspi_lookup_entry(&v->lookup->table[1], 1, "int1",
+				  GPIO_ACTIVE_LOW);
+	} else {
+		ret = vspi_int1_irq(v, &info);
+		if (ret)
+			goto out_misc;
+	}
 	gpiod_add_lookup_table(v->lookup);
 
 	v->spi = spi_new_device(ctlr, &info);
@@ -479,9 +569,9 @@ static int vspi_probe(struct platform_device *pdev)
 		dev_err(dev, "cannot add the SPI device\n");
 		goto out_lookup;
 	}
-	dev_info(dev, "%s: SPI device %s (modalias %s), INT0/INT1 on %s, bridge /dev/%s\n",
+	dev_info(dev, "%s: SPI device %s (modalias %s), INT0/INT1 on %s (INT1 as %s), bridge /dev/%s\n",
 		 dev_name(&ctlr->dev), dev_name(&v->spi->dev), info.modalias,
-		 VSPI_NAME, VSPI_NAME);
+		 VSPI_NAME, int1, VSPI_NAME);
 	return 0;
 
 out_lookup:
@@ -496,6 +586,7 @@ static int vspi_remove(struct platform_device *pdev)
 	struct vspi *v = platform_get_drvdata(pdev);
 
 	spi_unregister_device(v->spi);
+	cancel_work_sync(&v->level_work);
 	gpiod_remove_lookup_table(v->lookup);
 	misc_deregister(&v->misc);
 	return 0;

@@ -58,29 +58,36 @@ rings_with() {
 		echo "guest-test: ok   ecmxf-util monitor: PDO_LOSS in_ring_overrun events up to the kernel's in_ring_overruns ($want)"
 	fi
 }
-# the worker's SCHED_FIFO priority through sysfs: /proc/PID/stat field 18
-# is -1 - rt_priority for a real-time task
-worker_prio_is() {
+# the worker's scheduling: sched_set_fifo() at probe (SCHED_FIFO 50), tuned
+# from userspace with chrt as for any kthread (driver.rst "Locking and
+# PREEMPT_RT"; busybox has no chrt: /bin/ecmxf-chrt does its system calls).
+# /proc/PID/stat field 18 is -1 - rt_priority for a real-time task.
+worker_pid() {
 	for c in /proc/[0-9]*/comm; do
 		[ "$(cat "$c" 2>/dev/null)" = ecmxf0 ] || continue
-		p=$(cut -d' ' -f18 "${c%/comm}/stat")
-		[ "$p" = "$((-1 - $1))" ] || fail "worker priority field $p, want $((-1 - $1))"
-		echo "guest-test: ok   worker ecmxf0 runs SCHED_FIFO at priority $1 (stat field 18: $p)"
+		c=${c%/comm}
+		echo "${c#/proc/}"
 		return
 	done
 	fail "no ecmxf0 worker thread"
 }
-attr=/sys/class/ecmxf/ecmxf0/worker_priority
-[ "$(cat $attr)" = 50 ] || fail "worker_priority is $(cat $attr), want the default 50"
+worker_prio_is() {
+	p=$(cut -d' ' -f18 "/proc/$wpid/stat")
+	[ "$p" = "$((-1 - $1))" ] || fail "worker priority field $p, want $((-1 - $1))"
+	[ "$(/bin/ecmxf-chrt -p "$wpid")" = "SCHED_FIFO $1" ] ||
+		fail "ecmxf-chrt -p: $(/bin/ecmxf-chrt -p "$wpid"), want SCHED_FIFO $1"
+	echo "guest-test: ok   worker ecmxf0 (pid $wpid) runs SCHED_FIFO at priority $1 (stat field 18: $p)"
+}
+wpid=$(worker_pid)
+[ -e /sys/class/ecmxf/ecmxf0/worker_priority ] && fail "the sysfs worker_priority knob is still there"
+[ -e /sys/module/ecmxf/parameters/worker_prio ] && fail "the worker_prio module parameter is still there"
 worker_prio_is 50
-echo 70 >$attr || fail "writing 70 to worker_priority"
-[ "$(cat $attr)" = 70 ] || fail "worker_priority is $(cat $attr) after writing 70"
+/bin/ecmxf-chrt -f -p 70 "$wpid" || fail "chrt -f -p 70 on the worker"
 worker_prio_is 70
-if echo 0 >$attr 2>/dev/null; then fail "worker_priority accepted 0"; fi
-if echo 100 >$attr 2>/dev/null; then fail "worker_priority accepted 100"; fi
-echo "guest-test: ok   worker_priority refuses 0 and 100"
-echo 50 >$attr || fail "writing 50 to worker_priority"
-worker_prio_is 50
+if /bin/ecmxf-chrt -f -p 0 "$wpid" 2>/dev/null; then fail "SCHED_FIFO 0 accepted"; fi
+if /bin/ecmxf-chrt -f -p 100 "$wpid" 2>/dev/null; then fail "SCHED_FIFO 100 accepted"; fi
+worker_prio_is 70
+echo "guest-test: ok   the kernel refuses SCHED_FIFO 0 and 100 for the worker"
 # a slow guest is not what is tested: the pump's commands get 10 s
 # (a failed one loses its frames, which the strict runs would report)
 echo 10000 >/sys/module/ecmxf/parameters/pump_timeout_ms || fail "setting pump_timeout_ms"
@@ -89,6 +96,10 @@ rings_lockstep 8000
 rings_with 1000 5 monitor
 rings_with 8000 40
 echo 500 >/sys/module/ecmxf/parameters/pump_timeout_ms
+# the rings rebound the device: a new worker, which starts at 50 again
+# (chrt must be applied again after every probe, driver.rst)
+wpid=$(worker_pid)
+worker_prio_is 50
 failures=$(cat /sys/class/ecmxf/ecmxf0/ring_failures) || fail "no sysfs ring_failures"
 echo "guest-test: info pump commands failed (ring_failures): $failures"
 spidev=$(basename "$(readlink /sys/class/ecmxf/ecmxf0/device)")

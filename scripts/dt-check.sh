@@ -1,0 +1,172 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+#
+# Check the devicetree files of Documentation/devicetree/ as the kernel's
+# `make dt_binding_check` / `make dtbs_check` would (Debian packages
+# dt-schema and device-tree-compiler; scripts/install-deps.sh --kernel):
+#
+#   1. dt-doc-validate: nextw,ecm-xf.yaml against the meta-schemas, in a
+#      schema tree laid out as the kernel's (net/nextw,ecm-xf.yaml, as its
+#      $id says, beside the kernel's spi/*-props.yaml it refers to);
+#   2. dt-mk-schema: that tree plus dt-schema's core schemas, processed;
+#   3. the binding's examples: dt-extract-example, cpp with the kernel's
+#      include/dt-bindings, dtc, dt-validate;
+#   4. the overlay ecmxf-rpi-overlay.dts: dtc -@ (as the file's header
+#      says to build it), applied with fdtoverlay to a small stand-in for
+#      the Raspberry Pi's base tree (the labels it targets: gpio, spi0,
+#      spidev0), and the merged tree's ethercat node validated against
+#      the binding (dt-validate cannot follow an unapplied overlay's
+#      fragments).
+#
+# dt-validate exits 0 even when a node fails its schema: any line it
+# prints is an error here, and so is any dtc warning.
+#
+# The kernel files (spi-peripheral-props.yaml and the three per-vendor
+# schemas it refers to; include/dt-bindings for the examples) come from
+# Debian's linux-source-6.1, through the same cache as scripts/checkpatch.sh
+# (ECMXF_CACHE, default /var/cache/ecmxf).  Called by `make dt-check` and
+# `make kernel-lint`.
+set -eu
+
+cd "$(dirname "$0")/.."
+top=$(pwd)
+
+cache=${ECMXF_CACHE:-/var/cache/ecmxf}
+pkg=${ECMXF_LINUX_SOURCE:-linux-source-6.1}
+binding=Documentation/devicetree/nextw,ecm-xf.yaml
+overlay=Documentation/devicetree/ecmxf-rpi-overlay.dts
+t0=$(date +%s.%N)
+
+die() {
+	echo "dt-check.sh: $*" >&2
+	exit 1
+}
+
+for c in dt-doc-validate dt-mk-schema dt-extract-example dt-validate dtc fdtoverlay cpp; do
+	command -v "$c" >/dev/null ||
+		die "$c not found (scripts/install-deps.sh --kernel: dt-schema, device-tree-compiler)"
+done
+
+# ---- the kernel's files, from the linux-source .deb (cached)
+cached_deb() {
+	last=
+	for d in "$cache/debs/${pkg}_"*.deb; do
+		[ -f "$d" ] && last=$d
+	done
+	echo "$last"
+}
+deb=$(cached_deb)
+if [ -z "$deb" ]; then
+	mkdir -p "$cache/debs" || die "cannot create $cache/debs; set ECMXF_CACHE="
+	echo "dt-check.sh: downloading $pkg into $cache/debs" >&2
+	if ! (cd "$cache/debs" && apt-get download -q "$pkg" >&2); then
+		apt-get update -qq >&2 || die "apt-get update failed"
+		(cd "$cache/debs" && apt-get download -q "$pkg" >&2) ||
+			die "apt-get download $pkg failed"
+	fi
+	deb=$(cached_deb)
+	[ -n "$deb" ] || die "apt-get download left no $pkg .deb"
+fi
+ver=$(dpkg-deb -f "$deb" Version)
+kfiles=$cache/dt-$ver
+if [ ! -f "$kfiles/VERSION" ]; then
+	echo "dt-check.sh: extracting the kernel's SPI schemas and dt-bindings headers from $deb" >&2
+	tmp=$(mktemp -d "$cache/.dt.XXXXXX")
+	chmod 755 "$tmp"
+	# shellcheck disable=SC2064
+	trap "rm -rf '$tmp'" EXIT
+	dpkg-deb --fsys-tarfile "$deb" |
+		tar -xO --wildcards './usr/src/linux-source-*.tar.xz' |
+		tar -xJ -C "$tmp" --strip-components=1 --wildcards \
+			'*/Documentation/devicetree/bindings/spi/*-peripheral-props.yaml' \
+			'*/include/dt-bindings/*'
+	[ -f "$tmp/Documentation/devicetree/bindings/spi/spi-peripheral-props.yaml" ] ||
+		die "spi-peripheral-props.yaml not found in $deb"
+	echo "$ver" >"$tmp/VERSION"
+	mv -T "$tmp" "$kfiles" 2>/dev/null || rm -rf "$tmp"
+	trap - EXIT
+fi
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+schemas=$work/schemas
+mkdir -p "$schemas/spi" "$schemas/net"
+cp "$kfiles"/Documentation/devicetree/bindings/spi/*-peripheral-props.yaml "$schemas/spi/"
+cp "$binding" "$schemas/net/"
+
+# every line a tool prints is a finding; paths back to the checkout's
+check_quiet() {
+	what=$1
+	shift
+	out=$("$@" 2>&1) || { printf '%s\n' "$out" | sed "s|$schemas/net/|Documentation/devicetree/|g" >&2; die "$what failed"; }
+	if [ -n "$out" ]; then
+		printf '%s\n' "$out" | sed "s|$schemas/net/|Documentation/devicetree/|g" >&2
+		die "$what: see above"
+	fi
+}
+
+# 1. the binding against the meta-schemas
+check_quiet "dt-doc-validate $binding" dt-doc-validate -u "$schemas" "$schemas/net/nextw,ecm-xf.yaml"
+
+# 2. processed schema: core + the kernel's SPI props + ours
+dt-mk-schema -j "$schemas" >"$work/processed.json" || die "dt-mk-schema failed"
+
+# 3. the examples
+dt-extract-example "$binding" >"$work/examples.dts" || die "dt-extract-example failed"
+cpp -nostdinc -I "$kfiles/include" -undef -D__DTS__ -x assembler-with-cpp \
+	"$work/examples.dts" >"$work/examples.pp.dts" 2>"$work/cpp.log" ||
+	{ cat "$work/cpp.log" >&2; die "cpp over the examples failed"; }
+# the wrapper dt-extract-example puts around each example has cells the
+# example may not need (the kernel's dt_binding_check silences this too)
+check_quiet "dtc (examples)" dtc -Wno-avoid_unnecessary_addr_size -I dts -O dtb \
+	-o "$work/examples.dtb" "$work/examples.pp.dts"
+check_quiet "dt-validate (examples)" dt-validate -s "$work/processed.json" "$work/examples.dtb"
+nex=$(dt-validate -M -l nextw -s "$work/processed.json" "$work/examples.dtb" 2>&1 |
+	grep -c 'matched on schema' || true)
+[ "$nex" -ge 2 ] || die "dt-validate matched $nex example node(s) to the binding, want 2"
+
+# 4. the overlay, applied to a stand-in base tree
+check_quiet "dtc -@ $overlay" dtc -@ -I dts -O dtb -o "$work/ecmxf.dtbo" "$overlay"
+cat >"$work/base.dts" <<'EOF'
+/dts-v1/;
+/* stand-in for a Raspberry Pi base tree: the labels the overlay targets */
+/ {
+	compatible = "brcm,bcm2835";
+	model = "ecmxf dt-check base";
+	#address-cells = <1>;
+	#size-cells = <1>;
+
+	gpio: gpio@7e200000 {
+		compatible = "brcm,bcm2835-gpio";
+		reg = <0x7e200000 0xb4>;
+		gpio-controller;
+		#gpio-cells = <2>;
+		interrupt-controller;
+		#interrupt-cells = <2>;
+		#address-cells = <0>;
+	};
+
+	spi0: spi@7e204000 {
+		compatible = "brcm,bcm2835-spi";
+		reg = <0x7e204000 0x200>;
+		#address-cells = <1>;
+		#size-cells = <0>;
+		status = "disabled";
+
+		spidev0: spidev@0 {
+			compatible = "rohm,dh2228fv";
+			reg = <0>;
+			spi-max-frequency = <125000000>;
+		};
+	};
+};
+EOF
+check_quiet "dtc (base)" dtc -@ -I dts -O dtb -o "$work/base.dtb" "$work/base.dts"
+check_quiet "fdtoverlay" fdtoverlay -i "$work/base.dtb" -o "$work/merged.dtb" "$work/ecmxf.dtbo"
+check_quiet "dt-validate (overlay applied)" dt-validate -l nextw -s "$work/processed.json" "$work/merged.dtb"
+dt-validate -M -l nextw -s "$work/processed.json" "$work/merged.dtb" 2>&1 |
+	grep -q 'ethercat@0: matched on schema' ||
+	die "the overlay's ethercat@0 node was not validated against the binding"
+
+secs=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+echo "dt-check.sh: $binding valid (dt-schema $(dt-validate -V 2>&1)), its 2 examples and the overlay's node (applied with fdtoverlay) validate against it, ${secs} s"
