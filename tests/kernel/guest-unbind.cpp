@@ -95,11 +95,22 @@ template <typename A, typename B> void eq(const std::string &what, const A &got,
 		   std::to_string(static_cast<long long>(want)));
 }
 
+/// An ioctl that must fail with @p want (errno read after the call).
+template <typename T> void iocFails(const std::string &what, int fd, unsigned long req, T arg, int want);
+
 /// errno after a call that must fail with @p want.
 void failsWith(const std::string &what, long ret, int err, int want)
 {
 	ok(ret < 0 && err == want, what + ": got " + (ret < 0 ? std::string(std::strerror(err)) : "success") +
 					   ", want " + std::strerror(want));
+}
+
+template <typename T> void iocFails(const std::string &what, int fd, unsigned long req, T arg, int want)
+{
+	errno = 0;
+	const long ret = ::ioctl(fd, req, arg);
+	const int err = errno;
+	failsWith(what, ret, err, want);
 }
 
 [[noreturn]] void fatal(const std::string &what)
@@ -368,8 +379,7 @@ void closeWhileMapped(const std::string &path, long base)
 		   !(d.flags & ECMXF_DEVINFO_F_CLAIM_MINE),
 	   "after close() with the rings mapped: still claimed, rings still set up (devinfo of another fd)");
 	eq("  devinfo.claim_pid is still ours", d.claim_pid, ::getpid());
-	errno = 0;
-	failsWith("  ECMXF_IOC_CLAIM from another fd", ::ioctl(x, ECMXF_IOC_CLAIM), errno, EBUSY);
+	iocFails("  ECMXF_IOC_CLAIM from another fd", x, ECMXF_IOC_CLAIM, 0, EBUSY);
 	ok(inputsFlow(r, 3), "  the pump still fills the input ring");
 	ok(r.flags() & ECMXF_RING_S_ACTIVE, "  the flags still say ECMXF_RING_S_ACTIVE");
 
@@ -458,8 +468,8 @@ void unbindUnderLoad(const std::string &path, const std::string &spidev, long ba
 	Loop loop;
 	loop.r = &r;
 	std::thread loopThread([&] { loop.run(); });
-	ok(waitUntil([&] { return loop.cycles >= 50 || loop.done; }, 60s) && !loop.done,
-	   "(a) the cyclic loop runs (" + std::to_string(loop.cycles.load()) + " cycles)");
+	const bool running = waitUntil([&] { return loop.cycles >= 50 || loop.done; }, 60s) && !loop.done;
+	ok(running, "(a) the cyclic loop runs (" + std::to_string(loop.cycles.load()) + " cycles)");
 
 	// (b) a sync command the chip runs, one queued behind it
 	bridge("async-stuck 1");
@@ -583,14 +593,11 @@ void unbindUnderLoad(const std::string &path, const std::string &spidev, long ba
 	ok((p.revents & POLLERR) && (p.revents & POLLHUP),
 	   "  revents POLLERR | POLLHUP (" + std::to_string(p.revents) + ")");
 	ecmxf_devinfo di{};
-	errno = 0;
-	failsWith("  ECMXF_IOC_DEVINFO", ::ioctl(fdA, ECMXF_IOC_DEVINFO, &di), errno, ENODEV);
+	iocFails("  ECMXF_IOC_DEVINFO", fdA, ECMXF_IOC_DEVINFO, &di, ENODEV);
 	ecmxf_cmd cmd{};
 	cmd.hdr.code = 1; // FW_VERSION_GET
-	errno = 0;
-	failsWith("  ECMXF_IOC_CMD", ::ioctl(fdA, ECMXF_IOC_CMD, &cmd), errno, ENODEV);
-	errno = 0;
-	failsWith("  ECMXF_IOC_RING_SETUP", ::ioctl(fdA, ECMXF_IOC_RING_SETUP, &r.rs), errno, ENODEV);
+	iocFails("  ECMXF_IOC_CMD", fdA, ECMXF_IOC_CMD, &cmd, ENODEV);
+	iocFails("  ECMXF_IOC_RING_SETUP", fdA, ECMXF_IOC_RING_SETUP, &r.rs, ENODEV);
 	void *m = ::mmap(nullptr, r.inLen, PROT_READ, MAP_SHARED, fdA, ECMXF_RING_OFF_IN);
 	failsWith("  mmap() of the input ring", m == MAP_FAILED ? -1 : 0, errno, ENODEV);
 	if (m != MAP_FAILED)
