@@ -253,10 +253,10 @@ static void ecmxf_remove(struct spi_device *spi)
 	mutex_lock(&edev->lock);
 	edev->gone = true;
 	/*
-	 * first of all, the PDO rings: a cyclic loop that makes no system
-	 * calls sees %ECMXF_RING_S_ERROR (and -ENODEV in the status block)
-	 * before the unbind returns; the pump takes no more turns, the
-	 * memory stays until the last munmap()
+	 * the PDO rings, before anything that waits: a cyclic loop that
+	 * makes no system calls sees %ECMXF_RING_S_ERROR (and -ENODEV in the
+	 * status block) before the unbind returns; the pump takes no more
+	 * turns, the memory stays until the last munmap()
 	 */
 	ecmxf_rings_stop(edev, -ENODEV);
 	mutex_unlock(&edev->lock);
