@@ -264,6 +264,11 @@ static long ecmxf_ioc_cmd(struct ecmxf_client *c, void __user *argp)
 	ret = ecmxf_wait_req(edev, req);
 	if (ret)
 		return ret;
+	/* the chip went away while the command waited: as every later call */
+	if (req->x.status == -ENODEV) {
+		kfree(req);
+		return -ENODEV;
+	}
 
 	n = min_t(u32, req->x.rx_len, cmd.rx_size);
 	ecmxf_rsp_to_user(&cmd.rsp, &req->x.rsp);
@@ -426,14 +431,19 @@ static long ecmxf_ioc_claim(struct ecmxf_client *c)
 	return ret;
 }
 
-/* Give the claim back if @c holds it, rings and all; lock held. */
-static bool ecmxf_unclaim(struct ecmxf_client *c)
+/*
+ * Give the claim back if @c holds it, rings and all; lock held.  *@old
+ * gets the rings' reference, to drop with ecmxf_rings_put() after
+ * unlocking (NULL when there is none).
+ */
+static bool ecmxf_unclaim(struct ecmxf_client *c, struct ecmxf_rings **old)
 {
 	struct ecmxf_dev *edev = c->edev;
 
+	*old = NULL;
 	if (edev->claim != c)
 		return false;
-	ecmxf_rings_teardown(edev);
+	*old = ecmxf_rings_teardown(edev);
 	edev->claim = NULL;
 	put_pid(edev->claim_pid);
 	edev->claim_pid = NULL;
@@ -486,7 +496,7 @@ static long ecmxf_ioc_ring_setup(struct ecmxf_client *c, void __user *argp)
 {
 	struct ecmxf_dev *edev = c->edev;
 	struct ecmxf_ring_setup rs;
-	struct ecmxf_rings *r = NULL;
+	struct ecmxf_rings *r = NULL, *old = NULL;
 	u16 sizes[2];
 	u8 depths[2], v[2], rv;
 	int ret, i;
@@ -525,12 +535,14 @@ static long ecmxf_ioc_ring_setup(struct ecmxf_client *c, void __user *argp)
 	ret = edev->gone ? -ENODEV : edev->claim != c ? -EPERM : 0;
 	if (!ret) {
 		/* new rings replace the old ones (whose mappings stay memory) */
-		ecmxf_rings_teardown(edev);
+		old = ecmxf_rings_teardown(edev);
 		edev->rings = r;
 		r = NULL;
 		ecmxf_worker_kick(edev);
 	}
 	mutex_unlock(&edev->lock);
+	/* freed (when nothing maps them) after the lock: &ecmxf_dev.lock */
+	ecmxf_rings_put(old);
 	if (ret) {
 		ecmxf_rings_put(r);
 		return ret;
@@ -545,6 +557,7 @@ static long ecmxf_ioctl(struct file *f, unsigned int cmd, unsigned long arg)
 	struct ecmxf_dev *edev = c->edev;
 	void __user *argp = (void __user *)arg;
 	struct ecmxf_counters k;
+	struct ecmxf_rings *old;
 	bool gone;
 	long ret;
 
@@ -572,8 +585,9 @@ static long ecmxf_ioctl(struct file *f, unsigned int cmd, unsigned long arg)
 		return ecmxf_ioc_claim(c);
 	case ECMXF_IOC_RELEASE:
 		mutex_lock(&edev->lock);
-		ret = ecmxf_unclaim(c) ? 0 : -EPERM;
+		ret = ecmxf_unclaim(c, &old) ? 0 : -EPERM;
 		mutex_unlock(&edev->lock);
+		ecmxf_rings_put(old);
 		return ret;
 	case ECMXF_IOC_RING_SETUP:
 		return ecmxf_ioc_ring_setup(c, argp);
@@ -724,11 +738,12 @@ static int ecmxf_release(struct inode *inode, struct file *f)
 	struct ecmxf_client *c = f->private_data;
 	struct ecmxf_dev *edev = c->edev;
 	struct ecmxf_req *req, *tmp;
+	struct ecmxf_rings *old;
 
 	mutex_lock(&edev->lock);
 	list_del(&c->node);
 	edev->open_count--;
-	ecmxf_unclaim(c);
+	ecmxf_unclaim(c, &old);
 	list_for_each_entry_safe(req, tmp, &c->queue, node) {
 		list_del(&req->node);
 		kfree(req);
@@ -743,6 +758,7 @@ static int ecmxf_release(struct inode *inode, struct file *f)
 	if (edev->async_req && edev->async_req->client == c)
 		edev->async_req->client = NULL;
 	mutex_unlock(&edev->lock);
+	ecmxf_rings_put(old);
 	kfree(c);
 	return 0;
 }
@@ -778,13 +794,17 @@ void ecmxf_chrdev_fail_all(struct ecmxf_dev *edev, int status)
 
 /*
  * mmap() of a ring: the claim holder, MAP_SHARED, offset ECMXF_RING_OFF_OUT
- * or ECMXF_RING_OFF_IN, at most mmap_size bytes.
+ * or ECMXF_RING_OFF_IN, at most mmap_size bytes.  The pages go in after
+ * the lock (&ecmxf_dev.lock), with a reference taken under it: rings
+ * replaced or released meanwhile are mapped as they are, like a mapping
+ * made just before.
  */
 static int ecmxf_mmap(struct file *f, struct vm_area_struct *vma)
 {
 	struct ecmxf_client *c = f->private_data;
 	struct ecmxf_dev *edev = c->edev;
-	int ret;
+	struct ecmxf_rings *r = NULL;
+	int ret = 0;
 
 	mutex_lock(&edev->lock);
 	if (edev->gone)
@@ -794,9 +814,11 @@ static int ecmxf_mmap(struct file *f, struct vm_area_struct *vma)
 	else if (!edev->rings)
 		ret = -EINVAL;
 	else
-		ret = ecmxf_rings_mmap(edev->rings, vma);
+		r = edev->rings;
+	if (r)
+		kref_get(&r->ref);
 	mutex_unlock(&edev->lock);
-	return ret;
+	return r ? ecmxf_rings_mmap(r, vma) : ret;
 }
 
 /* The file operations of /dev/ecmxfN. */

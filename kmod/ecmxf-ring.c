@@ -17,12 +17,17 @@
  *
  * Lifetime: &struct ecmxf_rings is reference counted.  &ecmxf_dev.rings
  * holds one reference, every mapping (vm_area) one, and the worker one
- * while a pump command is in the engine; RELEASE or close() only drops
- * the device's, so a mapping stays valid memory until munmap().
+ * while a pump command is in the engine; RELEASE, the last close of the
+ * file, a new setup or the chip's removal only drop the device's, so a
+ * mapping stays valid memory until munmap().
  *
  * Locking: the ring indices are shared with userspace and ordered with
  * acquire/release; everything else is under &ecmxf_dev.lock (a mutex) or
- * belongs to the worker.  No spinlock is taken here.
+ * belongs to the worker.  No spinlock is taken here.  The worker takes
+ * the mutex around every exchange, so nothing that scales with the ring
+ * size runs under it: references are detached under the lock and dropped
+ * after it (the last one vfree()s the memory, page by page), and the
+ * pages are mapped into a vm_area without it.
  *
  * Copyright (C) 2026 The ecmxf authors
  */
@@ -86,11 +91,16 @@ static void ecmxf_rings_release(struct kref *ref)
  * @r: the rings, or NULL
  *
  * The last reference frees the ring memory (vfree(): process context).
+ * Never under &ecmxf_dev.lock: the worker would wait for the pages to be
+ * freed (lockdep checks it).
  */
 void ecmxf_rings_put(struct ecmxf_rings *r)
 {
-	if (r)
-		kref_put(&r->ref, ecmxf_rings_release);
+	if (!r)
+		return;
+	/* the device outlives the rings: each holder keeps the file open */
+	lockdep_assert_not_held(&r->edev->lock);
+	kref_put(&r->ref, ecmxf_rings_release);
 }
 
 /* Allocate and lay out one ring; @status: reserve the status block. */
@@ -174,6 +184,7 @@ int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
 	if (!r)
 		return -ENOMEM;
 	kref_init(&r->ref);
+	r->edev = edev;
 	r->tx_buf = kzalloc(ECMXF_DATA_MAX, GFP_KERNEL);
 	r->rx_buf = kzalloc(ECMXF_DATA_MAX, GFP_KERNEL);
 	ret = -ENOMEM;
@@ -243,11 +254,15 @@ static const struct vm_operations_struct ecmxf_ring_vm_ops = {
 
 /**
  * ecmxf_rings_mmap() - map one ring (the vma's offset selects it)
- * @r: the rings of the caller, who holds the claim
+ * @r: the rings of the caller, who holds the claim; a reference that
+ *	the caller gave for this mapping
  * @vma: the new mapping
  *
- * Return: 0 (the mapping holds a reference), or -EINVAL for a bad
- * offset, length or a private mapping.
+ * Called without &ecmxf_dev.lock: inserting the pages takes time that
+ * grows with the ring.
+ *
+ * Return: 0 (the mapping keeps the reference), or -EINVAL for a bad
+ * offset, length or a private mapping (the reference is dropped).
  */
 int ecmxf_rings_mmap(struct ecmxf_rings *r, struct vm_area_struct *vma)
 {
@@ -261,15 +276,16 @@ int ecmxf_rings_mmap(struct ecmxf_rings *r, struct vm_area_struct *vma)
 	else if (off == ECMXF_RING_OFF_IN)
 		ring = &r->in;
 	else
-		return -EINVAL;
-	if (!(vma->vm_flags & VM_SHARED) || len > ring->size)
-		return -EINVAL;
-	ret = remap_vmalloc_range(vma, ring->mem, 0);
-	if (ret)
+		ring = NULL;
+	ret = -EINVAL;
+	if (ring && (vma->vm_flags & VM_SHARED) && len <= ring->size)
+		ret = remap_vmalloc_range(vma, ring->mem, 0);
+	if (ret) {
+		ecmxf_rings_put(r);
 		return ret;
+	}
 	vma->vm_private_data = r;
 	vma->vm_ops = &ecmxf_ring_vm_ops;
-	kref_get(&r->ref);
 	return 0;
 }
 
@@ -285,20 +301,24 @@ static void ecmxf_rings_wake(struct ecmxf_dev *edev, __poll_t mask)
  * ecmxf_rings_teardown() - the claim ends: the kernel lets go of the rings
  * @edev: the device, lock held
  *
- * The flags words lose %ECMXF_RING_S_ACTIVE; the memory lives on while
- * mappings (or the worker's command) hold references.
+ * The flags words lose %ECMXF_RING_S_ACTIVE and the rings are no longer
+ * the device's; the memory lives on while mappings (or the worker's
+ * command) hold references.
+ *
+ * Return: the device's reference, or NULL without rings.  The caller
+ * drops it with ecmxf_rings_put() after unlocking.
  */
-void ecmxf_rings_teardown(struct ecmxf_dev *edev)
+struct ecmxf_rings *ecmxf_rings_teardown(struct ecmxf_dev *edev)
 {
 	struct ecmxf_rings *r = edev->rings;
 
 	lockdep_assert_held(&edev->lock);
 	if (!r)
-		return;
+		return NULL;
 	WRITE_ONCE(*r->out.flags, READ_ONCE(*r->out.flags) & ~ECMXF_RING_S_ACTIVE);
 	WRITE_ONCE(*r->in.flags, READ_ONCE(*r->in.flags) & ~ECMXF_RING_S_ACTIVE);
 	edev->rings = NULL;
-	ecmxf_rings_put(r);
+	return r;
 }
 
 /*
@@ -331,7 +351,9 @@ static void ecmxf_status_publish(struct ecmxf_rings *r)
  * @err: the negative errno that stopped it
  *
  * Sets %ECMXF_RING_S_ERROR, clears %ECMXF_RING_S_ACTIVE and wakes the
- * poll()ers with EPOLLERR.  The rings stay until RELEASE or close().
+ * poll()ers with EPOLLERR.  The rings stay until RELEASE, a new setup or
+ * the last close of the file.  The chip's removal stops them too, with
+ * -ENODEV.
  */
 void ecmxf_rings_stop(struct ecmxf_dev *edev, int err)
 {
@@ -580,8 +602,8 @@ drop:
 	p->skipped = 0;
 	if (ret == -EFAULT && edev->rings == r)
 		ecmxf_rings_stop(edev, -EFAULT);
-	ecmxf_rings_put(r);
 	mutex_unlock(&edev->lock);
+	ecmxf_rings_put(r);
 	return ret;
 }
 
@@ -737,8 +759,11 @@ static void ecmxf_pump_failed(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 /**
  * ecmxf_pump_collect() - the pump's command left the engine: finish it
  * @edev: the device, lock held (called by ecmxf_collect())
+ *
+ * Return: the command's reference to the rings once it is finished, else
+ * NULL.  The caller drops it with ecmxf_rings_put() after unlocking.
  */
-void ecmxf_pump_collect(struct ecmxf_dev *edev)
+struct ecmxf_rings *ecmxf_pump_collect(struct ecmxf_dev *edev)
 {
 	struct ecmxf_pump *p = &edev->pump;
 	struct ecmxf_rings *r = p->rings;
@@ -746,7 +771,7 @@ void ecmxf_pump_collect(struct ecmxf_dev *edev)
 
 	lockdep_assert_held(&edev->lock);
 	if (!p->busy || x->status == -EINPROGRESS)
-		return;
+		return NULL;
 	p->busy = false;
 	p->rings = NULL;
 	edev->out_ring_skipped += p->skipped;
@@ -760,22 +785,27 @@ void ecmxf_pump_collect(struct ecmxf_dev *edev)
 		else
 			ecmxf_pump_fifo_done(edev, r, x, p->pushed);
 	}
-	ecmxf_rings_put(r);
+	return r;
 }
 
 /**
  * ecmxf_pump_cancel() - the worker stops: withdraw the pump's command
  * @edev: the device, lock held
+ *
+ * Return: the command's reference to the rings, or NULL when none was
+ * in the engine.  The caller drops it with ecmxf_rings_put() after
+ * unlocking.
  */
-void ecmxf_pump_cancel(struct ecmxf_dev *edev)
+struct ecmxf_rings *ecmxf_pump_cancel(struct ecmxf_dev *edev)
 {
 	struct ecmxf_pump *p = &edev->pump;
+	struct ecmxf_rings *r = p->rings;
 
 	lockdep_assert_held(&edev->lock);
 	if (!p->busy)
-		return;
+		return NULL;
 	ecmxf_engine_cancel(&edev->e, &p->x);
 	p->busy = false;
-	ecmxf_rings_put(p->rings);
 	p->rings = NULL;
+	return r;
 }

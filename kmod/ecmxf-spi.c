@@ -377,6 +377,13 @@ static void ecmxf_remove(struct spi_device *spi)
 
 	mutex_lock(&edev->lock);
 	edev->gone = true;
+	/*
+	 * the PDO rings, before anything that waits: a cyclic loop that
+	 * makes no system calls sees %ECMXF_RING_S_ERROR (and -ENODEV in the
+	 * status block) before the unbind returns; the pump takes no more
+	 * turns, the memory stays until the last munmap()
+	 */
+	ecmxf_rings_stop(edev, -ENODEV);
 	mutex_unlock(&edev->lock);
 
 	ecmxf_free_irqs(edev, &spi->dev);

@@ -587,9 +587,11 @@ static void ecmxf_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 
 /*
  * Finish what the engine finished; lock held.  The engine moves an
- * accepted async command out of its command slot: follow it.
+ * accepted async command out of its command slot: follow it.  Return:
+ * the rings reference of a finished pump command (or NULL), for the
+ * caller to drop after unlocking.
  */
-static void ecmxf_collect(struct ecmxf_dev *edev)
+static struct ecmxf_rings *ecmxf_collect(struct ecmxf_dev *edev)
 {
 	struct ecmxf_req *req = edev->cur_req;
 
@@ -608,7 +610,7 @@ static void ecmxf_collect(struct ecmxf_dev *edev)
 		edev->async_req = NULL;
 		ecmxf_done(edev, req);
 	}
-	ecmxf_pump_collect(edev);
+	return ecmxf_pump_collect(edev);
 }
 
 /*
@@ -620,13 +622,15 @@ static int ecmxf_reset_link(struct ecmxf_dev *edev)
 {
 	unsigned int size = ecmxf_engine_data_size(&edev->e);
 	enum ecmxf_check check = edev->e.check;
+	struct ecmxf_rings *pumped;
 	int ret;
 
 	mutex_lock(&edev->lock);
 	ecmxf_cancel_async(edev, -ECONNRESET);
-	ecmxf_pump_cancel(edev);
+	pumped = ecmxf_pump_cancel(edev);
 	ecmxf_rings_stop(edev, -ECONNRESET);
 	mutex_unlock(&edev->lock);
+	ecmxf_rings_put(pumped);
 
 	ecmxf_engine_reinit(edev, size, check);
 	ecmxf_nl_link_reset(edev);
@@ -721,7 +725,7 @@ static int ecmxf_worker_fn(void *data)
 {
 	struct ecmxf_dev *edev = data;
 	struct ecmxf_req *reset, *req;
-	struct ecmxf_rings *pump;
+	struct ecmxf_rings *pump, *finished;
 	u64 now, int1_at;
 	bool slot_free;
 	int ret;
@@ -808,8 +812,10 @@ static int ecmxf_worker_fn(void *data)
 		}
 		ecmxf_exchange(edev);
 		mutex_lock(&edev->lock);
-		ecmxf_collect(edev);
+		finished = ecmxf_collect(edev);
 		mutex_unlock(&edev->lock);
+		/* the pump's reference, after the lock (see &ecmxf_dev.lock) */
+		ecmxf_rings_put(finished);
 	}
 
 	/* the device is going away: nothing in flight survives */
@@ -822,8 +828,9 @@ static int ecmxf_worker_fn(void *data)
 		ecmxf_req_finish(edev, req, -ENODEV);
 	}
 	ecmxf_cancel_async(edev, -ENODEV);
-	ecmxf_pump_cancel(edev);
+	finished = ecmxf_pump_cancel(edev);
 	mutex_unlock(&edev->lock);
+	ecmxf_rings_put(finished);
 	return 0;
 }
 

@@ -304,7 +304,10 @@ struct ecmxf_ring {
 /**
  * struct ecmxf_rings - the two PDO rings of the claim holder
  * @ref: held by &ecmxf_dev.rings, by every mapping and by the worker
- *	while a pump command uses them; the memory is freed with the last
+ *	while a pump command uses them; the memory is freed with the last,
+ *	never under &ecmxf_dev.lock (see there)
+ * @edev: the device (it outlives the rings: every holder keeps the file,
+ *	and so the device, alive)
  * @out: output ring (RxPDO frames, application to chip)
  * @in: input ring (TxPDO frames, chip to application)
  * @status: the status block (&struct ecmxf_ring_status_block) in the
@@ -331,6 +334,7 @@ struct ecmxf_ring {
  */
 struct ecmxf_rings {
 	struct kref ref;
+	struct ecmxf_dev *edev;
 	struct ecmxf_ring out;
 	struct ecmxf_ring in;
 	struct ecmxf_ring_status_block *status;
@@ -416,7 +420,16 @@ struct ecmxf_pump {
  *	when not set (worker only)
  * @want_size: data section size to set at probe; 0 keeps the chip's
  * @want_check: check type to set at probe
- * @lock: protects everything below it
+ * @lock: protects everything below it.  The SCHED_FIFO worker takes it
+ *	around every exchange, so it is held for field and list updates
+ *	only: never across spi_sync(), a wait or a user copy, and nothing
+ *	whose cost grows with the PDO rings runs under it.  Ring memory in
+ *	particular is never freed under it (PREEMPT_RT: the worker would
+ *	wait for vfree() of every page): a reference to &struct ecmxf_rings
+ *	is detached under the lock and dropped with ecmxf_rings_put() after
+ *	unlocking (ecmxf_rings_teardown(), ecmxf_pump_collect() and
+ *	ecmxf_pump_cancel() hand theirs back to the caller for that), and
+ *	mmap() inserts the pages without it.
  * @gone: the chip was removed; every file operation returns -ENODEV
  * @irqs_off: ecmxf_free_irqs() began: no IRQ is enabled again
  * @cur_req: the request in the engine's command slot (written by the
@@ -485,7 +498,8 @@ struct ecmxf_dev {
 	u32 want_size;
 	u32 want_check;
 
-	struct mutex lock;	/* protects the fields below */
+	/* protects the fields below; no ring memory freed under it (above) */
+	struct mutex lock;
 	bool gone;
 	bool irqs_off;
 	struct ecmxf_req *cur_req;
@@ -558,14 +572,14 @@ int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
 void ecmxf_rings_put(struct ecmxf_rings *r);
 bool ecmxf_ring_setup_valid(const struct ecmxf_ring_setup *rs);
 int ecmxf_rings_mmap(struct ecmxf_rings *r, struct vm_area_struct *vma);
-void ecmxf_rings_teardown(struct ecmxf_dev *edev);
+struct ecmxf_rings *ecmxf_rings_teardown(struct ecmxf_dev *edev);
 void ecmxf_rings_stop(struct ecmxf_dev *edev, int err);
 __poll_t ecmxf_rings_poll(struct ecmxf_dev *edev);
 struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now);
 int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 		      u64 now);
-void ecmxf_pump_collect(struct ecmxf_dev *edev);
-void ecmxf_pump_cancel(struct ecmxf_dev *edev);
+struct ecmxf_rings *ecmxf_pump_collect(struct ecmxf_dev *edev);
+struct ecmxf_rings *ecmxf_pump_cancel(struct ecmxf_dev *edev);
 u64 ecmxf_pump_deadline(struct ecmxf_dev *edev);
 
 /* ecmxf-chrdev.c */

@@ -21,6 +21,10 @@ root=$(mktemp -d)
 trap 'rm -rf "$root"' EXIT
 mkdir -p "$root/bin" "$root/sbin" "$root/proc" "$root/sys" "$root/dev" "$root/tmp" \
 	"$root/lib/modules" "$root/etc"
+# mktemp -d made the root 0700: the guest's unprivileged users (the
+# permission tests) must be able to reach /dev and /bin
+chmod 755 "$root"
+chmod 1777 "$root/tmp"
 cp "$bb" "$root/bin/busybox"
 # `busybox --list` names busybox itself: a symlink for it would replace
 # the binary (then: "No working init found", error -40)
