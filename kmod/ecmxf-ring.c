@@ -508,7 +508,15 @@ static bool ecmxf_pump_build(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 		x->hdr.code = ECMXF_CMD_ECAT_PDO_WC_GET;
 		x->hdr.param = 3;
 		x->hdr.control = ECMXF_CTL_CLR_CMD_ERR;
-		r->next_wkc_ns = now + r->wkc_ns;
+		/*
+		 * every wkc_ns from the first read on, not from whenever the
+		 * worker woke: late wake-ups must not stretch the period
+		 * (a reader counting reads over N periods sees N / period);
+		 * after a gap of more than a period, one read, no burst
+		 */
+		r->next_wkc_ns += r->wkc_ns;
+		if (r->next_wkc_ns <= now)
+			r->next_wkc_ns = now + r->wkc_ns;
 		p->wkc = true;
 		return true;
 	}

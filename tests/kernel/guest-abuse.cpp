@@ -58,18 +58,18 @@
 
 namespace {
 
-// command codes (manual ver. 050; lib/core/ecmxf-cmds.c)
-constexpr std::uint8_t kInfoUpdate = 0;
-constexpr std::uint8_t kSlvCntGet = 16;     // immediate, read-only: ret = slave count
-constexpr std::uint8_t kSpiReconfig = 23;   // destructive
-constexpr std::uint8_t kCrcTypeSet = 25;    // destructive
-constexpr std::uint8_t kFwVersionGet = 56;  // immediate, read-only (idempotent)
-constexpr std::uint8_t kStateUpdate = 57;   // async, neither bus-changing nor destructive
-constexpr std::uint8_t kAsyncReset = 75;    // ECMXF_IOC_RESET only
-constexpr std::uint8_t kWarmReset = 127;    // ECMXF_IOC_RESET only
-constexpr std::uint8_t kWkcMaxGet = 131;    // immediate, read-only
-constexpr std::uint8_t kWkcMaxSet = 132;    // immediate, bus-changing, not idempotent
-constexpr std::uint8_t kUnknownCode = 200;  // in neither manual: destructive
+// command codes (<linux/ecmxf.h>, manual ver. 050)
+constexpr std::uint8_t kInfoUpdate = ECMXF_CMD_INFO_UPDATE_OP;
+constexpr std::uint8_t kSlvCntGet = ECMXF_CMD_ECAT_SLV_CNT_GET;     // immediate, query: ret = slave count
+constexpr std::uint8_t kSpiReconfig = ECMXF_CMD_SPI_RECONFIG_OP;    // admin
+constexpr std::uint8_t kCrcTypeSet = ECMXF_CMD_CRC_TYPE_SET;        // admin
+constexpr std::uint8_t kFwVersionGet = ECMXF_CMD_FW_VERSION_GET;    // immediate, query (idempotent)
+constexpr std::uint8_t kStateUpdate = ECMXF_CMD_ECAT_STATE_UPDATE;  // async, chip class
+constexpr std::uint8_t kAsyncReset = ECMXF_CMD_ASYNCCMD_RESET;      // ECMXF_IOC_RESET only
+constexpr std::uint8_t kWarmReset = ECMXF_CMD_WARM_RESET;           // ECMXF_IOC_RESET only
+constexpr std::uint8_t kWkcMaxGet = ECMXF_CMD_ECAT_WKC_CONTI_ERR_MAX_GET; // immediate, query
+constexpr std::uint8_t kWkcMaxSet = ECMXF_CMD_ECAT_WKC_CONTI_ERR_MAX_SET; // immediate, chip, not idempotent
+constexpr std::uint8_t kUnknownCode = 200;  // in neither manual: admin
 
 // what the bridge's chip answers (ChipConfig defaults, default network)
 constexpr unsigned kFwVersion = 0x30;
@@ -77,11 +77,11 @@ constexpr unsigned kSlaves = 3;
 constexpr unsigned kDataSize = 112;         // power-on size, kept by ecmxf.ko
 constexpr unsigned kCheckCrc32 = 3;
 
-// bits of the response header (protocol digest; lib/core/ecmxf-proto.h)
-constexpr unsigned kErrSpiCrc = 1u << 6;
-constexpr unsigned kCtlClrCrcCnt = 1u << 1;
-constexpr unsigned kCtlClrSpiCrcErr = 1u << 6;
-constexpr unsigned kCtlClrCmdErr = 1u << 7;
+// bits of the packet header (<linux/ecmxf.h>)
+constexpr unsigned kErrSpiCrc = ECMXF_ERR_SPI_CRC;
+constexpr unsigned kCtlClrCrcCnt = ECMXF_CTL_CLR_CRC_CNT;
+constexpr unsigned kCtlClrSpiCrcErr = ECMXF_CTL_CLR_SPI_CRC_ERR;
+constexpr unsigned kCtlClrCmdErr = ECMXF_CTL_CLR_CMD_ERR;
 
 constexpr std::size_t kRec = sizeof(ecmxf_completion);
 
@@ -1009,9 +1009,12 @@ struct PermRow {
 	std::uint32_t resetParam = 0;
 };
 
-constexpr std::uint8_t kPdoDataFifoOp = 5, kPdoDataOp = 6, kCrcErrCntClr = 24, kGpioConfigSet = 31,
-		       kGpioFuncOp = 32, kQeiFuncOp = 33, kDacFuncOp = 34, kEepromReq = 38, kFifoClrOp = 51,
-		       kIntSetEnable = 58, kMdio = 81, kRawReq = 137, kFoeReq = 139;
+constexpr std::uint8_t kPdoDataFifoOp = ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP, kPdoDataOp = ECMXF_CMD_ECAT_PDO_DATA_OP,
+		       kCrcErrCntClr = ECMXF_CMD_CRC_ERR_CNT_CLR, kGpioConfigSet = ECMXF_CMD_GPIO_CONFIG_SET,
+		       kGpioFuncOp = ECMXF_CMD_GPIO_FUNC_OP, kQeiFuncOp = ECMXF_CMD_QEI_FUNC_OP,
+		       kDacFuncOp = ECMXF_CMD_DAC_FUNC_OP, kEepromReq = ECMXF_CMD_EEPROM_REQ,
+		       kFifoClrOp = ECMXF_CMD_FIFO_CLR_OP, kIntSetEnable = ECMXF_CMD_ECAT_INT_SET_ENABLE,
+		       kMdio = ECMXF_CMD_MDIO, kRawReq = ECMXF_CMD_RAW_ECAT_FUNC_REQ, kFoeReq = ECMXF_CMD_FOE_FUNC_REQ;
 constexpr gid_t kDevGroup = 500;    // the udev rule's group, in the guest
 constexpr uid_t kMemberUid = 1000;  // a user in that group
 constexpr uid_t kOutsiderUid = 1001; // a user who is not
@@ -1032,7 +1035,8 @@ std::vector<PermRow> permRows(int wmax)
 	cmd("FW_VERSION_GET", Perm::Query, true, kFwVersionGet);
 	cmd("GPIO_FUNC_OP 1 (get value)", Perm::Query, true, kGpioFuncOp, 1);
 	cmd("QEI_FUNC_OP 21 (get count)", Perm::Query, true, kQeiFuncOp, 21);
-	cmd("header control: refresh state only", Perm::Query, true, kInfoUpdate).cmd.hdr.control = 1u << 0;
+	cmd("header control: refresh state only", Perm::Query, true, kInfoUpdate).cmd.hdr.control =
+		ECMXF_CTL_REFRESH_STATE;
 
 	cmd("ECAT_WKC_CONTI_ERR_MAX_SET", Perm::Chip, true, kWkcMaxSet, static_cast<std::uint8_t>(wmax));
 	cmd("ECAT_STATE_UPDATE (async)", Perm::Chip, true, kStateUpdate);
@@ -1048,7 +1052,7 @@ std::vector<PermRow> permRows(int wmax)
 		kCtlClrCmdErr;
 	cmd("header gpio_int_clear", Perm::Chip, true, kInfoUpdate).cmd.hdr.gpio_int_clear[0] = 1;
 	auto &g = cmd("header GPIO outputs (rsv_word bit 15, gpio_out)", Perm::Chip, true, kInfoUpdate);
-	g.cmd.hdr.rsv_word = 1u << 15;
+	g.cmd.hdr.rsv_word = ECMXF_RSV_GPIO_OUT;
 	g.cmd.hdr.gpio_out[0] = 0;
 	cmd("header gpio_out without the enable bit", Perm::Chip, true, kInfoUpdate).cmd.hdr.gpio_out[1] = 1;
 	reset("RESET LINK", Perm::Chip, true, ECMXF_RESET_F_LINK);
