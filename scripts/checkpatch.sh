@@ -21,72 +21,30 @@
 #   ECMXF_LINUX_SOURCE=linux-source-6.1  the Debian package to take it from
 #   CHECKPATCH=/path/to/checkpatch.pl    use this one, skip the cache
 #
-# Cache layout: $ECMXF_CACHE/debs/linux-source-*.deb (kept: other
-# scripts may need more of the kernel source) and
-# $ECMXF_CACHE/checkpatch-<version>/ with the three files.  Deleting
+# Cache layout (scripts/linux-source.sh): $ECMXF_CACHE/debs/linux-source-*.deb
+# and $ECMXF_CACHE/checkpatch-<version>/ with the three files.  Deleting
 # either is always safe.
 set -eu
 
 cd "$(dirname "$0")/.."
 
 t0=$(date +%s.%N)
-cache=${ECMXF_CACHE:-/var/cache/ecmxf}
-pkg=${ECMXF_LINUX_SOURCE:-linux-source-6.1}
 
 die() {
 	echo "checkpatch.sh: $*" >&2
 	exit 1
 }
 
-# The cached .deb of $pkg (the last in sort order), or nothing.
-cached_deb() {
-	last=
-	for d in "$cache/debs/${pkg}_"*.deb; do
-		[ -f "$d" ] && last=$d
-	done
-	echo "$last"
-}
+# shellcheck source=scripts/linux-source.sh
+. scripts/linux-source.sh
 
 # Print the path of checkpatch.pl, fetching it into the cache if needed.
 fetch_checkpatch() {
-	debs=$cache/debs
-	deb=$(cached_deb)
-	if [ -z "$deb" ]; then
-		command -v apt-get >/dev/null || die "apt-get not found; set CHECKPATCH="
-		mkdir -p "$debs" || die "cannot create $debs; set ECMXF_CACHE="
-		echo "checkpatch.sh: downloading $pkg into $debs" >&2
-		if ! (cd "$debs" && apt-get download -q "$pkg" >&2); then
-			# stale package lists: refresh them once (needs root)
-			apt-get update -qq >&2 || die "apt-get update failed"
-			(cd "$debs" && apt-get download -q "$pkg" >&2) ||
-				die "apt-get download $pkg failed"
-		fi
-		deb=$(cached_deb)
-		[ -n "$deb" ] || die "apt-get download left no $pkg .deb in $debs"
-	fi
-
-	ver=$(dpkg-deb -f "$deb" Version)
-	dir=$cache/checkpatch-$ver
-	if [ ! -f "$dir/checkpatch.pl" ]; then
-		echo "checkpatch.sh: extracting checkpatch.pl from $deb" >&2
-		tmp=$(mktemp -d "$cache/.checkpatch.XXXXXX")
-		chmod 755 "$tmp"
-		# shellcheck disable=SC2064
-		trap "rm -rf '$tmp'" EXIT
-		dpkg-deb --fsys-tarfile "$deb" |
-			tar -xO --wildcards './usr/src/linux-source-*.tar.xz' |
-			tar -xJ -C "$tmp" --strip-components=2 --wildcards \
-				'*/scripts/checkpatch.pl' \
-				'*/scripts/spelling.txt' \
-				'*/scripts/const_structs.checkpatch'
-		for f in checkpatch.pl spelling.txt const_structs.checkpatch; do
-			[ -f "$tmp/$f" ] || die "$f not found in $deb"
-		done
-		echo "$ver" >"$tmp/VERSION"
-		# another run may have won the race; either copy is good
-		mv -T "$tmp" "$dir" 2>/dev/null || rm -rf "$tmp"
-		trap - EXIT
-	fi
+	dir=$(linux_source_files checkpatch 2 '*/scripts/checkpatch.pl' \
+		'*/scripts/spelling.txt' '*/scripts/const_structs.checkpatch')
+	for f in checkpatch.pl spelling.txt const_structs.checkpatch; do
+		[ -f "$dir/$f" ] || die "$f not found in $dir"
+	done
 	echo "$dir/checkpatch.pl"
 }
 

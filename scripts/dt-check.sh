@@ -29,10 +29,7 @@
 set -eu
 
 cd "$(dirname "$0")/.."
-top=$(pwd)
 
-cache=${ECMXF_CACHE:-/var/cache/ecmxf}
-pkg=${ECMXF_LINUX_SOURCE:-linux-source-6.1}
 binding=Documentation/devicetree/nextw,ecm-xf.yaml
 overlay=Documentation/devicetree/ecmxf-rpi-overlay.dts
 t0=$(date +%s.%N)
@@ -48,44 +45,12 @@ for c in dt-doc-validate dt-mk-schema dt-extract-example dt-validate dtc fdtover
 done
 
 # ---- the kernel's files, from the linux-source .deb (cached)
-cached_deb() {
-	last=
-	for d in "$cache/debs/${pkg}_"*.deb; do
-		[ -f "$d" ] && last=$d
-	done
-	echo "$last"
-}
-deb=$(cached_deb)
-if [ -z "$deb" ]; then
-	mkdir -p "$cache/debs" || die "cannot create $cache/debs; set ECMXF_CACHE="
-	echo "dt-check.sh: downloading $pkg into $cache/debs" >&2
-	if ! (cd "$cache/debs" && apt-get download -q "$pkg" >&2); then
-		apt-get update -qq >&2 || die "apt-get update failed"
-		(cd "$cache/debs" && apt-get download -q "$pkg" >&2) ||
-			die "apt-get download $pkg failed"
-	fi
-	deb=$(cached_deb)
-	[ -n "$deb" ] || die "apt-get download left no $pkg .deb"
-fi
-ver=$(dpkg-deb -f "$deb" Version)
-kfiles=$cache/dt-$ver
-if [ ! -f "$kfiles/VERSION" ]; then
-	echo "dt-check.sh: extracting the kernel's SPI schemas and dt-bindings headers from $deb" >&2
-	tmp=$(mktemp -d "$cache/.dt.XXXXXX")
-	chmod 755 "$tmp"
-	# shellcheck disable=SC2064
-	trap "rm -rf '$tmp'" EXIT
-	dpkg-deb --fsys-tarfile "$deb" |
-		tar -xO --wildcards './usr/src/linux-source-*.tar.xz' |
-		tar -xJ -C "$tmp" --strip-components=1 --wildcards \
-			'*/Documentation/devicetree/bindings/spi/*-peripheral-props.yaml' \
-			'*/include/dt-bindings/*'
-	[ -f "$tmp/Documentation/devicetree/bindings/spi/spi-peripheral-props.yaml" ] ||
-		die "spi-peripheral-props.yaml not found in $deb"
-	echo "$ver" >"$tmp/VERSION"
-	mv -T "$tmp" "$kfiles" 2>/dev/null || rm -rf "$tmp"
-	trap - EXIT
-fi
+# shellcheck source=scripts/linux-source.sh
+. scripts/linux-source.sh
+kfiles=$(linux_source_files dt 1 \
+	'*/Documentation/devicetree/bindings/spi/*-peripheral-props.yaml' '*/include/dt-bindings/*')
+[ -f "$kfiles/Documentation/devicetree/bindings/spi/spi-peripheral-props.yaml" ] ||
+	die "spi-peripheral-props.yaml not found in $kfiles"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
