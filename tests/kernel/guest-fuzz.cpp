@@ -53,6 +53,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/master.hpp>
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <pthread.h>
@@ -454,6 +455,36 @@ std::vector<pid_t> gChildren;
 
 std::string gSpidev;    // the SPI device's name for sysfs bind/unbind
 std::atomic<bool> gRebinding{false};
+std::atomic<std::int64_t> gNextRebind{0};
+
+// The device node: after a bind it may have another number (the old
+// device keeps its number while files of it are open).
+std::mutex gPathMu;
+std::string gPath;
+
+std::string devPath()
+{
+	std::lock_guard<std::mutex> l(gPathMu);
+	return gPath;
+}
+
+// the node that sysfs names for the SPI device now, or "" when unbound
+std::string findNode()
+{
+	const std::string dir = "/sys/bus/spi/devices/" + gSpidev + "/ecmxf";
+	DIR *d = ::opendir(dir.c_str());
+	if (!d)
+		return "";
+	std::string node;
+	while (dirent *e = ::readdir(d)) {
+		if (std::string_view(e->d_name).substr(0, 5) == "ecmxf") {
+			node = std::string("/dev/") + e->d_name;
+			break;
+		}
+	}
+	::closedir(d);
+	return node;
+}
 
 int slotFd(Rng &r) { return kSlotBase + static_cast<int>(r.below(kSlots)); }
 
@@ -578,7 +609,8 @@ void actOpen(Ctx &c)
 		flags |= O_TRUNC;
 	if (r.chance(20))
 		flags |= O_NOCTTY;
-	const int fd = static_cast<int>(sys(c.ts, kOpen, [&] { return ::open(gOpt.path.c_str(), flags); }));
+	const std::string path = devPath();
+	const int fd = static_cast<int>(sys(c.ts, kOpen, [&] { return ::open(path.c_str(), flags); }));
 	if (fd < 0)
 		return;
 	if (r.chance(100)) { // opened and closed again at once
@@ -936,6 +968,16 @@ void actCycle(Ctx &c)
 {
 	Rng &r = c.rng;
 	const int fd = slotFd(r);
+	if (r.chance(500)) {
+		const std::string path = devPath();
+		const int nfd = static_cast<int>(sys(c.ts, kOpen, [&] { return ::open(path.c_str(), O_RDWR); }));
+		if (nfd >= 0) {
+			::dup3(nfd, fd, O_CLOEXEC);
+			::close(nfd);
+			std::lock_guard<std::mutex> l(gMu);
+			gSlotInfo[fd - kSlotBase] = SlotInfo{};
+		}
+	}
 	sys(c.ts, kIocClaim, [&] { return ::ioctl(fd, ECMXF_IOC_CLAIM, 0); });
 	if (!ringSetup(c, fd, r.chance(800) ? Shape::Good : Shape::Mutated))
 		return;
@@ -1247,7 +1289,8 @@ bool writeSysfs(const std::string &file, const std::string &v, int *err)
 // unbind the SPI device and bind it again; the others go on meanwhile
 void actRebind(Ctx &c)
 {
-	if (!gOpt.rebind || gSpidev.empty() || gRebinding.exchange(true))
+	// at most one every two seconds: the device is mostly there
+	if (!gOpt.rebind || gSpidev.empty() || nowNs() < gNextRebind || gRebinding.exchange(true))
 		return;
 	Rng &r = c.rng;
 	const std::string drv = "/sys/bus/spi/drivers/ecmxf/";
@@ -1260,12 +1303,22 @@ void actRebind(Ctx &c)
 	bool bound = false;
 	for (int i = 0; i < 10 && !bound; i++) {
 		bound = sys(c.ts, kBind, [&] { return writeSysfs(drv + "bind", gSpidev, &err) ? 0L : (errno = err, -1L); }) == 0;
-		if (!bound && ::access(gOpt.path.c_str(), F_OK) == 0)
+		if (!bound && !findNode().empty())
 			bound = true; // it was never unbound
 		if (!bound)
 			::usleep(200'000);
 	}
 	c.ts.interruptible = true;
+	if (bound) {
+		const std::string node = findNode();
+		if (node.empty()) {
+			failure("%s bound, but no ecmxf device under it in sysfs", gSpidev.c_str());
+		} else {
+			std::lock_guard<std::mutex> l(gPathMu);
+			gPath = node;
+		}
+	}
+	gNextRebind = nowNs() + 2'000'000'000;
 	if (!bound) {
 		failure("binding %s again failed 10 times (last errno %d %s)", gSpidev.c_str(), err, std::strerror(err));
 		gStop = true;
@@ -1281,7 +1334,7 @@ struct Action {
 };
 
 constexpr Action kActions[] = {
-	{ actOpen, 80 },      { actClose, 30 },    { actFcntl, 10 },  { actMisc, 10 },       { actCmd, 200 },
+	{ actOpen, 80 },      { actClose, 20 },    { actFcntl, 10 },  { actMisc, 10 },       { actCmd, 200 },
 	{ actSubmit, 120 },   { actInfo, 60 },     { actReset, 15 },  { actClaim, 50 },      { actRingSetup, 35 },
 	{ actCycle, 40 },     { actMmap, 40 },     { actMunmap, 45 }, { actTouch, 70 },      { actRead, 90 },
 	{ actPoll, 60 },      { actBadIoctl, 60 }, { actVfsIoctl, 8 }, { actFork, 3 },       { actRebind, 2 },
@@ -1337,7 +1390,7 @@ long ringAreas()
 void bringUp()
 {
 	try {
-		auto dev = ecmxf::Device::open(gOpt.path);
+		auto dev = ecmxf::Device::open(devPath());
 		dev->setMinimumTimeout(std::chrono::seconds(5));
 		ecmxf::Master master(*dev);
 		ecmxf::MasterConfig mc;
@@ -1357,9 +1410,12 @@ struct CmdResult {
 
 CmdResult simpleCmd(int fd, std::uint8_t code)
 {
+	static unsigned char rx[ECMXF_DATA_MAX];
 	CmdResult r{};
 	r.cmd.hdr.code = code;
 	r.cmd.timeout_us = 5'000'000;
+	r.cmd.rx_ptr = reinterpret_cast<std::uintptr_t>(rx);
+	r.cmd.rx_size = sizeof(rx);
 	r.ret = ::ioctl(fd, ECMXF_IOC_CMD, &r.cmd);
 	r.err = r.ret < 0 ? errno : 0;
 	return r;
@@ -1406,10 +1462,11 @@ void endChecks(long areasBefore)
 
 	ts.since = nowNs();
 	ts.kind = kOpen;
-	const int fd = ::open(gOpt.path.c_str(), O_RDWR | O_CLOEXEC);
+	const std::string path = devPath();
+	const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
 	ts.since = 0;
 	if (fd < 0) {
-		failure("%s after the run: %s", gOpt.path.c_str(), std::strerror(errno));
+		failure("%s after the run: %s", path.c_str(), std::strerror(errno));
 		ts.running = false;
 		return;
 	}
@@ -1522,6 +1579,7 @@ int main(int argc, char **argv)
 	std::printf("fuzz: seed 0x%016" PRIx64 " (replay: --seed 0x%016" PRIx64 "), %u s, %u threads, %s\n", gOpt.seed,
 		    gOpt.seed, gOpt.seconds, gOpt.threads, gOpt.path.c_str());
 	gPage = ::sysconf(_SC_PAGESIZE);
+	gPath = gOpt.path;
 	loadTable();
 
 	// the SPI device behind /dev/ecmxfN, for unbind and bind
@@ -1532,6 +1590,7 @@ int main(int argc, char **argv)
 		link[ln] = 0;
 		const std::string_view l(link);
 		gSpidev = std::string(l.substr(l.rfind('/') + 1));
+		std::printf("fuzz: %s is %s's\n", gOpt.path.c_str(), gSpidev.c_str());
 	} else {
 		std::printf("fuzz: no /sys/class/ecmxf/%s/device: no unbind/bind\n", node.c_str());
 	}
@@ -1559,8 +1618,11 @@ int main(int argc, char **argv)
 	std::vector<std::thread> threads;
 	for (unsigned i = 0; i < gOpt.threads; i++)
 		threads.emplace_back(fuzzThread, i);
-	while (!gStop && nowNs() - t0 < static_cast<std::int64_t>(gOpt.seconds) * 1'000'000'000)
+	long areasMax = areasBefore;
+	while (!gStop && nowNs() - t0 < static_cast<std::int64_t>(gOpt.seconds) * 1'000'000'000) {
 		::usleep(100'000);
+		areasMax = std::max(areasMax, ringAreas());
+	}
 	gStop = true;
 	// a thread blocked in a system call gets the watchdog's signals; one
 	// that never returns is the watchdog's hang
@@ -1568,6 +1630,8 @@ int main(int argc, char **argv)
 		t.join();
 	const double secs = static_cast<double>(nowNs() - t0) / 1e9;
 
+	std::printf("fuzz: at most %ld vmalloc areas of ecmxf.ko seen during the run (sampled every 100 ms)\n",
+		    areasMax);
 	endChecks(areasBefore);
 	printStats(secs);
 	std::printf("guest-test: %s fuzz: seed 0x%016" PRIx64 ", %.1f s, %u failure(s)\n",
