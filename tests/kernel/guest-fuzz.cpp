@@ -179,7 +179,7 @@ void mut(Rng &r, T (&a)[N], unsigned permille)
 enum Kind : unsigned {
 	kOpen, kClose, kFcntl, kMisc, kIocVersion, kIocDevinfo, kIocCmd, kIocSubmit, kIocCounters, kIocReset,
 	kIocClaim, kIocRelease, kIocRingSetup, kIocUnknown, kIocWrongSize, kIocVfs, kRead, kPoll, kMmap,
-	kMunmap, kMremap, kMprotect, kTouch, kFork, kUnbind, kBind, kKinds
+	kMunmap, kMremap, kMprotect, kTouch, kFork, kUnbind, kBind, kBringUp, kKinds
 };
 
 constexpr const char *kKindName[kKinds] = {
@@ -187,6 +187,7 @@ constexpr const char *kKindName[kKinds] = {
 	"ioctl SUBMIT", "ioctl COUNTERS", "ioctl RESET", "ioctl CLAIM", "ioctl RELEASE", "ioctl RING_SETUP",
 	"ioctl unknown number", "ioctl wrong size/dir", "ioctl generic (VFS)", "read", "poll", "mmap",
 	"munmap", "mremap", "mprotect", "ring memory access", "fork", "sysfs unbind", "sysfs bind",
+	"bus bring-up (library)",
 };
 
 constexpr int kErrMax = 140;
@@ -1289,13 +1290,14 @@ bool writeSysfs(const std::string &file, const std::string &v, int *err)
 // unbind the SPI device and bind it again; the others go on meanwhile
 void actRebind(Ctx &c)
 {
-	// at most one every two seconds: the device is mostly there
+	// at most one every five seconds: the device is there most of the time
 	if (!gOpt.rebind || gSpidev.empty() || nowNs() < gNextRebind || gRebinding.exchange(true))
 		return;
 	Rng &r = c.rng;
 	const std::string drv = "/sys/bus/spi/drivers/ecmxf/";
 	int err = 0;
 	c.ts.interruptible = false;
+	const std::int64_t t0 = nowNs();
 	if (sys(c.ts, kUnbind, [&] { return writeSysfs(drv + "unbind", gSpidev, &err) ? 0L : (errno = err, -1L); }) == 0)
 		::usleep(static_cast<useconds_t>(r.below(300'000)));
 	// bind again (the probe talks to the chip; a chip left in a strange
@@ -1317,13 +1319,57 @@ void actRebind(Ctx &c)
 			std::lock_guard<std::mutex> l(gPathMu);
 			gPath = node;
 		}
+		std::printf("fuzz: unbind + bind took %.2f s, now %s\n", static_cast<double>(nowNs() - t0) / 1e9,
+			    node.c_str());
 	}
-	gNextRebind = nowNs() + 2'000'000'000;
+	gNextRebind = nowNs() + 5'000'000'000;
 	if (!bound) {
 		failure("binding %s again failed 10 times (last errno %d %s)", gSpidev.c_str(), err, std::strerror(err));
 		gStop = true;
 	}
 	gRebinding = false;
+}
+
+// A bus with process data (the default network, the EST-584 motion PDOs),
+// so that RING_SETUP finds frame sizes: before the run, and again now and
+// then during it (the random commands reconfigure and reset the chip).
+// The library's commands have their own time limits; only the hang check
+// watches them.
+bool bringUp(ThreadState &ts)
+{
+	ts.interruptible = false;
+	ts.kind = kBringUp;
+	ts.since = nowNs();
+	bool ok = false;
+	try {
+		auto dev = ecmxf::Device::open(devPath());
+		dev->setMinimumTimeout(std::chrono::seconds(5));
+		ecmxf::Master master(*dev);
+		ecmxf::MasterConfig mc;
+		mc.pdoAssignments = { ecmxf::est584MotionPdos(0), ecmxf::est584MotionPdos(1) };
+		master.bringUp(mc);
+		ok = true;
+	} catch (const std::exception &e) {
+		std::printf("fuzz: bus bring-up failed: %s\n", e.what());
+	}
+	ts.since = 0;
+	ts.interruptible = true;
+	gStats.calls[kBringUp]++;
+	if (ok)
+		gStats.ok[kBringUp]++;
+	return ok;
+}
+
+std::atomic<bool> gBringingUp{false};
+std::atomic<std::int64_t> gNextBringUp{0};
+
+void actBringUp(Ctx &c)
+{
+	if (nowNs() < gNextBringUp || gBringingUp.exchange(true))
+		return;
+	bringUp(c.ts);
+	gNextBringUp = nowNs() + 8'000'000'000;
+	gBringingUp = false;
 }
 
 // ---------------------------------------------------------------------
@@ -1338,6 +1384,7 @@ constexpr Action kActions[] = {
 	{ actSubmit, 120 },   { actInfo, 60 },     { actReset, 15 },  { actClaim, 50 },      { actRingSetup, 35 },
 	{ actCycle, 40 },     { actMmap, 40 },     { actMunmap, 45 }, { actTouch, 70 },      { actRead, 90 },
 	{ actPoll, 60 },      { actBadIoctl, 60 }, { actVfsIoctl, 8 }, { actFork, 3 },       { actRebind, 2 },
+	{ actBringUp, 2 },
 };
 
 void fuzzThread(unsigned idx)
@@ -1383,23 +1430,6 @@ long ringAreas()
 			n++;
 	std::fclose(f);
 	return n;
-}
-
-// a bus with process data (the default network, the EST-584 motion PDOs),
-// so that RING_SETUP finds frame sizes
-void bringUp()
-{
-	try {
-		auto dev = ecmxf::Device::open(devPath());
-		dev->setMinimumTimeout(std::chrono::seconds(5));
-		ecmxf::Master master(*dev);
-		ecmxf::MasterConfig mc;
-		mc.pdoAssignments = { ecmxf::est584MotionPdos(0), ecmxf::est584MotionPdos(1) };
-		master.bringUp(mc);
-		std::printf("fuzz: bus brought up to OP with process data\n");
-	} catch (const std::exception &e) {
-		std::printf("fuzz: bring-up failed (fuzzing anyway): %s\n", e.what());
-	}
 }
 
 struct CmdResult {
@@ -1609,11 +1639,19 @@ int main(int argc, char **argv)
 	::sigaction(SIGSEGV, &fa, nullptr);
 	::sigaction(SIGBUS, &fa, nullptr);
 
-	if (gOpt.bringup)
-		bringUp();
+	if (gOpt.bringup) {
+		gThreads[kMaxThreads].tid = static_cast<pid_t>(::syscall(SYS_gettid));
+		gThreads[kMaxThreads].running = true;
+		std::thread(watchdog).detach();
+		if (bringUp(gThreads[kMaxThreads]))
+			std::printf("fuzz: bus brought up to OP with process data\n");
+		gThreads[kMaxThreads].running = false;
+		gNextBringUp = nowNs() + 8'000'000'000;
+	} else {
+		std::thread(watchdog).detach();
+	}
 	const long areasBefore = ringAreas();
 
-	std::thread(watchdog).detach();
 	const std::int64_t t0 = nowNs();
 	std::vector<std::thread> threads;
 	for (unsigned i = 0; i < gOpt.threads; i++)
