@@ -19,7 +19,8 @@ fuzz_args="--seconds 25"
 case "$(uname -r)" in
 *-ecmxf-debug) fuzz_args="--seconds 120 --stall-ms 6000 --hang-s 240" ;;
 esac
-for a in $(cat /proc/cmdline); do
+read -r cmdline </proc/cmdline
+for a in $cmdline; do
 	case "$a" in
 	ecmxf_fuzz_seed=*) fuzz_args="$fuzz_args --seed ${a#ecmxf_fuzz_seed=}" ;;
 	ecmxf_fuzz_seconds=*) fuzz_args="$fuzz_args --seconds ${a#ecmxf_fuzz_seconds=}" ;;
