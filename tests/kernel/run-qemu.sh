@@ -20,6 +20,8 @@
 #   ECMXF_FUZZ_SEED     seed of the interface fuzzer (step 95-fuzz.sh; a seed
 #                       a run printed replays it), ECMXF_FUZZ_SECONDS its run
 #                       time (default 25 s, 120 s on the debug kernel)
+#   ECMXF_KTEST_STEPS   for iterating on steps only: a comma-separated list
+#                       of step name prefixes (e.g. 95,80) to run, no other
 set -eu
 
 top=$(cd "$(dirname "$0")/../.." && pwd)
@@ -104,6 +106,7 @@ $dyncxx -o "$bin/ecmxf-util" $uobjs "$lib" -lgpiod -lmnl -pthread || die "linkin
 fuzz_append=""
 [ -n "${ECMXF_FUZZ_SEED:-}" ] && fuzz_append="$fuzz_append ecmxf_fuzz_seed=$ECMXF_FUZZ_SEED"
 [ -n "${ECMXF_FUZZ_SECONDS:-}" ] && fuzz_append="$fuzz_append ecmxf_fuzz_seconds=$ECMXF_FUZZ_SECONDS"
+[ -n "${ECMXF_KTEST_STEPS:-}" ] && fuzz_append="$fuzz_append ecmxf_ktest_steps=$ECMXF_KTEST_STEPS"
 
 # ---- one kernel flavour
 run_flavour() {
@@ -186,7 +189,7 @@ run_flavour() {
 		die "$kver: kernel warnings on the console (see $log)"
 	fi
 	grep -qx 'ECMXF-KTEST: PASS' "$log.txt" || die "$kver: no pass marker on the console (see $log)"
-	say "$kver: PASS"
+	say "$kver: PASS${ECMXF_KTEST_STEPS:+ (only the steps $ECMXF_KTEST_STEPS)}"
 }
 
 for f in $flavours; do
