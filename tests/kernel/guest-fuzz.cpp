@@ -611,9 +611,14 @@ void actOpen(Ctx &c)
 	if (r.chance(20))
 		flags |= O_NOCTTY;
 	const std::string path = devPath();
-	const int fd = static_cast<int>(sys(c.ts, kOpen, [&] { return ::open(path.c_str(), flags); }));
-	if (fd < 0)
+	int err = 0;
+	const int fd = static_cast<int>(sys(c.ts, kOpen, [&] { return ::open(path.c_str(), flags); }, &err));
+	if (fd < 0) {
+		// unbound for the moment: no point in spinning on it
+		if (err == ENOENT)
+			::usleep(1000);
 		return;
+	}
 	if (r.chance(100)) { // opened and closed again at once
 		sys(c.ts, kClose, [&] { return ::close(fd); });
 		return;
@@ -1530,6 +1535,17 @@ void endChecks(long areasBefore)
 	}
 	if (!ok)
 		failure("the device does not work after the run, not even after the warm reset");
+	// the commands may have changed the chip's own configuration, which
+	// outlives a rebind (ECAT_INT_SET_ENABLE's parameter sets the INT0/INT1
+	// polarity: with INT1 inverted the driver sees no INT1 edge): a warm
+	// reset, the documented way back to the power-on configuration, and
+	// the device works after it too
+	if (ok) {
+		std::printf("fuzz: RESET warm (the chip's power-on configuration): %d\n",
+			    reset(fd, ECMXF_RESET_F_WARM, 0));
+		if (!works(fd, "the final warm reset"))
+			failure("the device does not work after the final warm reset");
+	}
 	::close(fd);
 	ts.since = 0;
 	ts.running = false;
