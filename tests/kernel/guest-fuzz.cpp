@@ -42,7 +42,11 @@
 //
 //   ecmxf-guest-fuzz [--seconds N] [--seed S] [--threads T]
 //                    [--stall-ms MS] [--hang-s S] [--no-rebind]
-//                    [--no-bringup] [/dev/ecmxfN]
+//                    [--no-bringup] [--format-changes] [/dev/ecmxfN]
+//
+// --format-changes: send SPI_RECONFIG_OP and CRC_TYPE_SET too (by default
+// they become harmless reads: a chip left in another packet format is not
+// found again by the probe after an unbind, a known limit)
 //
 // The seed (printed first) fixes each thread's sequence of actions
 // (thread i draws from seed + i); the interleaving of the threads, the
@@ -248,6 +252,7 @@ struct Options {
 	unsigned hangS = 60;
 	bool rebind = true;
 	bool bringup = true;
+	bool formatChanges = false;
 	std::string path = "/dev/ecmxf0";
 };
 Options gOpt;
@@ -559,6 +564,18 @@ void genHeader(Rng &r, ecmxf_cmd_header &h, Shape s)
 	mut(r, h.reserved, m);
 }
 
+// SPI_RECONFIG_OP and CRC_TYPE_SET change the packet format; a chip left
+// in a format other than the power-on one and the module's is not found
+// again by the probe after an unbind (kernel-testing.rst, "The interface
+// fuzzer": a known limit), so without --format-changes they are not sent
+void keepFormat(Rng &r, ecmxf_cmd_header &h)
+{
+	if (gOpt.formatChanges)
+		return;
+	if (h.code == ECMXF_CMD_SPI_RECONFIG_OP || h.code == ECMXF_CMD_CRC_TYPE_SET)
+		h.code = r.chance(500) ? ECMXF_CMD_SPI_PACK_SIZE_GET : ECMXF_CMD_FW_VERSION_GET;
+}
+
 std::uint32_t genTimeout(Rng &r)
 {
 	const auto w = r.below(100);
@@ -708,6 +725,7 @@ void actCmd(Ctx &c)
 		mut(r, cmd.rx_ptr, m / 4);
 		mut(r, cmd.reserved, m);
 	}
+	keepFormat(r, cmd.hdr);
 	const int fd = slotFd(r);
 	void *arg = argPtr(c, &cmd, sizeof(cmd), kRoCmd);
 	const long ret = sys(c.ts, kIocCmd, [&] { return ::ioctl(fd, ECMXF_IOC_CMD, arg); });
@@ -745,6 +763,7 @@ void actSubmit(Ctx &c)
 		mut(r, sub.rx_ptr, m / 4);
 		mut(r, sub.reserved, m);
 	}
+	keepFormat(r, sub.hdr);
 	const int fd = slotFd(r);
 	void *arg = argPtr(c, &sub, sizeof(sub), kRoSubmit);
 	sys(c.ts, kIocSubmit, [&] { return ::ioctl(fd, ECMXF_IOC_SUBMIT, arg); });
@@ -1609,11 +1628,13 @@ int main(int argc, char **argv)
 			gOpt.rebind = false;
 		else if (a == "--no-bringup")
 			gOpt.bringup = false;
+		else if (a == "--format-changes")
+			gOpt.formatChanges = true;
 		else if (!a.empty() && a[0] != '-')
 			gOpt.path = std::string(a);
 		else {
 			std::fprintf(stderr, "usage: ecmxf-guest-fuzz [--seconds N] [--seed S] [--threads T] "
-					     "[--stall-ms MS] [--hang-s S] [--no-rebind] [--no-bringup] [/dev/ecmxfN]\n");
+					     "[--stall-ms MS] [--hang-s S] [--no-rebind] [--no-bringup] [--format-changes] [/dev/ecmxfN]\n");
 			return 64;
 		}
 	}
