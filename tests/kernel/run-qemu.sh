@@ -19,7 +19,8 @@
 #                       runs alone take 100 s of guest time)
 #   ECMXF_FUZZ_SEED     seed of the interface fuzzer (step 95-fuzz.sh; a seed
 #                       a run printed replays it), ECMXF_FUZZ_SECONDS its run
-#                       time (default 25 s, 120 s on the debug kernel)
+#                       time (default 25 s, 120 s on the debug kernel);
+#                       ECMXF_FUZZ_FORMAT_CHANGES=1: its --format-changes
 #   ECMXF_KTEST_STEPS   for iterating on steps only: a comma-separated list
 #                       of step name prefixes (e.g. 95,80) to run, no other
 set -eu
@@ -106,6 +107,7 @@ $dyncxx -o "$bin/ecmxf-util" $uobjs "$lib" -lgpiod -lmnl -pthread || die "linkin
 fuzz_append=""
 [ -n "${ECMXF_FUZZ_SEED:-}" ] && fuzz_append="$fuzz_append ecmxf_fuzz_seed=$ECMXF_FUZZ_SEED"
 [ -n "${ECMXF_FUZZ_SECONDS:-}" ] && fuzz_append="$fuzz_append ecmxf_fuzz_seconds=$ECMXF_FUZZ_SECONDS"
+[ "${ECMXF_FUZZ_FORMAT_CHANGES:-}" = 1 ] && fuzz_append="$fuzz_append ecmxf_fuzz_format_changes=1"
 [ -n "${ECMXF_KTEST_STEPS:-}" ] && fuzz_append="$fuzz_append ecmxf_ktest_steps=$ECMXF_KTEST_STEPS"
 
 # ---- one kernel flavour

@@ -7,7 +7,9 @@
 # kernels, 120 s on the debug kernel (KASAN, lockdep; its release ends in
 # -ecmxf-debug, tests/kernel/debug.config). The kernel parameters
 # ecmxf_fuzz_seed= and ecmxf_fuzz_seconds= (run-qemu.sh passes
-# ECMXF_FUZZ_SEED and ECMXF_FUZZ_SECONDS) replay a seed the run printed.
+# ECMXF_FUZZ_SEED and ECMXF_FUZZ_SECONDS) replay a seed the run printed;
+# ecmxf_fuzz_format_changes=1 (ECMXF_FUZZ_FORMAT_CHANGES=1) adds
+# --format-changes.
 # Step 90 left no bridge: a fresh one, and the device bound to it.
 spidev=$(basename "$(readlink /sys/class/ecmxf/ecmxf0/device)")
 echo "$spidev" >/sys/bus/spi/drivers/ecmxf/unbind || fail "unbind $spidev"
@@ -24,6 +26,7 @@ for a in $cmdline; do
 	case "$a" in
 	ecmxf_fuzz_seed=*) fuzz_args="$fuzz_args --seed ${a#ecmxf_fuzz_seed=}" ;;
 	ecmxf_fuzz_seconds=*) fuzz_args="$fuzz_args --seconds ${a#ecmxf_fuzz_seconds=}" ;;
+	ecmxf_fuzz_format_changes=1) fuzz_args="$fuzz_args --format-changes" ;;
 	esac
 done
 # shellcheck disable=SC2086
