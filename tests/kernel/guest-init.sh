@@ -82,7 +82,10 @@ ecmxf_unload() {
 
 mode=check
 for a in $(cat /proc/cmdline); do
-	case "$a" in ecmxf_ktest=*) mode=${a#ecmxf_ktest=} ;; esac
+	case "$a" in
+	ecmxf_ktest=*) mode=${a#ecmxf_ktest=} ;;
+	ecmxf_ktest_steps=*) only=${a#ecmxf_ktest_steps=} ;;
+	esac
 done
 [ -d "/steps/$mode" ] || fail "no steps for mode '$mode'"
 
@@ -92,8 +95,18 @@ insmod /lib/modules/ecmxf-vspi.ko || fail "insmod ecmxf-vspi.ko"
 bridge_start
 ecmxf_load
 
+# ecmxf_ktest_steps=95,80 (run-qemu.sh's ECMXF_KTEST_STEPS, for iterating
+# on a step): only the steps whose names begin with one of these
+[ -n "${only:-}" ] && echo "ECMXF-KTEST: only the steps $only (a narrowed run)"
 for step in /steps/"$mode"/*.sh; do
 	[ -f "$step" ] || continue
+	if [ -n "${only:-}" ]; then
+		keep=""
+		for o in $(echo "$only" | tr , ' '); do
+			case "${step##*/}" in "$o"*) keep=1 ;; esac
+		done
+		[ -n "$keep" ] || continue
+	fi
 	echo "ECMXF-KTEST: step ${step##*/}"
 	. "$step"
 done

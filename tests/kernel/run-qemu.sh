@@ -18,6 +18,12 @@
 #                       (default /var/tmp/ecmxf-ktest)
 #   ECMXF_KTEST_TIMEOUT seconds one boot may take (default 1200: the PDO ring
 #                       runs alone take 100 s of guest time)
+#   ECMXF_FUZZ_SEED     seed of the interface fuzzer (step 95-fuzz.sh; a seed
+#                       a run printed replays it), ECMXF_FUZZ_SECONDS its run
+#                       time (default 25 s, 120 s on the debug kernel);
+#                       ECMXF_FUZZ_FORMAT_CHANGES=1: its --format-changes
+#   ECMXF_KTEST_STEPS   for iterating on steps only: a comma-separated list
+#                       of step name prefixes (e.g. 95,80) to run, no other
 set -eu
 
 top=$(cd "$(dirname "$0")/../.." && pwd)
@@ -102,6 +108,13 @@ done
 # shellcheck disable=SC2086
 $dyncxx -o "$bin/ecmxf-util" $uobjs "$lib" -lgpiod -lmnl -pthread || die "linking ecmxf-util failed"
 
+# the fuzzer's seed and time for the guest (kernel parameters the step reads)
+fuzz_append=""
+[ -n "${ECMXF_FUZZ_SEED:-}" ] && fuzz_append="$fuzz_append ecmxf_fuzz_seed=$ECMXF_FUZZ_SEED"
+[ -n "${ECMXF_FUZZ_SECONDS:-}" ] && fuzz_append="$fuzz_append ecmxf_fuzz_seconds=$ECMXF_FUZZ_SECONDS"
+[ "${ECMXF_FUZZ_FORMAT_CHANGES:-}" = 1 ] && fuzz_append="$fuzz_append ecmxf_fuzz_format_changes=1"
+[ -n "${ECMXF_KTEST_STEPS:-}" ] && fuzz_append="$fuzz_append ecmxf_ktest_steps=$ECMXF_KTEST_STEPS"
+
 # ---- one kernel flavour
 run_flavour() {
 	flavour=$1
@@ -170,9 +183,9 @@ run_flavour() {
 	rc=0
 	timeout "$timeout_f" qemu-system-x86_64 -accel tcg -m "$mem" -smp 2 -nographic -no-reboot \
 		-nic none -kernel "$vmlinuz" -initrd "$out/initramfs.cpio.gz" \
-		-append "console=ttyS0 panic=-1 loglevel=7 ecmxf_ktest=$mode" >"$log" 2>&1 || rc=$?
+		-append "console=ttyS0 panic=-1 loglevel=7 ecmxf_ktest=$mode$fuzz_append" >"$log" 2>&1 || rc=$?
 	tr -d '\r' <"$log" >"$log.txt"
-	grep -E '^(ECMXF-KTEST|guest-test|bench|bridge|sysfs):' "$log.txt" || true
+	grep -E '^(ECMXF-KTEST|guest-test|bench|bridge|sysfs|fuzz):' "$log.txt" || true
 	[ "$rc" -eq 124 ] && die "$kver: QEMU did not finish within ${timeout_f}s (see $log)"
 	# not a bare "lockdep": the debug kernel prints "RCU lockdep checking is
 	# enabled" at every boot; lockdep's reports all carry WARNING:/BUG:
@@ -183,7 +196,7 @@ run_flavour() {
 		die "$kver: kernel warnings on the console (see $log)"
 	fi
 	grep -qx 'ECMXF-KTEST: PASS' "$log.txt" || die "$kver: no pass marker on the console (see $log)"
-	say "$kver: PASS"
+	say "$kver: PASS${ECMXF_KTEST_STEPS:+ (only the steps $ECMXF_KTEST_STEPS)}"
 }
 
 for f in $flavours; do
