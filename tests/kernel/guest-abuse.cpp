@@ -1697,10 +1697,13 @@ void faultsBitErrors(int fd)
 
 void faultsInt0Stuck(int fd)
 {
-	const ecmxf_counters k0 = counters(fd);
 	ctl("int0-stuck 1");
+	// the line may give one last edge as it gets stuck (or one raised by
+	// the exchange before is still on its way): one command first, then
+	// the count starts
 	std::string why = "ok";
-	bool ok = true;
+	bool ok = fwVersionOk(fd, &why);
+	const ecmxf_counters k0 = counters(fd);
 	for (int i = 0; i < 5 && ok; i++)
 		ok = fwVersionOk(fd, &why);
 	const ecmxf_counters k1 = counters(fd);
