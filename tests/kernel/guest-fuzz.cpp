@@ -603,7 +603,7 @@ struct Ctx {
 	Rng rng;
 	Arena arena;
 	ThreadState &ts;
-	std::vector<unsigned char> big; // for long read()s
+	std::vector<unsigned char> big = std::vector<unsigned char>(16 * sizeof(ecmxf_completion)); // long read()s
 };
 
 bool zero(const void *p, std::size_t n)
@@ -752,7 +752,8 @@ void actSubmit(Ctx &c)
 		sub.tx_len = static_cast<std::uint32_t>(r.chance(600) ? r.below(113) : r.below(ECMXF_DATA_MAX + 16));
 		sub.rx_size = static_cast<std::uint32_t>(r.chance(600) ? r.below(200) : r.below(0x20000));
 		sub.tx_ptr = sub.tx_len || r.chance(500) ? genPtr(r, c.arena, sub.tx_len) : 0;
-		sub.rx_ptr = sub.rx_size || r.chance(500) ? genPtr(r, c.arena, sub.rx_size) : 0;
+		// must be zero since uAPI 2 (the answer is in the record)
+		sub.reserved_ptr = r.chance(950) ? 0 : genPtr(r, c.arena, sub.rx_size);
 		sub.timeout_us = genTimeout(r);
 		sub.flags = genFlags(r, s);
 		sub.cookie = r.next();
@@ -760,7 +761,7 @@ void actSubmit(Ctx &c)
 		mut(r, sub.tx_len, m);
 		mut(r, sub.rx_size, m);
 		mut(r, sub.tx_ptr, m / 4);
-		mut(r, sub.rx_ptr, m / 4);
+		mut(r, sub.reserved_ptr, m / 4);
 		mut(r, sub.reserved, m);
 	}
 	keepFormat(r, sub.hdr);

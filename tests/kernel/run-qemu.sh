@@ -62,7 +62,7 @@ cmake -S "$top" -B "$build" >/dev/null
 cmake --build "$build" --target ecmxf_static -j "$(nproc)"
 lib="$build/lib/libecmxf_static.a"
 [ -f "$lib" ] || die "$lib missing after the build"
-cxx="g++ -std=c++20 -O2 -static -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Wcast-qual -Wformat=2 -Wundef -Wold-style-cast -Werror -I$top/include -I$top/tests/kernel"
+cxx="g++ -std=c++20 -O2 -static -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Wcast-qual -Wformat=2 -Wundef -Wold-style-cast -Werror -I$top/include -I$top/include/uapi -I$top/tests/kernel"
 bin="$cache/bin"
 mkdir -p "$bin"
 rm -f "$bin"/ecmxf-*
