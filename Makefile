@@ -22,7 +22,8 @@ KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
 DEPS := scripts/install-deps.sh
 
 .PHONY: all deps configure check check-user check-stress check-debug-kernel check-asan fuzz demo bench kmod kmod-deps \
-	kmod-check kmod-check-all checkpatch dt-check kernel-lint check-kernel kmod-clean install install-udev clean help
+	kmod-check kmod-check-all kmod-check-kernels checkpatch dt-check kernel-lint check-kernel check-kernels \
+	kmod-clean install install-udev clean help
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -107,6 +108,22 @@ kmod-check-all: kmod-deps
 		MAKE="$(MAKE)" scripts/kmod-check.sh $$k || exit 1; \
 	done
 
+# kmod-check against the matrix's other kernels (Documentation/
+# kernel-testing.rst, "The kernel matrix"): Debian's 6.12 for amd64, and
+# 6.1 and 6.12 for arm64, cross-built (ARCH=arm64 CROSS_COMPILE=
+# aarch64-linux-gnu-; sparse checks as arm64).  Their header trees are
+# unpacked from Debian's packages by scripts/debian-kernel.sh (cached).
+KMOD_CHECK_KERNELS ?= 6.12-amd64 6.1-arm64 6.12-arm64
+kmod-check-kernels: kmod-deps
+	@$(DEPS) --arm64
+	@for k in $(KMOD_CHECK_KERNELS); do \
+		kdir=$$(scripts/debian-kernel.sh --headers-only $$k | sed -n 's/^KDIR=//p'); \
+		test -n "$$kdir" || exit 1; \
+		case $$k in *arm64) cross="ARCH=arm64 CROSS_COMPILE=aarch64-linux-gnu-" ;; *) cross= ;; esac; \
+		echo "== $$k: $$kdir"; \
+		MAKE="$(MAKE)" scripts/kmod-check.sh $$kdir $$cross || exit 1; \
+	done
+
 # checkpatch.pl --strict over lib/core and kmod; the script fetches it
 # from Debian's linux-source-6.1 into ECMXF_CACHE (default /var/cache/ecmxf).
 checkpatch:
@@ -118,8 +135,13 @@ checkpatch:
 dt-check: kmod-deps
 	scripts/dt-check.sh
 
-# Everything the kernel asks of kernel code, before review.
-kernel-lint: checkpatch kmod-check dt-check
+# Everything the kernel asks of kernel code, before review: on Debian's
+# 6.1 amd64 kernel (kmod-check) and on the matrix's others
+# (kmod-check-kernels).  kmod-check runs last: it leaves kmod/ built for
+# the host, as `make kmod` would.
+kernel-lint: checkpatch dt-check
+	$(MAKE) kmod-check-kernels
+	$(MAKE) kmod-check
 
 # ecmxf.ko under QEMU on a virtual SPI controller, with the simulator as the
 # chip, on Debian's normal and PREEMPT_RT kernels (Documentation/
@@ -128,6 +150,19 @@ kernel-lint: checkpatch kmod-check dt-check
 KTEST_FLAVOURS ?=
 check-kernel: configure
 	BUILD=$(BUILD) tests/kernel/run-qemu.sh $(KTEST_FLAVOURS)
+
+# The kernel matrix (Documentation/kernel-testing.rst, "The kernel
+# matrix"): the guest tests on Debian's 6.1 and 6.12, normal and
+# PREEMPT_RT, amd64 and arm64 (qemu-system-aarch64, cross-built guest
+# programs and modules).  KERNELS= picks a part of it.  Every kernel is run
+# even when one fails; the table of boot and suite times (and failures)
+# ends the output and stays in $(BUILD)/check-kernels.txt.
+KERNELS ?= 6.1-amd64 6.1-rt-amd64 6.12-amd64 6.12-rt-amd64 6.1-arm64 6.1-rt-arm64 6.12-arm64 6.12-rt-arm64
+check-kernels: configure
+	@rm -f $(abspath $(BUILD))/check-kernels.txt
+	@BUILD=$(BUILD) ECMXF_KTEST_TIMES=$(abspath $(BUILD))/check-kernels.txt \
+		tests/kernel/run-qemu.sh $(KERNELS); rc=$$?; \
+		echo "== make check-kernels:"; cat $(abspath $(BUILD))/check-kernels.txt; exit $$rc
 
 # The same guest tests on a KASAN + UBSAN + lockdep kernel built from
 # Debian's linux-source-6.1 (scripts/build-debug-kernel.sh; built once,
@@ -161,6 +196,8 @@ help:
 	@echo "               over lib/core and kmod, and the DT binding and overlay"
 	@echo "               (also: make checkpatch, make kmod-check, make dt-check)"
 	@echo "make check-kernel  ecmxf.ko under QEMU (normal + PREEMPT_RT kernel)"
+	@echo "make check-kernels  the same on Debian's 6.1 and 6.12, normal and RT, amd64 and arm64"
+	@echo "               (KERNELS= picks some; make kmod-check-kernels: W=1 + sparse on them)"
 	@echo "make check-debug-kernel  the same on a KASAN/UBSAN/lockdep kernel (built once)"
 	@echo "make install   install to PREFIX (default /usr/local)"
 	@echo "make install-udev  the udev rule for /dev/ecmxfN (DESTDIR=)"

@@ -32,9 +32,7 @@
 #include <linux/sched/task.h>
 #include <linux/slab.h>
 
-#include <asm/unaligned.h>
-
-#include "ecmxf.h"
+#include "ecmxf.h"	/* get_unaligned_le32(): core/ecmxf-compat.h */
 
 /**
  * ecmxf_worker_kick() - wake the task that owns the link

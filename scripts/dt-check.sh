@@ -16,7 +16,13 @@
 #      the Raspberry Pi's base tree (the labels it targets: gpio, spi0,
 #      spidev0), and the merged tree's ethercat node validated against
 #      the binding (dt-validate cannot follow an unapplied overlay's
-#      fragments).
+#      fragments);
+#   5. the overlay ecmxf-rpi-debian-overlay.dts (for the kernel's own
+#      device trees): dtc -@, applied with fdtoverlay to the Raspberry Pi
+#      4, 400 and CM4 trees of Debian's arm64 6.12 kernel (ECMXF_DT_KERNELS;
+#      scripts/debian-kernel.sh fetches the image once), each merged
+#      tree's ethercat node validated.  6.1's trees have no __symbols__
+#      (built without -@): no overlay applies to them.
 #
 # dt-validate exits 0 even when a node fails its schema: any line it
 # prints is an error here, and so is any dtc warning.
@@ -32,6 +38,11 @@ cd "$(dirname "$0")/.."
 
 binding=Documentation/devicetree/nextw,ecm-xf.yaml
 overlay=Documentation/devicetree/ecmxf-rpi-overlay.dts
+doverlay=Documentation/devicetree/ecmxf-rpi-debian-overlay.dts
+# the arm64 kernels whose Raspberry Pi device trees step 5 uses
+# (not 6.1: its device trees are built without -@, have no __symbols__,
+# and take no overlay at all)
+dt_kernels=${ECMXF_DT_KERNELS:-6.12-arm64}
 t0=$(date +%s.%N)
 
 die() {
@@ -133,5 +144,29 @@ dt-validate -M -l nextw -s "$work/processed.json" "$work/merged.dtb" 2>&1 |
 	grep -q 'ethercat@0: matched on schema' ||
 	die "the overlay's ethercat@0 node was not validated against the binding"
 
+# 5. the overlay for the kernel's own device trees, applied to the real
+#    ones: the Raspberry Pi 4, 400 and CM4 trees of Debian's arm64 kernel
+#    images (scripts/debian-kernel.sh unpacks them, cached), each merged
+#    tree's ethercat node validated against the binding
+check_quiet "dtc -@ $doverlay" dtc -@ -I dts -O dtb -o "$work/ecmxf-debian.dtbo" "$doverlay"
+ndt=0
+for k in $dt_kernels; do
+	dtbs=$(scripts/debian-kernel.sh "$k" | sed -n 's/^DTBS=//p') || die "scripts/debian-kernel.sh $k failed"
+	[ -d "$dtbs/broadcom" ] || die "$k: no device trees in its image ($dtbs)"
+	for b in bcm2711-rpi-4-b bcm2711-rpi-400 bcm2711-rpi-cm4-io; do
+		[ -f "$dtbs/broadcom/$b.dtb" ] || die "$k: broadcom/$b.dtb missing"
+		m="$work/$k-$b.dtb"
+		check_quiet "fdtoverlay ($k $b)" fdtoverlay -i "$dtbs/broadcom/$b.dtb" -o "$m" "$work/ecmxf-debian.dtbo"
+		dt-validate -M -l nextw -s "$work/processed.json" "$m" >"$work/v.log" 2>&1 || true
+		grep -q 'ethercat@0: matched on schema' "$work/v.log" ||
+			{ cat "$work/v.log" >&2; die "$k $b: the overlay's ethercat@0 node did not validate"; }
+		if grep -v 'matched on schema' "$work/v.log" | grep -q 'ethercat'; then
+			cat "$work/v.log" >&2
+			die "$k $b: dt-validate reports on the ethercat node"
+		fi
+		ndt=$((ndt + 1))
+	done
+done
+
 secs=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
-echo "dt-check.sh: $binding valid (dt-schema $(dt-validate -V 2>&1)), its 2 examples and the overlay's node (applied with fdtoverlay) validate against it, ${secs} s"
+echo "dt-check.sh: $binding valid (dt-schema $(dt-validate -V 2>&1)), its 2 examples and the overlay's node (applied with fdtoverlay) validate against it; ${doverlay##*/} applied to $ndt Raspberry Pi trees of Debian's arm64 kernels ($dt_kernels), its node valid, ${secs} s"

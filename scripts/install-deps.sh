@@ -7,10 +7,17 @@
 #   scripts/install-deps.sh --ci       also clang (fuzzing, sanitizers)
 #   scripts/install-deps.sh --bench    also Google Benchmark
 #   scripts/install-deps.sh --stress   also stress-ng (make check-stress)
-#   scripts/install-deps.sh --kernel   also Debian's kernel headers, normal and
-#                                      PREEMPT_RT (make kmod), sparse, and the
-#                                      DT tools (make dt-check)
+#   scripts/install-deps.sh --kernel   also Debian's 6.1 kernel headers, normal
+#                                      and PREEMPT_RT (make kmod), sparse, the
+#                                      DT tools (make dt-check), and pahole
+#                                      (Kbuild of the 6.12 kernels runs it)
 #   scripts/install-deps.sh --qemu     also QEMU, busybox, cpio (make check-kernel)
+#   scripts/install-deps.sh --arm64    also the arm64 side of make check-kernels
+#                                      and make kmod-check-arm64: dpkg's arm64
+#                                      architecture, the cross toolchain
+#                                      (crossbuild-essential-arm64), the :arm64
+#                                      -dev packages the guest programs link,
+#                                      and qemu-system-aarch64
 #   scripts/install-deps.sh --debug-kernel
 #                                      also linux-source-6.1 and what building
 #                                      it takes (make check-debug-kernel)
@@ -20,13 +27,20 @@
 set -eu
 
 pkgs="build-essential cmake pkg-config catch2 libgpiod-dev libmnl-dev"
+arm64=""
 for arg in "$@"; do
 	case "$arg" in
 	--ci) pkgs="$pkgs clang libclang-rt-14-dev llvm" ;;
 	--bench) pkgs="$pkgs libbenchmark-dev" ;;
 	--stress) pkgs="$pkgs stress-ng" ;;
-	--kernel) pkgs="$pkgs linux-headers-amd64 linux-headers-rt-amd64 kmod sparse dt-schema device-tree-compiler" ;;
+	--kernel) pkgs="$pkgs linux-headers-amd64 linux-headers-rt-amd64 kmod sparse dt-schema device-tree-compiler pahole" ;;
 	--qemu) pkgs="$pkgs qemu-system-x86 busybox-static cpio" ;;
+	# the arm64 kernels' headers and images are not installed but
+	# unpacked from their .debs (scripts/debian-kernel.sh)
+	--arm64)
+		arm64=1
+		pkgs="$pkgs crossbuild-essential-arm64 libgpiod-dev:arm64 libmnl-dev:arm64 qemu-system-arm busybox-static cpio"
+		;;
 	--debug-kernel) pkgs="$pkgs linux-source-6.1 flex bison bc libelf-dev libssl-dev cpio xz-utils kmod" ;;
 	*) echo "install-deps.sh: unknown option '$arg'" >&2; exit 2 ;;
 	esac
@@ -49,6 +63,11 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 echo "install-deps.sh: installing$missing"
 export DEBIAN_FRONTEND=noninteractive
+# the :arm64 packages: apt must know dpkg's arm64 architecture first
+if [ -n "$arm64" ] && ! dpkg --print-foreign-architectures | grep -qx arm64; then
+	echo "install-deps.sh: dpkg --add-architecture arm64"
+	dpkg --add-architecture arm64
+fi
 apt-get update -qq
 # shellcheck disable=SC2086
 apt-get install -y -qq --no-install-recommends $missing

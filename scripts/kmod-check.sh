@@ -10,15 +10,21 @@
 #      header include/uapi/linux/ecmxf.h, with its extra warnings
 #      (-Wall; -v on kernels up to 6.2, whose kernel-doc has no -Wall).
 #
-# Fails on any "warning:" or "error:" line.  Called by `make kmod-check`
-# and `make kernel-lint`:
+# Fails on any "warning:" or "error:" line.  Called by `make kmod-check`,
+# `make kmod-check-kernels` and `make kernel-lint`:
 #
-#   scripts/kmod-check.sh KDIR
+#   scripts/kmod-check.sh KDIR [VAR=value...]
+#
+# The VAR=value arguments go to Kbuild: a cross-build tree takes
+# ARCH=arm64 CROSS_COMPILE=aarch64-linux-gnu- (sparse then checks as
+# arm64: Kbuild gives it the target's flags).
 set -eu
 
 cd "$(dirname "$0")/.."
 
-kdir=${1:?usage: kmod-check.sh KDIR}
+kdir=${1:?usage: kmod-check.sh KDIR [VAR=value...]}
+shift
+kvars="$*"
 make=${MAKE:-make}
 kmod=$(pwd)/kmod
 bad='(warning|error|WARNING|ERROR):'
@@ -44,15 +50,17 @@ trap 'rm -f "$log"' EXIT
 
 # 1. W=1 + sparse.  Clean first: W=1 only reports on files it compiles.
 t=$(now)
-"$make" -C "$kdir" M="$kmod" clean >/dev/null
-if ! "$make" -C "$kdir" M="$kmod" W=1 C=2 modules >"$log" 2>&1; then
+# shellcheck disable=SC2086
+"$make" -C "$kdir" M="$kmod" $kvars clean >/dev/null
+# shellcheck disable=SC2086
+if ! "$make" -C "$kdir" M="$kmod" $kvars W=1 C=2 modules >"$log" 2>&1; then
 	cat "$log"
 	die "build failed"
 fi
 cat "$log"
 n=$(grep -Ec "$bad" "$log" || true)
 [ "$n" -eq 0 ] || die "W=1/sparse: $n warning(s)"
-echo "kmod-check.sh: W=1 + sparse (C=2) clean, $(since "$t")"
+echo "kmod-check.sh: W=1 + sparse (C=2) clean${kvars:+ ($kvars)}, $(since "$t")"
 
 # 2. kernel-doc, headers included.
 t=$(now)

@@ -89,7 +89,10 @@ for a in $(cat /proc/cmdline); do
 done
 [ -d "/steps/$mode" ] || fail "no steps for mode '$mode'"
 
-echo "ECMXF-KTEST: guest up, kernel $(uname -r), mode $mode"
+# guest uptime (under TCG it follows the host's clock): run-qemu.sh takes
+# the boot time from this line and the suite's from the "steps done" line
+uptime_s() { cut -d' ' -f1 /proc/uptime; }
+echo "ECMXF-KTEST: guest up, kernel $(uname -r) $(uname -m), mode $mode, uptime $(uptime_s) s"
 insmod /lib/modules/ecmxf-vspi.ko || fail "insmod ecmxf-vspi.ko"
 [ -c /dev/ecmxf-vspi ] || fail "no /dev/ecmxf-vspi"
 bridge_start
@@ -107,7 +110,7 @@ for step in /steps/"$mode"/*.sh; do
 		done
 		[ -n "$keep" ] || continue
 	fi
-	echo "ECMXF-KTEST: step ${step##*/}"
+	echo "ECMXF-KTEST: step ${step##*/} (uptime $(uptime_s) s)"
 	. "$step"
 done
 
@@ -115,6 +118,7 @@ done
 lsmod | grep -q '^ecmxf ' && ecmxf_unload
 rmmod ecmxf-vspi || fail "rmmod ecmxf-vspi"
 
+echo "ECMXF-KTEST: steps done, uptime $(uptime_s) s"
 # the whole kernel log once more, at every level, for the host's scan
 dmesg
 echo "ECMXF-KTEST: PASS"

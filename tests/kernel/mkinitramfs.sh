@@ -40,12 +40,37 @@ for b in "$@"; do
 	cp "$b" "$root/bin/"
 done
 # a dynamically linked program (ecmxf-util: libmnl has no static library
-# in Debian) brings its shared libraries and loader, at the paths ldd names
-for b in "$@"; do
-	ldd "$b" >/dev/null 2>&1 || continue	# static: "not a dynamic executable"
-	for l in $(ldd "$b" | grep -o '/[^ ]*'); do
-		mkdir -p "$root$(dirname "$l")"
-		cp -L "$l" "$root$l"
+# in Debian) brings its shared libraries and loader: a program of this
+# machine's architecture at the paths ldd names; an arm64 program (ldd
+# cannot run it) by its ELF loader and DT_NEEDED entries, recursively,
+# found in Debian's multiarch directories of the :arm64 packages
+copy_lib() {
+	mkdir -p "$root$(dirname "$1")"
+	cp -L "$1" "$root$1"
+}
+arm64_needed() {
+	for n in $(readelf -d "$1" 2>/dev/null | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p'); do
+		[ -e "$root/lib/aarch64-linux-gnu/$n" ] && continue
+		f=""
+		for d in /lib/aarch64-linux-gnu /usr/lib/aarch64-linux-gnu; do
+			[ -e "$d/$n" ] && { f=$d/$n; break; }
+		done
+		[ -n "$f" ] || { echo "mkinitramfs: $n (of $1) not found (apt-get install its :arm64 package)" >&2; exit 1; }
+		mkdir -p "$root/lib/aarch64-linux-gnu"
+		cp -L "$f" "$root/lib/aarch64-linux-gnu/$n"
+		arm64_needed "$f"
 	done
+}
+for b in "$@"; do
+	if ldd "$b" >/dev/null 2>&1; then
+		for l in $(ldd "$b" | grep -o '/[^ ]*'); do
+			copy_lib "$l"
+		done
+	elif readelf -h "$b" 2>/dev/null | grep -q 'AArch64' &&
+		readelf -l "$b" | grep -q 'interpreter'; then
+		interp=$(readelf -l "$b" | sed -n 's/.*interpreter: \(.*\)\]/\1/p')
+		copy_lib "$interp"
+		arm64_needed "$b"
+	fi	# else static: nothing to bring
 done
 (cd "$root" && find . -print0 | cpio --null -o -H newc --quiet) | gzip -1 >"$out"

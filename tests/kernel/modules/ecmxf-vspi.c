@@ -39,6 +39,7 @@
 #include <linux/workqueue.h>
 
 #include "ecmxf-vspi.h"
+#include "ecmxf-vspi-compat.h"
 
 #define VSPI_NAME	"ecmxf-vspi"
 #define VSPI_NLINES	2
@@ -581,7 +582,7 @@ out_misc:
 	return ret;
 }
 
-static int vspi_remove(struct platform_device *pdev)
+static void vspi_teardown(struct platform_device *pdev)
 {
 	struct vspi *v = platform_get_drvdata(pdev);
 
@@ -589,8 +590,9 @@ static int vspi_remove(struct platform_device *pdev)
 	cancel_work_sync(&v->level_work);
 	gpiod_remove_lookup_table(v->lookup);
 	misc_deregister(&v->misc);
-	return 0;
 }
+
+VSPI_PLATFORM_REMOVE(vspi_remove, vspi_teardown)
 
 static struct platform_driver vspi_driver = {
 	.driver = {
