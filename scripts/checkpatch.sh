@@ -72,7 +72,17 @@ ignores_for() {
 		# Under #ifndef __KERNEL__ it gives the userspace build of
 		# the core the kernel's u8..u64/s16 names as typedefs of
 		# <stdint.h> types; the kernel build never sees them.
-		echo NEW_TYPEDEFS,PREFER_KERNEL_TYPES ;;
+		# It is also the module's one place for the differences
+		# between the kernels it is built for out of tree (6.1 to
+		# 6.12): the kernel's LINUX_VERSION_CODE >= KERNEL_VERSION()
+		# idiom, which checkpatch flags for in-tree code (and for
+		# the macro on the left of the comparison).
+		echo NEW_TYPEDEFS,PREFER_KERNEL_TYPES,LINUX_VERSION_CODE,CONSTANT_COMPARISON ;;
+	*tests/kernel/modules/ecmxf-vspi-compat.h)
+		# The test harness's version tests (same idiom as above),
+		# and a macro that defines the .remove callback of either
+		# signature, whose int form ends in "return 0".
+		echo LINUX_VERSION_CODE,CONSTANT_COMPARISON,MACRO_WITH_FLOW_CONTROL ;;
 	*lib/core/ecmxf-proto.h)
 		# Shared verbatim with userspace C and C++, which have no
 		# BIT(); and BIT() is unsigned long where these flag and

@@ -41,7 +41,7 @@
 #   KVER=<kernel release, e.g. 6.12.117+deb12-rt-arm64>
 #   KDIR=<header tree for `make -C $KDIR M=<dir> modules`>
 #   VMLINUZ=<the kernel image>
-#   ARCH=<Debian architecture: amd64 or arm64>
+#   DEB_ARCH=<Debian architecture: amd64 or arm64>
 #   MODULES=<the image's /lib/modules/<kver> (unpacked; arm64 only)>
 #   DTBS=<the image's device trees, /usr/lib/linux-image-<kver> (arm64 only)>
 #
@@ -180,4 +180,4 @@ if [ -z "$headers_only" ]; then
 	[ -d "$dtbs" ] || dtbs=""
 fi
 
-printf 'KVER=%s\nKDIR=%s\nVMLINUZ=%s\nARCH=%s\nMODULES=%s\nDTBS=%s\n' "$kver" "$kdir" "$vmlinuz" "$arch" "$modules" "$dtbs" >&3
+printf 'KVER=%s\nKDIR=%s\nVMLINUZ=%s\nDEB_ARCH=%s\nMODULES=%s\nDTBS=%s\n' "$kver" "$kdir" "$vmlinuz" "$arch" "$modules" "$dtbs" >&3

@@ -90,7 +90,9 @@ inline const char *syscallName(std::size_t nr)
 	switch (nr) {
 	case SYS_read: return "read";
 	case SYS_write: return "write";
+#ifdef SYS_poll // x86-64; arm64 has only ppoll
 	case SYS_poll: return "poll";
+#endif
 	case SYS_ioctl: return "ioctl";
 	case SYS_brk: return "brk";
 	case SYS_mmap: return "mmap";

@@ -16,6 +16,11 @@ shift 4
 
 bb=/bin/busybox
 [ -x "$bb" ] || { echo "mkinitramfs: $bb missing (apt-get install busybox-static)" >&2; exit 1; }
+# the guest's busybox: another architecture's (ECMXF_GUEST_BUSYBOX, e.g.
+# busybox-static:arm64's, unpacked) when the guest is not this machine's;
+# its applets are this machine's busybox's list (the same Debian package)
+gbb=${ECMXF_GUEST_BUSYBOX:-$bb}
+[ -f "$gbb" ] || { echo "mkinitramfs: $gbb missing" >&2; exit 1; }
 
 root=$(mktemp -d)
 trap 'rm -rf "$root"' EXIT
@@ -25,7 +30,7 @@ mkdir -p "$root/bin" "$root/sbin" "$root/proc" "$root/sys" "$root/dev" "$root/tm
 # permission tests) must be able to reach /dev and /bin
 chmod 755 "$root"
 chmod 1777 "$root/tmp"
-cp "$bb" "$root/bin/busybox"
+cp "$gbb" "$root/bin/busybox"
 # `busybox --list` names busybox itself: a symlink for it would replace
 # the binary (then: "No working init found", error -40)
 for a in $("$bb" --list); do

@@ -92,6 +92,17 @@ build_guest_programs() {
 		cc=aarch64-linux-gnu-gcc
 		cxxc=aarch64-linux-gnu-g++
 		tag=-arm64
+		# the guest's busybox: busybox-static:arm64, unpacked (it
+		# cannot be installed beside the amd64 one)
+		bbdir="$cache/busybox-arm64"
+		if [ ! -x "$bbdir/bin/busybox" ]; then
+			rm -rf "$bbdir"
+			mkdir -p "$bbdir"
+			(cd "$bbdir" && apt-get download -q busybox-static:arm64 >/dev/null 2>&1) ||
+				die "apt-get download busybox-static:arm64 failed"
+			dpkg-deb -x "$bbdir"/busybox-static_*.deb "$bbdir"
+			rm -f "$bbdir"/*.deb
+		fi
 		# pkg-config must find the :arm64 libgpiod and libmnl
 		PKG_CONFIG_LIBDIR=/usr/lib/aarch64-linux-gnu/pkgconfig:/usr/share/pkgconfig \
 			cmake -S "$top" -B "$gbuild" -DCMAKE_SYSTEM_NAME=Linux -DCMAKE_SYSTEM_PROCESSOR=aarch64 \
@@ -167,7 +178,7 @@ run_kernel() {
 		timeout_f=$((boot_timeout * 3))
 	else
 		kinfo=$("$top/scripts/debian-kernel.sh" "$kname") || die "$kname: scripts/debian-kernel.sh failed"
-		karch=$(printf '%s\n' "$kinfo" | sed -n 's/^ARCH=//p')
+		karch=$(printf '%s\n' "$kinfo" | sed -n 's/^DEB_ARCH=//p')
 	fi
 	kver=$(printf '%s\n' "$kinfo" | sed -n 's/^KVER=//p')
 	kdir=$(printf '%s\n' "$kinfo" | sed -n 's/^KDIR=//p')
@@ -198,8 +209,12 @@ run_kernel() {
 	done
 
 	bin="$cache/bin"
-	[ "$karch" = arm64 ] && bin="$cache/bin-arm64"
-	"$top/tests/kernel/mkinitramfs.sh" "$out/initramfs.cpio.gz" "$top/tests/kernel/guest-init.sh" \
+	gbb=""
+	if [ "$karch" = arm64 ]; then
+		bin="$cache/bin-arm64"
+		gbb="$cache/busybox-arm64/bin/busybox"
+	fi
+	ECMXF_GUEST_BUSYBOX=$gbb "$top/tests/kernel/mkinitramfs.sh" "$out/initramfs.cpio.gz" "$top/tests/kernel/guest-init.sh" \
 		"$out/ko" "$top/tests/kernel/steps" "$bin"/ecmxf-*
 
 	log="$out/console-$mode.log"
