@@ -233,7 +233,14 @@ void mustFinish(Blocked &b, const std::string &what)
 	ok(true, what + " returned");
 }
 
-constexpr long kSysRead = 0, kSysPoll = 7, kSysIoctl = 16, kSysPpoll = 271;
+// the numbers /proc/.../syscall shows: the architecture's own (arm64 has
+// no poll(), only ppoll())
+constexpr long kSysRead = SYS_read, kSysIoctl = SYS_ioctl, kSysPpoll = SYS_ppoll;
+#ifdef SYS_poll
+constexpr long kSysPoll = SYS_poll;
+#else
+constexpr long kSysPoll = SYS_ppoll;
+#endif
 
 /// The two mapped rings (raw uAPI: offsets from RING_SETUP).
 struct Rings {
