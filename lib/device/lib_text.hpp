@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: MIT
-// Internal: the words that Device (lib/device/device.cpp) and the command
-// transports (lib/link/transport_command.cpp, lib/link/transport_kernel.cpp) share in
-// their messages, and the one mapping of a wire response header to
-// ecmxf::ResponseHeader.
+// Internal: the words the library's messages share, and the one mapping of
+// a wire response header to ecmxf::ResponseHeader.
 #pragma once
 
-#include <ecmxf/device.hpp>
+#include <ecmxf/link/link.hpp>
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace ecmxf::detail {
 
@@ -20,6 +19,8 @@ std::string hex8(unsigned v);
 std::string bitList(std::uint8_t status);
 /// "10000 ms", or "250 us" for times that are not whole milliseconds.
 std::string durationUs(std::uint64_t us);
+/// @p s in double quotes.
+std::string quoted(std::string_view s);
 
 /// The response header fields of the protocol core's struct ecmxf_rsp_hdr
 /// or the uAPI's struct ecmxf_rsp_header (same field names).

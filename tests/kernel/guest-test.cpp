@@ -12,7 +12,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/kernel_link.hpp>
 
 #include <unistd.h>
 
@@ -71,7 +71,7 @@ int bridgeGone(const std::string &path)
 // it fires again: more than one interrupt (an edge would give one), and at
 // most about one per 10 ms (no storm). After a clear with the source
 // disabled the line is idle: no interrupt at all.
-void int1Level(ecmxf::Device &dev, ecmxf::KernelTransport &kt)
+void int1Level(ecmxf::Device &dev, ecmxf::KernelLink &kt)
 {
 	using namespace std::chrono;
 	ecmxf::InterruptConfig ic;
@@ -147,7 +147,7 @@ int main(int argc, char **argv)
 		check("check type is CRC-32", static_cast<unsigned>(info.checkType),
 		      static_cast<unsigned>(ecmxf::CheckType::Crc32));
 
-		auto *kt = dynamic_cast<ecmxf::KernelTransport *>(&dev->transport());
+		auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->transport());
 		if (!kt) {
 			std::printf("guest-test: FAIL %s is not opened by the kernel transport\n", path.c_str());
 			return 1;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// SpidevTransport's logic over a fake spidev/GPIO backend played by the
+// SpidevChannel's logic over a fake spidev/GPIO backend played by the
 // simulated chip (fake_spidev.hpp): a Device runs raw commands end to end
 // over it, INT0 is waited for (or the 150 us fallback without it), INT0
 // timeouts, INT1 events, and failed or short transfers and line reads
@@ -16,7 +16,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/spidev_transport.hpp>
+#include <ecmxf/link/spidev_channel.hpp>
 
 #include "fake_spidev.hpp"
 
@@ -247,7 +247,7 @@ TEST_CASE("a chip left in CRC-32 by another driver: assumeFormat() makes it reac
 		auto fake = std::make_unique<test::FakeSpidev>(r.chip, true, false, r.faults);
 		ecmxf::SpidevOptions o;
 		o.device = "/dev/spidev-fake";
-		ecmxf::Device fresh(std::make_unique<ecmxf::SpidevTransport>(std::move(fake), o));
+		ecmxf::Device fresh(std::make_unique<ecmxf::SpidevChannel>(std::move(fake), o));
 		CHECK(fresh.checkType() == ecmxf::CheckType::Fixed);
 		const ecmxf::Error e = thrown([&] { (void)fresh.firmwareVersion(); });
 		CHECK((e.errnoValue() == EBADMSG || e.errnoValue() == EPROTO));
@@ -256,7 +256,7 @@ TEST_CASE("a chip left in CRC-32 by another driver: assumeFormat() makes it reac
 	auto fake = std::make_unique<test::FakeSpidev>(r.chip, true, false, r.faults);
 	ecmxf::SpidevOptions o;
 	o.device = "/dev/spidev-fake";
-	ecmxf::Device told(std::make_unique<ecmxf::SpidevTransport>(std::move(fake), o));
+	ecmxf::Device told(std::make_unique<ecmxf::SpidevChannel>(std::move(fake), o));
 	told.assumeFormat(112, ecmxf::CheckType::Crc32);
 	CHECK(told.checkType() == ecmxf::CheckType::Crc32);
 	CHECK(told.dataSize() == 112);
