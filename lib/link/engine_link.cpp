@@ -154,7 +154,7 @@ void EngineLink::Engine::run(const RawRequest &req, RawResult &res) noexcept
 		break;
 	case -EBUSY:
 		res.status = r;
-		res.linkFailure = "another async command is still running on this link";
+		res.linkFailure = "another async command is still running on this device";
 		return;
 	case -EMSGSIZE:
 		res.status = r;

@@ -72,7 +72,7 @@ public:
 	std::optional<ResponseHeader> last;
 	detail::TraceWriter *trace = nullptr;
 	/// the text of the last failed system call (RawResult::linkFailure)
-	std::array<char, 160> failure{};
+	std::array<char, 256> failure{};
 	// the packet format in force as last read (dataSize(), checkType())
 	mutable std::uint16_t dataSize = 0;
 	mutable std::uint8_t checkType = 0;
@@ -275,7 +275,8 @@ void KernelLink::run(const RawRequest &req, RawResult &res) noexcept
 	if (::ioctl(fd(), ECMXF_IOC_CMD, &c) < 0) {
 		const int err = errno;
 		s_->formatStale = true;
-		std::snprintf(s_->failure.data(), s_->failure.size(), "ECMXF_IOC_CMD failed: %s", std::strerror(err));
+		std::snprintf(s_->failure.data(), s_->failure.size(), "%s: ECMXF_IOC_CMD failed: %s", s_->path.c_str(),
+			      std::strerror(err));
 		res.status = -err;
 		res.linkFailure = s_->failure.data();
 		return;

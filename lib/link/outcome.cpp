@@ -22,8 +22,9 @@ void throwOutcome(const Link &link, const RawRequest &req, const RawResult &res)
 	const std::uint8_t status = res.header.errStatus;
 	const std::uint8_t faultBits = static_cast<std::uint8_t>(status & ECMXF_ERR_FAULT_MASK);
 
+	// the link's own failure: its text names the link
 	if (res.linkFailure)
-		throw Error(name + link.name() + ": " + res.linkFailure, err);
+		throw Error(name + res.linkFailure, err);
 
 	switch (res.status) {
 	case -ETIMEDOUT: {

@@ -39,6 +39,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/link/engine_link.hpp>
 #include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/link/spidev_channel.hpp>
 
@@ -270,7 +271,7 @@ struct Kernel {
 	explicit Kernel(const std::string &node = "/dev/ecmxf0")
 	{
 		dev = ecmxf::Device::open(node);
-		k = &dynamic_cast<ecmxf::KernelLink &>(dev->transport());
+		k = &dynamic_cast<ecmxf::KernelLink &>(dev->link());
 		dev->setMinimumTimeout(kTimeout);
 		c.code = kFwVersionGet;
 		worker = workerPid();
@@ -317,7 +318,7 @@ struct Spidev {
 	explicit Spidev(const std::string &uri)
 	{
 		dev = ecmxf::Device::open(uri);
-		sp = &dynamic_cast<ecmxf::SpidevChannel &>(dev->transport());
+		sp = &dynamic_cast<ecmxf::SpidevChannel &>(dynamic_cast<ecmxf::EngineLink &>(dev->link()).channel());
 		dev->setMinimumTimeout(kTimeout);
 		c.code = kFwVersionGet;
 	}

@@ -156,7 +156,7 @@ Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *n
 /// pop the inputs), then a sleep to the next 1 ms boundary.
 Figures ioctlPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
 {
-	auto &kt = dynamic_cast<ecmxf::KernelLink &>(dev.transport());
+	auto &kt = dynamic_cast<ecmxf::KernelLink &>(dev.link());
 	const int fd = kt.fd();
 	dev.pdoWrite(image.outputs());
 	dev.fifoClear(ecmxf::FifoSelect::Both);

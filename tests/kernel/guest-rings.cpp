@@ -243,7 +243,7 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 		    cycles, hz, static_cast<long long>(period.count() / 1000), scale);
 
 	auto dev = ecmxf::Device::open(path);
-	auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->transport());
+	auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->link());
 	if (!kt) {
 		ok(false, "the device is opened by the kernel transport");
 		return 1;
@@ -555,7 +555,7 @@ int runLockstep(const std::string &path, unsigned hz, unsigned cycles)
 		    kInFlight);
 
 	auto dev = ecmxf::Device::open(path);
-	auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->transport());
+	auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->link());
 	if (!kt) {
 		ok(false, "the device is opened by the kernel transport");
 		return 1;

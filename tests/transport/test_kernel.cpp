@@ -57,7 +57,7 @@ public:
 	std::vector<std::uint8_t> gotTx;
 	std::size_t gotRxSize = 0;
 	unsigned calls = 0;
-	std::uint16_t driverDataSize = 0;
+	std::uint16_t driverDataSize = 1408;
 	ecmxf::detail::TraceWriter *trace = nullptr;
 	std::optional<ecmxf::ResponseHeader> last;
 
@@ -90,7 +90,7 @@ public:
 	[[nodiscard]] ecmxf::LinkCounters counters() const override { return {}; }
 	void attachTrace(ecmxf::detail::TraceWriter *t) noexcept override { trace = t; }
 
-	std::string failure = std::string("ECMXF_IOC_CMD failed: ") + std::strerror(EINVAL);
+	std::string failure = std::string("/dev/ecmxf-fake: ECMXF_IOC_CMD failed: ") + std::strerror(EINVAL);
 };
 
 struct Rig {

@@ -102,9 +102,10 @@ struct RawResult {
 	std::size_t rxLen = 0;
 
 	// ---- what the link can tell about a failure (for the error's text)
-	/// Not null: the link itself failed (a system call, the channel); a
-	/// text that lives as long as the link, e.g. "ECMXF_IOC_CMD failed:
-	/// Bad address". The command may or may not have reached the chip.
+	/// Not null: the link itself failed (a system call, the channel) or
+	/// refused the command before sending it; a text that lives as long as
+	/// the link, naming the device where a system call failed, e.g.
+	/// "/dev/ecmxf0: ECMXF_IOC_CMD failed: Bad address".
 	const char *linkFailure = nullptr;
 	/// The chip answered and ran the command as an async one (the busy
 	/// phase was seen); unknown (false) over links that do not tell.
