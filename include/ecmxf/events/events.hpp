@@ -26,7 +26,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/export.hpp>
-#include <ecmxf/link/kernel_link.hpp>
+#include <ecmxf/link/link.hpp>
 
 namespace ecmxf {
 
