@@ -74,6 +74,24 @@ public:
 	/// link writes to it.
 	std::unique_ptr<detail::TraceWriter> trace;
 
+	/// The link's request for @p c with @p payload, answering into @p rx,
+	/// its timeout raised to minTimeout.
+	[[nodiscard]] RawRequest request(const RawCommand &c, std::span<const std::uint8_t> payload,
+					 std::span<std::uint8_t> rx) const noexcept
+	{
+		RawRequest req;
+		req.data = c.data;
+		req.reserved = c.reserved;
+		req.control = c.control;
+		req.code = c.code;
+		req.param = c.param;
+		req.len = c.len < 0 ? static_cast<std::uint16_t>(payload.size()) : static_cast<std::uint16_t>(c.len);
+		req.tx = payload;
+		req.rx = rx;
+		req.timeoutUs = timeoutUs(floored(c.code, c.timeout));
+		return req;
+	}
+
 	/// @p t raised to minTimeout (t zero: the table's time for @p code).
 	[[nodiscard]] microseconds floored(std::uint8_t code, microseconds t) const noexcept
 	{
@@ -105,17 +123,15 @@ Response Device::command(const Command &c)
 		throw Error(detail::commandName(c.code) + ": payload of " + std::to_string(c.payload.size()) +
 				    " bytes does not fit the data section (" + std::to_string(room) + " bytes)",
 			    EMSGSIZE);
-	RawRequest req;
-	req.data = c.data;
-	req.reserved = c.reserved;
-	req.control = c.control;
-	req.code = c.code;
-	req.param = c.param;
-	req.len = c.len.value_or(static_cast<std::uint16_t>(c.payload.size()));
-	req.tx = c.payload;
-	req.rx = impl_->rxData;
-	req.timeoutUs = timeoutUs(impl_->floored(c.code, c.timeout));
-
+	RawCommand rc;
+	rc.code = c.code;
+	rc.param = c.param;
+	rc.data = c.data;
+	rc.len = c.len ? std::int32_t{ *c.len } : -1;
+	rc.reserved = c.reserved;
+	rc.control = c.control;
+	rc.timeout = c.timeout;
+	const RawRequest req = impl_->request(rc, c.payload, impl_->rxData);
 	RawResult res;
 	l.run(req, res);
 	if (res.status != 0)
@@ -134,16 +150,7 @@ int Device::transact(const RawCommand &c, std::span<const std::uint8_t> payload,
 	Link &l = *impl_->link;
 	if (payload.size() > l.dataSize())
 		return EMSGSIZE;
-	RawRequest req;
-	req.data = c.data;
-	req.reserved = c.reserved;
-	req.control = c.control;
-	req.code = c.code;
-	req.param = c.param;
-	req.len = c.len < 0 ? static_cast<std::uint16_t>(payload.size()) : static_cast<std::uint16_t>(c.len);
-	req.tx = payload;
-	req.rx = rx;
-	req.timeoutUs = timeoutUs(impl_->floored(c.code, c.timeout));
+	const RawRequest req = impl_->request(c, payload, rx);
 	RawResult res;
 	l.run(req, res);
 	if (!res.linkFailure)

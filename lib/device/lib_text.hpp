@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Internal: the words the library's messages share, and the one mapping of
-// a wire response header to ecmxf::ResponseHeader.
+// Internal: the words the library's messages share, and the one mapping
+// each way between the wire's headers and RawRequest / ResponseHeader.
 #pragma once
 
 #include <ecmxf/link/link.hpp>
@@ -43,6 +43,25 @@ ResponseHeader headerFrom(const Wire &h) noexcept
 	r.gpioIntFlag = { h.gpio_int_flag[0], h.gpio_int_flag[1] };
 	r.gpioIn = { h.gpio_in[0], h.gpio_in[1] };
 	return r;
+}
+
+/// The command header fields of @p req into the protocol core's struct
+/// ecmxf_cmd_hdr or the uAPI's struct ecmxf_cmd_header (same field names;
+/// the reserved word, named differently, is the caller's).
+template <typename Wire>
+void headerTo(const RawRequest &req, Wire &h) noexcept
+{
+	for (std::size_t i = 0; i < req.data.size(); i++)
+		h.data[i] = req.data[i];
+	h.control = req.control;
+	h.code = req.code;
+	h.param = req.param;
+	h.len = req.len;
+	h.int_clear = req.intClear;
+	h.gpio_int_clear[0] = req.gpioIntClear[0];
+	h.gpio_int_clear[1] = req.gpioIntClear[1];
+	h.gpio_out[0] = req.gpioOut[0];
+	h.gpio_out[1] = req.gpioOut[1];
 }
 
 } // namespace ecmxf::detail

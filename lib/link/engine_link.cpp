@@ -131,15 +131,8 @@ void EngineLink::Engine::run(const RawRequest &req, RawResult &res) noexcept
 		return;
 	}
 	ecmxf_xfer x{};
-	std::copy(req.data.begin(), req.data.end(), x.hdr.data);
+	detail::headerTo(req, x.hdr);
 	x.hdr.reserved = req.reserved;
-	x.hdr.control = req.control;
-	x.hdr.code = req.code;
-	x.hdr.param = req.param;
-	x.hdr.len = req.len;
-	x.hdr.int_clear = req.intClear;
-	std::copy(req.gpioIntClear.begin(), req.gpioIntClear.end(), x.hdr.gpio_int_clear);
-	std::copy(req.gpioOut.begin(), req.gpioOut.end(), x.hdr.gpio_out);
 	x.tx_data = req.tx.empty() ? nullptr : req.tx.data();
 	x.tx_len = static_cast<std::uint16_t>(req.tx.size());
 	x.rx_buf = req.rx.empty() ? nullptr : req.rx.data();

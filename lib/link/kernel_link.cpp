@@ -26,6 +26,7 @@
 #include "ecmxf-proto.h"
 #include "device/lib_text.hpp"
 #include "device/os.hpp"
+#include "link/outcome.hpp"
 #include "link/pdo_rings.hpp"
 #include "trace/trace_writer.hpp"
 #include "uapi/linux/ecmxf.h"
@@ -200,13 +201,10 @@ LinkCounters KernelLink::counters() const
 
 void KernelLink::reset(LinkReset kind, std::uint32_t param, std::uint32_t timeoutUs)
 {
+	detail::checkReset(*this, kind, param);
 	ecmxf_reset r{};
 	switch (kind) {
 	case LinkReset::AsyncCmd:
-		if (param & ~7u)
-			throw Error(name() + ": ASYNCCMD_RESET parameter " + std::to_string(param) +
-					    " has bits outside 0..2 (clear busy, skip link, abandon)",
-				    EINVAL);
 		r.flags = ECMXF_RESET_F_ASYNC_CMD;
 		r.param = param;
 		break;
@@ -217,8 +215,6 @@ void KernelLink::reset(LinkReset kind, std::uint32_t param, std::uint32_t timeou
 		r.flags = ECMXF_RESET_F_LINK;
 		break;
 	}
-	if (kind != LinkReset::AsyncCmd && param)
-		throw Error(name() + ": a reset parameter is only allowed for ASYNCCMD_RESET", EINVAL);
 	r.timeout_us = timeoutUs;
 	s_->formatStale = true; // a warm reset goes back to the power-on format
 	if (::ioctl(fd(), ECMXF_IOC_RESET, &r) < 0)
@@ -253,17 +249,8 @@ void KernelLink::run(const RawRequest &req, RawResult &res) noexcept
 	if (s_->trace)
 		s_->trace->request(static_cast<std::uint64_t>(now().count()), req);
 	ecmxf_cmd c{};
-	std::copy(req.data.begin(), req.data.end(), c.hdr.data);
+	detail::headerTo(req, c.hdr);
 	c.hdr.rsv_word = req.reserved;
-	c.hdr.control = req.control;
-	c.hdr.code = req.code;
-	c.hdr.param = req.param;
-	c.hdr.len = req.len;
-	c.hdr.int_clear = req.intClear;
-	c.hdr.gpio_int_clear[0] = req.gpioIntClear[0];
-	c.hdr.gpio_int_clear[1] = req.gpioIntClear[1];
-	c.hdr.gpio_out[0] = req.gpioOut[0];
-	c.hdr.gpio_out[1] = req.gpioOut[1];
 	c.tx_ptr = req.tx.empty() ? 0 : reinterpret_cast<std::uintptr_t>(req.tx.data());
 	c.tx_len = static_cast<__u32>(req.tx.size());
 	c.rx_ptr = req.rx.empty() ? 0 : reinterpret_cast<std::uintptr_t>(req.rx.data());

@@ -26,6 +26,16 @@ void sleepSteady(std::chrono::nanoseconds duration)
 
 } // namespace
 
+void detail::checkReset(const Link &link, LinkReset kind, std::uint32_t param)
+{
+	if (kind == LinkReset::AsyncCmd && (param & ~7u))
+		throw Error(link.name() + ": ASYNCCMD_RESET parameter " + std::to_string(param) +
+				    " has bits outside 0..2 (clear busy, skip link, abandon)",
+			    EINVAL);
+	if (kind != LinkReset::AsyncCmd && param)
+		throw Error(link.name() + ": a reset parameter is only allowed for ASYNCCMD_RESET", EINVAL);
+}
+
 ByteChannel::~ByteChannel() = default;
 
 void ByteChannel::sleepFor(std::chrono::nanoseconds duration)
@@ -48,13 +58,10 @@ void Link::sleepFor(std::chrono::nanoseconds duration)
 
 void Link::reset(LinkReset kind, std::uint32_t param, std::uint32_t timeoutUs)
 {
+	detail::checkReset(*this, kind, param);
 	RawRequest req;
 	switch (kind) {
 	case LinkReset::AsyncCmd:
-		if (param & ~7u)
-			throw Error(name() + ": ASYNCCMD_RESET parameter " + std::to_string(param) +
-					    " has bits outside 0..2 (clear busy, skip link, abandon)",
-				    EINVAL);
 		req.code = ECMXF_CMD_ASYNCCMD_RESET;
 		req.param = static_cast<std::uint8_t>(param);
 		// a command error left from before would read as this one's
@@ -68,8 +75,6 @@ void Link::reset(LinkReset kind, std::uint32_t param, std::uint32_t timeoutUs)
 		throw Error(name() + ": only the kernel module's link can be resynchronised (ECMXF_IOC_RESET)",
 			    EOPNOTSUPP);
 	}
-	if (kind != LinkReset::AsyncCmd && param)
-		throw Error(name() + ": a reset parameter is only allowed for ASYNCCMD_RESET", EINVAL);
 	req.timeoutUs = timeoutUs;
 	RawResult res;
 	run(req, res);

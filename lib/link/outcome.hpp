@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Internal: the one map from a command's outcome on a Link (RawResult) to
 // ecmxf::Error, in the field's words, whatever the link
-// (lib/link/outcome.cpp).
+// (lib/link/outcome.cpp); the checks every link's reset() shares
+// (lib/link/link.cpp).
 #pragma once
 
 #include <ecmxf/link/link.hpp>
@@ -12,5 +13,9 @@ namespace ecmxf::detail {
 /// @p res (res.status != 0): "<COMMAND>: <what happened>", errno
 /// -res.status, the chip's error status where it told one.
 [[noreturn]] void throwOutcome(const Link &link, const RawRequest &req, const RawResult &res);
+
+/// Throws ecmxf::Error (EINVAL) naming @p link when @p param does not suit
+/// a reset of @p kind (ASYNCCMD_RESET: bits 0..2; the others: none).
+void checkReset(const Link &link, LinkReset kind, std::uint32_t param);
 
 } // namespace ecmxf::detail
