@@ -30,8 +30,10 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/events/events.hpp>
 #include <ecmxf/protocol.hpp>
-#include <ecmxf/link/sim_channel.hpp>
+#include <ecmxf/device_uri.hpp>
+#include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/link/link.hpp>
+#include <ecmxf/sim/chip.hpp>
 #include <ecmxf/bus/types_bus.hpp>
 
 namespace ecmxf_util {
@@ -685,10 +687,12 @@ int cmdMonitor(Globals &g, const Args &args)
 					 "' (try 'ecmxf-util monitor --help')");
 	}
 
-	// the kernel's device reports its events over netlink; other links are
-	// polled and their headers run through the detector
-	const std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open(g.device);
-	const std::optional<std::uint32_t> kminor = dev->link().kernelMinor();
+	// the kernel's device reports its events over netlink (a listener needs
+	// no access to the device itself); other links are polled and their
+	// headers run through the detector
+	const ecmxf::DeviceUri uri = ecmxf::parseDeviceUri(g.device);
+	const std::optional<std::uint32_t> kminor =
+		uri.kind == ecmxf::DeviceUri::Kind::Kernel ? ecmxf::KernelLink::minorOf(uri.path) : std::nullopt;
 	if (kminor) {
 		const char *polledOnly = intervalMs ? "--interval"
 					 : txHigh   ? "--tx-high"
@@ -714,6 +718,7 @@ int cmdMonitor(Globals &g, const Args &args)
 	if (rxLow)
 		th.rxLow = *rxLow;
 	const auto interval = std::chrono::milliseconds(intervalMs.value_or(10));
+	const std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open(g.device);
 	if (!actions.empty() && !dev->link().simulator())
 		throw UsageError("monitor: --sim-at needs a sim: device");
 	ecmxf::Link &tr = dev->link();

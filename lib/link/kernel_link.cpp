@@ -230,8 +230,13 @@ void KernelLink::assumeFormat(std::uint16_t, CheckType)
 
 std::optional<std::uint32_t> KernelLink::kernelMinor() const
 {
+	return minorOf(s_->path);
+}
+
+std::optional<std::uint32_t> KernelLink::minorOf(const std::string &path)
+{
 	struct stat st {};
-	if (::fstat(fd(), &st) != 0 || !S_ISCHR(st.st_mode))
+	if (::stat(path.c_str(), &st) != 0 || !S_ISCHR(st.st_mode))
 		return std::nullopt;
 	return static_cast<std::uint32_t>(minor(st.st_rdev));
 }

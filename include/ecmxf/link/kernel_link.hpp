@@ -84,6 +84,10 @@ public:
 	[[nodiscard]] LinkCounters counters() const override;
 	/// The minor of the opened character device.
 	[[nodiscard]] std::optional<std::uint32_t> kernelMinor() const override;
+	/// The minor of the character device at @p path, without opening it
+	/// (a netlink listener needs no access to the device itself); nullopt
+	/// when @p path is not a character device.
+	[[nodiscard]] static std::optional<std::uint32_t> minorOf(const std::string &path);
 	/// ECMXF_IOC_CLAIM; the rings made by its setup (ECMXF_IOC_RING_SETUP,
 	/// mmap) live as long as the returned object, which releases the claim.
 	[[nodiscard]] std::unique_ptr<detail::PdoRings> openPdoRings() override;
