@@ -162,11 +162,15 @@ void EngineLink::Engine::run(const RawRequest &req, RawResult &res) noexcept
 	try {
 		while (x.status == -EINPROGRESS)
 			step(x);
-	} catch (const std::exception &ex) {
+	} catch (const Error &e) {
 		// the channel failed: nothing may keep pointing at x
 		ecmxf_engine_cancel(&engine, &x);
-		const Error *e = dynamic_cast<const Error *>(&ex);
-		res.status = -(e && e->errnoValue() ? e->errnoValue() : EIO);
+		res.status = -(e.errnoValue() ? e.errnoValue() : EIO);
+		res.linkFailure = keepFailure(e.what());
+		return;
+	} catch (const std::exception &ex) {
+		ecmxf_engine_cancel(&engine, &x);
+		res.status = -EIO;
 		res.linkFailure = keepFailure(ex.what());
 		return;
 	} catch (...) {
