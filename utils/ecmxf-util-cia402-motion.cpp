@@ -21,14 +21,14 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/cia402.hpp>
-#include <ecmxf/cia402_axis.hpp>
-#include <ecmxf/cyclic.hpp>
+#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/cia402/cia402_axis.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/master.hpp>
-#include <ecmxf/process_image.hpp>
-#include <ecmxf/transport.hpp>
+#include <ecmxf/bus/master.hpp>
+#include <ecmxf/pdo/process_image.hpp>
+#include <ecmxf/link/link.hpp>
 
 namespace ecmxf_util {
 
@@ -175,7 +175,7 @@ struct Rig {
 	std::unique_ptr<ecmxf::Cyclic> cyc;
 	std::unique_ptr<ecmxf::Cia402Axis> axis;
 
-	nanoseconds now() const { return dev->transport().now(); }
+	nanoseconds now() const { return dev->link().now(); }
 	void run(nanoseconds timeout, std::string_view what)
 	{
 		ecmxf::Cia402Axis *a = axis.get();
