@@ -286,14 +286,25 @@ Served serveOne(ecmxf::sim::Chip &chip, Pipe &p)
 	return Served::More;
 }
 
+// The socket of --socket, for removeSocketAndExit().
+char gSocketPath[sizeof(sockaddr_un::sun_path)];
+
+extern "C" void removeSocketAndExit(int)
+{
+	::unlink(gSocketPath); // async-signal-safe, as _exit()
+	::_exit(0);
+}
+
 void usage(std::FILE *out)
 {
 	std::fprintf(out,
 		     "Usage: ecmxf-sim [--network FILE] [--paced] [--socket PATH]\n"
 		     "\n"
 		     "Serve a simulated ECM-XF over standard input/output, or over a Unix\n"
-		     "stream socket (one client at a time). The wire protocol is described in\n"
-		     "Documentation/simulator.rst.\n"
+		     "stream socket (one client at a time: another one is refused as busy; the\n"
+		     "chip keeps its state between clients, reach it with the device URI\n"
+		     "unix:PATH). The wire protocol is described in\n"
+		     "Documentation/sim-wire-protocol.rst.\n"
 		     "\n"
 		     "  -n, --network FILE  network description (default: 2x EST-584 + I/O)\n"
 		     "  -p, --paced         follow the wall clock instead of virtual time\n"
@@ -350,6 +361,10 @@ int run(int argc, char **argv)
 	if (::bind(listener.fd, reinterpret_cast<sockaddr *>(&addr), sizeof(addr)) < 0 ||
 	    ::listen(listener.fd, 4) < 0)
 		throw std::runtime_error("listen on " + socketPath + ": " + std::strerror(errno));
+	// SIGTERM/SIGINT remove the socket: no stale one is left behind
+	std::memcpy(gSocketPath, addr.sun_path, sizeof(addr.sun_path));
+	std::signal(SIGTERM, removeSocketAndExit);
+	std::signal(SIGINT, removeSocketAndExit);
 
 	// One client at a time; the chip is the server's and outlives them.
 	// The client's requests are served before new connections are looked

@@ -97,6 +97,17 @@ public:
 	Server(const Server &) = delete;
 	Server &operator=(const Server &) = delete;
 
+	/// SIGTERM, then its exit status (-1: it did not exit normally).
+	int terminate()
+	{
+		REQUIRE(pid_ > 0);
+		kill(pid_, SIGTERM);
+		int st = 0;
+		REQUIRE(waitpid(pid_, &st, 0) == pid_);
+		pid_ = -1;
+		return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+	}
+
 private:
 	/// Retries a hello until the server answers it: at most 30 s (the
 	/// first connect of a loaded machine), failing with the last reason.
@@ -368,6 +379,18 @@ TEST_CASE("unix: the server survives a client that disconnects mid-request", "[u
 	std::vector<std::uint8_t> mosi(124), miso(124);
 	CHECK_NOTHROW(ch.exchange(mosi, miso));
 	CHECK_NOTHROW(ch.sleepFor(std::chrono::microseconds(10)));
+}
+
+TEST_CASE("unix: SIGTERM ends the server and removes its socket", "[unix]")
+{
+	TempDir dir;
+	const std::string sock = dir.path + "/s";
+	Server server(sock);
+	REQUIRE(std::filesystem::is_socket(sock));
+	CHECK(server.terminate() == 0);
+	CHECK_FALSE(std::filesystem::exists(sock));
+	// what a client then hears
+	CHECK(thrown([&] { UnixChannel ch(sock); }).errnoValue() == ENOENT);
 }
 
 // ----------------------------------------------------------------- errors
