@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/bus/master.hpp>
 
@@ -105,25 +106,25 @@ int cmdStates(Globals &g, const Args &args)
 			ecmxf::Master m(*dev);
 			m.bringUp(mc);
 		} else {
-			dev->initNetwork(init); // BOOT is entered from INIT (ETG.1000.6)
+			dev->bus().initNetwork(init); // BOOT is entered from INIT (ETG.1000.6)
 		}
 	}
-	count = dev->slaveCount();
+	count = dev->bus().slaveCount();
 	if (one)
 		checkPosition(static_cast<unsigned>(position), count);
 	else if (count == 0)
 		throw ecmxf::Error("no slaves on the bus", ENODEV);
 
-	dev->stateSet(one ? static_cast<std::uint8_t>(position) : ecmxf::kAllSlaves, want);
-	dev->stateUpdate();
+	dev->bus().stateSet(one ? static_cast<std::uint8_t>(position) : ecmxf::kAllSlaves, want);
+	dev->bus().stateUpdate();
 
 	std::vector<Row> rows;
 	for (unsigned p = 0; p < count; p++) {
 		if (one && p != static_cast<unsigned>(position))
 			continue;
 		const auto p8 = static_cast<std::uint8_t>(p);
-		const ecmxf::SlaveInfo si = dev->slaveInfo(p8);
-		const ecmxf::StateReading st = dev->stateGet(p8);
+		const ecmxf::SlaveInfo si = dev->bus().slaveInfo(p8);
+		const ecmxf::StateReading st = dev->bus().stateGet(p8);
 		rows.push_back({ p, static_cast<std::uint8_t>(si.state), st.error(), si.alStatusCode });
 	}
 

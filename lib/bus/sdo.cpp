@@ -1,7 +1,12 @@
 // SPDX-License-Identifier: MIT
 // SDO upload/download through ECAT_SDO_REQ / ECAT_SDO_GET, the abort code
-// of a failed transfer (ECAT_SDO_ABORTCODE_GET) in words, and SdoError
-// (include/ecmxf/device.hpp section "bus", Documentation/sdo.rst).
+// of a failed transfer (ECAT_SDO_ABORTCODE_GET) in words, the one SDO-abort
+// map (bus::throwSdoAbort) and SdoError (include/ecmxf/bus/sdo.hpp,
+// Documentation/sdo.rst).
+
+#include <ecmxf/bus/sdo.hpp>
+
+#include <ecmxf/bus/bus.hpp>
 
 #include "bus/bus_internal.hpp"
 
@@ -105,6 +110,23 @@ void throwSdoSizeMismatch(std::uint8_t slave, std::uint16_t index, std::uint8_t 
 
 } // namespace detail
 
+void bus::throwSdoAbort(const Bus &b, const std::string &what, const Error &e)
+{
+	if (e.errnoValue() != EREMOTEIO)
+		throw;
+	const std::uint32_t ab = b.sdoAbortCode();
+	if (ab == 0)
+		throw SdoError(what + " failed: the chip reported an error (error status bit 3) but no abort code",
+			       EREMOTEIO, 0, e.errorStatus());
+	throw SdoError(what + " aborted: " + bus::hex(ab, 8) + " " + std::string(sdoAbortText(ab)), EREMOTEIO, ab,
+		       e.errorStatus());
+}
+
+Sdo Device::sdo() noexcept
+{
+	return Sdo(*this);
+}
+
 namespace {
 
 /// Time for the chip beyond the slave's own SDO timeout.
@@ -144,27 +166,19 @@ void checkCommon(const std::string &what, std::uint8_t slave, const SdoOptions &
 
 /// Runs the SDO_REQ; a failure on the bus becomes an SdoError with the
 /// abort code and its text.
-void runSdo(Device &dev, const Command &c, const std::string &what, std::uint8_t slave)
+void runSdo(const Sdo &sdo, const Command &c, const std::string &what, std::uint8_t slave)
 {
 	try {
-		bus::async(dev, c, what, slave);
+		detail::async(sdo.device(), c, what, {}, {}, slave);
 	} catch (const Error &e) {
-		if (e.errnoValue() != EREMOTEIO)
-			throw;
-		const std::uint32_t ab = dev.sdoAbortCode();
-		if (ab == 0)
-			throw SdoError(what + " failed: the chip reported an error (error status bit 3) but no abort "
-					      "code",
-				       EREMOTEIO, 0, e.errorStatus());
-		throw SdoError(what + " aborted: " + bus::hex(ab, 8) + " " + std::string(sdoAbortText(ab)), EREMOTEIO,
-			       ab, e.errorStatus());
+		bus::throwSdoAbort(sdo.device().bus(), what, e);
 	}
 }
 
 } // namespace
 
-std::vector<std::uint8_t> Device::sdoUpload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
-					    const SdoOptions &options)
+std::vector<std::uint8_t> Sdo::sdoUpload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+					    const SdoOptions &options) const
 {
 	const std::string what = transferName(true, slave, index, sub);
 	checkCommon(what, slave, options);
@@ -173,11 +187,11 @@ std::vector<std::uint8_t> Device::sdoUpload(std::uint8_t slave, std::uint16_t in
 				    " bytes requested, the chip moves at most 256 bytes per SDO request",
 			    EMSGSIZE);
 	runSdo(*this, sdoRequest(true, slave, index, sub, options.length, options), what, slave);
-	Response r = bus::immediate(*this, bus::cmd(ECMXF_CMD_ECAT_SDO_GET), what + ": ECAT_SDO_GET");
+	Response r = detail::immediate(*dev_, bus::cmd(ECMXF_CMD_ECAT_SDO_GET), what);
 	// the answer is clipped to the data section: a full section may
 	// hide a longer object
 	if (r.data.size() >= ECMXF_DATA_MIN && r.data.size() != options.length) {
-		const Response s = bus::immediate(*this, bus::cmd(ECMXF_CMD_SPI_PACK_SIZE_GET), "SPI_PACK_SIZE_GET");
+		const Response s = detail::immediate(*dev_, bus::cmd(ECMXF_CMD_SPI_PACK_SIZE_GET), "SPI_PACK_SIZE_GET");
 		const std::uint16_t section = bus::le16(s.data);
 		if (r.data.size() >= section)
 			throw Error(what + ": the answer fills the whole data section (" + std::to_string(section) +
@@ -188,8 +202,8 @@ std::vector<std::uint8_t> Device::sdoUpload(std::uint8_t slave, std::uint16_t in
 	return std::move(r.data);
 }
 
-void Device::sdoDownload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
-			 std::span<const std::uint8_t> data, const SdoOptions &options)
+void Sdo::sdoDownload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+			 std::span<const std::uint8_t> data, const SdoOptions &options) const
 {
 	const std::string what = transferName(false, slave, index, sub);
 	checkCommon(what, slave, options);
@@ -204,8 +218,8 @@ void Device::sdoDownload(std::uint8_t slave, std::uint16_t index, std::uint8_t s
 	runSdo(*this, c, what, slave);
 }
 
-std::string Device::sdoReadString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
-				  const SdoOptions &options)
+std::string Sdo::sdoReadString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+				  const SdoOptions &options) const
 {
 	const std::vector<std::uint8_t> b = sdoUpload(slave, index, sub, options);
 	std::string s(b.begin(), b.end());
@@ -214,8 +228,8 @@ std::string Device::sdoReadString(std::uint8_t slave, std::uint16_t index, std::
 	return s;
 }
 
-void Device::sdoWriteString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub, std::string_view value,
-			    const SdoOptions &options)
+void Sdo::sdoWriteString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub, std::string_view value,
+			    const SdoOptions &options) const
 {
 	sdoDownload(slave, index, sub,
 		    std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t *>(value.data()), value.size()),
