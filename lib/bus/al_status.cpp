@@ -39,47 +39,40 @@ std::string stateName(State s)
 	return bus::hex(static_cast<std::uint8_t>(s), 2);
 }
 
+namespace {
+
+/// The AKD2G "AL Status Code" table (seed 003), its wording.
+constexpr struct {
+	std::uint16_t code;
+	std::string_view text;
+} kAlStatusTexts[] = {
+	{ 0x0000, "No error" },
+	{ 0x0011, "Invalid requested state change" },
+	{ 0x0012, "Unknown requested state" },
+	{ 0x0015, "Invalid mailbox boot configuration" },
+	{ 0x0016, "Invalid mailbox configuration" },
+	{ 0x001A, "Multiple sync errors" },
+	{ 0x001B, "Sync manager watchdog" },
+	{ 0x001D, "Invalid output configuration SM2 (Rx)" },
+	{ 0x001E, "Invalid input configuration SM3 (Tx)" },
+	{ 0x0024, "Invalid input mapping (too many PDO entries)" },
+	{ 0x0025, "Invalid output mapping (too many PDO entries)" },
+	{ 0x002C, "Fatal sync error (PLL was unlocked)" },
+	{ 0x002D, "No fatal sync error (Transition SafeOp to Op took too long)" },
+	{ 0x002E, "No sync error (SYNC0 did not occur)" },
+	{ 0x0030, "Invalid DC sync error (cycle time via register 0x9A0 is not an allowed value)" },
+	{ 0x0032, "DC PLL sync error (shift time too short)" },
+	{ 0x0034, "Too many missed SM2 events" },
+};
+
+} // namespace
+
 std::string_view alStatusText(std::uint16_t code) noexcept
 {
-	// AKD2G "AL Status Code" table (seed 003), its wording
-	switch (code) {
-	case 0x0000:
-		return "No error";
-	case 0x0011:
-		return "Invalid requested state change";
-	case 0x0012:
-		return "Unknown requested state";
-	case 0x0015:
-		return "Invalid mailbox boot configuration";
-	case 0x0016:
-		return "Invalid mailbox configuration";
-	case 0x001A:
-		return "Multiple sync errors";
-	case 0x001B:
-		return "Sync manager watchdog";
-	case 0x001D:
-		return "Invalid output configuration SM2 (Rx)";
-	case 0x001E:
-		return "Invalid input configuration SM3 (Tx)";
-	case 0x0024:
-		return "Invalid input mapping (too many PDO entries)";
-	case 0x0025:
-		return "Invalid output mapping (too many PDO entries)";
-	case 0x002C:
-		return "Fatal sync error (PLL was unlocked)";
-	case 0x002D:
-		return "No fatal sync error (Transition SafeOp to Op took too long)";
-	case 0x002E:
-		return "No sync error (SYNC0 did not occur)";
-	case 0x0030:
-		return "Invalid DC sync error (cycle time via register 0x9A0 is not an allowed value)";
-	case 0x0032:
-		return "DC PLL sync error (shift time too short)";
-	case 0x0034:
-		return "Too many missed SM2 events";
-	default:
-		return "unknown AL status code";
-	}
+	for (const auto &e : kAlStatusTexts)
+		if (e.code == code)
+			return e.text;
+	return "unknown AL status code";
 }
 
 AlStatusError::AlStatusError(const std::string &message, int errnoValue, std::uint8_t slave, State requested,

@@ -10,6 +10,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/bus/bus.hpp>
 #include <ecmxf/bus/sdo.hpp>
+#include <ecmxf/bus/slave_access.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/bus/master.hpp>
 
@@ -86,26 +87,7 @@ void step(const char *name, const std::function<void()> &fn)
 /// One SII word through EEPROM_REQ (38) / EEPROM_GET (39).
 std::uint16_t siiWord(Device &dev, std::uint8_t pos, std::uint16_t addr)
 {
-	const std::string what = "EEPROM_REQ read of SII word " + bus::hex(addr, 4) + " of slave " + std::to_string(pos);
-	Command c = bus::cmd(ECMXF_CMD_EEPROM_REQ);
-	bus::put16(c.payload, 0); // read
-	bus::put16(c.payload, pos);
-	bus::put16(c.payload, addr);
-	bus::put16(c.payload, 0);
-	bus::put32(c.payload, 0); // default timeout
-	try {
-		detail::async(dev, c, what, {}, {}, pos);
-	} catch (const Error &e) {
-		if (e.errnoValue() != EREMOTEIO)
-			throw;
-		const Response g = dev.command(bus::cmd(ECMXF_CMD_EEPROM_GET));
-		throw Error(what + " failed (EEPROM_GET return value " + std::to_string(g.ret) + ")", EREMOTEIO,
-			    e.errorStatus());
-	}
-	const Response g = detail::immediate(dev, bus::cmd(ECMXF_CMD_EEPROM_GET), what);
-	if (g.data.size() < 2)
-		throw Error(what + ": EEPROM_GET gave " + std::to_string(g.data.size()) + " bytes, expected 2", EPROTO);
-	return bus::le16(g.data);
+	return SlaveAccess(dev).eepromRead(pos, addr);
 }
 
 /// Appends the entries of @p pdos to @p out with running bit offsets.

@@ -19,74 +19,54 @@
 
 namespace ecmxf {
 
+namespace {
+
+/// The ETG table of manual ver. 050 (ECM_CMD_ECAT_SDO_ABORTCODE_GET), its
+/// wording.
+constexpr struct {
+	std::uint32_t code;
+	std::string_view text;
+} kSdoAbortTexts[] = {
+	{ 0x00000000, "No SDO error" },
+	{ 0x05030000, "Toggle bit not changed" },
+	{ 0x05040000, "SDO timeout" },
+	{ 0x05040001, "Command specifier unknown" },
+	{ 0x05040005, "Out of memory" },
+	{ 0x06010000, "Unsupported Access" },
+	{ 0x06010001, "Write only entry" },
+	{ 0x06010002, "Read only entry" },
+	{ 0x06010003, "Entry can not be written because Subindex0 is not 0" },
+	{ 0x06010004, "The object can not be accessed via complete access" },
+	{ 0x06020000, "Object not existing" },
+	{ 0x06040041, "Object can not be mapped to PDO" },
+	{ 0x06040042, "Mapped Object exceeds PDO" },
+	{ 0x06040043, "Parameter is incompatible" },
+	{ 0x06040047, "Device incompatibility" },
+	{ 0x06060000, "Hardware error" },
+	{ 0x06070010, "Parameter length error" },
+	{ 0x06070012, "Parameter is too long" },
+	{ 0x06070013, "Parameter is too short" },
+	{ 0x06090011, "Subindex (Entry) not exists" },
+	{ 0x06090030, "Value exceeds" },
+	{ 0x06090031, "Value is too great" },
+	{ 0x06090032, "Value is too small" },
+	{ 0x06090033, "Detected Module Ident List (0xF030) and Configured Module Ident list (0xF050) does not match" },
+	{ 0x06090036, "Value is less than minimum value" },
+	{ 0x08000000, "General error" },
+	{ 0x08000020, "Data can not be read or written" },
+	{ 0x08000021, "Data can not be accessed because of local control" },
+	{ 0x08000022, "Data can not be read or written in the current state" },
+	{ 0x08000023, "Object is not in the object dictionary" },
+};
+
+} // namespace
+
 std::string_view sdoAbortText(std::uint32_t code) noexcept
 {
-	// The ETG table of manual ver. 050 (ECM_CMD_ECAT_SDO_ABORTCODE_GET),
-	// its wording.
-	switch (code) {
-	case 0x00000000:
-		return "No SDO error";
-	case 0x05030000:
-		return "Toggle bit not changed";
-	case 0x05040000:
-		return "SDO timeout";
-	case 0x05040001:
-		return "Command specifier unknown";
-	case 0x05040005:
-		return "Out of memory";
-	case 0x06010000:
-		return "Unsupported Access";
-	case 0x06010001:
-		return "Write only entry";
-	case 0x06010002:
-		return "Read only entry";
-	case 0x06010003:
-		return "Entry can not be written because Subindex0 is not 0";
-	case 0x06010004:
-		return "The object can not be accessed via complete access";
-	case 0x06020000:
-		return "Object not existing";
-	case 0x06040041:
-		return "Object can not be mapped to PDO";
-	case 0x06040042:
-		return "Mapped Object exceeds PDO";
-	case 0x06040043:
-		return "Parameter is incompatible";
-	case 0x06040047:
-		return "Device incompatibility";
-	case 0x06060000:
-		return "Hardware error";
-	case 0x06070010:
-		return "Parameter length error";
-	case 0x06070012:
-		return "Parameter is too long";
-	case 0x06070013:
-		return "Parameter is too short";
-	case 0x06090011:
-		return "Subindex (Entry) not exists";
-	case 0x06090030:
-		return "Value exceeds";
-	case 0x06090031:
-		return "Value is too great";
-	case 0x06090032:
-		return "Value is too small";
-	case 0x06090033:
-		return "Detected Module Ident List (0xF030) and Configured Module Ident list (0xF050) does not match";
-	case 0x06090036:
-		return "Value is less than minimum value";
-	case 0x08000000:
-		return "General error";
-	case 0x08000020:
-		return "Data can not be read or written";
-	case 0x08000021:
-		return "Data can not be accessed because of local control";
-	case 0x08000022:
-		return "Data can not be read or written in the current state";
-	case 0x08000023:
-		return "Object is not in the object dictionary";
-	default:
-		return "unknown abort code";
-	}
+	for (const auto &e : kSdoAbortTexts)
+		if (e.code == code)
+			return e.text;
+	return "unknown abort code";
 }
 
 SdoError::SdoError(const std::string &message, int errnoValue, std::uint32_t abortCode,

@@ -11,30 +11,25 @@
 #include <ecmxf/device.hpp>
 
 #include <cerrno>
-#include <cstdio>
 #include <string>
 
 #include <ecmxf/cia402/cia402.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/transport.hpp>
 
+#include "device/lib_text.hpp"
 #include "device/runner.hpp"
 #include "ecmxf-proto.h"
 
 namespace ecmxf {
+
+using detail::hex8;
 
 namespace {
 
 constexpr unsigned kMotors = 128;   // 402_* command parameter: motor 0..127
 constexpr unsigned kSlaves = 128;   // the chip's slave positions 0..127
 constexpr std::uint8_t kCtlKey = 0x5A; // 402_CTL_SET data 1
-
-std::string hex8(unsigned v)
-{
-	char buf[8];
-	std::snprintf(buf, sizeof(buf), "0x%02X", v & 0xFFu);
-	return buf;
-}
 
 /// "402_STATE_SET (motor 3): "
 std::string prefix(const char *name, unsigned motor)
