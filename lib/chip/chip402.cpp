@@ -15,7 +15,7 @@
 
 #include <ecmxf/cia402/cia402.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/link.hpp>
 
 #include "device/lib_text.hpp"
 #include "device/runner.hpp"
@@ -181,7 +181,7 @@ Cia402State Chip402::chip402AwaitState(unsigned motor, Cia402State target, std::
 {
 	const char *name = "402_STATE_GET";
 	checkMotor(name, motor);
-	Transport &t = dev_->transport();
+	Link &t = dev_->link();
 	const auto start = t.now();
 	for (;;) {
 		const Chip402State s = chip402State(motor);

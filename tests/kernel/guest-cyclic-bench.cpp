@@ -10,7 +10,7 @@
 //          (one output frame pushed, the inputs popped) per cycle;
 //       writes the figures to /tmp/ecmxf-cbench-kernel
 //   ecmxf-guest-cyclic-bench spidev <N> <spidev URI>
-//       3. spidev: the library's Cyclic over SpidevTransport (the same
+//       3. spidev: the library's Cyclic over SpidevChannel (the same
 //          FIFO commands, from userspace); prints the ratios
 //
 // Each path: the bus up (2 x EST-584 + digital I/O, 1 ms SYNC0), 100
@@ -25,7 +25,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 
@@ -157,7 +157,7 @@ Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *n
 /// pop the inputs), then a sleep to the next 1 ms boundary.
 Figures ioctlPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
 {
-	auto &kt = dynamic_cast<ecmxf::KernelTransport &>(dev.transport());
+	auto &kt = dynamic_cast<ecmxf::KernelLink &>(dev.link());
 	const int fd = kt.fd();
 	dev.pdo().pdoWrite(image.outputs());
 	dev.pdo().fifoClear(ecmxf::FifoSelect::Both);

@@ -52,7 +52,7 @@ public:
 	[[nodiscard]] Chip402Flags chip402Control(unsigned motor) const;
 	/// 402_GET_STATUSWORD: the motor's statusword as the chip last read it.
 	[[nodiscard]] std::uint16_t chip402Statusword(unsigned motor) const;
-	/// Polls 402_STATE_GET (every @p poll on the transport's clock) until
+	/// Polls 402_STATE_GET (every @p poll on the link's clock) until
 	/// @p motor is in @p target; throws ecmxf::Error (ETIMEDOUT) naming
 	/// the awaited state, the state the motor stays in and its statusword
 	/// after @p timeout.
