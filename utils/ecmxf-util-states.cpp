@@ -54,15 +54,15 @@ ecmxf::State parseState(const std::string &text)
 	for (const char c : text)
 		if (c != '-' && c != '_')
 			u += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-	if (u == "INIT")
-		return ecmxf::State::Init;
-	if (u == "PREOP")
-		return ecmxf::State::PreOp;
-	if (u == "SAFEOP")
-		return ecmxf::State::SafeOp;
-	if (u == "OP")
-		return ecmxf::State::Op;
-	if (u == "BOOT" || u == "BOOTSTRAP")
+	// the library's state names (ecmxf::stateName()) without their '-'
+	for (const ecmxf::State s : { ecmxf::State::Init, ecmxf::State::PreOp, ecmxf::State::SafeOp,
+				      ecmxf::State::Op, ecmxf::State::Boot }) {
+		std::string name = ecmxf::stateName(s);
+		std::erase(name, '-');
+		if (u == name)
+			return s;
+	}
+	if (u == "BOOTSTRAP")
 		return ecmxf::State::Boot;
 	throw UsageError("states: unknown state '" + text + "' (INIT, PREOP, SAFEOP, OP or BOOT)");
 }
