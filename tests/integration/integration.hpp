@@ -66,6 +66,7 @@ inline Kind kindOf(const std::string &u)
 	case ecmxf::DeviceUri::Kind::Spidev:
 		return Kind::Spidev;
 	case ecmxf::DeviceUri::Kind::Sim:
+	case ecmxf::DeviceUri::Kind::Unix: // an ecmxf-sim server: the simulator, virtual time
 		break;
 	}
 	return Kind::Sim;
@@ -84,6 +85,7 @@ inline ecmxf::CheckType startCheckType(const std::string &u)
 	case ecmxf::DeviceUri::Kind::Spidev:
 		return p.checkType.value_or(ecmxf::CheckType::Fixed);
 	case ecmxf::DeviceUri::Kind::Sim:
+	case ecmxf::DeviceUri::Kind::Unix:
 		break;
 	}
 	return ecmxf::CheckType::Fixed;
