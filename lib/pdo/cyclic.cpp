@@ -10,6 +10,8 @@
 
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
+#include <ecmxf/chip/chip.hpp>
+#include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/link.hpp>
 #include <ecmxf/pdo/process_image.hpp>
@@ -159,10 +161,10 @@ private:
 
 void CyclicPath::readChip(Device &dev, const ProcessImage &image, const CyclicConfig &cfg)
 {
-	sizes = dev.fifoPackSizes();
-	counts = dev.pdoSlaveCounts();
-	rxDepth = dev.fifoRxCount();
-	txDepth = dev.fifoTxCount();
+	sizes = dev.pdo().fifoPackSizes();
+	counts = dev.pdo().pdoSlaveCounts();
+	rxDepth = dev.pdo().fifoRxCount();
+	txDepth = dev.pdo().fifoTxCount();
 
 	const std::size_t outBytes = image.outputs().size();
 	const std::size_t inBytes = image.inputs().size();
@@ -210,9 +212,9 @@ FifoCommandPath::FifoCommandPath(Device &dev, ProcessImage &image, const CyclicC
 void FifoCommandPath::start()
 {
 	if (sizes.rxPdoBytes)
-		dev_.pdoWrite(image_.outputs());
-	dev_.fifoClear(FifoSelect::Both);
-	dev_.fifoEnable(true);
+		dev_.pdo().pdoWrite(image_.outputs());
+	dev_.pdo().fifoClear(FifoSelect::Both);
+	dev_.pdo().fifoEnable(true);
 	rxLevel_ = 0;
 	txLevel_ = 0;
 	rxTime_ = txTime_ = clock().now();
@@ -220,7 +222,7 @@ void FifoCommandPath::start()
 
 void FifoCommandPath::stop()
 {
-	dev_.fifoEnable(false);
+	dev_.pdo().fifoEnable(false);
 }
 
 bool FifoCommandPath::fifoOp(CycleResult &r, unsigned frames, bool read, ResponseHeader &h) noexcept
@@ -493,9 +495,9 @@ RingPath::~RingPath()
 void RingPath::start()
 {
 	// the FIFO off while the rings are made: the pump waits for it
-	dev_.fifoEnable(false);
+	dev_.pdo().fifoEnable(false);
 	if (sizes.rxPdoBytes)
-		dev_.pdoWrite(image_.outputs());
+		dev_.pdo().pdoWrite(image_.outputs());
 
 	// rings deep enough for a few cycles' worth of bus cycles
 	const std::int64_t period = cfg_.period.count();
@@ -514,7 +516,7 @@ void RingPath::start()
 	rings_->setup(rs);
 	wkcReads_ = outDropped_ = inDropped_ = txOverflows_ = rxRefusals_ = pumpFailures_ = 0;
 
-	dev_.fifoClear(FifoSelect::Both);
+	dev_.pdo().fifoClear(FifoSelect::Both);
 	// INT1 on every TxPDO frame (TxFIFO high mark 1) and when the RxFIFO
 	// runs low: the pump runs when there is something to move
 	FifoThresholds th;
@@ -522,22 +524,22 @@ void RingPath::start()
 	th.txHigh = 1;
 	th.rxLowEnabled = sizes.rxPdoBytes > 0 && rxFill > 1;
 	th.rxLow = static_cast<std::uint8_t>(rxFill > 1 ? rxFill / 2 : 0);
-	dev_.fifoSetThresholds(th);
-	InterruptConfig ic = dev_.interruptConfig();
+	dev_.pdo().fifoSetThresholds(th);
+	InterruptConfig ic = dev_.chip().interruptConfig();
 	if (!irqSaved_)
 		savedIrq_ = ic;
 	irqSaved_ = true;
 	ic.sources |= irq::kTxFifoHigh | irq::kRxFifoLow;
-	dev_.setInterruptConfig(ic);
-	dev_.fifoEnable(true);
+	dev_.chip().setInterruptConfig(ic);
+	dev_.pdo().fifoEnable(true);
 }
 
 void RingPath::stop()
 {
-	dev_.fifoEnable(false);
+	dev_.pdo().fifoEnable(false);
 	if (irqSaved_) {
 		irqSaved_ = false;
-		dev_.setInterruptConfig(savedIrq_);
+		dev_.chip().setInterruptConfig(savedIrq_);
 	}
 }
 

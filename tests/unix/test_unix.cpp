@@ -33,6 +33,8 @@
 #include <unistd.h>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/chip/chip.hpp>
 #include <ecmxf/device_uri.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/unix_channel.hpp>
@@ -279,18 +281,18 @@ TEST_CASE("unix: Device::open runs commands and the chip outlives the connection
 		auto dev = ecmxf::Device::open(uri);
 		auto sim = ecmxf::Device::open("sim:");
 		// the same chip as the in-process simulator, over the socket
-		const auto fw = dev->firmwareVersion();
-		const auto simFw = sim->firmwareVersion();
+		const auto fw = dev->chip().firmwareVersion();
+		const auto simFw = sim->chip().firmwareVersion();
 		CHECK(fw.version == simFw.version);
 		CHECK(fw.extendedVersion == simFw.extendedVersion);
-		CHECK(dev->slaveCount() == 0); // not scanned yet
-		dev->initNetwork();
-		CHECK(dev->slaveCount() == 3);
+		CHECK(dev->bus().slaveCount() == 0); // not scanned yet
+		dev->bus().initNetwork();
+		CHECK(dev->bus().slaveCount() == 3);
 	}
 	{
 		// a new connection: the network scanned by the first is still there
 		auto dev = ecmxf::Device::open(uri);
-		CHECK(dev->slaveCount() == 3);
+		CHECK(dev->bus().slaveCount() == 3);
 	}
 }
 
