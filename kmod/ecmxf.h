@@ -10,7 +10,8 @@
  *   ecmxf-spi.c       spi_driver: probe/remove, properties, INT0/INT1
  *   ecmxf-worker.c    the kthread that owns the SPI link and the engine
  *   ecmxf-chrdev.c    /dev/ecmxfN: open/release, ioctls, read, poll
- *   ecmxf-ring.c      the mmap()ed PDO rings and the PDO pump
+ *   ecmxf-ring.c      the mmap()ed PDO rings (ecmxf-ring.h)
+ *   ecmxf-pump.c      the PDO pump (ecmxf-ring.h, lib/core/ecmxf-pump.c)
  *   ecmxf-sysfs.c     attributes of the class device
  *   ecmxf-netlink.c   generic netlink family: events, counters
  *
@@ -36,6 +37,7 @@
 
 #include "ecmxf-proto.h"
 #include "ecmxf-events.h"
+#include "ecmxf-ring.h"
 
 #define ECMXF_DRV_NAME		"ecmxf"
 /* minors (and so chips) the module can serve */
@@ -270,114 +272,6 @@ struct ecmxf_nl_dev {
 };
 
 /**
- * struct ecmxf_ring - one mmap()ed ring (kernel view)
- * @mem: vmalloc_user() memory, @size bytes, mapped by userspace
- * @size: the mapping length (&struct ecmxf_ring_offsets.mmap_size)
- * @off: the layout as reported to userspace
- * @head: consumer index in @mem
- * @tail: producer index in @mem
- * @flags: %ECMXF_RING_S_* word in @mem
- * @dropped: dropped-frames count in @mem
- * @frames: slot 0 in @mem
- * @entries: slots (a power of two)
- * @frame_size: process data bytes per slot
- * @stride: bytes from slot to slot
- *
- * The indices live in shared memory: the kernel reads the one userspace
- * writes with smp_load_acquire() and never trusts it further than
- * "at most @entries frames apart".
- */
-struct ecmxf_ring {
-	void *mem;
-	size_t size;
-	struct ecmxf_ring_offsets off;
-	u32 *head;
-	u32 *tail;
-	u32 *flags;
-	u32 *dropped;
-	u8 *frames;
-	u32 entries;
-	u32 frame_size;
-	u32 stride;
-};
-
-/**
- * struct ecmxf_rings - the two PDO rings of the claim holder
- * @ref: held by &ecmxf_dev.rings, by every mapping and by the worker
- *	while a pump command uses them; the memory is freed with the last,
- *	never under &ecmxf_dev.lock (see there)
- * @edev: the device (it outlives the rings: every holder keeps the file,
- *	and so the device, alive)
- * @out: output ring (RxPDO frames, application to chip)
- * @in: input ring (TxPDO frames, chip to application)
- * @status: the status block (&struct ecmxf_ring_status_block) in the
- *	input ring's memory, written only through ecmxf_status_publish()
- * @cur: the status the kernel keeps; published into @status
- * @status_seq: the latch count last written to @status
- * @setup_flags: %ECMXF_RING_F_* of the setup
- * @poll_ns: pump timer period
- * @wkc_ns: working counter read period, 0 never
- * @rx_fill: RxFIFO level the pump fills up to
- * @rx_depth: the chip's RxFIFO depth at setup
- * @tx_depth: the chip's TxFIFO depth at setup
- * @tx_buf: data section of the pump's command (%ECMXF_DATA_MAX)
- * @rx_buf: data section of its answer (%ECMXF_DATA_MAX)
- * @stopped: the pump stopped for good (%ECMXF_RING_S_ERROR); under
- *	&ecmxf_dev.lock
- * @next_tick_ns: next timer-driven pump command (worker only)
- * @next_wkc_ns: next working counter read (worker only)
- * @again: the last command left work (frames queued either way): pump
- *	again without waiting (worker only)
- * @pushed_any: an output frame has been pushed (worker only)
- * @unconfirmed: frames of the previous command that the header's RxFIFO
- *	count may not show yet (worker only)
- */
-struct ecmxf_rings {
-	struct kref ref;
-	struct ecmxf_dev *edev;
-	struct ecmxf_ring out;
-	struct ecmxf_ring in;
-	struct ecmxf_ring_status_block *status;
-	struct ecmxf_ring_status cur;
-	u32 status_seq;
-	u32 setup_flags;
-	u64 poll_ns;
-	u64 wkc_ns;
-	u32 rx_fill;
-	u32 rx_depth;
-	u32 tx_depth;
-	u8 *tx_buf;
-	u8 *rx_buf;
-	bool stopped;
-	u64 next_tick_ns;
-	u64 next_wkc_ns;
-	bool again;
-	bool pushed_any;
-	u32 unconfirmed;
-};
-
-/**
- * struct ecmxf_pump - the PDO pump's command in the engine (worker only)
- * @x: the command (ECAT_PDO_DATA_FIFO_OP or ECAT_PDO_WC_GET)
- * @rings: the rings it serves, a reference held while @busy
- * @busy: @x is in the engine
- * @turn: the pump goes before the files' commands when both are due
- * @pushed: output frames in @x
- * @skipped: output frames skipped when @x was built (not yet counted in
- *	&ecmxf_dev.out_ring_skipped)
- * @wkc: @x reads the working counter
- */
-struct ecmxf_pump {
-	struct ecmxf_xfer x;
-	struct ecmxf_rings *rings;
-	bool busy;
-	bool turn;
-	u32 pushed;
-	u32 skipped;
-	bool wkc;
-};
-
-/**
  * struct ecmxf_dev - one ECM-XF chip
  * @spi: the SPI device; NULL after remove
  * @dev: the class device behind /dev/ecmxfN; its refcount keeps this
@@ -523,7 +417,7 @@ struct ecmxf_dev {
 	atomic64_t int0_irqs;
 	atomic64_t int1_irqs;
 	struct ecmxf_rings *rings;
-	struct ecmxf_pump pump;
+	struct ecmxf_pump_slot pump;
 	u64 out_ring_underruns;
 	u64 in_ring_overruns;
 	u64 rx_fifo_underruns;
@@ -564,23 +458,6 @@ void ecmxf_wake_owner(struct ecmxf_dev *edev);
 void ecmxf_req_finish(struct ecmxf_dev *edev, struct ecmxf_req *req,
 		      int status);
 void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k);
-
-/* ecmxf-ring.c */
-int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
-		       const u16 sizes[2], const u8 depths[2],
-		       struct ecmxf_rings **out);
-void ecmxf_rings_put(struct ecmxf_rings *r);
-bool ecmxf_ring_setup_valid(const struct ecmxf_ring_setup *rs);
-int ecmxf_rings_mmap(struct ecmxf_rings *r, struct vm_area_struct *vma);
-struct ecmxf_rings *ecmxf_rings_teardown(struct ecmxf_dev *edev);
-void ecmxf_rings_stop(struct ecmxf_dev *edev, int err);
-__poll_t ecmxf_rings_poll(struct ecmxf_dev *edev);
-struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now);
-int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r,
-		      u64 now);
-struct ecmxf_rings *ecmxf_pump_collect(struct ecmxf_dev *edev);
-struct ecmxf_rings *ecmxf_pump_cancel(struct ecmxf_dev *edev);
-u64 ecmxf_pump_deadline(struct ecmxf_dev *edev);
 
 /* ecmxf-chrdev.c */
 extern const struct file_operations ecmxf_fops;
