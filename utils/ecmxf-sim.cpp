@@ -34,7 +34,7 @@
 #include <unistd.h>
 
 #include <ecmxf/protocol.hpp>
-#include <ecmxf/sim.hpp>
+#include <ecmxf/sim/chip.hpp>
 
 namespace {
 

@@ -21,14 +21,14 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/cia402.hpp>
-#include <ecmxf/cia402_axis.hpp>
-#include <ecmxf/cyclic.hpp>
+#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/cia402/cia402_axis.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/master.hpp>
-#include <ecmxf/process_image.hpp>
-#include <ecmxf/transport.hpp>
+#include <ecmxf/bus/master.hpp>
+#include <ecmxf/pdo/process_image.hpp>
+#include <ecmxf/link/transport.hpp>
 
 namespace ecmxf_util {
 

@@ -10,10 +10,10 @@
 #include <memory>
 #include <string>
 
-#include <ecmxf/cia402.hpp>
+#include <ecmxf/cia402/cia402.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/transport.hpp>
+#include <ecmxf/link/transport.hpp>
 
 namespace ecmxf_util {
 

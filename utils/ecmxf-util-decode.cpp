@@ -13,7 +13,7 @@
 #include <sstream>
 #include <string>
 
-#include <ecmxf/trace.hpp>
+#include <ecmxf/trace/trace.hpp>
 
 namespace ecmxf_util {
 

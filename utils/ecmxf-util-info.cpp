@@ -11,7 +11,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
-#include <ecmxf/status.hpp>
+#include <ecmxf/bus/status.hpp>
 
 namespace ecmxf_util {
 

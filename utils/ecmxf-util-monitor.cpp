@@ -30,11 +30,11 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/events.hpp>
+#include <ecmxf/events/events.hpp>
 #include <ecmxf/protocol.hpp>
-#include <ecmxf/sim_transport.hpp>
-#include <ecmxf/transport.hpp>
-#include <ecmxf/types_bus.hpp>
+#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/transport.hpp>
+#include <ecmxf/bus/types_bus.hpp>
 
 namespace ecmxf_util {
 

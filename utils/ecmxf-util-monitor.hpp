@@ -16,7 +16,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
-#include <ecmxf/events.hpp>
+#include <ecmxf/events/events.hpp>
 
 namespace ecmxf_util::monitor {
 

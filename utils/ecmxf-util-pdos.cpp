@@ -12,7 +12,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/master.hpp>
+#include <ecmxf/bus/master.hpp>
 
 namespace ecmxf_util {
 

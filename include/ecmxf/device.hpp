@@ -28,14 +28,14 @@
 #include <vector>
 
 #include <ecmxf/export.hpp>
-#include <ecmxf/types_bus.hpp>
-#include <ecmxf/types_chip.hpp>
-#include <ecmxf/types_cia402.hpp>
-#include <ecmxf/types_pdo.hpp>
+#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/chip/types_chip.hpp>
+#include <ecmxf/cia402/types_cia402.hpp>
+#include <ecmxf/pdo/types_pdo.hpp>
 
 namespace ecmxf {
 
-class Transport; // include <ecmxf/transport.hpp> to use it
+class Transport; // include <ecmxf/link/transport.hpp> to use it
 
 /// One command as the host sends it (command header fields and data).
 struct Command {
@@ -140,7 +140,7 @@ public:
 	[[nodiscard]] std::chrono::microseconds minimumTimeout() const noexcept;
 
 	// ==== typed commands: chip, link, peripherals, EEPROM, FoE, raw,
-	// ==== MDIO, mailbox, interrupts, resets (lib/commands_chip.cpp)
+	// ==== MDIO, mailbox, interrupts, resets (lib/chip/commands_chip.cpp)
 	//
 	// Documentation/commands-chip.rst describes each call. Arguments out of
 	// range throw Error(EINVAL) naming the argument and its range; a
@@ -321,10 +321,10 @@ public:
 	// ==== end chip
 
 	// ==== typed commands: bus bring-up, states, slaves, PDO, FIFO, SDO
-	// ==== (lib/commands_bus.cpp, lib/sdo.cpp)
+	// ==== (lib/bus/commands_bus.cpp, lib/bus/sdo.cpp)
 	// Slaves are 0-based bus positions as the chip numbers them (0..127);
 	// kAllSlaves (0xFF) selects all where the manual allows it. Types in
-	// <ecmxf/types_bus.hpp>; Documentation/commands-bus.rst, sdo.rst.
+	// <ecmxf/bus/types_bus.hpp>; Documentation/commands-bus.rst, sdo.rst.
 
 	/// ECAT_INIT_OP (1): scan the network and configure DC; every slave
 	/// ends in INIT, the FIFO off.
@@ -431,7 +431,7 @@ public:
 	// ==== end bus
 
 	// ==== typed commands: process data, FIFO, cyclic exchange
-	// ==== (lib/commands_pdo.cpp, lib/cyclic.cpp)
+	// ==== (lib/pdo/commands_pdo.cpp, lib/pdo/cyclic.cpp)
 	// Documentation/process-data.rst. Every call throws ecmxf::Error; an
 	// argument out of range is refused with EINVAL before anything is
 	// sent; a command the chip refuses (error status bit 7) throws
@@ -497,7 +497,7 @@ public:
 	[[nodiscard]] std::size_t pdoDataCapacity() const noexcept;
 	// ==== end pdo
 
-	// ==== typed commands: the chip's CiA-402 engine (lib/cia402_chip.cpp)
+	// ==== typed commands: the chip's CiA-402 engine (lib/chip/cia402_chip.cpp)
 	// Motors are numbered 0..127. With the engine on, the chip owns
 	// controlword bits 0-3 and 7 of the motor in every frame. A command the
 	// chip refuses (command error) throws ecmxf::Error (EREMOTEIO) saying
@@ -529,10 +529,10 @@ public:
 				      std::chrono::nanoseconds poll = std::chrono::milliseconds(1));
 	// ==== end cia402
 
-	// ==== packet trace (lib/trace.cpp)
+	// ==== packet trace (lib/trace/trace.cpp)
 	/// Starts recording every exchange to the file @p path (created or
 	/// truncated), in the text format of Documentation/trace.rst
-	/// (include/ecmxf/trace.hpp decodes it): for byte transports each
+	/// (include/ecmxf/trace/trace.hpp decodes it): for byte transports each
 	/// MOSI/MISO packet with the transport's clock, for the kernel
 	/// transport each command's request and response. Replaces a trace
 	/// already running. Throws ecmxf::Error when the file cannot be
@@ -544,7 +544,7 @@ public:
 	void stopTrace();
 	/// Is a trace being recorded?
 	[[nodiscard]] bool tracing() const noexcept;
-	friend class TraceAccess; // lib/trace.cpp reaches the device's trace slot
+	friend class TraceAccess; // lib/trace/trace.cpp reaches the device's trace slot
 	// ==== end trace
 
 	/// The latest valid response header of any exchange (ECAT state,

@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_network.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
 
 #include "ecmxf-proto.h"
 #include "periph.hpp"

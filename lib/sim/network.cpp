@@ -12,7 +12,7 @@
 // Options are key=value words; values may be double-quoted. The format is
 // documented in Documentation/simulator.rst.
 
-#include <ecmxf/sim_network.hpp>
+#include <ecmxf/sim/network.hpp>
 
 #include <algorithm>
 #include <cctype>

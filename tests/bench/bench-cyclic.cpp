@@ -26,11 +26,11 @@
 
 #include <time.h>
 
-#include <ecmxf/cyclic.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
-#include <ecmxf/process_image.hpp>
-#include <ecmxf/sim_transport.hpp>
-#include <ecmxf/transport.hpp>
+#include <ecmxf/pdo/process_image.hpp>
+#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/transport.hpp>
 
 #include "../common/alloc_counter.hpp"
 

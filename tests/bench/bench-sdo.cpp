@@ -28,10 +28,10 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_network.hpp>
-#include <ecmxf/transport.hpp>
-#include <ecmxf/types_bus.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
+#include <ecmxf/link/transport.hpp>
+#include <ecmxf/bus/types_bus.hpp>
 
 #include "ecmxf-proto.h"
 

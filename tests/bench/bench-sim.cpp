@@ -20,8 +20,8 @@
 
 #include <time.h>
 
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_network.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
 
 #include "ecmxf-proto.h"
 

@@ -22,8 +22,8 @@
 #include <vector>
 
 #include <ecmxf/protocol.hpp>
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_slaves.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/slaves.hpp>
 
 #include "cli_run.hpp"
 #include "json.hpp"

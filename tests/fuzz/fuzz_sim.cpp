@@ -25,8 +25,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_network.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
 
 #include "ecmxf-proto.h"
 #include "fuzz.h"

@@ -27,16 +27,16 @@
 #include <string_view>
 #include <vector>
 
-#include <ecmxf/cia402_axis.hpp>
-#include <ecmxf/cyclic.hpp>
+#include <ecmxf/cia402/cia402_axis.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/device_uri.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/kernel_transport.hpp>
-#include <ecmxf/master.hpp>
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_transport.hpp>
-#include <ecmxf/spidev_transport.hpp>
+#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/bus/master.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/spidev_transport.hpp>
 
 #ifndef ECMXF_TEST_DEFAULT_URI
 #define ECMXF_TEST_DEFAULT_URI "sim:"

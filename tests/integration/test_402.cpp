@@ -16,9 +16,9 @@
 #include <cstdint>
 #include <vector>
 
-#include <ecmxf/cia402_axis.hpp>
-#include <ecmxf/cyclic.hpp>
-#include <ecmxf/process_image.hpp>
+#include <ecmxf/cia402/cia402_axis.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
+#include <ecmxf/pdo/process_image.hpp>
 
 #include "integration.hpp"
 

@@ -20,8 +20,8 @@
 #include <set>
 #include <vector>
 
-#include <ecmxf/cyclic.hpp>
-#include <ecmxf/process_image.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
+#include <ecmxf/pdo/process_image.hpp>
 
 #include "integration.hpp"
 

@@ -19,7 +19,7 @@
 #include <string>
 #include <unistd.h>
 
-#include <ecmxf/trace.hpp>
+#include <ecmxf/trace/trace.hpp>
 
 #include "integration.hpp"
 

@@ -58,9 +58,9 @@
 //   state               reply with the fault plan and the chip's counters
 //
 // Counts are "the next N" and are replaced, not added to. sim::FaultPlan
-// (include/ecmxf/sim.hpp) documents the faults themselves.
+// (include/ecmxf/sim/chip.hpp) documents the faults themselves.
 
-#include <ecmxf/sim.hpp>
+#include <ecmxf/sim/chip.hpp>
 
 #include <fcntl.h>
 #include <poll.h>

@@ -6,7 +6,7 @@
 // exits 1 if any failed. The expected values come from the uAPI header
 // (include/uapi/linux/ecmxf.h), Documentation/driver.rst and
 // Documentation/protocol-core.rst, and for the chip's answers from the
-// simulator's defaults (include/ecmxf/sim.hpp ChipConfig: firmware 0x30;
+// simulator's defaults (include/ecmxf/sim/chip.hpp ChipConfig: firmware 0x30;
 // default network: 3 slaves, which step 10 brought to OP).
 //
 //   ecmxf-guest-abuse PART [/dev/ecmxfN]

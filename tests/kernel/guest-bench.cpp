@@ -39,8 +39,8 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/kernel_transport.hpp>
-#include <ecmxf/spidev_transport.hpp>
+#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/spidev_transport.hpp>
 
 #include <dirent.h>
 #include <fcntl.h>

@@ -21,12 +21,12 @@
 // counted. Every line starts with "bench:". Timings under TCG are
 // emulated: only ratios within one run mean something.
 
-#include <ecmxf/cyclic.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/kernel_transport.hpp>
-#include <ecmxf/master.hpp>
-#include <ecmxf/process_image.hpp>
+#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/bus/master.hpp>
+#include <ecmxf/pdo/process_image.hpp>
 
 #include <dirent.h>
 #include <signal.h>

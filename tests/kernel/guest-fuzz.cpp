@@ -53,9 +53,9 @@
 // chip's answers and what the watchdog interrupts are not reproducible,
 // so a replay with --seed repeats the same actions in about the same order.
 
-#include <ecmxf/cia402_axis.hpp>
+#include <ecmxf/cia402/cia402_axis.hpp>
 #include <ecmxf/device.hpp>
-#include <ecmxf/master.hpp>
+#include <ecmxf/bus/master.hpp>
 
 #include <dirent.h>
 #include <fcntl.h>

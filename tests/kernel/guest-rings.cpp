@@ -46,13 +46,13 @@
 //    ring (refused frames reported).
 // Exit status 0 when every check holds.
 
-#include <ecmxf/cia402_axis.hpp>
-#include <ecmxf/cyclic.hpp>
+#include <ecmxf/cia402/cia402_axis.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/kernel_transport.hpp>
-#include <ecmxf/master.hpp>
-#include <ecmxf/process_image.hpp>
+#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/bus/master.hpp>
+#include <ecmxf/pdo/process_image.hpp>
 
 #include <fcntl.h>
 #include <poll.h>

@@ -12,7 +12,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/kernel_transport.hpp>
+#include <ecmxf/link/kernel_transport.hpp>
 
 #include <unistd.h>
 

@@ -40,8 +40,8 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/kernel_transport.hpp>
-#include <ecmxf/master.hpp>
+#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/bus/master.hpp>
 
 #include <fcntl.h>
 #include <poll.h>
@@ -70,7 +70,7 @@
 
 #include "bridge-ctl.hpp"
 #include "uapi/linux/ecmxf.h"
-#include "../../lib/pdo_ring.hpp"
+#include "../../lib/pdo/pdo_ring.hpp"
 
 using namespace std::chrono_literals;
 

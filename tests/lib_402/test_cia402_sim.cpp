@@ -20,13 +20,13 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/cia402.hpp>
+#include <ecmxf/cia402/cia402.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_network.hpp>
-#include <ecmxf/sim_slaves.hpp>
-#include <ecmxf/sim_transport.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
+#include <ecmxf/sim/slaves.hpp>
+#include <ecmxf/link/sim_transport.hpp>
 
 using namespace std::chrono_literals;
 using Catch::Matchers::Equals;

@@ -14,10 +14,10 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_network.hpp>
-#include <ecmxf/sim_transport.hpp>
-#include <ecmxf/transport.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
+#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/transport.hpp>
 
 #include "test_slave.hpp"
 

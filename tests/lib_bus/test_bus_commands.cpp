@@ -17,8 +17,8 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/sim.hpp>
-#include <ecmxf/types_bus.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/bus/types_bus.hpp>
 
 #include "rig.hpp"
 

@@ -13,9 +13,9 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_network.hpp>
-#include <ecmxf/sim_transport.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
+#include <ecmxf/link/sim_transport.hpp>
 
 namespace chiptest {
 

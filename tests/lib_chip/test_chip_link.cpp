@@ -10,8 +10,8 @@
 #include <chrono>
 #include <span>
 
-#include <ecmxf/status.hpp>
-#include <ecmxf/transport.hpp>
+#include <ecmxf/bus/status.hpp>
+#include <ecmxf/link/transport.hpp>
 
 using namespace chiptest;
 using namespace std::chrono_literals;

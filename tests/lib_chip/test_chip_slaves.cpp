@@ -10,7 +10,7 @@
 #include <cerrno>
 #include <string>
 
-#include <ecmxf/sim_slaves.hpp>
+#include <ecmxf/sim/slaves.hpp>
 
 using namespace chiptest;
 using Catch::Matchers::Contains;

@@ -11,16 +11,16 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/cia402_axis.hpp>
-#include <ecmxf/cyclic.hpp>
+#include <ecmxf/cia402/cia402_axis.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
-#include <ecmxf/master.hpp>
-#include <ecmxf/process_image.hpp>
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_network.hpp>
-#include <ecmxf/sim_slaves.hpp>
-#include <ecmxf/sim_transport.hpp>
-#include <ecmxf/transport.hpp>
+#include <ecmxf/bus/master.hpp>
+#include <ecmxf/pdo/process_image.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
+#include <ecmxf/sim/slaves.hpp>
+#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/transport.hpp>
 
 namespace motiontest {
 

@@ -15,7 +15,7 @@
 #include <optional>
 #include <vector>
 
-#include <ecmxf/cia402_axis.hpp>
+#include <ecmxf/cia402/cia402_axis.hpp>
 #include <ecmxf/error.hpp>
 
 #include "bench.hpp"

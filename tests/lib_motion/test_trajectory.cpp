@@ -8,7 +8,7 @@
 #include <cerrno>
 #include <cstdint>
 
-#include <ecmxf/cia402_axis.hpp>
+#include <ecmxf/cia402/cia402_axis.hpp>
 #include <ecmxf/error.hpp>
 
 using namespace std::chrono_literals;

@@ -16,12 +16,12 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
-#include <ecmxf/pdo_mapping.hpp>
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_network.hpp>
-#include <ecmxf/sim_slaves.hpp>
-#include <ecmxf/sim_transport.hpp>
-#include <ecmxf/transport.hpp>
+#include <ecmxf/pdo/pdo_mapping.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
+#include <ecmxf/sim/slaves.hpp>
+#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/transport.hpp>
 
 namespace pdotest {
 

@@ -14,8 +14,8 @@
 #include <cstdlib>
 #include <new>
 
-#include <ecmxf/cyclic.hpp>
-#include <ecmxf/process_image.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
+#include <ecmxf/pdo/process_image.hpp>
 
 #include "../common/alloc_counter.hpp"
 #include "bus.hpp"

@@ -12,7 +12,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/sim_slaves.hpp>
+#include <ecmxf/sim/slaves.hpp>
 
 #include "bus.hpp"
 

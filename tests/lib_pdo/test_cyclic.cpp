@@ -12,11 +12,11 @@
 #include <map>
 #include <vector>
 
-#include <ecmxf/cyclic.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/process_image.hpp>
-#include <ecmxf/sim_slaves.hpp>
+#include <ecmxf/pdo/process_image.hpp>
+#include <ecmxf/sim/slaves.hpp>
 
 #include "bus.hpp"
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include <ecmxf/error.hpp>
-#include <ecmxf/process_image.hpp>
+#include <ecmxf/pdo/process_image.hpp>
 
 #include "bus.hpp"
 

@@ -11,11 +11,11 @@
 #include <cstdint>
 #include <vector>
 
-#include <ecmxf/cyclic.hpp>
+#include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
-#include <ecmxf/process_image.hpp>
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_transport.hpp>
+#include <ecmxf/pdo/process_image.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/link/sim_transport.hpp>
 
 #include "bus.hpp"
 

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include <ecmxf/error.hpp>
-#include <ecmxf/events.hpp>
+#include <ecmxf/events/events.hpp>
 
 #include "nl_numbers.hpp"
 

@@ -24,8 +24,8 @@
 #include <thread>
 #include <vector>
 
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_network.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
 
 #include "ecmxf-proto.h"
 #include "test_slave.hpp"

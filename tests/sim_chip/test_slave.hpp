@@ -31,7 +31,7 @@
 #include <tuple>
 #include <vector>
 
-#include <ecmxf/sim_network.hpp>
+#include <ecmxf/sim/network.hpp>
 
 namespace simtest {
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/sim_network.hpp>
-#include <ecmxf/sim_slaves.hpp>
+#include <ecmxf/sim/network.hpp>
+#include <ecmxf/sim/slaves.hpp>
 
 namespace th {
 

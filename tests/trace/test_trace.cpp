@@ -22,9 +22,9 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/sim.hpp>
-#include <ecmxf/sim_transport.hpp>
-#include <ecmxf/trace.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/trace/trace.hpp>
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;

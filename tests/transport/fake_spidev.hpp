@@ -10,8 +10,8 @@
 #include <optional>
 #include <span>
 
-#include <ecmxf/sim.hpp>
-#include <ecmxf/spidev_transport.hpp>
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/link/spidev_transport.hpp>
 
 namespace test {
 

@@ -19,9 +19,9 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/kernel_transport.hpp>
-#include <ecmxf/trace.hpp>
-#include <ecmxf/transport.hpp>
+#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/trace/trace.hpp>
+#include <ecmxf/link/transport.hpp>
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;

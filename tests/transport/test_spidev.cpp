@@ -16,7 +16,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/spidev_transport.hpp>
+#include <ecmxf/link/spidev_transport.hpp>
 
 #include "fake_spidev.hpp"
 

@@ -14,7 +14,7 @@
 #include "slaves/options.hpp"
 #include "slaves/slave_base.hpp"
 
-#include <ecmxf/sim_slaves.hpp>
+#include <ecmxf/sim/slaves.hpp>
 
 namespace ecmxf::sim {
 

@@ -13,7 +13,7 @@
 #include <optional>
 #include <vector>
 
-#include <ecmxf/sim_slaves.hpp>
+#include <ecmxf/sim/slaves.hpp>
 
 #include "slaves/slave_base.hpp"
 

@@ -12,7 +12,7 @@
 #include <memory>
 #include <string>
 
-#include <ecmxf/sim_network.hpp>
+#include <ecmxf/sim/network.hpp>
 
 namespace ecmxf::sim {
 

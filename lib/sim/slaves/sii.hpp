@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/sim_network.hpp>
+#include <ecmxf/sim/network.hpp>
 
 namespace ecmxf::sim::slaves {
 

@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/sim_network.hpp>
+#include <ecmxf/sim/network.hpp>
 
 #include "slaves/object_dictionary.hpp"
 #include "slaves/sii.hpp"

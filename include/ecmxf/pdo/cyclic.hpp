@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file cyclic.hpp
+ * @brief The cyclic process-data exchange: once per application cycle,
+ *        outputs out and inputs in, allocation-free and exception-free.
+ *
+ * A Cyclic runs over a Device (bus in OP) and a ProcessImage. Each call
+ * of cycle() pushes the image's output frame into the chip's RxFIFO
+ * (ECAT_PDO_DATA_FIFO_OP), pops every TxPDO frame the chip has queued (the
+ * newest becomes the image's inputs), keeps the RxFIFO filled to its
+ * target level, and reports what happened in a CycleResult. cycle() and
+ * waitNextCycle() allocate nothing and throw nothing; their errors are
+ * errno values with a static description.
+ *
+ * @code
+ *   ecmxf::ProcessImage image(master.pdos());
+ *   auto cw = image.output<std::uint16_t>(0, 0x6040, 0);
+ *   ecmxf::Cyclic cyc(dev, image, { .period = 1ms });
+ *   cyc.start();
+ *   for (;;) {
+ *       cw.set(...);
+ *       const ecmxf::CycleResult &r = cyc.cycle();
+ *       if (r.error) ... r.message ...
+ *       cyc.waitNextCycle();
+ *   }
+ * @endcode
+ *
+ * Over the simulator or spidev, the chip's FIFO commands go over the
+ * Device's raw command path (Device::transact()); over /dev/ecmxfN (a
+ * KernelTransport) the frames go through the kernel's mmap()ed PDO rings
+ * and cycle() makes no system call. The API and its semantics are the
+ * same; Documentation/process-data.rst describes both paths.
+ *
+ * Thread safety: none; the thread that calls cycle() owns the Device and
+ * the image while the Cyclic exists.
+ */
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include <ecmxf/export.hpp>
+#include <ecmxf/pdo/types_pdo.hpp>
+
+namespace ecmxf {
+
+class Device;
+class ProcessImage;
+
+/// How a Cyclic runs.
+struct CyclicConfig {
+	/// The application cycle; waitNextCycle() waits for its next boundary
+	/// on the transport's clock (virtual time in the simulator).
+	std::chrono::nanoseconds period{ std::chrono::milliseconds(1) };
+	/// RxFIFO level (frames) that cycle() tops up to; 0: the FIFO depth
+	/// minus the margin of two. At most depth - 2. The outputs of a cycle
+	/// reach the bus after about this many bus cycles.
+	unsigned rxFill = 0;
+	/// Read the working counter (ECAT_PDO_WC_GET 3) every this many
+	/// cycles (one more command each time); 0: never.
+	unsigned wkcEvery = 1;
+	/// The bus cycle (ECAT_INIT_OP's SYNC0 cycle, or 1 ms free run): with
+	/// it, TxPDO frames lost to a TxFIFO overflow are estimated; zero: not
+	/// estimated (overflows are still detected and counted).
+	std::chrono::nanoseconds busCycle{ 0 };
+	/// Called for every TxPDO frame popped, oldest first, inside cycle()
+	/// (e.g. to log inputs at bus rate when the application cycle is
+	/// slower); the span is valid during the call only.
+	void (*onInputFrame)(void *context, std::span<const std::uint8_t> frame) noexcept = nullptr;
+	void *context = nullptr;
+	/// Time allowed for each command of cycle() (ECAT_PDO_DATA_FIFO_OP,
+	/// ECAT_PDO_WC_GET) until its answer; zero: the command table's 100 ms.
+	/// Raise it where the host can stall that long (e.g. under emulation).
+	/// Over the kernel's PDO rings cycle() sends no command (the kernel's
+	/// pump allows each of its commands 500 ms) and this is not used.
+	std::chrono::microseconds commandTimeout{ 0 };
+};
+
+/// What one cycle() did.
+struct CycleResult {
+	/// 0, or a positive errno value (ETIMEDOUT, EIO, EREMOTEIO...).
+	int error = 0;
+	/// A static description of the failure ("" when error is 0); never
+	/// freed, safe to keep.
+	const char *message = "";
+
+	/// Commands sent (ECAT_PDO_DATA_FIFO_OP, ECAT_PDO_WC_GET).
+	unsigned commands = 0;
+	/// RxPDO frames sent to the RxFIFO (copies of the output frame).
+	unsigned framesPushed = 0;
+	/// TxPDO frames received.
+	unsigned framesPopped = 0;
+	/// A new input frame went into the image.
+	bool inputsUpdated = false;
+
+	/// The chip refused RxPDO frames: the RxFIFO was full (return value
+	/// bit 0 clear).
+	bool rxRefused = false;
+	/// The TxFIFO was found full: the chip has dropped its oldest frames
+	/// since the last cycle.
+	bool txOverflow = false;
+	/// Estimated TxPDO frames lost to that overflow (needs
+	/// CyclicConfig::busCycle; 0 otherwise).
+	std::uint32_t txDroppedEstimate = 0;
+
+	/// The working counter was read this cycle (CyclicConfig::wkcEvery).
+	bool wkcRead = false;
+	/// The working counter as last read (ECAT_PDO_WC_GET 3).
+	std::uint32_t wkc = 0;
+	/// inputs x 1 + outputs x 2 slaves (ECAT_PDO_WC_GET 1 and 2).
+	std::uint32_t expectedWkc = 0;
+	/// wkc == expectedWkc (as last read).
+	bool wkcOk = false;
+
+	/// Response header fields of the cycle's last answer:
+	std::uint8_t rxFifoCount = 0;   ///< 0x07 RxPDO frames waiting to go out
+	std::uint8_t txFifoCount = 0;   ///< 0x06 TxPDO frames not yet read
+	std::uint8_t wkcErrorCount = 0; ///< 0x05 bus cycles with a wrong WKC (saturating)
+	std::uint8_t ecatState = 0;     ///< 0x08 1 INIT, 2 PRE-OP, 4 SAFE-OP, 8 OP, 0x10 ERROR
+	std::uint8_t errStatus = 0;     ///< 0x09 error status
+	std::uint8_t ecmStatus = 0;     ///< 0x0A ECM status (bit 4 PDO configured, bit 6 FIFO on)
+	std::uint32_t intFlags = 0;     ///< 0x10 interrupt flags
+};
+
+/// Totals since start().
+struct CyclicStats {
+	std::uint64_t cycles = 0;        ///< cycle() calls
+	std::uint64_t failedCycles = 0;  ///< ... with an error
+	std::uint64_t commands = 0;
+	std::uint64_t framesPushed = 0;
+	std::uint64_t framesPopped = 0;
+	std::uint64_t rxRefusals = 0;    ///< cycles with refused RxPDO frames
+	std::uint64_t txOverflows = 0;   ///< cycles that found the TxFIFO full
+	std::uint64_t txDroppedEstimate = 0;
+	std::uint64_t wkcReads = 0;
+	std::uint64_t wkcMismatches = 0; ///< reads with wkc != expected
+	std::uint64_t lateCycles = 0;    ///< waitNextCycle() found a boundary already past
+};
+
+/// The cyclic exchange over one Device and one ProcessImage.
+class ECMXF_EXPORT Cyclic
+{
+public:
+	/// Reads the frame sizes (FIFO_PACK_SIZE_GET), the FIFO depths
+	/// (FIFO_GET_RX/TX_CNT) and the slave counts (ECAT_PDO_WC_GET); checks
+	/// that the image's frames have the chip's sizes (EINVAL) and that one
+	/// frame each way fits the data section (EMSGSIZE: raise it with
+	/// SPI_RECONFIG_OP). Both objects must outlive the Cyclic. Throws
+	/// ecmxf::Error.
+	Cyclic(Device &device, ProcessImage &image, CyclicConfig config = {});
+	~Cyclic();
+	Cyclic(const Cyclic &) = delete;
+	Cyclic &operator=(const Cyclic &) = delete;
+
+	/// Pre-loads the image's outputs (ECAT_PDO_DATA_OP), empties both
+	/// FIFOs (FIFO_CLR_OP), enables the FIFO (FIFO_ENABLE 1), zeroes the
+	/// statistics and starts the cycle clock. Throws ecmxf::Error.
+	void start();
+	/// FIFO_ENABLE 0: the chip keeps sending the last outputs. Throws.
+	void stop();
+
+	/// One exchange: see the file comment and process-data.rst.
+	/// Allocates nothing, throws nothing.
+	const CycleResult &cycle() noexcept;
+
+	/// Waits on the transport's clock until the next cycle boundary
+	/// (start() + n x period). When that is already past, it skips to
+	/// the next one still ahead and counts a late cycle. Returns 0, or EIO
+	/// when the transport failed. Allocates nothing, throws nothing.
+	int waitNextCycle() noexcept;
+
+	/// Waits until at least one TxPDO frame that cycle() has not taken yet
+	/// is there (then cycle() returns it), at most @p timeout on the
+	/// transport's clock: for an application clocked by its inputs (one
+	/// cycle() per bus cycle, woken when the bus cycle's inputs arrive).
+	/// Over the kernel's PDO rings it poll()s the device for POLLIN (no
+	/// system call when frames are already there); over the FIFO commands
+	/// it asks the chip for its TxFIFO count (an ECAT_PDO_DATA_FIFO_OP
+	/// that moves no frame) once per bus cycle (CyclicConfig::busCycle, or
+	/// the period when that is zero) until one is queued.
+	/// Returns 0 (inputs there), ETIMEDOUT (none within @p timeout), EINVAL
+	/// (before start()), or the transport's or the pump's error (EIO...).
+	/// Allocates nothing, throws nothing.
+	int waitInputs(std::chrono::nanoseconds timeout) noexcept;
+
+	[[nodiscard]] const CycleResult &lastResult() const noexcept;
+	[[nodiscard]] const CyclicStats &stats() const noexcept;
+	[[nodiscard]] const CyclicConfig &config() const noexcept;
+
+	/// What the constructor read from the chip, and derived from it:
+	[[nodiscard]] FifoPackSizes packSizes() const noexcept;
+	[[nodiscard]] PdoSlaveCounts slaveCounts() const noexcept;
+	[[nodiscard]] std::uint32_t expectedWkc() const noexcept;
+	[[nodiscard]] unsigned rxDepth() const noexcept;
+	[[nodiscard]] unsigned txDepth() const noexcept;
+	/// The RxFIFO target level in use (CyclicConfig::rxFill resolved).
+	[[nodiscard]] unsigned rxFill() const noexcept;
+	/// RxPDO frames one command carries, TxPDO frames one answer carries.
+	[[nodiscard]] unsigned framesPerWrite() const noexcept;
+	[[nodiscard]] unsigned framesPerRead() const noexcept;
+	/// The frames go through the kernel's mmap()ed PDO rings (the Device's
+	/// transport is a KernelTransport); false: FIFO commands.
+	[[nodiscard]] bool usesKernelRings() const noexcept;
+
+	class Impl;
+
+private:
+	std::unique_ptr<Impl> impl_;
+};
+
+} // namespace ecmxf

@@ -1,0 +1,213 @@
+// SPDX-License-Identifier: MIT
+// Device::open(): device URIs (include/ecmxf/device_uri.hpp) and the
+// transport each one names.
+
+#include <ecmxf/device.hpp>
+#include <ecmxf/device_uri.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/spidev_transport.hpp>
+
+#include <cerrno>
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace ecmxf {
+
+namespace {
+
+std::string quoted(std::string_view s)
+{
+	// built by append: GCC 12 warns falsely (-Wrestrict, PR 105651) about
+	// "literal" + std::string at -O3
+	std::string q(1, '"');
+	q.append(s).push_back('"');
+	return q;
+}
+
+/// Error(EINVAL): cannot open "<uri>": <what>; accepted: <forms>.
+[[noreturn]] void bad(std::string_view uri, const std::string &what)
+{
+	std::string m = "cannot open ";
+	m.append(quoted(uri)).append(": ").append(what).append("; accepted: ").append(kDeviceUriForms);
+	throw Error(m, EINVAL);
+}
+
+/// Decimal digits only, at most 10 of them; nullopt otherwise.
+std::optional<std::uint64_t> number(std::string_view s)
+{
+	if (s.empty() || s.size() > 10)
+		return std::nullopt;
+	std::uint64_t v = 0;
+	for (const char c : s) {
+		if (c < '0' || c > '9')
+			return std::nullopt;
+		v = v * 10 + static_cast<std::uint64_t>(c - '0');
+	}
+	return v;
+}
+
+GpioLineSpec gpioLine(std::string_view uri, std::string_view key, std::string_view value)
+{
+	const auto colon = value.rfind(':');
+	const std::string_view chip = colon == std::string_view::npos ? std::string_view{} : value.substr(0, colon);
+	const auto line = colon == std::string_view::npos ? std::nullopt : number(value.substr(colon + 1));
+	if (chip.empty() || !line || *line > 0xFFFF) {
+		std::string m = "bad ";
+		m.append(key).append(" value ").append(quoted(value)).append(": expected <chip>:<line>, e.g. ");
+		m.append(key).append("=gpiochip0:17");
+		bad(uri, m);
+	}
+	return GpioLineSpec{ std::string(chip), static_cast<unsigned>(*line) };
+}
+
+} // namespace
+
+DeviceUri parseDeviceUri(std::string_view uri)
+{
+	constexpr std::string_view kSim = "sim:";
+	constexpr std::string_view kSpidev = "spidev:";
+
+	if (uri.empty())
+		bad(uri, "empty device URI");
+	const auto q = uri.find('?');
+	const std::string_view base = uri.substr(0, q);
+	const std::string_view query = q == std::string_view::npos ? std::string_view{} : uri.substr(q + 1);
+
+	DeviceUri u;
+	if (base.starts_with(kSim)) {
+		u.kind = DeviceUri::Kind::Sim;
+		u.path = std::string(base.substr(kSim.size()));
+	} else if (base.starts_with(kSpidev)) {
+		u.kind = DeviceUri::Kind::Spidev;
+		u.path = std::string(base.substr(kSpidev.size()));
+		if (u.path.empty())
+			bad(uri, "no spidev node after \"spidev:\" (e.g. spidev:/dev/spidev0.0)");
+		u.spidev.device = u.path;
+	} else if (base.starts_with("/")) {
+		u.kind = DeviceUri::Kind::Kernel;
+		u.path = std::string(base);
+	} else {
+		bad(uri, "unknown device URI");
+	}
+
+	if (q == std::string_view::npos)
+		return u;
+	const bool spidev = u.kind == DeviceUri::Kind::Spidev;
+	std::vector<std::string_view> seen;
+	std::size_t pos = 0;
+	for (;;) {
+		const auto amp = query.find('&', pos);
+		const std::string_view opt = query.substr(pos, amp == std::string_view::npos ? amp : amp - pos);
+		const auto eq = opt.find('=');
+		if (opt.empty())
+			bad(uri, "empty option (options are key=value, separated by '&')");
+		if (eq == std::string_view::npos || eq == 0)
+			bad(uri, "option " + quoted(opt) + " is not key=value");
+		const std::string_view key = opt.substr(0, eq);
+		const std::string_view value = opt.substr(eq + 1);
+		for (const std::string_view k : seen)
+			if (k == key)
+				bad(uri, "option " + quoted(key) + " given twice");
+		seen.push_back(key);
+
+		const bool spidevKey = key == "int0" || key == "int1" || key == "speed" || key == "mode" ||
+				       key == "ready" || key == "size" || key == "check";
+		if (key == "trace") {
+			if (value.empty())
+				bad(uri, "option \"trace\" needs a file name (trace=<file>)");
+			u.trace = std::string(value);
+		} else if (spidevKey && !spidev) {
+			bad(uri, "option " + quoted(key) + " applies to spidev: URIs only (" +
+					 (u.kind == DeviceUri::Kind::Sim ? "sim:" : "the kernel device") +
+					 " takes only trace=<file>)");
+		} else if (key == "int0") {
+			u.spidev.int0 = gpioLine(uri, key, value);
+		} else if (key == "int1") {
+			u.spidev.int1 = gpioLine(uri, key, value);
+		} else if (key == "speed") {
+			const auto v = number(value);
+			if (!v || *v < 1 || *v > SpidevOptions::kMaxSpeedHz)
+				bad(uri, "bad speed value " + quoted(value) +
+						 ": expected 1..96000000 (Hz; the chip's maximum is 96 MHz)");
+			u.spidev.speedHz = static_cast<std::uint32_t>(*v);
+		} else if (key == "mode") {
+			const auto v = number(value);
+			if (!v || *v > 3)
+				bad(uri, "bad mode value " + quoted(value) + ": expected 0..3 (the chip uses mode 0)");
+			u.spidev.mode = static_cast<std::uint8_t>(*v);
+		} else if (key == "ready") {
+			if (value != "high" && value != "low")
+				bad(uri, "bad ready value " + quoted(value) +
+						 ": expected high or low (the INT0 level that means ready; high by default)");
+			u.spidev.readyHigh = value == "high";
+		} else if (key == "size") {
+			const auto v = number(value);
+			if (!v || *v < 32 || *v > 1408)
+				bad(uri, "bad size value " + quoted(value) +
+						 ": expected 32..1408 (the data section the chip uses now, in bytes)");
+			u.dataSize = static_cast<std::uint16_t>(*v);
+		} else if (key == "check") {
+			if (value == "fixed")
+				u.checkType = CheckType::Fixed;
+			else if (value == "crc8")
+				u.checkType = CheckType::Crc8;
+			else if (value == "ccitt")
+				u.checkType = CheckType::Ccitt;
+			else if (value == "crc32")
+				u.checkType = CheckType::Crc32;
+			else
+				bad(uri, "bad check value " + quoted(value) +
+						 ": expected fixed, crc8, ccitt or crc32 (the check word the chip uses now)");
+		} else {
+			bad(uri, "unknown option " + quoted(key) +
+					 (spidev ? " (spidev: takes int0, int1, speed, mode, ready, size, check, trace)"
+						 : " (only trace=<file> is accepted here)"));
+		}
+		if (amp == std::string_view::npos)
+			break;
+		pos = amp + 1;
+	}
+	return u;
+}
+
+std::unique_ptr<Device> Device::open(std::string_view uri)
+{
+	const DeviceUri u = parseDeviceUri(uri);
+	std::unique_ptr<Transport> t;
+	switch (u.kind) {
+	case DeviceUri::Kind::Sim:
+		try {
+			t = std::make_unique<SimTransport>(u.path);
+		} catch (const Error &) {
+			throw;
+		} catch (const std::exception &ex) {
+			std::string m = "cannot open ";
+			m.append(quoted(uri)).append(": ").append(ex.what());
+			throw Error(m, EINVAL);
+		}
+		break;
+	case DeviceUri::Kind::Kernel:
+		t = std::make_unique<KernelTransport>(u.path);
+		break;
+	case DeviceUri::Kind::Spidev:
+		t = std::make_unique<SpidevTransport>(u.spidev);
+		break;
+	}
+	auto dev = std::make_unique<Device>(std::move(t));
+	if (u.dataSize || u.checkType)
+		dev->assumeFormat(u.dataSize.value_or(static_cast<std::uint16_t>(kDataDefault)),
+				  u.checkType.value_or(CheckType::Fixed));
+	if (!u.trace.empty())
+		dev->startTrace(u.trace);
+	return dev;
+}
+
+} // namespace ecmxf

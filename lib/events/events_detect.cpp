@@ -1,0 +1,161 @@
+// SPDX-License-Identifier: MIT
+// EventDetector: the protocol core's header event detector
+// (lib/core/ecmxf-events.c) in C++ types, and the names of event types.
+
+#include <ecmxf/events/events.hpp>
+
+#include "ecmxf-events.h"
+
+namespace ecmxf {
+
+namespace {
+
+Event fromCore(const ecmxf_det_event &d)
+{
+	Event e;
+	e.type = static_cast<EventType>(d.type);
+	e.time = std::chrono::nanoseconds(static_cast<std::int64_t>(d.time_ns));
+	e.errStatus = d.err_status;
+	e.ecmStatus = d.ecm_status;
+	switch (e.type) {
+	case EventType::Link:
+		e.linkUp = d.new_val != 0;
+		break;
+	case EventType::Reset:
+		e.newValue = d.new_val;
+		break;
+	case EventType::Fifo:
+		e.fifo = d.fifo == ECMXF_DET_FIFO_RX ? FifoId::Rx : FifoId::Tx;
+		e.mark = d.mark;
+		e.above = d.above;
+		break;
+	default:
+		e.oldValue = d.old_val;
+		e.newValue = d.new_val;
+		break;
+	}
+	e.count = d.count;
+	e.increase = d.increase;
+	e.errors = d.errors;
+	e.duration = std::chrono::nanoseconds(static_cast<std::int64_t>(d.duration_ns));
+	return e;
+}
+
+ecmxf_rsp_hdr toCore(const ResponseHeader &h)
+{
+	ecmxf_rsp_hdr r{};
+	r.crc_err_cnt = h.crcErrCnt;
+	r.wkc_err_cnt = h.wkcErrCnt;
+	r.tx_fifo_cnt = h.txFifoCnt;
+	r.rx_fifo_cnt = h.rxFifoCnt;
+	r.ecat_state = h.ecatState;
+	r.err_status = h.errStatus;
+	r.ecm_status = h.ecmStatus;
+	r.index = h.index;
+	r.code = h.code;
+	r.ret = h.ret;
+	r.len = h.len;
+	r.int_flags = h.intFlags;
+	r.gpio_int_flag[0] = h.gpioIntFlag[0];
+	r.gpio_int_flag[1] = h.gpioIntFlag[1];
+	r.gpio_in[0] = h.gpioIn[0];
+	r.gpio_in[1] = h.gpioIn[1];
+	return r;
+}
+
+std::uint64_t ns(std::chrono::nanoseconds t)
+{
+	return t.count() < 0 ? 0 : static_cast<std::uint64_t>(t.count());
+}
+
+std::vector<Event> convert(const ecmxf_det_event *d, unsigned n)
+{
+	std::vector<Event> out;
+	out.reserve(n);
+	for (unsigned i = 0; i < n; i++)
+		out.push_back(fromCore(d[i]));
+	return out;
+}
+
+} // namespace
+
+std::string eventTypeName(EventType t)
+{
+	switch (t) {
+	case EventType::Device: return "device";
+	case EventType::Reset: return "reset";
+	case EventType::Link: return "link";
+	case EventType::State: return "state";
+	case EventType::ErrorStatus: return "error_status";
+	case EventType::EcmStatus: return "ecm_status";
+	case EventType::CrcErrors: return "crc_errors";
+	case EventType::WkcBurst: return "wkc_burst";
+	case EventType::WkcBurstEnd: return "wkc_burst_end";
+	case EventType::Fifo: return "fifo";
+	case EventType::AsyncError: return "async_error";
+	case EventType::PdoLoss: return "pdo_loss";
+	}
+	return "unknown";
+}
+
+std::string lossKindName(LossKind k)
+{
+	switch (k) {
+	case LossKind::OutRingUnderrun: return "out_ring_underrun";
+	case LossKind::InRingOverrun: return "in_ring_overrun";
+	case LossKind::RxFifoUnderrun: return "rx_fifo_underrun";
+	case LossKind::RxFifoOverrun: return "rx_fifo_overrun";
+	case LossKind::TxFifoOverrun: return "tx_fifo_overrun";
+	case LossKind::OutRingSkipped: return "out_ring_skipped";
+	case LossKind::PumpFailure: return "pump_failure";
+	}
+	return "unknown";
+}
+
+struct EventDetector::Impl {
+	ecmxf_det det{};
+};
+
+EventDetector::EventDetector() : EventDetector(Config{}) {}
+
+EventDetector::EventDetector(const Config &config) : impl_(std::make_unique<Impl>())
+{
+	ecmxf_det_cfg cfg{};
+	cfg.tx_high = config.txHigh;
+	cfg.rx_low = config.rxLow;
+	cfg.wkc_quiet_ns = ns(config.wkcQuiet);
+	ecmxf_det_init(&impl_->det, &cfg);
+}
+
+EventDetector::~EventDetector() = default;
+EventDetector::EventDetector(EventDetector &&) noexcept = default;
+EventDetector &EventDetector::operator=(EventDetector &&) noexcept = default;
+
+std::vector<Event> EventDetector::feed(const ResponseHeader &header, std::chrono::nanoseconds now)
+{
+	ecmxf_det_event d[ECMXF_DET_MAX_EVENTS];
+	const ecmxf_rsp_hdr h = toCore(header);
+	return convert(d, ecmxf_det_feed(&impl_->det, &h, ns(now), d));
+}
+
+std::vector<Event> EventDetector::poll(std::chrono::nanoseconds now)
+{
+	ecmxf_det_event d[1];
+	return convert(d, ecmxf_det_poll(&impl_->det, ns(now), d));
+}
+
+std::vector<Event> EventDetector::rebase(std::chrono::nanoseconds now)
+{
+	ecmxf_det_event d[1];
+	return convert(d, ecmxf_det_rebase(&impl_->det, ns(now), d));
+}
+
+std::optional<std::chrono::nanoseconds> EventDetector::deadline() const
+{
+	const std::uint64_t t = ecmxf_det_deadline(&impl_->det);
+	if (t == UINT64_MAX)
+		return std::nullopt;
+	return std::chrono::nanoseconds(static_cast<std::int64_t>(t));
+}
+
+} // namespace ecmxf

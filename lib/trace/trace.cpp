@@ -1,0 +1,930 @@
+// SPDX-License-Identifier: MIT
+// Packet traces: the writer (Device::startTrace(), the exchange hook in
+// lib/device/device.cpp) and the decoder decodeTrace() (include/ecmxf/trace/trace.hpp,
+// Documentation/trace.rst).
+
+#include <ecmxf/device.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/protocol.hpp>
+#include <ecmxf/trace/trace.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cinttypes>
+#include <cstdarg>
+#include <cstdlib>
+#include <cstdio>
+#include <cstring>
+#include <istream>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ecmxf-proto.h"
+#include "trace/trace_writer.hpp"
+
+namespace ecmxf {
+
+// ===========================================================================
+// Writer
+// ===========================================================================
+
+namespace detail {
+
+namespace {
+
+constexpr char kHex[] = "0123456789abcdef";
+
+const char *checkKeyword(unsigned check) noexcept
+{
+	switch (check) {
+	case ECMXF_CHECK_FIXED:
+		return "fixed";
+	case ECMXF_CHECK_CRC8:
+		return "crc8";
+	case ECMXF_CHECK_CCITT:
+		return "ccitt";
+	default:
+		return "crc32";
+	}
+}
+
+} // namespace
+
+TraceWriter::TraceWriter(std::string_view path) : path_(path)
+{
+	f_ = std::fopen(path_.c_str(), "w");
+	if (!f_) {
+		const int err = errno;
+		std::string m = "cannot create the trace file \"";
+		m.append(path_).append("\": ").append(std::strerror(err));
+		throw Error(m, err);
+	}
+	const std::string head = std::string(kTraceMagic) + "\n# libecmxf " + std::string(version()) +
+				 " packet trace (Documentation/trace.rst)\n";
+	put(head.data(), head.size());
+}
+
+TraceWriter::~TraceWriter()
+{
+	if (f_)
+		std::fclose(f_);
+}
+
+void TraceWriter::put(const char *s, std::size_t n) noexcept
+{
+	if (!f_ || err_)
+		return;
+	if (std::fwrite(s, 1, n, f_) != n)
+		err_ = errno ? errno : EIO;
+}
+
+void TraceWriter::format(unsigned dataSize, unsigned check) noexcept
+{
+	char buf[64];
+	const int n = std::snprintf(buf, sizeof(buf), "format %u %s\n", dataSize, checkKeyword(check));
+	if (n > 0)
+		put(buf, static_cast<std::size_t>(n));
+}
+
+void TraceWriter::comment(std::string_view text) noexcept
+{
+	put("# ", 2);
+	put(text.data(), text.size());
+	put("\n", 1);
+}
+
+void TraceWriter::line(std::uint64_t ns, const char *tag, std::span<const std::uint8_t> a,
+		       std::span<const std::uint8_t> b) noexcept
+{
+	// the largest record: a 1440-byte packet, 2 hex digits a byte and a
+	// space every 4 bytes
+	char buf[64 + ECMXF_PKT_MAX * 2 + ECMXF_PKT_MAX / 4 + 8];
+	int n = std::snprintf(buf, 64, "%" PRIu64 ".%09" PRIu64 " %s", ns / 1'000'000'000u, ns % 1'000'000'000u,
+			      tag);
+	if (n < 0)
+		return;
+	std::size_t pos = static_cast<std::size_t>(n);
+	for (const auto &part : { a, b }) {
+		for (std::size_t i = 0; i < part.size() && pos + 4 < sizeof(buf); i++) {
+			if (i % 4 == 0)
+				buf[pos++] = ' ';
+			buf[pos++] = kHex[part[i] >> 4];
+			buf[pos++] = kHex[part[i] & 15];
+		}
+	}
+	buf[pos++] = '\n';
+	put(buf, pos);
+}
+
+void TraceWriter::packet(std::uint64_t ns, char dir, std::span<const std::uint8_t> bytes) noexcept
+{
+	line(ns, dir == '>' ? ">" : "<", bytes, {});
+}
+
+void TraceWriter::request(std::uint64_t ns, const RawRequest &req) noexcept
+{
+	// command header bytes 0x04..0x17; the index (0x0B) is the kernel's
+	std::array<std::uint8_t, 20> h{};
+	std::copy(req.data.begin(), req.data.end(), h.begin());
+	h[4] = static_cast<std::uint8_t>(req.reserved);
+	h[5] = static_cast<std::uint8_t>(req.reserved >> 8);
+	h[6] = req.control;
+	h[7] = 0;
+	h[8] = req.code;
+	h[9] = req.param;
+	h[10] = static_cast<std::uint8_t>(req.len);
+	h[11] = static_cast<std::uint8_t>(req.len >> 8);
+	for (unsigned i = 0; i < 4; i++)
+		h[12 + i] = static_cast<std::uint8_t>(req.intClear >> (8 * i));
+	h[16] = req.gpioIntClear[0];
+	h[17] = req.gpioIntClear[1];
+	h[18] = req.gpioOut[0];
+	h[19] = req.gpioOut[1];
+	line(ns, "C", h, req.tx);
+}
+
+void TraceWriter::response(std::uint64_t ns, const RawResult &res, std::span<const std::uint8_t> rx) noexcept
+{
+	const ResponseHeader &r = res.header;
+	std::array<std::uint8_t, 20> h{};
+	h[0] = r.crcErrCnt;
+	h[1] = r.wkcErrCnt;
+	h[2] = r.txFifoCnt;
+	h[3] = r.rxFifoCnt;
+	h[4] = r.ecatState;
+	h[5] = r.errStatus;
+	h[6] = r.ecmStatus;
+	h[7] = r.index;
+	h[8] = r.code;
+	h[9] = r.ret;
+	h[10] = static_cast<std::uint8_t>(r.len);
+	h[11] = static_cast<std::uint8_t>(r.len >> 8);
+	for (unsigned i = 0; i < 4; i++)
+		h[12 + i] = static_cast<std::uint8_t>(r.intFlags >> (8 * i));
+	h[16] = r.gpioIntFlag[0];
+	h[17] = r.gpioIntFlag[1];
+	h[18] = r.gpioIn[0];
+	h[19] = r.gpioIn[1];
+	char tag[24];
+	std::snprintf(tag, sizeof(tag), "R %d", res.status);
+	line(ns, tag, h, rx);
+}
+
+void TraceWriter::close()
+{
+	if (!f_)
+		return;
+	std::FILE *f = std::exchange(f_, nullptr);
+	if (std::fclose(f) != 0 && !err_)
+		err_ = errno ? errno : EIO;
+	if (err_) {
+		std::string m = "writing the trace file \"";
+		m.append(path_).append("\" failed: ").append(std::strerror(err_));
+		throw Error(m, err_);
+	}
+}
+
+} // namespace detail
+
+void Device::startTrace(std::string_view path)
+{
+	auto w = std::make_unique<detail::TraceWriter>(path);
+	TraceAccess::writeFormat(*this, *w);
+	auto old = std::exchange(TraceAccess::slot(*this), std::move(w));
+	if (old)
+		old->close();
+}
+
+void Device::stopTrace()
+{
+	auto w = std::exchange(TraceAccess::slot(*this), nullptr);
+	if (w)
+		w->close();
+}
+
+bool Device::tracing() const noexcept
+{
+	return TraceAccess::slot(*this) != nullptr;
+}
+
+// ===========================================================================
+// Decoder
+// ===========================================================================
+
+namespace {
+
+struct BitName {
+	unsigned bit;
+	const char *name;
+};
+
+constexpr BitName kControlBits[] = {
+	{ 0, "refresh state" },         { 1, "clear CRC count" },     { 3, "clear async error" },
+	{ 4, "clear SPI error" },       { 5, "clear FIFO error" },    { 6, "clear SPI CRC error" },
+	{ 7, "clear command error" },
+};
+constexpr BitName kReservedBits[] = { { 11, "LRW" }, { 12, "bus shift" }, { 15, "GPIO out valid" } };
+constexpr BitName kErrBits[] = {
+	{ 0, "link" },      { 1, "link at INIT_OP" }, { 3, "async error" },  { 4, "SPI error" },
+	{ 5, "FIFO error" }, { 6, "SPI CRC error" },  { 7, "command error" },
+};
+constexpr BitName kEcmBits[] = {
+	{ 2, "DC stable" }, { 3, "Ethernet initialised" }, { 4, "PDO configured" },
+	{ 5, "NOP" },       { 6, "FIFO enabled" },         { 7, "busy" },
+};
+constexpr BitName kIntBits[] = {
+	{ 22, "WKC error" }, { 23, "CRC error" }, { 24, "TxFIFO high" },
+	{ 25, "RxFIFO low" }, { 29, "encoder" },  { 31, "EtherCAT packet" },
+};
+
+std::string fmt(const char *f, ...) __attribute__((format(printf, 1, 2)));
+std::string fmt(const char *f, ...)
+{
+	char buf[256];
+	va_list ap;
+	va_start(ap, f);
+	const int n = std::vsnprintf(buf, sizeof(buf), f, ap);
+	va_end(ap);
+	return n < 0 ? std::string() : std::string(buf, std::min<std::size_t>(static_cast<std::size_t>(n), sizeof(buf) - 1));
+}
+
+/// "a, b, bit 9" for the set bits of @p v (bits not in @p table by number).
+template <std::size_t N>
+std::string bitNames(std::uint32_t v, const BitName (&table)[N], std::uint32_t ignore = 0)
+{
+	std::string out;
+	for (unsigned b = 0; b < 32; b++) {
+		if (!(v & (1u << b)) || (ignore & (1u << b)))
+			continue;
+		if (!out.empty())
+			out += ", ";
+		const char *name = nullptr;
+		for (const BitName &n : table)
+			if (n.bit == b)
+				name = n.name;
+		out += name ? std::string(name) : "bit " + std::to_string(b);
+	}
+	return out;
+}
+
+/// " (names)" or "" when no bit is set.
+template <std::size_t N>
+std::string withBits(std::uint32_t v, const BitName (&table)[N])
+{
+	const std::string n = bitNames(v, table);
+	return n.empty() ? std::string() : " (" + n + ")";
+}
+
+std::string cmdName(unsigned code)
+{
+	const auto info = commandInfo(static_cast<std::uint8_t>(code));
+	return info ? std::string(info->name) : std::string("unknown command");
+}
+
+const char *checkName(unsigned check)
+{
+	switch (check) {
+	case ECMXF_CHECK_FIXED:
+		return "fixed";
+	case ECMXF_CHECK_CRC8:
+		return "CRC-8";
+	case ECMXF_CHECK_CCITT:
+		return "CRC-CCITT";
+	default:
+		return "CRC-32";
+	}
+}
+
+std::string stateName(std::uint8_t s)
+{
+	std::string base;
+	switch (s & 0x0F) {
+	case 0:
+		base = (s & 0x10) ? "" : "NONE";
+		break;
+	case ECMXF_ECAT_INIT:
+		base = "INIT";
+		break;
+	case ECMXF_ECAT_PREOP:
+		base = "PRE-OP";
+		break;
+	case ECMXF_ECAT_BOOT:
+		base = "BOOT";
+		break;
+	case ECMXF_ECAT_SAFEOP:
+		base = "SAFE-OP";
+		break;
+	case ECMXF_ECAT_OP:
+		base = "OP";
+		break;
+	default:
+		return fmt("unknown (0x%02X)", s);
+	}
+	if (s & 0xE0)
+		return fmt("unknown (0x%02X)", s);
+	if (s & ECMXF_ECAT_ERROR)
+		base = base.empty() ? "ERROR" : base + " + ERROR";
+	return fmt("%s (0x%02X)", base.c_str(), s);
+}
+
+const char *statusName(int status)
+{
+	switch (-status) {
+	case 0:
+		return "OK";
+	case ETIMEDOUT:
+		return "ETIMEDOUT (no answer or no completion in time)";
+	case EBUSY:
+		return "EBUSY (the chip refused: async command running)";
+	case EREMOTEIO:
+		return "EREMOTEIO (async command failed)";
+	case EBADMSG:
+		return "EBADMSG (retries exhausted: check word)";
+	case EPROTO:
+		return "EPROTO (retries exhausted: framing)";
+	case EIO:
+		return "EIO (retries exhausted: not ready)";
+	case ECONNRESET:
+		return "ECONNRESET (the chip reset)";
+	case EMSGSIZE:
+		return "EMSGSIZE (answer larger than the buffer)";
+	case ECANCELED:
+		return "ECANCELED (cancelled by a reset)";
+	default:
+		return "error";
+	}
+}
+
+std::uint16_t le16(const std::uint8_t *p)
+{
+	return static_cast<std::uint16_t>(p[0] | p[1] << 8);
+}
+
+std::uint32_t le32(const std::uint8_t *p)
+{
+	return static_cast<std::uint32_t>(p[0]) | static_cast<std::uint32_t>(p[1]) << 8 |
+	       static_cast<std::uint32_t>(p[2]) << 16 | static_cast<std::uint32_t>(p[3]) << 24;
+}
+
+std::string timeText(std::uint64_t ns)
+{
+	return fmt("%" PRIu64 ".%09" PRIu64, ns / 1'000'000'000u, ns % 1'000'000'000u);
+}
+
+std::string hexBytes(const std::uint8_t *p, std::size_t n)
+{
+	std::string s;
+	for (std::size_t i = 0; i < n; i++)
+		s += fmt(i ? " %02X" : "%02X", p[i]);
+	return s;
+}
+
+std::string jsonHex(const std::uint8_t *p, std::size_t n)
+{
+	std::string s = "\"";
+	for (std::size_t i = 0; i < n; i++)
+		s += fmt("%02x", p[i]);
+	return s + "\"";
+}
+
+/// One record of the trace file.
+struct Record {
+	std::size_t line = 0;
+	std::uint64_t ns = 0;
+	char kind = 0; // '>', '<', 'C', 'R'
+	int status = 0;
+	std::vector<std::uint8_t> bytes;
+};
+
+[[noreturn]] void badLine(std::size_t line, const std::string &what)
+{
+	throw Error("trace line " + std::to_string(line) + ": " + what, EINVAL);
+}
+
+std::uint64_t parseTime(std::size_t line, const std::string &t)
+{
+	const auto dot = t.find('.');
+	const std::string sec = t.substr(0, dot);
+	const std::string frac = dot == std::string::npos ? std::string() : t.substr(dot + 1);
+	auto digits = [](const std::string &s) {
+		return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+	};
+	if (!digits(sec) || sec.size() > 10 || (dot != std::string::npos && (!digits(frac) || frac.size() > 9)))
+		badLine(line, "bad time \"" + t + "\" (expected seconds with up to 9 decimals, e.g. 0.000150000)");
+	std::uint64_t ns = std::stoull(sec) * 1'000'000'000u;
+	std::uint64_t f = 0;
+	for (std::size_t i = 0; i < 9; i++)
+		f = f * 10 + (i < frac.size() ? static_cast<std::uint64_t>(frac[i] - '0') : 0u);
+	return ns + f;
+}
+
+std::vector<std::uint8_t> parseHex(std::size_t line, const std::string &s, std::size_t from)
+{
+	std::vector<std::uint8_t> out;
+	int hi = -1;
+	for (std::size_t i = from; i < s.size(); i++) {
+		const char c = s[i];
+		if (c == ' ' || c == '\t' || c == '\r')
+			continue;
+		int v;
+		if (c >= '0' && c <= '9')
+			v = c - '0';
+		else if (c >= 'a' && c <= 'f')
+			v = c - 'a' + 10;
+		else if (c >= 'A' && c <= 'F')
+			v = c - 'A' + 10;
+		else
+			badLine(line, std::string("'") + c + "' is not a hex digit");
+		if (hi < 0) {
+			hi = v;
+		} else {
+			out.push_back(static_cast<std::uint8_t>(hi << 4 | v));
+			hi = -1;
+		}
+	}
+	if (hi >= 0)
+		badLine(line, "odd number of hex digits");
+	return out;
+}
+
+/// The decoder's view of the link, followed across the format commands.
+class Decoder
+{
+public:
+	Decoder(std::ostream &out, const TraceDecodeOptions &o) : out_(out), o_(o) {}
+
+	void format(unsigned dataSize, unsigned check)
+	{
+		dataSize_ = dataSize;
+		check_ = prevCheck_ = check;
+	}
+	void record(const Record &r);
+	void finish()
+	{
+		if (o_.json)
+			out_ << (first_ ? "[]\n" : "\n]\n");
+	}
+	TraceSummary summary;
+
+private:
+	struct Verdict {
+		bool ok = false;
+		bool notReady = false;
+		std::string text;       ///< "check word 0x...: OK (fixed)"
+		std::string json;       ///< "ok", "bad_check", ...
+		unsigned checkUsed = 0; ///< the type that matched (ok)
+	};
+	Verdict verify(const std::vector<std::uint8_t> &p, bool command);
+	void mosi(const Record &r);
+	void miso(const Record &r);
+	void kernel(const Record &r);
+	void header(const Record &r, const std::string &title);
+	void dataLines(const std::uint8_t *p, std::size_t n, std::size_t total);
+	void cmdFields(const std::uint8_t *h, const std::uint8_t *data, std::size_t n, bool kernel);
+	void rspFields(const std::uint8_t *h, const std::uint8_t *data, std::size_t n, std::size_t dataSize);
+	void jsonBegin(const Record &r, const char *dir);
+	void jsonField(const std::string &key, const std::string &value) { json_ += ", \"" + key + "\": " + value; }
+	void jsonEnd();
+
+	std::ostream &out_;
+	TraceDecodeOptions o_;
+	std::optional<unsigned> dataSize_;
+	std::optional<unsigned> pendingSize_; ///< SPI_RECONFIG_OP / WARM_RESET: size from the next exchange
+	unsigned check_ = ECMXF_CHECK_FIXED;
+	unsigned prevCheck_ = ECMXF_CHECK_FIXED;
+	std::size_t exchange_ = 0;
+	bool lastWasMosi = false;
+	std::optional<std::pair<std::uint8_t, std::uint8_t>> lastSent_; ///< (index, code) of the last MOSI
+	std::map<std::pair<std::uint8_t, std::uint8_t>, std::size_t> sent_; ///< (index, code) -> exchange
+	/// index -> (exchange, code) of the latest re-send with that index
+	std::map<std::uint8_t, std::pair<std::size_t, std::uint8_t>> resent_;
+	std::size_t kernelReq_ = 0;
+	std::string kernelReqName_;
+	bool first_ = true;
+	std::string json_;
+};
+
+void Decoder::header(const Record &r, const std::string &title)
+{
+	out_ << '#' << exchange_ << ' ' << timeText(r.ns) << ' ' << title << '\n';
+}
+
+void Decoder::dataLines(const std::uint8_t *p, std::size_t n, std::size_t total)
+{
+	if (o_.json) {
+		jsonField("data", jsonHex(p, n));
+		return;
+	}
+	if (n == 0)
+		return;
+	out_ << "    data (" << n << " of " << total << " bytes):\n";
+	const std::size_t per = std::max<std::size_t>(o_.bytesPerLine, 1);
+	for (std::size_t i = 0; i < n; i += per)
+		out_ << fmt("      %04zx: ", i) << hexBytes(p + i, std::min(per, n - i)) << '\n';
+}
+
+void Decoder::jsonBegin(const Record &r, const char *dir)
+{
+	json_ = fmt("{\"n\": %zu, \"line\": %zu, \"time\": \"%s\", \"time_ns\": %" PRIu64 ", \"dir\": \"%s\"",
+		    exchange_, r.line, timeText(r.ns).c_str(), r.ns, dir);
+}
+
+void Decoder::jsonEnd()
+{
+	out_ << (first_ ? "[\n  " : ",\n  ") << json_ << '}';
+	first_ = false;
+}
+
+Decoder::Verdict Decoder::verify(const std::vector<std::uint8_t> &p, bool command)
+{
+	Verdict v;
+	const std::size_t n = p.size() - ECMXF_HDR_SIZE - ECMXF_TRAILER_SIZE;
+	const std::uint32_t word = le32(p.data() + ECMXF_HDR_SIZE + n);
+	const std::uint32_t start = le32(p.data());
+	const std::uint32_t end = le32(p.data() + ECMXF_HDR_SIZE + n + 4);
+	if (!command && word == ECMXF_NOT_READY_WORD) {
+		v.notReady = true;
+		v.json = "not_ready";
+		v.text = "check word 0x87654321: NOT READY (the chip had not processed the previous packet)";
+		return v;
+	}
+	if (start != ECMXF_START_WORD) {
+		v.json = "bad_start";
+		v.text = fmt("start word 0x%08X: BAD (expected 0xA1A2A3A4)", start);
+		return v;
+	}
+	if (end != ECMXF_END_WORD) {
+		v.json = "bad_end";
+		v.text = fmt("end word 0x%08X: BAD (expected 0x56575859)", end);
+		return v;
+	}
+	// the type in force, then the ones that may still be legitimately
+	// in use: the type before a CRC_TYPE_SET, fixed for SPI_RECONFIG_OP
+	const unsigned expected = check_;
+	std::vector<std::pair<unsigned, const char *>> tries = { { expected, "" } };
+	if (command && p[0x0C] == ECMXF_CMD_SPI_RECONFIG_OP && expected != ECMXF_CHECK_FIXED)
+		tries.insert(tries.begin(), { ECMXF_CHECK_FIXED, ", as SPI_RECONFIG_OP is sent" });
+	if (prevCheck_ != expected)
+		tries.emplace_back(prevCheck_, ", the type before CRC_TYPE_SET");
+	for (const auto &[type, why] : tries) {
+		if (word == ecmxf_check_word(static_cast<ecmxf_check>(type), p.data(), ECMXF_HDR_SIZE + n)) {
+			v.ok = true;
+			v.checkUsed = type;
+			v.json = "ok";
+			v.text = fmt("check word 0x%08X: OK (%s%s)", word, checkName(type), why);
+			break;
+		}
+	}
+	if (!v.ok) {
+		const std::uint32_t want = ecmxf_check_word(static_cast<ecmxf_check>(expected), p.data(), ECMXF_HDR_SIZE + n);
+		v.json = "bad_check";
+		v.text = fmt("check word 0x%08X: BAD (%s expected 0x%08X, got 0x%08X)", word, checkName(expected), want,
+			     word);
+		return v;
+	}
+	if (!command && le16(p.data() + 0x0E) > n) {
+		v.ok = false;
+		v.json = "bad_length";
+		v.text = fmt("len %u: BAD (longer than the %zu-byte data section)", le16(p.data() + 0x0E), n);
+	}
+	return v;
+}
+
+void Decoder::cmdFields(const std::uint8_t *h, const std::uint8_t *data, std::size_t n, bool kernel)
+{
+	// h points at packet byte 0x04 (the header fields)
+	const unsigned code = h[8], param = h[9], control = h[6];
+	const unsigned reserved = le16(h + 4), len = le16(h + 10);
+	const std::uint32_t intClear = le32(h + 12);
+	// data shown: the length field's worth, and any non-zero byte after it
+	std::size_t shown = len <= n ? len : 0;
+	for (std::size_t i = n; i > shown; i--)
+		if (data[i - 1]) {
+			shown = i;
+			break;
+		}
+	if (o_.json) {
+		jsonField("code", std::to_string(code));
+		jsonField("name", "\"" + cmdName(code) + "\"");
+		if (!kernel)
+			jsonField("index", std::to_string(h[7]));
+		jsonField("param", std::to_string(param));
+		jsonField("len", std::to_string(len));
+		jsonField("cmd_data", fmt("[%u, %u, %u, %u]", h[0], h[1], h[2], h[3]));
+		jsonField("reserved", std::to_string(reserved));
+		jsonField("control", std::to_string(control));
+		jsonField("int_clear", std::to_string(intClear));
+		jsonField("gpio_int_clear", fmt("[%u, %u]", h[16], h[17]));
+		jsonField("gpio_out", fmt("[%u, %u]", h[18], h[19]));
+		dataLines(data, shown, n);
+		return;
+	}
+	out_ << fmt("    param 0x%02X, len %u, data %02X %02X %02X %02X, reserved 0x%04X", param, len, h[0], h[1],
+		    h[2], h[3], reserved)
+	     << withBits(reserved, kReservedBits) << '\n';
+	out_ << fmt("    control 0x%02X", control) << withBits(control, kControlBits)
+	     << fmt(", int clear 0x%08X", intClear) << withBits(intClear, kIntBits)
+	     << fmt(", GPIO int clear 0x%02X 0x%02X, GPIO out 0x%02X 0x%02X", h[16], h[17], h[18], h[19]) << '\n';
+	dataLines(data, shown, n);
+}
+
+void Decoder::rspFields(const std::uint8_t *h, const std::uint8_t *data, std::size_t n, std::size_t dataSize)
+{
+	const unsigned ecm = h[6], err = h[5], len = le16(h + 10);
+	const std::uint32_t intFlags = le32(h + 12);
+	const std::size_t shown = std::min<std::size_t>(len, n);
+	if (o_.json) {
+		jsonField("index", std::to_string(h[7]));
+		jsonField("code", std::to_string(h[8]));
+		jsonField("name", "\"" + cmdName(h[8]) + "\"");
+		jsonField("ret", std::to_string(h[9]));
+		jsonField("len", std::to_string(len));
+		jsonField("crc_err_cnt", std::to_string(h[0]));
+		jsonField("wkc_err_cnt", std::to_string(h[1]));
+		jsonField("tx_fifo_cnt", std::to_string(h[2]));
+		jsonField("rx_fifo_cnt", std::to_string(h[3]));
+		jsonField("ecat_state", std::to_string(h[4]));
+		jsonField("err_status", std::to_string(err));
+		jsonField("ecm_status", std::to_string(ecm));
+		jsonField("int_flags", std::to_string(intFlags));
+		jsonField("gpio_int_flag", fmt("[%u, %u]", h[16], h[17]));
+		jsonField("gpio_in", fmt("[%u, %u]", h[18], h[19]));
+		dataLines(data, shown, dataSize);
+		return;
+	}
+	const std::string ecmBits = bitNames(ecm, kEcmBits, ECMXF_STS_CHECK_MASK);
+	out_ << "    ECAT state " << stateName(h[4]) << fmt(", error status 0x%02X", err) << withBits(err, kErrBits)
+	     << fmt(", ECM status 0x%02X (check %s", ecm, checkName(ecm & ECMXF_STS_CHECK_MASK))
+	     << (ecmBits.empty() ? "" : ", " + ecmBits) << ")\n";
+	out_ << fmt("    CRC errors %u, WKC errors %u, TxFIFO %u, RxFIFO %u\n", h[0], h[1], h[2], h[3]);
+	out_ << fmt("    index 0x%02X, code 0x%02X %s, ret 0x%02X (%u), len %u\n", h[7], h[8], cmdName(h[8]).c_str(),
+		    h[9], h[9], len);
+	out_ << fmt("    int flags 0x%08X", intFlags) << withBits(intFlags, kIntBits)
+	     << fmt(", GPIO int flags 0x%02X 0x%02X, GPIO in 0x%02X 0x%02X\n", h[16], h[17], h[18], h[19]);
+	dataLines(data, shown, dataSize);
+}
+
+void Decoder::mosi(const Record &r)
+{
+	const std::vector<std::uint8_t> &p = r.bytes;
+	const std::size_t n = p.size() - ECMXF_HDR_SIZE - ECMXF_TRAILER_SIZE;
+	exchange_++;
+	summary.commands++;
+	std::string sizeNote;
+	if (dataSize_ && *dataSize_ != n)
+		sizeNote = fmt(" (expected %zu: data section %u)", static_cast<std::size_t>(ECMXF_PKT_SIZE(*dataSize_)),
+			       *dataSize_);
+	dataSize_ = static_cast<unsigned>(n);
+
+	const Verdict v = verify(p, true);
+	if (!v.ok)
+		summary.bad++;
+	const std::uint8_t index = p[0x0B], code = p[0x0C];
+	const std::pair<std::uint8_t, std::uint8_t> key{ index, code };
+	const bool resend = lastSent_ && *lastSent_ == key;
+	std::string title = fmt("host>chip %zu bytes%s: %s (0x%02X), index 0x%02X", p.size(), sizeNote.c_str(),
+				cmdName(code).c_str(), code, index);
+	if (resend)
+		title += fmt(" (re-send of #%zu: the chip answers it as INFO_UPDATE_OP)", sent_[key]);
+	if (!v.ok)
+		title += " [BAD]";
+	if (o_.json) {
+		jsonBegin(r, "mosi");
+		jsonField("size", std::to_string(p.size()));
+		jsonField("check", "\"" + v.json + "\"");
+		jsonField("resend", resend ? "true" : "false");
+		cmdFields(p.data() + 4, p.data() + ECMXF_HDR_SIZE, n, false);
+		jsonEnd();
+	} else {
+		header(r, title);
+		cmdFields(p.data() + 4, p.data() + ECMXF_HDR_SIZE, n, false);
+		out_ << "    " << v.text << '\n';
+	}
+	if (!v.ok)
+		return; // the chip drops a bad command
+	lastSent_ = key;
+	if (resend) {
+		resent_[index] = { exchange_, code };
+		return;
+	}
+	sent_[key] = exchange_;
+	resent_.erase(index);
+	// the format changes the chip makes after taking the command in
+	switch (code) {
+	case ECMXF_CMD_CRC_TYPE_SET:
+		if (p[0x0D] <= ECMXF_CHECK_CRC32) {
+			prevCheck_ = check_;
+			check_ = p[0x0D];
+		}
+		break;
+	case ECMXF_CMD_SPI_RECONFIG_OP:
+		if (ecmxf_data_size_valid(le16(p.data() + 0x0E)))
+			pendingSize_ = le16(p.data() + 0x0E);
+		break;
+	case ECMXF_CMD_WARM_RESET:
+		pendingSize_ = ECMXF_DATA_DEFAULT;
+		prevCheck_ = check_;
+		check_ = ECMXF_CHECK_FIXED;
+		break;
+	default:
+		break;
+	}
+}
+
+void Decoder::miso(const Record &r)
+{
+	const std::vector<std::uint8_t> &p = r.bytes;
+	const std::size_t n = p.size() - ECMXF_HDR_SIZE - ECMXF_TRAILER_SIZE;
+	summary.responses++;
+	if (!lastWasMosi)
+		exchange_++; // a MISO packet without its MOSI
+	const Verdict v = verify(p, false);
+	if (!v.ok)
+		summary.bad++;
+	if (v.notReady)
+		summary.notReady++;
+	if (v.ok && v.checkUsed == check_)
+		prevCheck_ = check_; // the chip speaks the new type
+
+	std::string what;
+	std::string answers = "null";
+	const std::uint8_t ecm = p[0x0A], index = p[0x0B], code = p[0x0C];
+	if (v.notReady) {
+		what = "not ready";
+	} else if (ecm & ECMXF_STS_NOP) {
+		what = "answers nothing (NOP: the chip's first answer after power-on or reset)";
+	} else {
+		const auto it = sent_.find({ index, code });
+		const auto re = resent_.find(index);
+		if (code == ECMXF_CMD_INFO_UPDATE_OP && re != resent_.end()) {
+			what = fmt("answers #%zu, the re-send of %s (0x%02X) with index 0x%02X, run as INFO_UPDATE_OP",
+				   re->second.first, cmdName(re->second.second).c_str(), re->second.second, index);
+			answers = std::to_string(re->second.first);
+		} else if (it != sent_.end()) {
+			what = fmt("answers #%zu %s (0x%02X), index 0x%02X", it->second, cmdName(code).c_str(), code, index);
+			answers = std::to_string(it->second);
+		} else {
+			what = fmt("answers %s (0x%02X), index 0x%02X (not sent in this trace)", cmdName(code).c_str(), code,
+				   index);
+		}
+		if (ecm & ECMXF_STS_BUSY)
+			what += "; async command running";
+	}
+	if (!v.ok && !v.notReady)
+		what += " [BAD]";
+	if (o_.json) {
+		jsonBegin(r, "miso");
+		jsonField("size", std::to_string(p.size()));
+		jsonField("check", "\"" + v.json + "\"");
+		jsonField("answers", answers);
+		jsonField("nop", (ecm & ECMXF_STS_NOP) && !v.notReady ? "true" : "false");
+		if (!v.notReady)
+			rspFields(p.data() + 4, p.data() + ECMXF_HDR_SIZE, n, n);
+		jsonEnd();
+	} else {
+		header(r, fmt("chip>host %zu bytes: ", p.size()) + what);
+		if (!v.notReady)
+			rspFields(p.data() + 4, p.data() + ECMXF_HDR_SIZE, n, n);
+		out_ << "    " << v.text << '\n';
+	}
+	// the packet size the command of this exchange switched to
+	if (pendingSize_) {
+		dataSize_ = *pendingSize_;
+		pendingSize_.reset();
+		if (!o_.json)
+			out_ << "    (from the next exchange on: data section " << *dataSize_ << " bytes, packets of "
+			     << ECMXF_PKT_SIZE(*dataSize_) << " bytes)\n";
+	}
+}
+
+void Decoder::kernel(const Record &r)
+{
+	const std::vector<std::uint8_t> &b = r.bytes;
+	const std::size_t n = b.size() - 20;
+	if (r.kind == 'C') {
+		exchange_++;
+		kernelReq_ = exchange_;
+		summary.commands++;
+		kernelReqName_ = cmdName(b[8]);
+		if (o_.json) {
+			jsonBegin(r, "request");
+			cmdFields(b.data(), b.data() + 20, n, true);
+			jsonEnd();
+		} else {
+			header(r, fmt("request: %s (0x%02X)", kernelReqName_.c_str(), b[8]));
+			cmdFields(b.data(), b.data() + 20, n, true);
+		}
+		return;
+	}
+	summary.responses++;
+	if (o_.json) {
+		jsonBegin(r, "response");
+		jsonField("status", std::to_string(r.status));
+		jsonField("answers", kernelReq_ ? std::to_string(kernelReq_) : "null");
+		rspFields(b.data(), b.data() + 20, n, n);
+		jsonEnd();
+		return;
+	}
+	std::string title = fmt("response: status %d %s", r.status, statusName(r.status));
+	if (kernelReq_)
+		title += fmt(", answers #%zu %s", kernelReq_, kernelReqName_.c_str());
+	header(r, title);
+	rspFields(b.data(), b.data() + 20, n, n);
+}
+
+void Decoder::record(const Record &r)
+{
+	summary.packets++;
+	switch (r.kind) {
+	case '>':
+		mosi(r);
+		lastWasMosi = true;
+		return;
+	case '<':
+		miso(r);
+		break;
+	default:
+		kernel(r);
+		break;
+	}
+	lastWasMosi = false;
+}
+
+} // namespace
+
+TraceSummary decodeTrace(std::istream &in, std::ostream &out, const TraceDecodeOptions &options)
+{
+	Decoder d(out, options);
+	std::string s;
+	std::size_t line = 0;
+	bool magic = false;
+	while (std::getline(in, s)) {
+		line++;
+		if (!s.empty() && s.back() == '\r')
+			s.pop_back();
+		if (s.empty() || s[0] == '#')
+			continue;
+		if (!magic) {
+			if (s != kTraceMagic)
+				badLine(line, "not an ecmxf trace (the first line must be \"" + std::string(kTraceMagic) + "\")");
+			magic = true;
+			continue;
+		}
+		if (s.starts_with("format ")) {
+			char check[16] = {};
+			unsigned size = 0;
+			char extra = 0;
+			if (std::sscanf(s.c_str(), "format %u %15s %c", &size, check, &extra) != 2 ||
+			    !ecmxf_data_size_valid(size))
+				badLine(line, "bad format line \"" + s + "\" (expected format <32..1408> fixed|crc8|ccitt|crc32)");
+			const std::string c = check;
+			const unsigned type = c == "fixed" ? 0u : c == "crc8" ? 1u : c == "ccitt" ? 2u : c == "crc32" ? 3u : 99u;
+			if (type == 99u)
+				badLine(line, "unknown check type \"" + c + "\" (fixed, crc8, ccitt, crc32)");
+			d.format(size, type);
+			continue;
+		}
+		Record r;
+		r.line = line;
+		const auto sp = s.find(' ');
+		if (sp == std::string::npos || sp + 2 > s.size() || (sp + 2 < s.size() && s[sp + 2] != ' '))
+			badLine(line, "expected <time> <record> ..., record one of > < C R");
+		r.ns = parseTime(line, s.substr(0, sp));
+		r.kind = s[sp + 1];
+		std::size_t from = sp + 2;
+		if (r.kind == 'R') {
+			const auto sp2 = s.find(' ', from + 1);
+			const std::string st = s.substr(from, sp2 == std::string::npos ? std::string::npos : sp2 - from);
+			char *end = nullptr;
+			const long v = std::strtol(st.c_str(), &end, 10);
+			const std::string_view trimmed(st);
+			if (trimmed.find_first_not_of(' ') == std::string_view::npos || !end || *end || v < -4095 || v > 0)
+				badLine(line, "bad status in R record (expected 0 or a negative errno)");
+			r.status = static_cast<int>(v);
+			from = sp2 == std::string::npos ? s.size() : sp2;
+		} else if (r.kind != '>' && r.kind != '<' && r.kind != 'C') {
+			badLine(line, std::string("unknown record '") + r.kind + "' (expected > < C R)");
+		}
+		r.bytes = parseHex(line, s, from);
+		if (r.kind == '>' || r.kind == '<') {
+			if (r.bytes.size() < ECMXF_PKT_SIZE(ECMXF_DATA_MIN) || r.bytes.size() > ECMXF_PKT_MAX)
+				badLine(line, "a packet of " + std::to_string(r.bytes.size()) +
+						      " bytes (packets are 64..1440 bytes)");
+		} else if (r.bytes.size() < 20) {
+			badLine(line, "a kernel record needs the 20 header bytes 0x04..0x17, found " +
+					      std::to_string(r.bytes.size()));
+		}
+		d.record(r);
+	}
+	if (!magic)
+		badLine(line, "not an ecmxf trace (empty, or no \"" + std::string(kTraceMagic) + "\" line)");
+	d.finish();
+	return d.summary;
+}
+
+} // namespace ecmxf

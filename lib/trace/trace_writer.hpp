@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+// Internal: the writer of packet traces (Documentation/trace.rst) and the
+// seam through which lib/trace/trace.cpp reaches a Device's trace slot.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include <ecmxf/device.hpp>
+#include <ecmxf/link/transport.hpp>
+
+namespace ecmxf {
+
+namespace detail {
+
+/// Writes one trace file. Every record call is noexcept and allocates
+/// nothing (the exchange loop calls them); a failed write is remembered
+/// and reported by close().
+class TraceWriter
+{
+public:
+	/// Creates or truncates @p path and writes the magic line. Throws
+	/// ecmxf::Error with the path and the system's reason.
+	explicit TraceWriter(std::string_view path);
+	~TraceWriter();
+	TraceWriter(const TraceWriter &) = delete;
+	TraceWriter &operator=(const TraceWriter &) = delete;
+
+	/// "format <data size> <check>": the packet format in force.
+	void format(unsigned dataSize, unsigned check) noexcept;
+	/// "# <text>".
+	void comment(std::string_view text) noexcept;
+	/// One packet: @p dir '>' (MOSI, host to chip) or '<' (MISO).
+	void packet(std::uint64_t ns, char dir, std::span<const std::uint8_t> bytes) noexcept;
+	/// A kernel request: header bytes 0x04..0x17 (index 0) and tx data.
+	void request(std::uint64_t ns, const RawRequest &req) noexcept;
+	/// A kernel response: status, header bytes 0x04..0x17 and rx data.
+	void response(std::uint64_t ns, const RawResult &res, std::span<const std::uint8_t> rx) noexcept;
+
+	/// Flushes and closes; throws ecmxf::Error when any write failed.
+	void close();
+	[[nodiscard]] const std::string &path() const noexcept { return path_; }
+
+private:
+	void line(std::uint64_t ns, const char *tag, std::span<const std::uint8_t> a,
+		  std::span<const std::uint8_t> b) noexcept;
+	void put(const char *s, std::size_t n) noexcept;
+
+	std::string path_;
+	std::FILE *f_ = nullptr;
+	int err_ = 0; ///< first write error (errno), 0: none
+};
+
+} // namespace detail
+
+/// What lib/trace/trace.cpp needs of a Device (friend of Device; the functions
+/// are defined in lib/device/device.cpp, where Device::Impl is complete).
+class TraceAccess
+{
+public:
+	/// The device's trace slot (null: not tracing).
+	static std::unique_ptr<detail::TraceWriter> &slot(Device &d) noexcept;
+	static const std::unique_ptr<detail::TraceWriter> &slot(const Device &d) noexcept;
+	/// Records the device's current packet format in @p w (byte
+	/// transports) or says that the kernel runs the protocol.
+	static void writeFormat(Device &d, detail::TraceWriter &w) noexcept;
+};
+
+} // namespace ecmxf
