@@ -14,6 +14,12 @@
  *   ecmxf-pump.c      the PDO pump (ecmxf-ring.h, lib/core/ecmxf-pump.c)
  *   ecmxf-sysfs.c     attributes of the class device
  *   ecmxf-netlink.c   generic netlink family: events, counters
+ *                     (ecmxf-netlink.h)
+ *
+ * The units depend one way: the file operations, sysfs and netlink on the
+ * worker (netlink through &struct ecmxf_watch_ops and a queue client, as
+ * a file does), the worker on the rings and the pump, all of them on the
+ * protocol core (lib/core).
  *
  * Copyright (C) 2026 The ecmxf authors
  */
@@ -38,6 +44,7 @@
 #include "ecmxf-proto.h"
 #include "ecmxf-events.h"
 #include "ecmxf-ring.h"
+#include "ecmxf-netlink.h"
 
 #define ECMXF_DRV_NAME		"ecmxf"
 /* minors (and so chips) the module can serve */
@@ -69,11 +76,14 @@
  * @ECMXF_REQ_SYNC: %ECMXF_IOC_CMD; the ioctl sleeps on &ecmxf_req.done
  * @ECMXF_REQ_SUBMIT: %ECMXF_IOC_SUBMIT; completion read() from the client
  * @ECMXF_REQ_RESET: %ECMXF_IOC_RESET; handled by the worker itself
+ * @ECMXF_REQ_KERNEL: a client inside the module (the netlink unit's AL
+ *	status query); &ecmxf_req.complete is called when it ends
  */
 enum ecmxf_req_kind {
 	ECMXF_REQ_SYNC,
 	ECMXF_REQ_SUBMIT,
 	ECMXF_REQ_RESET,
+	ECMXF_REQ_KERNEL,
 };
 
 /**
@@ -103,6 +113,9 @@ enum ecmxf_req_state {
  * @reset_flags: %ECMXF_REQ_RESET: %ECMXF_RESET_F_* value
  * @reset_param: %ECMXF_REQ_RESET: %ECMXF_RESET_ASYNC_* bits
  * @done: completed when @state becomes %ECMXF_RS_DONE (sync and reset)
+ * @complete: %ECMXF_REQ_KERNEL: called by the worker when @state becomes
+ *	%ECMXF_RS_DONE, with &ecmxf_dev.lock held; the request stays its
+ *	owner's (it may queue it again)
  * @x: the engine's view of the command, and its result
  * @tx: data section bytes to send (%ECMXF_DATA_MAX)
  * @rx: response data (%ECMXF_DATA_MAX)
@@ -121,13 +134,15 @@ struct ecmxf_req {
 	u32 reset_flags;
 	u32 reset_param;
 	struct completion done;
+	void (*complete)(struct ecmxf_dev *edev, struct ecmxf_req *req);
 	struct ecmxf_xfer x;
 	u8 tx[ECMXF_DATA_MAX];
 	u8 rx[ECMXF_DATA_MAX];
 };
 
 /**
- * struct ecmxf_client - one open file of /dev/ecmxfN
+ * struct ecmxf_client - one open file of /dev/ecmxfN, or a client inside
+ *	the module (the netlink unit's AL status query)
  * @edev: the device
  * @node: in &ecmxf_dev.clients, whose order is the round-robin order
  * @queue: requests not yet taken by the worker, in submission order
@@ -147,128 +162,6 @@ struct ecmxf_client {
 	unsigned int in_flight;
 	wait_queue_head_t wq;
 	bool writable;
-};
-
-/* slaves whose AL status codes one state event can carry */
-#define ECMXF_NL_MAX_SLAVES	64
-/* events that wait in &ecmxf_nl_dev.queue to be sent */
-#define ECMXF_NL_QUEUE		32
-/* event types (&enum ecmxf_nl_event values) with a rate limit each */
-#define ECMXF_NL_TYPES		16
-/* the counters a %ECMXF_NL_EV_PDO_LOSS event names (&enum ecmxf_nl_loss) */
-#define ECMXF_NL_LOSS_KINDS	7
-/* how often the worker looks at them */
-#define ECMXF_NL_LOSS_PERIOD_NS	(10 * NSEC_PER_MSEC)
-
-/**
- * struct ecmxf_nl_ev - one event on its way to the "events" group
- * @d: what the detector (or the worker) saw
- * @reset_reason: %ECMXF_NL_EV_RESET: &enum ecmxf_nl_reset_reason
- * @action: %ECMXF_NL_EV_DEVICE: &enum ecmxf_nl_device_action
- * @cmd_code: %ECMXF_NL_EV_ASYNC_ERROR: the command code
- * @status: %ECMXF_NL_EV_ASYNC_ERROR: its negative errno
- * @slaves: %ECMXF_NL_EV_STATE: the AL status query ran (for this event)
- * @incomplete: the query could not read every slave
- * @slave_count: slaves on the bus, from the query
- * @n_slaves: entries of &ecmxf_nl_dev.slaves that belong to the event
- * @total: %ECMXF_NL_EV_PDO_LOSS: the counter since probe (the kind is in
- *	@d.fifo, the increase in @d.increase)
- */
-struct ecmxf_nl_ev {
-	struct ecmxf_det_event d;
-	u8 reset_reason;
-	u8 action;
-	u8 cmd_code;
-	s32 status;
-	bool slaves;
-	bool incomplete;
-	u16 slave_count;
-	u16 n_slaves;
-	u64 total;
-};
-
-/**
- * struct ecmxf_nl_slave - a slave not in OP, for a state event
- * @pos: position on the bus
- * @state: ECAT_STATE_GET return value
- * @have_al: @al is valid (the slave answered SLV_INFO_GET 7)
- * @al: AL status code
- */
-struct ecmxf_nl_slave {
-	u16 pos;
-	u8 state;
-	bool have_al;
-	u16 al;
-};
-
-/**
- * struct ecmxf_nl_rate - rate limit of one event type (a token bucket)
- * @tokens: events that may be sent now
- * @last_ns: when the bucket was last refilled
- * @suppressed: events not sent since the last one sent
- */
-struct ecmxf_nl_rate {
-	u32 tokens;
-	u64 last_ns;
-	u32 suppressed;
-};
-
-/**
- * struct ecmxf_nl_dev - per-device state of the events (ecmxf-netlink.c)
- * @det: the header event detector of the protocol core
- * @active: the worker runs: headers are fed, events are sent
- * @warm_sent: a WARM_RESET went out; the next reset seen is its result
- * @seq: number of the next event (sent or suppressed)
- * @next_poll_ns: next INFO_UPDATE poll while someone listens
- * @queue: events detected, not yet sent
- * @queued: entries in @queue
- * @rate: rate limit per event type
- * @q_state: AL status query: 0 idle, else the step running
- * @q_pos: slave position the query is at
- * @q_skipped: times a user command went before the query
- * @q_gen: number of the query (an answer of an older one is dropped)
- * @q_ev: the state event that waits for the query
- * @ix_busy: @ix is in the engine
- * @ix_err: error status before @ix was sent
- * @ix_gen: @q_gen when @ix was sent
- * @ix: the query's command
- * @ix_rx: its response data
- * @slaves: slaves read by the query
- * @loss_seen: the cyclic path's counters as the last %ECMXF_NL_EV_PDO_LOSS
- *	events reported them (&enum ecmxf_nl_loss order)
- * @next_loss_ns: when the worker looks at those counters again
- * @events: events detected (atomic: read by the counters command)
- * @events_suppressed: events not sent because of the rate limit
- * @events_failed: events that could not be sent
- *
- * Everything but the three counters belongs to the worker (and to probe
- * before the worker runs); the counters are atomics.
- */
-struct ecmxf_nl_dev {
-	struct ecmxf_det det;
-	bool active;
-	bool warm_sent;
-	u32 seq;
-	u64 next_poll_ns;
-	struct ecmxf_nl_ev queue[ECMXF_NL_QUEUE];
-	unsigned int queued;
-	struct ecmxf_nl_rate rate[ECMXF_NL_TYPES];
-	u8 q_state;
-	u16 q_pos;
-	unsigned int q_skipped;
-	u32 q_gen;
-	struct ecmxf_nl_ev q_ev;
-	bool ix_busy;
-	u8 ix_err;
-	u32 ix_gen;
-	struct ecmxf_xfer ix;
-	u8 ix_rx[16];
-	struct ecmxf_nl_slave slaves[ECMXF_NL_MAX_SLAVES];
-	u64 loss_seen[ECMXF_NL_LOSS_KINDS];
-	u64 next_loss_ns;
-	atomic64_t events;
-	atomic64_t events_suppressed;
-	atomic64_t events_failed;
 };
 
 /**
@@ -358,7 +251,8 @@ struct ecmxf_nl_dev {
  * @tx_fifo_overruns: &struct ecmxf_counters.tx_fifo_overruns
  * @out_ring_skipped: output frames the pump skipped (sysfs ring_skipped)
  * @pump_failures: pump commands that failed (sysfs ring_failures)
- * @nl: generic netlink events (worker only, see &struct ecmxf_nl_dev)
+ * @nl: generic netlink events (ecmxf-netlink.c; worker only, see
+ *	&struct ecmxf_nl_dev)
  */
 struct ecmxf_dev {
 	struct spi_device *spi;
@@ -449,38 +343,54 @@ int ecmxf_spi_register(void);
 void ecmxf_spi_unregister(void);
 void ecmxf_irq_unmask(struct ecmxf_dev *edev, int irq, atomic_t *masked);
 
+/**
+ * struct ecmxf_watch_ops - what the link worker reports to its watcher
+ * @start: the worker starts (the link is up); called by the worker
+ * @stop: the worker ends; nothing is in the engine any more
+ * @flush: the worker holds no lock: a moment to send what was found
+ * @header: a valid response header arrived (at @now_ns); the engine's
+ *	last header is it
+ * @req_sent: a file's command goes to the engine
+ * @req_done: a file's command finished (&ecmxf_dev.lock held)
+ * @link_reset: the worker resynchronised the link (%ECMXF_RESET_F_LINK)
+ * @poll_due: the worker is idle: should it refresh the header now?
+ * @wake_at: the worker is idle: when it must look again (U64_MAX: only
+ *	when kicked)
+ *
+ * The netlink unit (ecmxf-netlink.c) registers these (every one set) with
+ * ecmxf_worker_watch(), so that the worker
+ * calls no netlink function by name: netlink depends on the worker, not
+ * the other way round.  Every callback runs in the worker thread.
+ */
+struct ecmxf_watch_ops {
+	void (*start)(struct ecmxf_dev *edev);
+	void (*stop)(struct ecmxf_dev *edev);
+	void (*flush)(struct ecmxf_dev *edev);
+	void (*header)(struct ecmxf_dev *edev, u64 now_ns);
+	void (*req_sent)(struct ecmxf_dev *edev, const struct ecmxf_xfer *x);
+	void (*req_done)(struct ecmxf_dev *edev, const struct ecmxf_xfer *x);
+	void (*link_reset)(struct ecmxf_dev *edev);
+	bool (*poll_due)(struct ecmxf_dev *edev, u64 now_ns);
+	u64 (*wake_at)(struct ecmxf_dev *edev, u64 now_ns);
+};
+
 /* ecmxf-worker.c */
 int ecmxf_link_bringup(struct ecmxf_dev *edev);
 int ecmxf_worker_start(struct ecmxf_dev *edev);
 void ecmxf_worker_stop(struct ecmxf_dev *edev);
 void ecmxf_worker_kick(struct ecmxf_dev *edev);
+void ecmxf_worker_watch(const struct ecmxf_watch_ops *ops);
 void ecmxf_wake_owner(struct ecmxf_dev *edev);
 void ecmxf_req_finish(struct ecmxf_dev *edev, struct ecmxf_req *req,
 		      int status);
 void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k);
+const char *ecmxf_check_name(unsigned int check);
 
 /* ecmxf-chrdev.c */
 extern const struct file_operations ecmxf_fops;
 void ecmxf_chrdev_fail_all(struct ecmxf_dev *edev, int status);
 
-/* ecmxf-netlink.c */
-int ecmxf_nl_register(void);
-void ecmxf_nl_unregister(void);
-void ecmxf_nl_start(struct ecmxf_dev *edev);
-void ecmxf_nl_stop(struct ecmxf_dev *edev);
-void ecmxf_nl_header(struct ecmxf_dev *edev, u64 now_ns);
-void ecmxf_nl_req_sent(struct ecmxf_dev *edev, const struct ecmxf_xfer *x);
-void ecmxf_nl_req_done(struct ecmxf_dev *edev, const struct ecmxf_xfer *x);
-void ecmxf_nl_link_reset(struct ecmxf_dev *edev);
-void ecmxf_nl_flush(struct ecmxf_dev *edev);
-bool ecmxf_nl_query_first(struct ecmxf_dev *edev, bool picked);
-bool ecmxf_nl_query_submit(struct ecmxf_dev *edev);
-void ecmxf_nl_collect(struct ecmxf_dev *edev);
-bool ecmxf_nl_poll_due(struct ecmxf_dev *edev, u64 now_ns);
-u64 ecmxf_nl_wake_at(struct ecmxf_dev *edev, u64 now_ns);
-
 /* ecmxf-sysfs.c */
 extern const struct attribute_group *ecmxf_groups[];
-const char *ecmxf_check_name(unsigned int check);
 
 #endif /* ECMXF_H */
