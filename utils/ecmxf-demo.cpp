@@ -38,7 +38,7 @@
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sim/slaves.hpp>
-#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/bus/types_bus.hpp>
 
 namespace {
@@ -87,7 +87,7 @@ std::string lights(std::uint8_t v)
 
 struct Demo {
 	bool fast = false;
-	ecmxf::SimTransport *sim = nullptr;
+	ecmxf::SimChannel *sim = nullptr;
 	std::unique_ptr<ecmxf::Device> dev;
 	unsigned sdoCount = 0;
 	std::vector<std::string> failures;
@@ -102,7 +102,7 @@ struct Demo {
 int run(Demo &d)
 {
 	const auto wall0 = std::chrono::steady_clock::now();
-	auto transport = std::make_unique<ecmxf::SimTransport>(); // the default network
+	auto transport = std::make_unique<ecmxf::SimChannel>(); // the default network
 	d.sim = transport.get();
 	d.dev = std::make_unique<ecmxf::Device>(std::move(transport));
 	ecmxf::Device &dev = *d.dev;

@@ -28,7 +28,7 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/pdo/process_image.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/link.hpp>
 
 namespace ecmxf_util {
 
@@ -175,7 +175,7 @@ struct Rig {
 	std::unique_ptr<ecmxf::Cyclic> cyc;
 	std::unique_ptr<ecmxf::Cia402Axis> axis;
 
-	nanoseconds now() const { return dev->transport().now(); }
+	nanoseconds now() const { return dev->link().now(); }
 	void run(nanoseconds timeout, std::string_view what)
 	{
 		ecmxf::Cia402Axis *a = axis.get();

@@ -13,7 +13,7 @@
 #include <ecmxf/cia402/cia402.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/link.hpp>
 
 namespace ecmxf_util {
 
@@ -140,7 +140,7 @@ int cmdCia402(Globals &g, const Args &args)
 	if (!(faultResetOnly && initial != ecmxf::Cia402State::Fault &&
 	      initial != ecmxf::Cia402State::FaultReactionActive)) {
 		ecmxf::Cia402Stepper stepper(position);
-		ecmxf::Transport &t = d.transport();
+		ecmxf::Link &t = d.link();
 		stepper.request(*target, t.now());
 		// the caller's bits (modes, halt): as the drive has them now
 		const std::uint16_t keep = static_cast<std::uint16_t>(

@@ -14,8 +14,6 @@
 #include "ecmxf-util-monitor.hpp"
 #include "ecmxf-util.hpp"
 
-#include <sys/stat.h>
-#include <sys/sysmacros.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -32,8 +30,8 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/events/events.hpp>
 #include <ecmxf/protocol.hpp>
-#include <ecmxf/link/sim_transport.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
+#include <ecmxf/link/link.hpp>
 #include <ecmxf/bus/types_bus.hpp>
 
 namespace ecmxf_util {
@@ -529,10 +527,10 @@ void bringUp(ecmxf::Device &dev)
 
 void runSimAction(ecmxf::Device &dev, const SimAction &a)
 {
-	auto *sim = dynamic_cast<ecmxf::SimTransport *>(&dev.transport());
+	ecmxf::sim::Chip *sim = dev.link().simulator();
 	if (!sim)
 		throw UsageError("monitor: --sim-at needs a sim: device");
-	ecmxf::sim::FaultPlan &f = sim->chip().faults();
+	ecmxf::sim::FaultPlan &f = sim->faults();
 	if (a.action == "op")
 		bringUp(dev);
 	else if (a.action == "drop")
@@ -595,15 +593,6 @@ void print(const Globals &g, std::chrono::nanoseconds t, const monitor::Event &e
 		std::printf("%10.3f ms  %s\n", ms, e.text.c_str());
 	}
 	std::fflush(stdout);
-}
-
-/// /dev/ecmxfN (a character device): its minor, for the netlink path.
-std::optional<std::uint32_t> kernelMinor(const std::string &uri)
-{
-	struct stat st {};
-	if (uri.rfind("/dev/", 0) != 0 || ::stat(uri.c_str(), &st) != 0 || !S_ISCHR(st.st_mode))
-		return std::nullopt;
-	return static_cast<std::uint32_t>(minor(st.st_rdev));
 }
 
 std::chrono::nanoseconds monotonicNow()
@@ -696,7 +685,10 @@ int cmdMonitor(Globals &g, const Args &args)
 					 "' (try 'ecmxf-util monitor --help')");
 	}
 
-	const std::optional<std::uint32_t> kminor = kernelMinor(g.device);
+	// the kernel's device reports its events over netlink; other links are
+	// polled and their headers run through the detector
+	const std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open(g.device);
+	const std::optional<std::uint32_t> kminor = dev->link().kernelMinor();
 	if (kminor) {
 		const char *polledOnly = intervalMs ? "--interval"
 					 : txHigh   ? "--tx-high"
@@ -722,10 +714,9 @@ int cmdMonitor(Globals &g, const Args &args)
 	if (rxLow)
 		th.rxLow = *rxLow;
 	const auto interval = std::chrono::milliseconds(intervalMs.value_or(10));
-	const std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open(g.device);
-	if (!actions.empty() && !dynamic_cast<ecmxf::SimTransport *>(&dev->transport()))
+	if (!actions.empty() && !dev->link().simulator())
 		throw UsageError("monitor: --sim-at needs a sim: device");
-	ecmxf::Transport &tr = dev->transport();
+	ecmxf::Link &tr = dev->link();
 	installSignals();
 
 	const std::chrono::nanoseconds t0 = tr.now();

@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: MIT
 /**
  * @file device.hpp
- * @brief One ECM-XF chip: the protocol engine over a Transport, with a
- *        synchronous raw command call.
+ * @brief One ECM-XF chip over a Link, with the synchronous raw command
+ *        call that every typed call goes through.
  *
- * A Device owns its Transport and one instance of the protocol core's
- * exchange engine (Documentation/protocol-core.rst). command() sends one
- * command and returns its answer, or for an async command waits for its
- * completion; failures are thrown as ecmxf::Error with a message in the
- * field's words.
+ * A Device owns its Link (include/ecmxf/link/link.hpp): the protocol
+ * core's engine over a byte channel, or the kernel module's /dev/ecmxfN.
+ * command() sends one command and returns its answer, or for an async
+ * command waits for its completion; failures are thrown as ecmxf::Error
+ * with a message in the field's words, the same whatever the link.
  *
  * Thread safety: a Device is not thread-safe; one thread at a time calls
  * it.
@@ -28,6 +28,7 @@
 #include <vector>
 
 #include <ecmxf/export.hpp>
+#include <ecmxf/link/link.hpp>
 #include <ecmxf/bus/types_bus.hpp>
 #include <ecmxf/chip/types_chip.hpp>
 #include <ecmxf/cia402/types_cia402.hpp>
@@ -35,7 +36,7 @@
 
 namespace ecmxf {
 
-class Transport; // include <ecmxf/link/transport.hpp> to use it
+class ByteChannel; // <ecmxf/link/byte_channel.hpp>
 
 /// One command as the host sends it (command header fields and data).
 struct Command {
@@ -57,24 +58,6 @@ struct Command {
 	std::chrono::microseconds timeout{ 0 };
 };
 
-/// The fields of a response header (chip to host).
-struct ResponseHeader {
-	std::uint8_t crcErrCnt = 0;   ///< SPI CRC error count (0x04)
-	std::uint8_t wkcErrCnt = 0;   ///< WKC error count (0x05)
-	std::uint8_t txFifoCnt = 0;   ///< TxPDOs in the chip's TxFIFO not yet read (0x06)
-	std::uint8_t rxFifoCnt = 0;   ///< RxPDOs in the chip's RxFIFO not yet sent (0x07)
-	std::uint8_t ecatState = 0;   ///< EtherCAT state (0x08): 1 INIT, 2 PRE-OP, 4 SAFE-OP, 8 OP, 0x10 ERROR
-	std::uint8_t errStatus = 0;   ///< error status (0x09): bit 3 async error, bit 7 command error...
-	std::uint8_t ecmStatus = 0;   ///< ECM status (0x0A): bits 1-0 check type, bit 7 busy...
-	std::uint8_t index = 0;       ///< index of the command answered (0x0B)
-	std::uint8_t code = 0;        ///< command code answered (0x0C)
-	std::uint8_t ret = 0;         ///< return value (0x0D)
-	std::uint16_t len = 0;        ///< valid data length (0x0E)
-	std::uint32_t intFlags = 0;   ///< interrupt flags (0x10)
-	std::array<std::uint8_t, 2> gpioIntFlag{}; ///< GPIO interrupt flags low/high (0x14, 0x15)
-	std::array<std::uint8_t, 2> gpioIn{};      ///< GPIO inputs low/high (0x16, 0x17)
-};
-
 /// The answer to a command.
 struct Response {
 	/// The answering header; for an async command, the header in which
@@ -87,7 +70,7 @@ struct Response {
 	std::uint8_t ret = 0;
 };
 
-/// One ECM-XF chip behind a Transport.
+/// One ECM-XF chip behind a Link.
 class ECMXF_EXPORT Device
 {
 public:
@@ -96,17 +79,23 @@ public:
 	///    (virtual time);
 	///  - "sim:<network file>" an in-process simulated chip with the
 	///    network in that file (Documentation/simulator.rst);
-	///  - "/dev/ecmxfN" the kernel module's device (KernelTransport);
+	///  - "/dev/ecmxfN" the kernel module's device (KernelLink);
+	///  - "unix:PATH" an `ecmxf-sim --socket PATH` server (UnixChannel):
+	///    the simulated chip keeps its state between opens;
 	///  - "spidev:/dev/spidevB.C?int0=<chip>:<line>&int1=<chip>:<line>
-	///    &speed=<Hz>&mode=<0..3>" spidev + libgpiod (SpidevTransport).
+	///    &speed=<Hz>&mode=<0..3>" spidev + libgpiod (SpidevChannel).
 	/// Any of them may add the option trace=<file> (startTrace()).
 	/// Throws ecmxf::Error: EINVAL for a bad URI (naming the bad part),
 	/// the system's errno when the device cannot be opened.
 	[[nodiscard]] static std::unique_ptr<Device> open(std::string_view uri);
 
-	/// A device over @p transport, which it owns. The chip is assumed to
-	/// be in its power-on format (112-byte data section, fixed check word).
-	explicit Device(std::unique_ptr<Transport> transport);
+	/// A device over @p link, which it owns. Throws ecmxf::Error (EINVAL)
+	/// for a null link.
+	explicit Device(std::unique_ptr<Link> link);
+	/// A device over an EngineLink over @p channel, which it owns. The chip
+	/// is assumed to be in its power-on format (112-byte data section,
+	/// fixed check word).
+	explicit Device(std::unique_ptr<ByteChannel> channel);
 	~Device();
 	Device(const Device &) = delete;
 	Device &operator=(const Device &) = delete;
@@ -114,7 +103,7 @@ public:
 	/// Sends @p c and waits for its answer; for an async command (e.g.
 	/// ECAT_INIT_OP, ECAT_STATE_SET, ECAT_SDO_REQ) also for its completion
 	/// (the chip's busy bit clearing). Blocks the calling thread (real
-	/// transports) or advances virtual time (simulator) for at most the
+	/// links) or advances virtual time (simulator) for at most the
 	/// command's timeout plus one exchange. Throws ecmxf::Error when the
 	/// command fails; nothing is left in flight afterwards.
 	Response command(const Command &c);
@@ -124,7 +113,7 @@ public:
 	/// waiting only for INT0 "ready": no fixed sleeps, the completion is
 	/// seen one exchange after the chip reports it. A positive interval
 	/// trades that latency for fewer SPI exchanges while the chip works
-	/// (e.g. during the seconds of ECAT_INIT_OP). Byte transports only;
+	/// (e.g. during the seconds of ECAT_INIT_OP). Engine links only;
 	/// the kernel module polls on its own.
 	void setAsyncPollInterval(std::chrono::nanoseconds interval) noexcept;
 	[[nodiscard]] std::chrono::nanoseconds asyncPollInterval() const noexcept;
@@ -165,8 +154,8 @@ public:
 	/// Tells the library's engine the packet format the chip speaks now,
 	/// without an exchange: for a chip that another driver (e.g. ecmxf.ko,
 	/// which sets CRC-32 at probe) reconfigured and did not reset. The
-	/// spidev URI options size= and check= call it. Byte transports only:
-	/// EOPNOTSUPP over a command transport (its far side tracks the
+	/// spidev URI options size= and check= call it. Engine links only:
+	/// EOPNOTSUPP over the kernel link (its far side tracks the
 	/// format); EINVAL for a size outside 32..1408.
 	void assumeFormat(std::uint16_t dataSize, CheckType check);
 	/// SPI_PACK_SIZE_GET (20): the data section size the chip reports.
@@ -488,7 +477,7 @@ public:
 	/// empty @p rx drops the data) and its header to @p header. Returns 0, or the positive errno value that
 	/// command() would have thrown (ETIMEDOUT, EBADMSG, EPROTO, EIO, EBUSY,
 	/// EREMOTEIO, ECONNRESET, EMSGSIZE, ECANCELED; EIO also when the
-	/// transport threw). A command error (error status bit 7) is not a
+	/// link failed). A command error (error status bit 7) is not a
 	/// failure here: look at header.errStatus.
 	int transact(const RawCommand &c, std::span<const std::uint8_t> payload, std::span<std::uint8_t> rx,
 		     ResponseHeader &header) noexcept;
@@ -521,7 +510,7 @@ public:
 	[[nodiscard]] Chip402Flags chip402Control(unsigned motor);
 	/// 402_GET_STATUSWORD: the motor's statusword as the chip last read it.
 	[[nodiscard]] std::uint16_t chip402Statusword(unsigned motor);
-	/// Polls 402_STATE_GET (every @p poll on the transport's clock) until
+	/// Polls 402_STATE_GET (every @p poll on the link's clock) until
 	/// @p motor is in @p target; throws ecmxf::Error (ETIMEDOUT) naming
 	/// the awaited state, the state the motor stays in and its statusword
 	/// after @p timeout.
@@ -532,9 +521,9 @@ public:
 	// ==== packet trace (lib/trace/trace.cpp)
 	/// Starts recording every exchange to the file @p path (created or
 	/// truncated), in the text format of Documentation/trace.rst
-	/// (include/ecmxf/trace/trace.hpp decodes it): for byte transports each
-	/// MOSI/MISO packet with the transport's clock, for the kernel
-	/// transport each command's request and response. Replaces a trace
+	/// (include/ecmxf/trace/trace.hpp decodes it): over an engine link each
+	/// MOSI/MISO packet with the channel's clock, over the kernel
+	/// link each command's request and response. Replaces a trace
 	/// already running. Throws ecmxf::Error when the file cannot be
 	/// created.
 	void startTrace(std::string_view path);
@@ -551,8 +540,10 @@ public:
 	/// error status, FIFO counts...); all zero before the first one.
 	[[nodiscard]] ResponseHeader lastHeader() const;
 
-	/// The transport this device owns.
-	[[nodiscard]] Transport &transport() noexcept;
+	/// The link this device owns: its clock, its counters and its
+	/// capabilities (include/ecmxf/link/link.hpp).
+	[[nodiscard]] Link &link() noexcept;
+	[[nodiscard]] const Link &link() const noexcept;
 
 private:
 	class Impl;

@@ -22,7 +22,7 @@
 
 #include <ecmxf/export.hpp>
 #include <ecmxf/protocol.hpp>
-#include <ecmxf/link/spidev_transport.hpp>
+#include <ecmxf/link/spidev_channel.hpp>
 
 namespace ecmxf {
 

@@ -13,7 +13,7 @@
 
 #include <ecmxf/cia402/cia402.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/link.hpp>
 
 #include "ecmxf-proto.h"
 
@@ -186,7 +186,7 @@ Cia402State Device::chip402AwaitState(unsigned motor, Cia402State target, std::c
 {
 	const char *name = "402_STATE_GET";
 	checkMotor(name, motor);
-	Transport &t = transport();
+	Link &t = link();
 	const auto start = t.now();
 	for (;;) {
 		const Chip402State s = chip402State(motor);

@@ -12,7 +12,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/link.hpp>
 #include <ecmxf/protocol.hpp>
 #include <ecmxf/bus/status.hpp>
 
@@ -401,25 +401,17 @@ void Device::resetAsyncCommand(std::uint8_t actions)
 		invalid("ASYNCCMD_RESET", "actions " + hex(actions, 2) +
 						  " are out of range (bit 0 clear busy, bit 1 skip link wait, bit 2 "
 						  "abandon the command: 0x01..0x07)");
-	// the kernel module sends ASYNCCMD_RESET only through ECMXF_IOC_RESET
-	// (ECMXF_IOC_CMD refuses code 75 with EINVAL; driver.rst)
-	if (auto *k = dynamic_cast<KernelTransport *>(&transport())) {
-		k->reset(KernelReset::AsyncCmd, actions);
-		return;
-	}
-	immediate(*this, simple(ECMXF_CMD_ASYNCCMD_RESET, actions));
+	// a link capability: the kernel module sends ASYNCCMD_RESET only
+	// through ECMXF_IOC_RESET (ECMXF_IOC_CMD refuses code 75; driver.rst)
+	link().reset(LinkReset::AsyncCmd, actions);
 }
 
 void Device::warmReset()
 {
-	// the kernel module sends WARM_RESET only through ECMXF_IOC_RESET (its
-	// engine follows to the power-on format)
-	if (auto *k = dynamic_cast<KernelTransport *>(&transport())) {
-		k->reset(KernelReset::Warm);
-		return;
-	}
-	// the engine switches to the power-on format and waits for the NOP
-	async(*this, simple(ECMXF_CMD_WARM_RESET), {}, {});
+	// a link capability: the kernel module sends WARM_RESET only through
+	// ECMXF_IOC_RESET; an engine link runs it and follows to the power-on
+	// format
+	link().reset(LinkReset::Warm);
 }
 
 // ===========================================================================

@@ -6,7 +6,7 @@
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/link.hpp>
 
 #include <algorithm>
 #include <cerrno>
@@ -323,7 +323,7 @@ void Cia402Axis::update() noexcept
 {
 	nanoseconds now{ 0 };
 	try {
-		now = dev_.transport().now();
+		now = dev_.link().now();
 	} catch (...) {
 		now = since_;
 	}
@@ -622,7 +622,7 @@ std::uint64_t runUntil(Cyclic &cyclic, std::span<Cia402Axis *const> axes, const 
 		}
 		// the transport's clock; without an axis, the cycles' schedule
 		const nanoseconds now =
-			dev ? dev->transport().now() : cyclic.config().period * static_cast<std::int64_t>(cycles);
+			dev ? dev->link().now() : cyclic.config().period * static_cast<std::int64_t>(cycles);
 		for (Cia402Axis *a : axes)
 			if (a)
 				a->update(now);

@@ -5,9 +5,10 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/device_uri.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
-#include <ecmxf/link/sim_transport.hpp>
-#include <ecmxf/link/spidev_transport.hpp>
+#include <ecmxf/link/engine_link.hpp>
+#include <ecmxf/link/kernel_link.hpp>
+#include <ecmxf/link/sim_channel.hpp>
+#include <ecmxf/link/spidev_channel.hpp>
 
 #include <cerrno>
 #include <cstdint>
@@ -181,11 +182,11 @@ DeviceUri parseDeviceUri(std::string_view uri)
 std::unique_ptr<Device> Device::open(std::string_view uri)
 {
 	const DeviceUri u = parseDeviceUri(uri);
-	std::unique_ptr<Transport> t;
+	std::unique_ptr<Link> link;
 	switch (u.kind) {
 	case DeviceUri::Kind::Sim:
 		try {
-			t = std::make_unique<SimTransport>(u.path);
+			link = std::make_unique<EngineLink>(std::make_unique<SimChannel>(u.path));
 		} catch (const Error &) {
 			throw;
 		} catch (const std::exception &ex) {
@@ -195,13 +196,13 @@ std::unique_ptr<Device> Device::open(std::string_view uri)
 		}
 		break;
 	case DeviceUri::Kind::Kernel:
-		t = std::make_unique<KernelTransport>(u.path);
+		link = std::make_unique<KernelLink>(u.path);
 		break;
 	case DeviceUri::Kind::Spidev:
-		t = std::make_unique<SpidevTransport>(u.spidev);
+		link = std::make_unique<EngineLink>(std::make_unique<SpidevChannel>(u.spidev));
 		break;
 	}
-	auto dev = std::make_unique<Device>(std::move(t));
+	auto dev = std::make_unique<Device>(std::move(link));
 	if (u.dataSize || u.checkType)
 		dev->assumeFormat(u.dataSize.value_or(static_cast<std::uint16_t>(kDataDefault)),
 				  u.checkType.value_or(CheckType::Fixed));

@@ -51,4 +51,11 @@ std::string durationUs(std::uint64_t us)
 	return buf;
 }
 
+std::string quoted(std::string_view s)
+{
+	std::string q(1, '"');
+	q.append(s).push_back('"');
+	return q;
+}
+
 } // namespace ecmxf::detail

@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: MIT
-// Internal: the words that Device (lib/device/device.cpp) and the command
-// transports (lib/link/transport_command.cpp, lib/link/transport_kernel.cpp) share in
-// their messages, and the one mapping of a wire response header to
-// ecmxf::ResponseHeader.
+// Internal: the words the library's messages share, and the one mapping
+// each way between the wire's headers and RawRequest / ResponseHeader.
 #pragma once
 
-#include <ecmxf/device.hpp>
+#include <ecmxf/link/link.hpp>
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace ecmxf::detail {
 
@@ -20,6 +19,8 @@ std::string hex8(unsigned v);
 std::string bitList(std::uint8_t status);
 /// "10000 ms", or "250 us" for times that are not whole milliseconds.
 std::string durationUs(std::uint64_t us);
+/// @p s in double quotes.
+std::string quoted(std::string_view s);
 
 /// The response header fields of the protocol core's struct ecmxf_rsp_hdr
 /// or the uAPI's struct ecmxf_rsp_header (same field names).
@@ -42,6 +43,25 @@ ResponseHeader headerFrom(const Wire &h) noexcept
 	r.gpioIntFlag = { h.gpio_int_flag[0], h.gpio_int_flag[1] };
 	r.gpioIn = { h.gpio_in[0], h.gpio_in[1] };
 	return r;
+}
+
+/// The command header fields of @p req into the protocol core's struct
+/// ecmxf_cmd_hdr or the uAPI's struct ecmxf_cmd_header (same field names;
+/// the reserved word, named differently, is the caller's).
+template <typename Wire>
+void headerTo(const RawRequest &req, Wire &h) noexcept
+{
+	for (std::size_t i = 0; i < req.data.size(); i++)
+		h.data[i] = req.data[i];
+	h.control = req.control;
+	h.code = req.code;
+	h.param = req.param;
+	h.len = req.len;
+	h.int_clear = req.intClear;
+	h.gpio_int_clear[0] = req.gpioIntClear[0];
+	h.gpio_int_clear[1] = req.gpioIntClear[1];
+	h.gpio_out[0] = req.gpioOut[0];
+	h.gpio_out[1] = req.gpioOut[1];
 }
 
 } // namespace ecmxf::detail

@@ -16,8 +16,10 @@
 #include <cerrno>
 #include <cstring>
 #include <functional>
+#include <memory>
 #include <string>
 
+#include "device/os.hpp"
 #include "uapi/linux/ecmxf_netlink.h"
 
 namespace ecmxf {
@@ -32,7 +34,7 @@ std::size_t bufferSize()
 
 [[noreturn]] void fail(const std::string &what, int err)
 {
-	throw Error("netlink: " + what + ": " + std::strerror(err), err);
+	detail::throwErrno("netlink: " + what, err);
 }
 
 [[noreturn]] void malformed(const std::string &what)
@@ -259,24 +261,23 @@ namespace {
 
 /// A bound NETLINK_GENERIC socket (libmnl) that runs requests.
 struct NlSocket {
-	mnl_socket *nl = nullptr;
+	struct Closer {
+		void operator()(mnl_socket *s) const noexcept { mnl_socket_close(s); }
+	};
+	std::unique_ptr<mnl_socket, Closer> owned;
+	mnl_socket *nl = nullptr; ///< owned.get()
 	unsigned portid = 0;
 	unsigned seq = 0;
 
-	NlSocket()
+	NlSocket() : owned(mnl_socket_open(NETLINK_GENERIC)), nl(owned.get())
 	{
-		nl = mnl_socket_open(NETLINK_GENERIC);
 		if (!nl)
 			fail("socket(NETLINK_GENERIC)", errno);
-		if (mnl_socket_bind(nl, 0, MNL_SOCKET_AUTOPID) < 0) {
-			const int err = errno;
-			mnl_socket_close(nl);
-			fail("bind", err);
-		}
+		if (mnl_socket_bind(nl, 0, MNL_SOCKET_AUTOPID) < 0)
+			fail("bind", errno);
 		portid = mnl_socket_get_portid(nl);
 		seq = static_cast<unsigned>(::time(nullptr));
 	}
-	~NlSocket() { mnl_socket_close(nl); }
 	NlSocket(const NlSocket &) = delete;
 	NlSocket &operator=(const NlSocket &) = delete;
 

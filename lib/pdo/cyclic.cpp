@@ -4,21 +4,16 @@
 //
 // The exchange itself is a strategy (CyclicPath, pdo/cyclic_path.hpp).
 // FifoCommandPath (fifo_command_path.cpp) drives the chip's FIFOs with
-// ECAT_PDO_DATA_FIFO_OP over Device::transact(); RingPath, chosen when the Device's transport is a KernelTransport, moves
+// ECAT_PDO_DATA_FIFO_OP over Device::transact(); RingPath, chosen when the
+// Device's link offers the kernel's PDO rings (a KernelLink), moves
 // the frames through the kernel's mmap()ed PDO rings, whose pump in the
 // kernel sends those commands (Documentation/process-data.rst).
 
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/link.hpp>
 #include <ecmxf/pdo/process_image.hpp>
-#include <ecmxf/link/transport.hpp>
-
-#include <poll.h>
-#include <sys/ioctl.h>
-#include <sys/mman.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -30,6 +25,7 @@
 
 #include "ecmxf-proto.h"
 #include "ecmxf-pump.h"
+#include "link/pdo_rings.hpp"
 #include "pdo/cyclic_path.hpp"
 #include "pdo/pdo_ring.hpp"
 
@@ -114,28 +110,23 @@ std::uint32_t pow2AtLeast(std::uint64_t n) noexcept
 class RingPath final : public CyclicPath
 {
 public:
-	RingPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg, KernelTransport &kt);
+	RingPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg, std::unique_ptr<detail::PdoRings> rings);
 	~RingPath() override;
 
 	void start() override;
 	void stop() override;
 	void exchange(CycleResult &r, bool readWkc) noexcept override;
-	Transport &clock() noexcept override { return dev_.transport(); }
+	Link &clock() noexcept override { return dev_.link(); }
 	[[nodiscard]] bool kernelRings() const noexcept override { return true; }
 	int waitInputs(nanoseconds timeout) noexcept override;
 
 private:
-	void unmap() noexcept;
-	[[noreturn]] void sysFail(const char *call, int err) const;
-
 	Device &dev_;
 	ProcessImage &image_;
 	const CyclicConfig &cfg_;
-	KernelTransport &kt_;
-	void *outMap_ = MAP_FAILED;
-	void *inMap_ = MAP_FAILED;
-	std::size_t outLen_ = 0, inLen_ = 0;
-	detail::PdoRingView out_, in_;
+	/// the claim, the ring memory and the wait (the kernel link's)
+	std::unique_ptr<detail::PdoRings> rings_;
+	detail::PdoRingView &out_, &in_;
 	/// the interrupt enables found by start(), restored by stop()
 	InterruptConfig savedIrq_{};
 	bool irqSaved_ = false;
@@ -144,32 +135,11 @@ private:
 	std::uint32_t pumpFailures_ = 0;
 };
 
-void RingPath::sysFail(const char *call, int err) const
-{
-	std::string m = kt_.name();
-	m.append(": ").append(call).append(" failed: ").append(std::strerror(err));
-	throw Error(m, err);
-}
-
-RingPath::RingPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg, KernelTransport &kt)
-	: dev_(dev), image_(image), cfg_(cfg), kt_(kt)
+RingPath::RingPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg,
+		   std::unique_ptr<detail::PdoRings> rings)
+	: dev_(dev), image_(image), cfg_(cfg), rings_(std::move(rings)), out_(rings_->out()), in_(rings_->in())
 {
 	readChip(dev, image, cfg);
-	if (::ioctl(kt_.fd(), ECMXF_IOC_CLAIM) < 0) {
-		const int err = errno;
-		if (err != EBUSY)
-			sysFail("ECMXF_IOC_CLAIM", err);
-		std::uint32_t pid = 0;
-		try {
-			pid = kt_.devInfo().claimPid;
-		} catch (const Error &) {
-			// the pid is a courtesy; EBUSY is the answer
-		}
-		throw Error(kt_.name() + ": the cyclic path (PDO rings) is claimed by " +
-				    (pid ? "process " + std::to_string(pid) : std::string("another process")) +
-				    " (ECMXF_IOC_CLAIM: EBUSY)",
-			    EBUSY);
-	}
 }
 
 RingPath::~RingPath()
@@ -183,18 +153,6 @@ RingPath::~RingPath()
 			// nothing more to do in a destructor
 		}
 	}
-	unmap();
-	::ioctl(kt_.fd(), ECMXF_IOC_RELEASE);
-}
-
-void RingPath::unmap() noexcept
-{
-	if (outMap_ != MAP_FAILED)
-		::munmap(outMap_, outLen_);
-	if (inMap_ != MAP_FAILED)
-		::munmap(inMap_, inLen_);
-	outMap_ = inMap_ = MAP_FAILED;
-	out_ = in_ = detail::PdoRingView();
 }
 
 void RingPath::start()
@@ -218,22 +176,7 @@ void RingPath::start()
 	const std::int64_t wkcUs = cfg_.wkcEvery ? period / 1000 * static_cast<std::int64_t>(cfg_.wkcEvery) : 0;
 	rs.wkc_us = static_cast<std::uint32_t>(std::clamp<std::int64_t>(wkcUs, cfg_.wkcEvery ? 1 : 0, 10'000'000));
 
-	unmap();
-	if (::ioctl(kt_.fd(), ECMXF_IOC_RING_SETUP, &rs) < 0)
-		sysFail("ECMXF_IOC_RING_SETUP", errno);
-	outMap_ = ::mmap(nullptr, rs.out.mmap_size, PROT_READ | PROT_WRITE, MAP_SHARED, kt_.fd(), ECMXF_RING_OFF_OUT);
-	if (outMap_ == MAP_FAILED)
-		sysFail("mmap of the output ring", errno);
-	outLen_ = rs.out.mmap_size;
-	inMap_ = ::mmap(nullptr, rs.in.mmap_size, PROT_READ | PROT_WRITE, MAP_SHARED, kt_.fd(), ECMXF_RING_OFF_IN);
-	if (inMap_ == MAP_FAILED) {
-		const int err = errno;
-		unmap();
-		sysFail("mmap of the input ring", err);
-	}
-	inLen_ = rs.in.mmap_size;
-	out_ = detail::PdoRingView(outMap_, rs.out);
-	in_ = detail::PdoRingView(inMap_, rs.in);
+	rings_->setup(rs);
 	wkcReads_ = outDropped_ = inDropped_ = txOverflows_ = rxRefusals_ = pumpFailures_ = 0;
 
 	dev_.fifoClear(FifoSelect::Both);
@@ -347,7 +290,7 @@ int RingPath::waitInputs(nanoseconds timeout) noexcept
 		return st.error ? static_cast<int>(st.error) : EIO;
 	};
 	try {
-		Transport &t = clock();
+		Link &t = clock();
 		const nanoseconds deadline = t.now() + std::max(timeout, nanoseconds(0));
 		for (;;) {
 			if (in_.count() > 0)
@@ -357,16 +300,10 @@ int RingPath::waitInputs(nanoseconds timeout) noexcept
 			const nanoseconds left = deadline - t.now();
 			if (left.count() <= 0)
 				return ETIMEDOUT;
-			// the ring was set up with ECMXF_RING_F_POLL_IN: POLLRDBAND
-			// while the input ring holds frames, POLLERR once the pump
-			// stopped (POLLIN is the completions' bit)
-			pollfd p{ kt_.fd(), POLLRDBAND, 0 };
-			timespec ts{ static_cast<time_t>(left.count() / 1'000'000'000),
-				     static_cast<long>(left.count() % 1'000'000'000) };
-			const int n = ::ppoll(&p, 1, &ts, nullptr);
-			if (n < 0 && errno != EINTR)
-				return errno;
-			if (n > 0 && (p.revents & (POLLERR | POLLHUP | POLLNVAL)) && in_.count() == 0)
+			const int w = rings_->wait(left);
+			if (w < 0)
+				return -w;
+			if (w == 1 && in_.count() == 0)
 				return pumpError();
 		}
 	} catch (...) {
@@ -393,9 +330,10 @@ public:
 			throw Error("Cyclic: the bus cycle must not be negative (got " +
 					    std::to_string(cfg.busCycle.count()) + " ns)",
 				    EINVAL);
-		// a kernel transport brings its rings; anything else the commands
-		if (auto *kt = dynamic_cast<KernelTransport *>(&dev.transport()))
-			path = std::make_unique<RingPath>(dev, image, cfg, *kt);
+		// a link with the kernel's rings moves the frames through them;
+		// any other link runs the FIFO commands
+		if (auto rings = dev.link().openPdoRings())
+			path = std::make_unique<RingPath>(dev, image, cfg, std::move(rings));
 		else
 			path = detail::makeFifoCommandPath(dev, image, cfg);
 		last.expectedWkc = path->counts.expectedWkc();
@@ -477,7 +415,7 @@ const CycleResult &Cyclic::cycle() noexcept
 int Cyclic::waitNextCycle() noexcept
 {
 	Impl &m = *impl_;
-	Transport &t = m.path->clock();
+	Link &t = m.path->clock();
 	try {
 		const nanoseconds now = t.now();
 		const std::int64_t period = m.cfg.period.count();

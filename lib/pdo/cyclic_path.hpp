@@ -10,7 +10,7 @@
 #define ECMXF_LIB_PDO_CYCLIC_PATH_HPP
 
 #include <ecmxf/device.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/link.hpp>
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 
@@ -43,7 +43,7 @@ public:
 	/// the previous read). Allocates nothing, throws nothing.
 	virtual void exchange(CycleResult &r, bool readWkc) noexcept = 0;
 	/// The clock the cycle is paced on.
-	virtual Transport &clock() noexcept = 0;
+	virtual Link &clock() noexcept = 0;
 	/// Cyclic::waitInputs() after its checks.
 	virtual int waitInputs(std::chrono::nanoseconds timeout) noexcept = 0;
 	/// The kernel's PDO rings carry the frames.

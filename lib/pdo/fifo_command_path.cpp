@@ -11,7 +11,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/link.hpp>
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 
@@ -126,7 +126,7 @@ public:
 	void start() override;
 	void stop() override;
 	void exchange(CycleResult &r, bool readWkc) noexcept override;
-	Transport &clock() noexcept override { return dev_.transport(); }
+	Link &clock() noexcept override { return dev_.link(); }
 	int waitInputs(nanoseconds timeout) noexcept override;
 
 private:
@@ -231,7 +231,7 @@ int FifoCommandPath::waitInputs(nanoseconds timeout) noexcept
 	// once per bus cycle: a new input frame can only come with one
 	const nanoseconds step = cfg_.busCycle.count() > 0 ? cfg_.busCycle : cfg_.period;
 	try {
-		Transport &t = clock();
+		Link &t = clock();
 		const nanoseconds deadline = t.now() + std::max(timeout, nanoseconds(0));
 		for (;;) {
 			// a FIFO command that moves no frame: its answer's header

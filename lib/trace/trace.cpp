@@ -194,7 +194,7 @@ void TraceWriter::close()
 void Device::startTrace(std::string_view path)
 {
 	auto w = std::make_unique<detail::TraceWriter>(path);
-	TraceAccess::writeFormat(*this, *w);
+	link().attachTrace(w.get()); // the link writes its first record (its format)
 	auto old = std::exchange(TraceAccess::slot(*this), std::move(w));
 	if (old)
 		old->close();
@@ -202,6 +202,7 @@ void Device::startTrace(std::string_view path)
 
 void Device::stopTrace()
 {
+	link().attachTrace(nullptr);
 	auto w = std::exchange(TraceAccess::slot(*this), nullptr);
 	if (w)
 		w->close();

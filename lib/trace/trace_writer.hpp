@@ -12,7 +12,7 @@
 #include <string_view>
 
 #include <ecmxf/device.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/link.hpp>
 
 namespace ecmxf {
 
@@ -66,9 +66,6 @@ public:
 	/// The device's trace slot (null: not tracing).
 	static std::unique_ptr<detail::TraceWriter> &slot(Device &d) noexcept;
 	static const std::unique_ptr<detail::TraceWriter> &slot(const Device &d) noexcept;
-	/// Records the device's current packet format in @p w (byte
-	/// transports) or says that the kernel runs the protocol.
-	static void writeFormat(Device &d, detail::TraceWriter &w) noexcept;
 };
 
 } // namespace ecmxf

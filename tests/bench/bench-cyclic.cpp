@@ -29,8 +29,8 @@
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/pdo/process_image.hpp>
-#include <ecmxf/link/sim_transport.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
+#include <ecmxf/link/link.hpp>
 
 #include "../common/alloc_counter.hpp"
 
@@ -104,8 +104,8 @@ Row run(const std::string &network)
 	constexpr int kCycles = 2000;
 	ecmxf::sim::ChipConfig chip;
 	chip.spiClockHz = 96'000'000; // the chip's maximum
-	auto t = std::make_unique<ecmxf::SimTransport>(network, chip);
-	ecmxf::SimTransport &sim = *t;
+	auto t = std::make_unique<ecmxf::SimChannel>(network, chip);
+	ecmxf::SimChannel &sim = *t;
 	ecmxf::Device dev(std::move(t));
 	bringUp(dev);
 	ecmxf::ProcessImage image(sizes(dev));

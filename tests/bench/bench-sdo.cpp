@@ -30,7 +30,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/bus/types_bus.hpp>
 
 #include "ecmxf-proto.h"
@@ -128,40 +128,9 @@ sim::Network network(unsigned us)
 	return sim::Network::fromText(est + est + "slave dio\n", "bench-sdo");
 }
 
-/// A Transport over a sim::Chip it owns (SimTransport takes a file).
-class ChipTransport : public ecmxf::Transport
-{
-public:
-	explicit ChipTransport(sim::Network net) : chip_(std::make_unique<sim::Chip>(std::move(net))) {}
-	void exchange(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso) override
-	{
-		chip_->exchange(mosi, miso);
-	}
-	bool waitReady(std::chrono::nanoseconds timeout) override
-	{
-		const auto end = chip_->now() + timeout;
-		while (!chip_->ready()) {
-			if (chip_->now() >= end)
-				return false;
-			chip_->advance(10us);
-		}
-		return true;
-	}
-	std::chrono::nanoseconds now() const override { return chip_->now(); }
-	void sleepFor(std::chrono::nanoseconds d) override
-	{
-		if (d.count() > 0)
-			chip_->advance(d);
-	}
-	sim::Chip &chip() { return *chip_; }
-
-private:
-	std::unique_ptr<sim::Chip> chip_;
-};
-
 Figures ours(unsigned latencyUs)
 {
-	auto t = std::make_unique<ChipTransport>(network(latencyUs));
+	auto t = std::make_unique<ecmxf::SimChannel>(network(latencyUs));
 	sim::Chip &chip = t->chip();
 	ecmxf::Device dev(std::move(t));
 	dev.initNetwork();

@@ -32,11 +32,11 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/device_uri.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/sim/chip.hpp>
-#include <ecmxf/link/sim_transport.hpp>
-#include <ecmxf/link/spidev_transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
+#include <ecmxf/link/spidev_channel.hpp>
 
 #ifndef ECMXF_TEST_DEFAULT_URI
 #define ECMXF_TEST_DEFAULT_URI "sim:"

@@ -122,13 +122,13 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 	std::vector<ecmxf::Cia402Axis *> both{ &a0, &a1 };
 	// one exchange first: the modes start from positions actually read
 	ecmxf::runUntil(cyc, both, [&] { return cyc.lastResult().inputsUpdated; }, integ::patience(r.u, 5s), "the first inputs");
-	a0.setMode(cia402::kModePp, d.transport().now());
-	a1.setMode(cia402::kModeCsp, d.transport().now());
+	a0.setMode(cia402::kModePp, d.link().now());
+	a1.setMode(cia402::kModeCsp, d.link().now());
 	ecmxf::runUntilDone(cyc, both, integ::patience(r.u, 5s), "the modes");
 	CHECK(a0.modeDisplay() == 1);
 	CHECK(a1.modeDisplay() == 8);
 	for (auto *a : both)
-		a->enable(d.transport().now());
+		a->enable(d.link().now());
 	ecmxf::runUntilDone(cyc, both, integ::patience(r.u, 5s), "OPERATION ENABLED");
 	CHECK(a0.enabled());
 	CHECK(a1.enabled());
@@ -140,7 +140,7 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 	const std::int32_t p0 = a0.position();
 	ecmxf::PpMove pp;
 	pp.velocity = 200000;
-	a0.moveTo(p0 + 20000, pp, d.transport().now());
+	a0.moveTo(p0 + 20000, pp, d.link().now());
 	std::vector<ecmxf::Cia402Axis *> one{ &a0 };
 	ecmxf::runUntilDone(cyc, one, integ::patience(r.u, 10s), "the PP move");
 	CHECK(a0.setPointAcknowledged());
@@ -152,18 +152,18 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 	// guest a host cycle can take tens of ms while the bus runs at 1 ms,
 	// and one step of the target must stay inside the EST-584's following
 	// window (0x6065, 1000 by default)
-	a1.startCsp(d.transport().now());
+	a1.startCsp(d.link().now());
 	const std::array<std::int32_t, 1> from{ a1.position() };
 	const std::array<std::int32_t, 1> to{ from[0] - 2000 };
 	// (over a real transport stretched by patience(): cycles can take
 	// hundreds of ms on a loaded host)
 	const ecmxf::CspTrajectory traj(from, to, std::chrono::duration_cast<std::chrono::nanoseconds>(integ::patience(r.u, 1s)));
 	std::vector<ecmxf::Cia402Axis *> csp{ &a1 };
-	const auto t0 = d.transport().now();
+	const auto t0 = d.link().now();
 	ecmxf::runUntil(
 		cyc, csp,
 		[&] {
-			const auto t = d.transport().now() - t0 + 1ms;
+			const auto t = d.link().now() - t0 + 1ms;
 			traj.apply(csp, t);
 			return traj.finished(t) && a1.position() == to[0];
 		},
@@ -174,7 +174,7 @@ TEST_CASE("CiA-402 host axis: enable, a PP move and a CSP move end where they we
 
 	// and both off again
 	for (auto *a : both)
-		a->disable(d.transport().now());
+		a->disable(d.link().now());
 	ecmxf::runUntilDone(cyc, both, integ::patience(r.u, 5s), "SWITCH ON DISABLED");
 	CHECK(a0.state() == Cia402State::SwitchOnDisabled);
 	CHECK(a1.state() == Cia402State::SwitchOnDisabled);

@@ -88,7 +88,7 @@ TEST_CASE("PDO: the mapping read back, the FIFO set up, the image read and writt
 		in = d.pdoWriteRead(out);
 		if (in.size() == 35 && in[34] == 0x5A)
 			break;
-		d.transport().sleepFor(1ms);
+		d.link().sleepFor(1ms);
 	}
 	REQUIRE(in.size() == 35);
 	CHECK(in[34] == 0x5A);
@@ -102,7 +102,7 @@ TEST_CASE("PDO: the mapping read back, the FIFO set up, the image read and writt
 	CHECK(w.framesRead == 0);
 	ecmxf::PdoFifoResult got;
 	for (int i = 0; i < 200; i++) {
-		d.transport().sleepFor(2ms);
+		d.link().sleepFor(2ms);
 		got = d.pdoFifoExchange({}, 0, true);
 		if (got.framesRead && got.inputs[(got.framesRead - 1) * 35 + 34] == 0xC3)
 			break;
@@ -131,7 +131,7 @@ TEST_CASE("cyclic: a few hundred FIFO cycles, the WKC right, the dio's inputs fo
 	CHECK(cyc.packSizes().txPdoBytes == 35);
 	CHECK(cyc.expectedWkc() == 9);
 	CHECK(cyc.rxFill() == 2);
-	const auto t0 = d.transport().now();
+	const auto t0 = d.link().now();
 	cyc.start();
 
 	// outputs 1, 2, 3... (never 0); every input seen must be an output
@@ -173,7 +173,7 @@ TEST_CASE("cyclic: a few hundred FIFO cycles, the WKC right, the dio's inputs fo
 		(void)cyc.waitNextCycle();
 	}
 	const ecmxf::CyclicStats st = cyc.stats();
-	const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(d.transport().now() - t0).count();
+	const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(d.link().now() - t0).count();
 	cyc.stop();
 	std::printf("note: cyclic: %llu cycles, %llu commands, %lld ms, %llu late, %llu rx refusals, %llu tx "
 		    "overflows\n",

@@ -19,6 +19,7 @@
 #include <string>
 #include <unistd.h>
 
+#include <ecmxf/link/engine_link.hpp>
 #include <ecmxf/trace/trace.hpp>
 
 #include "integration.hpp"
@@ -99,12 +100,15 @@ TEST_CASE("transport: INT0 drove the exchanges (the transport's own counters)", 
 {
 	Rig r;
 	ecmxf::Device &d = r.d();
-	auto *k = dynamic_cast<ecmxf::KernelTransport *>(&d.transport());
-	const ecmxf::KernelCounters before = k ? k->counters() : ecmxf::KernelCounters{};
+	ecmxf::Link &link = d.link();
+	auto *k = dynamic_cast<ecmxf::KernelLink *>(&link);
+	auto *engine = dynamic_cast<ecmxf::EngineLink *>(&link);
+	auto *sp = engine ? dynamic_cast<ecmxf::SpidevChannel *>(&engine->channel()) : nullptr;
+	const ecmxf::LinkCounters before = link.counters();
 	integ::initBus(d); // an async command: the chip is busy for a while
 	for (int i = 0; i < 10; i++)
 		CHECK(d.firmwareVersion().version == 0x30);
-	if (auto *sp = dynamic_cast<ecmxf::SpidevTransport *>(&d.transport())) {
+	if (sp) {
 		// libgpiod edge events on INT0 ended the waits, none timed out
 		const ecmxf::SpidevStats &st = sp->stats();
 		INFO("exchanges " << st.exchanges << ", ready " << st.int0Ready << ", edges " << st.int0Edges
@@ -120,7 +124,7 @@ TEST_CASE("transport: INT0 drove the exchanges (the transport's own counters)", 
 		CHECK(st.int0Ready >= st.exchanges);
 	} else if (k) {
 		// the driver's INT0 interrupt fired and no packet went bad
-		const ecmxf::KernelCounters c = k->counters();
+		const ecmxf::LinkCounters c = link.counters();
 		INFO("exchanges " << c.exchanges - before.exchanges << ", INT0 IRQs " << c.int0Irqs - before.int0Irqs);
 		CHECK(c.exchanges - before.exchanges > 10);
 		// as over spidev: whether INT0 dropped at all (an edge, an
@@ -139,9 +143,15 @@ TEST_CASE("transport: INT0 drove the exchanges (the transport's own counters)", 
 		CHECK(info.fwVersion == 0x30);
 	} else {
 		// the simulator: no exchange started while the chip said busy
-		auto &sim = dynamic_cast<ecmxf::SimTransport &>(d.transport());
-		CHECK(sim.chip().stats().exchanges > 10);
-		CHECK(sim.chip().stats().busyExchanges == 0);
-		CHECK(sim.chip().stats().badPackets == 0);
+		ecmxf::sim::Chip *sim = link.simulator();
+		REQUIRE(sim);
+		CHECK(sim->stats().exchanges > 10);
+		CHECK(sim->stats().busyExchanges == 0);
+		CHECK(sim->stats().badPackets == 0);
+		// the engine's own counts: every exchange, none bad
+		const ecmxf::LinkCounters c = link.counters();
+		CHECK(c.exchanges - before.exchanges == sim->stats().exchanges);
+		CHECK(c.badCheck == 0);
+		CHECK(c.exhausted == 0);
 	}
 }

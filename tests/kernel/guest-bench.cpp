@@ -13,9 +13,9 @@
 //
 // Three paths, each N commands in <blocks> interleaved blocks (after 20
 // unmeasured rounds whenever a path starts again):
-//   A  library Device::transact() over KernelTransport (/dev/ecmxf0)
+//   A  library Device::transact() over KernelLink (/dev/ecmxf0)
 //   B  the bare ECMXF_IOC_CMD ioctl on the same file
-//   C  library Device::transact() over SpidevTransport (INT0 by libgpiod)
+//   C  library Device::transact() over SpidevChannel (INT0 by libgpiod)
 // The SPI device (e.g. spi0.0) is handed from ecmxf to spidev and back
 // between the blocks through sysfs (unbind, driver_override, bind), in the
 // order A B | C, C | B A, A B | C, ... so that every path sees the same
@@ -39,8 +39,9 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
-#include <ecmxf/link/spidev_transport.hpp>
+#include <ecmxf/link/engine_link.hpp>
+#include <ecmxf/link/kernel_link.hpp>
+#include <ecmxf/link/spidev_channel.hpp>
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -261,7 +262,7 @@ bool check(int err, std::uint8_t ret)
 
 struct Kernel {
 	std::unique_ptr<ecmxf::Device> dev;
-	ecmxf::KernelTransport *k = nullptr;
+	ecmxf::KernelLink *k = nullptr;
 	ecmxf::RawCommand c;
 	std::array<std::uint8_t, 1408> rx{};
 	ecmxf::ResponseHeader h;
@@ -270,7 +271,7 @@ struct Kernel {
 	explicit Kernel(const std::string &node = "/dev/ecmxf0")
 	{
 		dev = ecmxf::Device::open(node);
-		k = &dynamic_cast<ecmxf::KernelTransport &>(dev->transport());
+		k = &dynamic_cast<ecmxf::KernelLink &>(dev->link());
 		dev->setMinimumTimeout(kTimeout);
 		c.code = kFwVersionGet;
 		worker = workerPid();
@@ -309,7 +310,7 @@ struct Kernel {
 
 struct Spidev {
 	std::unique_ptr<ecmxf::Device> dev;
-	ecmxf::SpidevTransport *sp = nullptr;
+	ecmxf::SpidevChannel *sp = nullptr;
 	ecmxf::RawCommand c;
 	std::array<std::uint8_t, 1408> rx{};
 	ecmxf::ResponseHeader h;
@@ -317,7 +318,7 @@ struct Spidev {
 	explicit Spidev(const std::string &uri)
 	{
 		dev = ecmxf::Device::open(uri);
-		sp = &dynamic_cast<ecmxf::SpidevTransport &>(dev->transport());
+		sp = &dynamic_cast<ecmxf::SpidevChannel &>(dynamic_cast<ecmxf::EngineLink &>(dev->link()).channel());
 		dev->setMinimumTimeout(kTimeout);
 		c.code = kFwVersionGet;
 	}
@@ -340,9 +341,9 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 	if (ecmxf::ktest::pinToCpu(0, 0) || !bridgePid || ecmxf::ktest::pinToCpu(bridgePid, 1))
 		gPinned = false;
 	const unsigned per = n / blocks ? n / blocks : 1;
-	Path a{ "/dev/ecmxf0 library (KernelTransport)", {}, 0, 0, 0 };
+	Path a{ "/dev/ecmxf0 library (KernelLink)", {}, 0, 0, 0 };
 	Path b{ "/dev/ecmxf0 raw ECMXF_IOC_CMD", {}, 0, 0, 0 };
-	Path c{ "spidev library (SpidevTransport, INT0 by libgpiod)", {}, 0, 0, 0 };
+	Path c{ "spidev library (SpidevChannel, INT0 by libgpiod)", {}, 0, 0, 0 };
 	std::uint64_t kExchanges = 0, kInt0 = 0, kCommands = 0;
 	std::uint64_t sExchanges = 0, sEdges = 0, sTimeouts = 0, sCommands = 0;
 
@@ -367,7 +368,7 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 			});
 			traced("/dev/ecmxf0 raw ECMXF_IOC_CMD", raw);
 		}
-		const ecmxf::KernelCounters c0 = k.k->counters();
+		const ecmxf::LinkCounters c0 = k.k->counters();
 		for (int i = 0; i < 2; i++) {
 			const bool libNow = (i == 0) != reversed;
 			Path &p = libNow ? a : b;
@@ -375,7 +376,7 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 			warmup(p.name, once);
 			block(p, per, once, k.worker);
 		}
-		const ecmxf::KernelCounters c1 = k.k->counters();
+		const ecmxf::LinkCounters c1 = k.k->counters();
 		kExchanges += c1.exchanges - c0.exchanges;
 		kInt0 += c1.int0Irqs - c0.int0Irqs;
 		kCommands += 2 * (kWarmup + per);
@@ -445,7 +446,7 @@ int runKernelOnly(unsigned n, const std::string &node)
 {
 	const unsigned blocks = n >= 10 ? 10 : 1;
 	const unsigned per = n / blocks;
-	Path a{ "/dev/ecmxf0 library (KernelTransport)", {}, 0, 0, 0 };
+	Path a{ "/dev/ecmxf0 library (KernelLink)", {}, 0, 0, 0 };
 	Path b{ "/dev/ecmxf0 raw ECMXF_IOC_CMD", {}, 0, 0, 0 };
 	Kernel k(node);
 	const Once lib = [&] { return k.lib(); };

@@ -10,7 +10,7 @@
 //          (one output frame pushed, the inputs popped) per cycle;
 //       writes the figures to /tmp/ecmxf-cbench-kernel
 //   ecmxf-guest-cyclic-bench spidev <N> <spidev URI>
-//       3. spidev: the library's Cyclic over SpidevTransport (the same
+//       3. spidev: the library's Cyclic over SpidevChannel (the same
 //          FIFO commands, from userspace); prints the ratios
 //
 // Each path: the bus up (2 x EST-584 + digital I/O, 1 ms SYNC0), 100
@@ -24,7 +24,7 @@
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 
@@ -156,7 +156,7 @@ Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *n
 /// pop the inputs), then a sleep to the next 1 ms boundary.
 Figures ioctlPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
 {
-	auto &kt = dynamic_cast<ecmxf::KernelTransport &>(dev.transport());
+	auto &kt = dynamic_cast<ecmxf::KernelLink &>(dev.link());
 	const int fd = kt.fd();
 	dev.pdoWrite(image.outputs());
 	dev.fifoClear(ecmxf::FifoSelect::Both);

@@ -50,7 +50,7 @@
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 
@@ -243,7 +243,7 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 		    cycles, hz, static_cast<long long>(period.count() / 1000), scale);
 
 	auto dev = ecmxf::Device::open(path);
-	auto *kt = dynamic_cast<ecmxf::KernelTransport *>(&dev->transport());
+	auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->link());
 	if (!kt) {
 		ok(false, "the device is opened by the kernel transport");
 		return 1;
@@ -337,7 +337,7 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 	bool backwards0 = false, backwards1 = false, unknownPos = false;
 	std::int32_t prev0 = from[0], prev1 = from[1];
 	const ecmxf::CyclicStats s0 = cyc.stats();
-	const ecmxf::KernelCounters k0 = kt->counters();
+	const ecmxf::LinkCounters k0 = kt->counters();
 	const std::uint64_t skip0 = ringSkipped();
 	const std::uint64_t under0 = bridgeStat("rx-underruns");
 	const std::uint64_t bus0 = bridgeStat("bus-cycles"), txDrop0 = bridgeStat("tx-dropped");
@@ -369,7 +369,7 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 	for (int i = 0; i < 50; i++)
 		step();
 	const ecmxf::CyclicStats s1 = cyc.stats();
-	const ecmxf::KernelCounters k1 = kt->counters();
+	const ecmxf::LinkCounters k1 = kt->counters();
 	const std::uint64_t skip1 = ringSkipped();
 	const std::uint64_t under1 = bridgeStat("rx-underruns");
 	const std::uint64_t bus1 = bridgeStat("bus-cycles"), txDrop1 = bridgeStat("tx-dropped");
@@ -454,11 +454,11 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 	// overflow of the input ring: no cycle() for a while
 	{
 		const ecmxf::CyclicStats before = cyc.stats();
-		const ecmxf::KernelCounters kb = kt->counters();
+		const ecmxf::LinkCounters kb = kt->counters();
 		// 400 bus cycles: more than the input ring and the TxFIFO hold
 		std::this_thread::sleep_for(period * 400);
 		const ecmxf::CycleResult r = cyc.cycle();
-		const ecmxf::KernelCounters ka = kt->counters();
+		const ecmxf::LinkCounters ka = kt->counters();
 		ok(r.txOverflow, "input ring overflow: the next cycle reports lost inputs");
 		ok(ka.inRingOverruns > kb.inRingOverruns, "  kernel in_ring_overruns counted " +
 								  std::to_string(ka.inRingOverruns - kb.inRingOverruns));
@@ -555,7 +555,7 @@ int runLockstep(const std::string &path, unsigned hz, unsigned cycles)
 		    kInFlight);
 
 	auto dev = ecmxf::Device::open(path);
-	auto *kt = dynamic_cast<ecmxf::KernelTransport *>(&dev->transport());
+	auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->link());
 	if (!kt) {
 		ok(false, "the device is opened by the kernel transport");
 		return 1;
@@ -607,7 +607,7 @@ int runLockstep(const std::string &path, unsigned hz, unsigned cycles)
 	const std::uint64_t txDrop0 = bridgeStat("tx-dropped"), waits0 = bridgeStat("bus-waits");
 	const std::uint64_t chipUs0 = bridgeStat("chip-time-us");
 	const std::uint64_t skip0 = ringSkipped();
-	const ecmxf::KernelCounters k0 = kt->counters();
+	const ecmxf::LinkCounters k0 = kt->counters();
 	const auto t0 = kt->now();
 
 	std::uint32_t seq = 0;
@@ -688,7 +688,7 @@ int runLockstep(const std::string &path, unsigned hz, unsigned cycles)
 	const auto t1 = kt->now();
 
 	const ecmxf::CyclicStats &s = cyc.stats();
-	const ecmxf::KernelCounters k1 = kt->counters();
+	const ecmxf::LinkCounters k1 = kt->counters();
 	const std::uint64_t under = bridgeStat("rx-underruns") - under0;
 	const std::uint64_t txDrop = bridgeStat("tx-dropped") - txDrop0;
 	const std::uint64_t waits = bridgeStat("bus-waits") - waits0;

@@ -40,7 +40,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/bus/master.hpp>
 
 #include <fcntl.h>
@@ -357,7 +357,7 @@ void closeWhileMapped(const std::string &path, long base)
 	auto dev = ecmxf::Device::open(path);
 	dev->setMinimumTimeout(2s);
 	bringUp(*dev);
-	auto *kt = dynamic_cast<ecmxf::KernelTransport *>(&dev->transport());
+	auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->link());
 	if (!kt)
 		fatal("the device is not opened by the kernel transport");
 	Rings r = startRings(*dev, kt->fd());
@@ -452,7 +452,7 @@ void unbindUnderLoad(const std::string &path, const std::string &spidev, long ba
 	std::printf("guest-test: info phase 2: unbind %s under load\n", spidev.c_str());
 	auto dev = ecmxf::Device::open(path);
 	dev->setMinimumTimeout(2s);
-	auto *kt = dynamic_cast<ecmxf::KernelTransport *>(&dev->transport());
+	auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->link());
 	if (!kt)
 		fatal("the device is not opened by the kernel transport");
 	const int fdA = kt->fd();

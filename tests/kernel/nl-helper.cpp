@@ -23,7 +23,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/kernel_link.hpp>
 
 #include <grp.h>
 #include <unistd.h>
@@ -82,8 +82,8 @@ int main(int argc, char **argv)
 		}
 		if (what == "counters") {
 			// the transport alone: opening it sends no command
-			const ecmxf::KernelTransport kt(path);
-			const ecmxf::KernelCounters k = kt.counters();
+			const ecmxf::KernelLink kt(path);
+			const ecmxf::LinkCounters k = kt.counters();
 			for (const auto &[name, value] : ecmxf::counterFields(k))
 				std::printf("%s %llu\n", name, static_cast<unsigned long long>(value));
 			return 0;

@@ -17,7 +17,7 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
-#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
 
 using namespace std::chrono_literals;
 using Catch::Matchers::Contains;
@@ -97,7 +97,7 @@ ecmxf::Command sdoRead(std::uint8_t slave, std::uint16_t index, std::uint8_t sub
 
 struct SimDevice {
 	std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open("sim:");
-	ecmxf::sim::Chip &chip = dynamic_cast<ecmxf::SimTransport &>(dev->transport()).chip();
+	ecmxf::sim::Chip &chip = *dev->link().simulator();
 
 	/// INIT_OP, then all slaves to PRE-OP (mailboxes running).
 	void toPreOp()
@@ -299,7 +299,7 @@ TEST_CASE("Device::open of sim:<network file> uses that network, a missing file 
 {
 	const std::string file = ECMXF_TEST_NETWORK_DIR "/servo-io.net";
 	auto dev = ecmxf::Device::open("sim:" + file);
-	auto &chip = dynamic_cast<ecmxf::SimTransport &>(dev->transport()).chip();
+	auto &chip = *dev->link().simulator();
 	dev->command(initOp());
 	CHECK(dev->command(simple(kSlvCntGet)).ret == chip.network().size());
 

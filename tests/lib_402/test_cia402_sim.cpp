@@ -26,7 +26,7 @@
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sim/slaves.hpp>
-#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
 
 using namespace std::chrono_literals;
 using Catch::Matchers::Equals;
@@ -74,7 +74,7 @@ struct Bus {
 	std::vector<std::uint8_t> out; // the outputs of every slave (RxPDO image)
 
 	explicit Bus(const std::string &uri = "sim:")
-		: dev(ecmxf::Device::open(uri)), chip(dynamic_cast<ecmxf::SimTransport &>(dev->transport()).chip())
+		: dev(ecmxf::Device::open(uri)), chip(*dev->link().simulator())
 	{
 	}
 
@@ -131,8 +131,8 @@ struct Bus {
 		return *m;
 	}
 
-	std::chrono::nanoseconds now() { return dev->transport().now(); }
-	void sleep(std::chrono::nanoseconds d) { dev->transport().sleepFor(d); }
+	std::chrono::nanoseconds now() { return dev->link().now(); }
+	void sleep(std::chrono::nanoseconds d) { dev->link().sleepFor(d); }
 
 	/// Runs @p s on the drive at @p pos (controlword at byte @p cwOff of
 	/// the outputs) until it is no longer busy, 2 ms per step; returns the

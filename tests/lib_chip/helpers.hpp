@@ -15,7 +15,7 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
-#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
 
 namespace chiptest {
 
@@ -39,11 +39,11 @@ inline void put32(std::vector<std::uint8_t> &d, std::uint32_t v)
 		d.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
 }
 
-/// A Device over a SimTransport whose chip the test can reach.
+/// A Device over a SimChannel whose chip the test can reach.
 struct SimDevice {
 	explicit SimDevice(const std::string &network = {}, ecmxf::sim::ChipConfig cfg = {})
 	{
-		auto t = std::make_unique<ecmxf::SimTransport>(
+		auto t = std::make_unique<ecmxf::SimChannel>(
 			network.empty() ? std::string() : std::string(ECMXF_TEST_NETWORK_DIR) + "/" + network, cfg);
 		transport = t.get();
 		dev = std::make_unique<ecmxf::Device>(std::move(t));
@@ -93,7 +93,7 @@ struct SimDevice {
 		return static_cast<std::uint16_t>(r.data[0] | r.data[1] << 8);
 	}
 
-	ecmxf::SimTransport *transport = nullptr;
+	ecmxf::SimChannel *transport = nullptr;
 	std::unique_ptr<ecmxf::Device> dev;
 };
 

@@ -11,7 +11,7 @@
 #include <span>
 
 #include <ecmxf/bus/status.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/link.hpp>
 
 using namespace chiptest;
 using namespace std::chrono_literals;
@@ -22,9 +22,9 @@ namespace {
 
 /// A chip with firmware of manual ver. 038: FW_VERSION_GET answers the
 /// version only (data length 0). The simulator answers as ver. 050; this
-/// transport clears the data length of those answers (the fixed check word
+/// channel clears the data length of those answers (the fixed check word
 /// does not cover it).
-class V038Transport : public ecmxf::Transport
+class V038Channel : public ecmxf::ByteChannel
 {
 public:
 	void exchange(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso) override
@@ -38,8 +38,9 @@ public:
 	bool waitReady(std::chrono::nanoseconds t) override { return sim.waitReady(t); }
 	std::chrono::nanoseconds now() const override { return sim.now(); }
 	void sleepFor(std::chrono::nanoseconds d) override { sim.sleepFor(d); }
+	std::string name() const override { return "sim: as ver. 038"; }
 
-	ecmxf::SimTransport sim;
+	ecmxf::SimChannel sim;
 };
 
 } // namespace
@@ -87,7 +88,7 @@ TEST_CASE("firmwareVersion decodes every field of a configured answer", "[lib][c
 
 TEST_CASE("firmwareVersion of ver. 038 firmware: the version only", "[lib][chip][link]")
 {
-	auto t = std::make_unique<V038Transport>();
+	auto t = std::make_unique<V038Channel>();
 	ecmxf::Device dev(std::move(t));
 	const ecmxf::FirmwareVersion v = dev.firmwareVersion();
 	CHECK(v.version == 0x30);

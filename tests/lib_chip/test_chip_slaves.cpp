@@ -283,7 +283,7 @@ TEST_CASE("COE_EMERGENCY: a drive fault's emergency, read by the polling master"
 	auto *drive = dynamic_cast<ecmxf::sim::Cia402Model *>(&s.chip().network().at(1));
 	REQUIRE(drive);
 	drive->injectFault(0x4310); // temperature: error register 0x01 | 0x08
-	d.transport().sleepFor(std::chrono::milliseconds(2));
+	d.link().sleepFor(std::chrono::milliseconds(2));
 	const std::vector<ecmxf::CoeEmergency> e = d.coeEmergencies(8);
 	REQUIRE(e.size() == 1);
 	CHECK(e[0].entry == 0);
@@ -322,7 +322,7 @@ TEST_CASE("receive mailbox: polling off, MBX_STAT shows the waiting message, REC
 	auto *drive = dynamic_cast<ecmxf::sim::Cia402Model *>(&s.chip().network().at(0));
 	REQUIRE(drive);
 	drive->injectFault(0x2310); // current: error register 0x01 | 0x02
-	d.transport().sleepFor(std::chrono::milliseconds(2));
+	d.link().sleepFor(std::chrono::milliseconds(2));
 	CHECK(d.mailboxPending() == std::vector<unsigned>{ 0 });
 	CHECK(d.coeEmergencies().empty()); // not polled: not read yet
 

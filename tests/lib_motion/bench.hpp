@@ -19,15 +19,15 @@
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sim/slaves.hpp>
-#include <ecmxf/link/sim_transport.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
+#include <ecmxf/link/link.hpp>
 
 namespace motiontest {
 
 using namespace std::chrono_literals;
 
 struct Bench {
-	ecmxf::SimTransport *sim = nullptr;
+	ecmxf::SimChannel *sim = nullptr;
 	std::unique_ptr<ecmxf::Device> dev;
 	std::unique_ptr<ecmxf::Master> master;
 	std::unique_ptr<ecmxf::ProcessImage> image;
@@ -35,7 +35,7 @@ struct Bench {
 
 	explicit Bench(const std::string &network = "est584x2-io.net", bool motionPdos = true)
 	{
-		auto t = std::make_unique<ecmxf::SimTransport>(std::string(ECMXF_TEST_NETWORK_DIR) + "/" + network);
+		auto t = std::make_unique<ecmxf::SimChannel>(std::string(ECMXF_TEST_NETWORK_DIR) + "/" + network);
 		sim = t.get();
 		dev = std::make_unique<ecmxf::Device>(std::move(t));
 		master = std::make_unique<ecmxf::Master>(*dev);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// A simulated bus for the process-data tests: a Device over a SimTransport,
+// A simulated bus for the process-data tests: a Device over a SimChannel,
 // brought up with raw Device::command() calls (ECAT_INIT_OP, ECAT_STATE_SET
 // PRE-OP, SAFE-OP, OP), and the PDO mapping of the default network written
 // by hand from the models' default maps (EST-584 manual 5.4.1, dio.cpp).
@@ -20,8 +20,8 @@
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sim/slaves.hpp>
-#include <ecmxf/link/sim_transport.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
+#include <ecmxf/link/link.hpp>
 
 namespace pdotest {
 
@@ -59,13 +59,13 @@ inline void put32(std::vector<std::uint8_t> &d, std::uint32_t v)
 }
 
 struct Bus {
-	ecmxf::SimTransport *sim = nullptr;
+	ecmxf::SimChannel *sim = nullptr;
 	std::unique_ptr<ecmxf::Device> dev;
 
 	/// A bus with the network in @p networkFile (empty: the default one).
 	explicit Bus(const std::string &networkFile = {})
 	{
-		auto t = std::make_unique<ecmxf::SimTransport>(networkFile);
+		auto t = std::make_unique<ecmxf::SimChannel>(networkFile);
 		sim = t.get();
 		dev = std::make_unique<ecmxf::Device>(std::move(t));
 	}
@@ -121,7 +121,7 @@ struct Bus {
 		(void)dev->command(c);
 	}
 
-	void run(std::chrono::nanoseconds dt) { dev->transport().sleepFor(dt); }
+	void run(std::chrono::nanoseconds dt) { dev->link().sleepFor(dt); }
 
 	template <class Model>
 	Model &model(std::size_t position)

@@ -4,7 +4,7 @@
 // simulator transport. The count covers everything in the process during
 // the measured cycles: the library's cyclic path (Cyclic::cycle(),
 // Cyclic::waitNextCycle(), Device::transact(), the protocol engine) and the
-// simulated chip and slave models behind SimTransport.
+// simulated chip and slave models behind SimChannel.
 
 #include <catch2/catch.hpp>
 

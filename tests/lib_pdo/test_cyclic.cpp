@@ -373,15 +373,15 @@ TEST_CASE("Cyclic: waitNextCycle paces on the transport's virtual clock", "[lib]
 	c.period = 2ms;
 	ecmxf::Cyclic cyc(*bus.dev, image, c);
 	cyc.start();
-	const auto t0 = bus.dev->transport().now();
+	const auto t0 = bus.dev->link().now();
 	runCycles(cyc, 500);
-	CHECK(bus.dev->transport().now() - t0 == 1000ms);
+	CHECK(bus.dev->link().now() - t0 == 1000ms);
 	CHECK(cyc.stats().lateCycles == 0);
 	// late by more than a period: skip to the next boundary ahead
 	bus.run(5ms + 300us);
 	REQUIRE(cyc.waitNextCycle() == 0);
 	CHECK(cyc.stats().lateCycles == 1);
-	CHECK(bus.dev->transport().now() - t0 == 1006ms);
+	CHECK(bus.dev->link().now() - t0 == 1006ms);
 }
 
 TEST_CASE("Cyclic: errors come back in the result with a static text", "[lib][pdo][cyclic]")

@@ -15,7 +15,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 #include <ecmxf/sim/chip.hpp>
-#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
 
 #include "bus.hpp"
 
@@ -29,7 +29,7 @@ void useChip(Bus &bus, bool lockstep)
 {
 	ecmxf::sim::ChipConfig cfg;
 	cfg.lockstep = lockstep;
-	auto t = std::make_unique<ecmxf::SimTransport>(pdotest::network("loopback.net"), cfg);
+	auto t = std::make_unique<ecmxf::SimChannel>(pdotest::network("loopback.net"), cfg);
 	bus.sim = t.get();
 	bus.dev = std::make_unique<ecmxf::Device>(std::move(t));
 }

@@ -23,7 +23,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/sim/chip.hpp>
-#include <ecmxf/link/sim_transport.hpp>
+#include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/trace/trace.hpp>
 
 using Catch::Matchers::Contains;
@@ -285,7 +285,7 @@ TEST_CASE("a trace recorded on the simulator has every exchange and decodes with
 {
 	const auto path = tempTrace("sim");
 	auto dev = ecmxf::Device::open("sim:?trace=" + path.string());
-	auto &chip = dynamic_cast<ecmxf::SimTransport &>(dev->transport()).chip();
+	auto &chip = *dev->link().simulator();
 	CHECK(dev->tracing());
 	ecmxf::Command fw;
 	fw.code = 56; // FW_VERSION_GET

@@ -11,7 +11,7 @@
 #include <span>
 
 #include <ecmxf/sim/chip.hpp>
-#include <ecmxf/link/spidev_transport.hpp>
+#include <ecmxf/link/spidev_channel.hpp>
 
 namespace test {
 
@@ -81,7 +81,7 @@ private:
 	FakeSpidevFaults &faults_;
 };
 
-/// A chip, and a Device over a SpidevTransport over a FakeSpidev of it.
+/// A chip, and a Device over a SpidevChannel over a FakeSpidev of it.
 struct SpidevRig {
 	explicit SpidevRig(bool int0 = true, bool int1 = false, ecmxf::sim::ChipConfig cfg = defaultConfig(),
 			   bool readyHigh = true)
@@ -92,7 +92,7 @@ struct SpidevRig {
 		ecmxf::SpidevOptions o;
 		o.device = "/dev/spidev-fake";
 		o.readyHigh = readyHigh;
-		auto t = std::make_unique<ecmxf::SpidevTransport>(std::move(fake), o);
+		auto t = std::make_unique<ecmxf::SpidevChannel>(std::move(fake), o);
 		transport = t.get();
 		dev = std::make_unique<ecmxf::Device>(std::move(t));
 	}
@@ -108,7 +108,7 @@ struct SpidevRig {
 	ecmxf::sim::Chip chip;
 	FakeSpidevFaults faults;
 	FakeSpidev *backend = nullptr;
-	ecmxf::SpidevTransport *transport = nullptr;
+	ecmxf::SpidevChannel *transport = nullptr;
 	std::unique_ptr<ecmxf::Device> dev;
 };
 

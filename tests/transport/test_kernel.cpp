@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-// The kernel side of the Transport interface without the module: the ABI
-// version check, and Device::command() dispatched to a CommandTransport
-// (here a fake that plays the kernel's ECMXF_IOC_CMD): the request it gets,
-// the answer it returns, every status mapped to the Error a byte transport
-// gives, a failed ioctl, lastHeader(), and the trace records.
+// A command-level Link without the module: the ABI version check, and
+// Device::command() over a Link (here a fake that plays the kernel's
+// ECMXF_IOC_CMD): the request it gets, the answer it returns, every status
+// mapped by the one outcome map (lib/link/outcome.cpp) to the Error an
+// engine link gives, a failed system call, and the request/response trace
+// records decoded.
 
 #include <catch2/catch.hpp>
 
@@ -19,9 +20,12 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/kernel_link.hpp>
+#include <ecmxf/link/link.hpp>
+#include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/trace/trace.hpp>
-#include <ecmxf/link/transport.hpp>
+
+#include "trace/trace_writer.hpp"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
@@ -40,12 +44,11 @@ ecmxf::Error thrown(F &&f)
 	return ecmxf::Error("unreachable", 0);
 }
 
-/// Plays the kernel: remembers the request, answers with @c answer.
-class FakeKernel final : public ecmxf::CommandTransport
+/// Plays the kernel: remembers the request, answers with @c answer,
+/// records request and response in the trace as KernelLink does.
+class FakeKernel final : public ecmxf::Link
 {
 public:
-	FakeKernel() : CommandTransport("/dev/ecmxf-fake") {}
-
 	int ioctlErrno = 0;
 	ecmxf::RawResult answer;
 	std::vector<std::uint8_t> answerData;
@@ -54,26 +57,40 @@ public:
 	std::vector<std::uint8_t> gotTx;
 	std::size_t gotRxSize = 0;
 	unsigned calls = 0;
-	std::uint16_t driverDataSize = 0;
+	std::uint16_t driverDataSize = 1408;
+	ecmxf::detail::TraceWriter *trace = nullptr;
+	std::optional<ecmxf::ResponseHeader> last;
 
-	[[nodiscard]] std::uint16_t dataSize() const noexcept override { return driverDataSize; }
-
-protected:
-	int doCommand(const ecmxf::RawRequest &req, ecmxf::RawResult &res, const char *&failedCall) noexcept override
+	void run(const ecmxf::RawRequest &req, ecmxf::RawResult &res) noexcept override
 	{
+		res = ecmxf::RawResult{};
 		calls++;
 		got = req;
 		gotTx.assign(req.tx.begin(), req.tx.end());
 		gotRxSize = req.rx.size();
+		if (trace)
+			trace->request(1000, req);
 		if (ioctlErrno) {
-			failedCall = "ECMXF_IOC_CMD";
-			return -ioctlErrno;
+			res.status = -ioctlErrno;
+			res.linkFailure = failure.c_str();
+			return;
 		}
 		res = answer;
 		std::copy(answerData.begin(), answerData.end(), req.rx.begin());
 		res.rxLen = answerData.size();
-		return 0;
+		if (res.status == 0)
+			last = res.header;
+		if (trace)
+			trace->response(2000, res, std::span<const std::uint8_t>(req.rx.data(), res.rxLen));
 	}
+	[[nodiscard]] std::uint16_t dataSize() const noexcept override { return driverDataSize; }
+	[[nodiscard]] ecmxf::CheckType checkType() const noexcept override { return ecmxf::CheckType::Crc32; }
+	[[nodiscard]] std::optional<ecmxf::ResponseHeader> lastHeader() const noexcept override { return last; }
+	[[nodiscard]] std::string name() const override { return "/dev/ecmxf-fake"; }
+	[[nodiscard]] ecmxf::LinkCounters counters() const override { return {}; }
+	void attachTrace(ecmxf::detail::TraceWriter *t) noexcept override { trace = t; }
+
+	std::string failure = std::string("/dev/ecmxf-fake: ECMXF_IOC_CMD failed: ") + std::strerror(EINVAL);
 };
 
 struct Rig {
@@ -111,11 +128,11 @@ TEST_CASE("the kernel ABI version check accepts version 2 only and names both ve
 	}
 }
 
-TEST_CASE("Device::command over a CommandTransport hands the whole command down and returns the answer",
+TEST_CASE("Device::command over a Link hands the whole command down and returns the answer",
 	  "[transport][kernel]")
 {
 	Rig r;
-	CHECK(r.dev->transport().runsProtocol());
+	r.k->driverDataSize = 1408;
 	r.k->answer.header.code = 16;
 	r.k->answer.header.index = 7;
 	r.k->answer.header.ret = 3;
@@ -147,15 +164,17 @@ TEST_CASE("Device::command over a CommandTransport hands the whole command down 
 	CHECK(r.dev->lastHeader().ecatState == 2);
 	CHECK(r.dev->lastHeader().ret == 3);
 
-	// the byte-level calls are refused
-	std::vector<std::uint8_t> a(144), b(144);
-	const ecmxf::Error e = thrown([&] { r.dev->transport().exchange(a, b); });
-	CHECK_THAT(e.what(), Equals("/dev/ecmxf-fake: this transport runs the protocol itself and takes whole "
-				    "commands, not SPI packets"));
-	CHECK(e.errnoValue() == EOPNOTSUPP);
+	// a payload larger than the link's data section is refused before it
+	r.k->driverDataSize = 112;
+	ecmxf::Command big = cmd(16);
+	big.payload.assign(113, 0);
+	const ecmxf::Error e = thrown([&] { r.dev->command(big); });
+	CHECK_THAT(e.what(), Equals("ECAT_SLV_CNT_GET: payload of 113 bytes does not fit the data section (112 bytes)"));
+	CHECK(e.errnoValue() == EMSGSIZE);
+	CHECK(r.k->calls == 1);
 }
 
-TEST_CASE("the command statuses of a CommandTransport become the same Errors as over a byte transport",
+TEST_CASE("the command statuses of a Link become the same Errors as over a byte transport",
 	  "[transport][kernel]")
 {
 	struct Case {
@@ -176,13 +195,17 @@ TEST_CASE("the command statuses of a CommandTransport become the same Errors as 
 		  {} },
 		{ -EIO, 16, "ECAT_SLV_CNT_GET: the chip kept answering not ready (check word 0x87654321)", {} },
 		{ -ECONNRESET, 16, "ECAT_SLV_CNT_GET: the chip reset while the command was in flight", {} },
-		{ -ECANCELED, 1, "ECAT_INIT_OP: the command was cancelled (ECMXF_IOC_RESET)", {} },
+		{ -ECANCELED, 1, "ECAT_INIT_OP: the command was cancelled", {} },
+		{ -EMSGSIZE, 16, "ECAT_SLV_CNT_GET: the answer (1500 bytes) is larger than the receive buffer (1408 bytes)",
+		  {} },
+		{ -EPERM, 16, std::string("ECAT_SLV_CNT_GET: failed: ") + std::strerror(EPERM), {} },
 	};
 	for (const Case &k : cases) {
 		INFO("status " << k.status);
 		Rig r;
 		r.k->answer.status = k.status;
 		r.k->answer.header.errStatus = k.errStatus.value_or(0);
+		r.k->answer.header.len = 1500;
 		const ecmxf::Error e = thrown([&] { r.dev->command(cmd(k.code)); });
 		CHECK_THAT(e.what(), Equals(k.message));
 		CHECK(e.errnoValue() == -k.status);
@@ -199,6 +222,14 @@ TEST_CASE("a failed ioctl names the command, the device, the call and the reason
 				    std::strerror(EINVAL)));
 	CHECK(e.errnoValue() == EINVAL);
 	CHECK(r.dev->lastHeader().code == 0); // nothing answered
+
+	// the same failure on the cyclic path: its errno, no throw
+	ecmxf::RawCommand rc;
+	rc.code = 16;
+	ecmxf::ResponseHeader h;
+	h.code = 99;
+	CHECK(r.dev->transact(rc, {}, {}, h) == EINVAL);
+	CHECK(h.code == 99); // untouched: nothing answered
 }
 
 TEST_CASE("a trace of a kernel-transport device records requests and responses and decodes them",
@@ -238,28 +269,13 @@ TEST_CASE("a trace of a kernel-transport device records requests and responses a
 	std::filesystem::remove(path);
 }
 
-TEST_CASE("checkType() over a CommandTransport is the check word the last response's ECM status names",
+TEST_CASE("dataSize() and checkType() of a Device are its link's",
 	  "[transport][kernel]")
 {
-	// manual: ECM status (header 0x0A) bits 1-0 are the check type in use;
-	// the library's own engine does not talk to the chip here
+	// the driver may run another size than the power-on 112 bytes (e.g.
+	// its data_size module parameter)
 	Rig r;
-	CHECK(r.dev->checkType() == ecmxf::CheckType::Fixed); // no response yet
-	r.k->answer.header.code = 16;
-	r.k->answer.header.ecmStatus = 0x03;
-	(void)r.dev->command(cmd(16));
 	CHECK(r.dev->checkType() == ecmxf::CheckType::Crc32);
-	r.k->answer.header.ecmStatus = 0x01;
-	(void)r.dev->command(cmd(16));
-	CHECK(r.dev->checkType() == ecmxf::CheckType::Crc8);
-}
-
-TEST_CASE("dataSize() over a CommandTransport is the driver's, not the library's idle engine's",
-	  "[transport][kernel]")
-{
-	// the library's engine starts at the power-on 112 bytes; the driver
-	// may run another size (e.g. its data_size module parameter)
-	Rig r;
 	r.k->driverDataSize = 992;
 	CHECK(r.dev->dataSize() == 992);
 	CHECK(r.dev->pdoDataCapacity() == 992);
@@ -267,13 +283,20 @@ TEST_CASE("dataSize() over a CommandTransport is the driver's, not the library's
 	CHECK(r.dev->dataSize() == 1408);
 }
 
-TEST_CASE("assumeFormat() over a CommandTransport is refused: the far side tracks the format",
+TEST_CASE("assumeFormat() over a Link that tracks the format itself is refused",
 	  "[transport][kernel]")
 {
 	Rig r;
 	const ecmxf::Error e = thrown([&] { r.dev->assumeFormat(112, ecmxf::CheckType::Crc32); });
 	CHECK(e.errnoValue() == EOPNOTSUPP);
-	CHECK_THAT(e.what(), Equals("ecmxf::Device::assumeFormat: the transport runs the protocol itself and tracks "
-				    "the chip's format (kernel device)"));
+	CHECK_THAT(e.what(), Equals("/dev/ecmxf-fake: this link tracks the chip's packet format itself"));
 	CHECK(r.k->calls == 0);
+	// an engine link takes it, and refuses what is out of range
+	ecmxf::Device sim(std::make_unique<ecmxf::SimChannel>());
+	sim.assumeFormat(1408, ecmxf::CheckType::Crc32);
+	CHECK(sim.dataSize() == 1408);
+	CHECK(sim.checkType() == ecmxf::CheckType::Crc32);
+	const ecmxf::Error bad = thrown([&] { sim.assumeFormat(31, ecmxf::CheckType::Fixed); });
+	CHECK(bad.errnoValue() == EINVAL);
+	CHECK_THAT(bad.what(), Contains("31"));
 }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// SpidevTransport's logic over a fake spidev/GPIO backend played by the
+// SpidevChannel's logic over a fake spidev/GPIO backend played by the
 // simulated chip (fake_spidev.hpp): a Device runs raw commands end to end
 // over it, INT0 is waited for (or the 150 us fallback without it), INT0
 // timeouts, INT1 events, and failed or short transfers and line reads
@@ -16,7 +16,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/spidev_transport.hpp>
+#include <ecmxf/link/spidev_channel.hpp>
 
 #include "fake_spidev.hpp"
 
@@ -181,7 +181,7 @@ TEST_CASE("spidev transfer failures and short transfers become Errors naming the
 		test::SpidevRig r;
 		r.faults.transferErrno = ESHUTDOWN;
 		const ecmxf::Error e = thrown([&] { r.dev->command(simple(kSlvCntGet)); });
-		CHECK_THAT(e.what(), Equals(std::string("spidev /dev/spidev-fake: SPI transfer of 144 bytes failed "
+		CHECK_THAT(e.what(), Equals(std::string("ECAT_SLV_CNT_GET: spidev /dev/spidev-fake: SPI transfer of 144 bytes failed "
 							"(SPI_IOC_MESSAGE): ") +
 					    std::strerror(ESHUTDOWN)));
 		CHECK(e.errnoValue() == ESHUTDOWN);
@@ -191,7 +191,7 @@ TEST_CASE("spidev transfer failures and short transfers become Errors naming the
 		test::SpidevRig r;
 		r.faults.shortBy = 16;
 		const ecmxf::Error e = thrown([&] { r.dev->command(simple(kSlvCntGet)); });
-		CHECK_THAT(e.what(), Equals("spidev /dev/spidev-fake: short SPI transfer: 128 of 144 bytes moved"));
+		CHECK_THAT(e.what(), Equals("ECAT_SLV_CNT_GET: spidev /dev/spidev-fake: short SPI transfer: 128 of 144 bytes moved"));
 		CHECK(e.errnoValue() == EIO);
 	}
 	SECTION("INT0 cannot be read")
@@ -199,7 +199,7 @@ TEST_CASE("spidev transfer failures and short transfers become Errors naming the
 		test::SpidevRig r;
 		r.faults.lineErrno = ENODEV;
 		const ecmxf::Error e = thrown([&] { r.dev->command(simple(kSlvCntGet)); });
-		CHECK_THAT(e.what(), Equals(std::string("spidev /dev/spidev-fake: cannot read the INT0 (ready) line: ") +
+		CHECK_THAT(e.what(), Equals(std::string("ECAT_SLV_CNT_GET: spidev /dev/spidev-fake: cannot read the INT0 (ready) line: ") +
 					    std::strerror(ENODEV)));
 		CHECK(e.errnoValue() == ENODEV);
 	}
@@ -247,7 +247,7 @@ TEST_CASE("a chip left in CRC-32 by another driver: assumeFormat() makes it reac
 		auto fake = std::make_unique<test::FakeSpidev>(r.chip, true, false, r.faults);
 		ecmxf::SpidevOptions o;
 		o.device = "/dev/spidev-fake";
-		ecmxf::Device fresh(std::make_unique<ecmxf::SpidevTransport>(std::move(fake), o));
+		ecmxf::Device fresh(std::make_unique<ecmxf::SpidevChannel>(std::move(fake), o));
 		CHECK(fresh.checkType() == ecmxf::CheckType::Fixed);
 		const ecmxf::Error e = thrown([&] { (void)fresh.firmwareVersion(); });
 		CHECK((e.errnoValue() == EBADMSG || e.errnoValue() == EPROTO));
@@ -256,7 +256,7 @@ TEST_CASE("a chip left in CRC-32 by another driver: assumeFormat() makes it reac
 	auto fake = std::make_unique<test::FakeSpidev>(r.chip, true, false, r.faults);
 	ecmxf::SpidevOptions o;
 	o.device = "/dev/spidev-fake";
-	ecmxf::Device told(std::make_unique<ecmxf::SpidevTransport>(std::move(fake), o));
+	ecmxf::Device told(std::make_unique<ecmxf::SpidevChannel>(std::move(fake), o));
 	told.assumeFormat(112, ecmxf::CheckType::Crc32);
 	CHECK(told.checkType() == ecmxf::CheckType::Crc32);
 	CHECK(told.dataSize() == 112);
@@ -265,7 +265,7 @@ TEST_CASE("a chip left in CRC-32 by another driver: assumeFormat() makes it reac
 
 	const ecmxf::Error bad = thrown([&] { told.assumeFormat(31, ecmxf::CheckType::Crc32); });
 	CHECK(bad.errnoValue() == EINVAL);
-	CHECK_THAT(bad.what(), Equals("ecmxf::Device::assumeFormat: data section size 31 or check type 3 is out of "
+	CHECK_THAT(bad.what(), Equals("spidev:/dev/spidev-fake: data section size 31 or check type 3 is out of "
 				      "range (32..1408 bytes; 0 fixed .. 3 CRC-32)"));
 	CHECK(told.checkType() == ecmxf::CheckType::Crc32); // unchanged
 }

@@ -26,7 +26,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/export.hpp>
-#include <ecmxf/link/kernel_transport.hpp>
+#include <ecmxf/link/link.hpp>
 
 namespace ecmxf {
 
@@ -57,7 +57,7 @@ enum class FifoId : std::uint8_t {
 };
 
 /// Event::loss: which counter of the cyclic path went up (enum ecmxf_nl_loss;
-/// the KernelCounters field of the same name).
+/// the LinkCounters field of the same name).
 enum class LossKind : std::uint8_t {
 	OutRingUnderrun = 0, ///< the output ring was empty when the chip's RxFIFO wanted a frame
 	InRingOverrun = 1,   ///< input frames dropped: the input ring was full
@@ -175,7 +175,7 @@ private:
 struct NetlinkCounters {
 	std::uint32_t minor = 0;
 	std::string device;    ///< "ecmxfN"
-	KernelCounters link;   ///< the fields of struct ecmxf_counters
+	LinkCounters link;   ///< the fields of struct ecmxf_counters
 	std::uint64_t events = 0;           ///< events the kernel detected
 	std::uint64_t eventsSuppressed = 0; ///< not sent: rate limit
 	std::uint64_t eventsFailed = 0;     ///< not sent: no memory, socket buffers full

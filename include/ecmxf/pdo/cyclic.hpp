@@ -27,7 +27,7 @@
  *
  * Over the simulator or spidev, the chip's FIFO commands go over the
  * Device's raw command path (Device::transact()); over /dev/ecmxfN (a
- * KernelTransport) the frames go through the kernel's mmap()ed PDO rings
+ * KernelLink) the frames go through the kernel's mmap()ed PDO rings
  * and cycle() makes no system call. The API and its semantics are the
  * same; Documentation/process-data.rst describes both paths.
  *
@@ -202,7 +202,7 @@ public:
 	[[nodiscard]] unsigned framesPerWrite() const noexcept;
 	[[nodiscard]] unsigned framesPerRead() const noexcept;
 	/// The frames go through the kernel's mmap()ed PDO rings (the Device's
-	/// transport is a KernelTransport); false: FIFO commands.
+	/// transport is a KernelLink); false: FIFO commands.
 	[[nodiscard]] bool usesKernelRings() const noexcept;
 
 	class Impl;

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 # The synchronous round trip of FW_VERSION_GET through /dev/ecmxf0 (the
-# library's KernelTransport, and the bare ECMXF_IOC_CMD) and through spidev
-# (the library's SpidevTransport, INT0 by libgpiod) on the same virtual
+# library's KernelLink, and the bare ECMXF_IOC_CMD) and through spidev
+# (the library's SpidevChannel, INT0 by libgpiod) on the same virtual
 # controller and chip, in interleaved blocks: /bin/ecmxf-guest-bench hands
 # the SPI device between ecmxf and spidev itself (sysfs unbind,
 # driver_override, bind) and prints the figures, the system calls per

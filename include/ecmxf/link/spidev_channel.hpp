@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: MIT
 /**
- * @file spidev_transport.hpp
- * @brief The userspace SPI transport: Linux spidev for the bytes, libgpiod
+ * @file spidev_channel.hpp
+ * @brief The userspace SPI channel: Linux spidev for the bytes, libgpiod
  *        for the chip's INT0 (ready) and INT1 (event) lines.
  *
  * URI: "spidev:/dev/spidevB.C[?int0=<chip>:<line>][&int1=<chip>:<line>]
  * [&speed=<Hz>][&mode=0..3][&ready=high|low]" (see device_uri.hpp and
- * Documentation/library.rst). A byte transport: the Device runs the
+ * Documentation/library.rst). A byte channel: the engine link runs the
  * protocol core on top of it.
  *
- * The transport makes its system calls through a SpidevBackend, so that
+ * The channel makes its system calls through a SpidevBackend, so that
  * its logic (INT0 waits, the 150 us fallback, short transfers, error
  * texts) can be tested with a fake backend; openSpidevBackend() gives the
  * real one (open/ioctl on the spidev node, libgpiod v1 for the lines).
@@ -24,7 +24,7 @@
 #include <string>
 
 #include <ecmxf/export.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/byte_channel.hpp>
 
 namespace ecmxf {
 
@@ -36,7 +36,7 @@ struct GpioLineSpec {
 	unsigned line = 0;
 };
 
-/// Everything a spidev transport needs to know.
+/// Everything a spidev channel needs to know.
 struct SpidevOptions {
 	/// Highest SPI clock of the chip (manual: 96 Mbit/s).
 	static constexpr std::uint32_t kMaxSpeedHz = 96'000'000;
@@ -62,8 +62,8 @@ struct SpidevOptions {
 /// Which interrupt line.
 enum class IntLine : std::uint8_t { Int0, Int1 };
 
-/// The system calls of a spidev transport. Every call reports failure as
-/// a negative errno and never throws, so that SpidevTransport can name
+/// The system calls of a spidev channel. Every call reports failure as
+/// a negative errno and never throws, so that SpidevChannel can name
 /// what failed; the real implementation is openSpidevBackend().
 class ECMXF_EXPORT SpidevBackend
 {
@@ -96,7 +96,7 @@ public:
 /// the node or line and the system's reason (errno kept).
 [[nodiscard]] ECMXF_EXPORT std::unique_ptr<SpidevBackend> openSpidevBackend(const SpidevOptions &options);
 
-/// Counters of a spidev transport.
+/// Counters of a spidev channel.
 struct SpidevStats {
 	std::uint64_t exchanges = 0;      ///< transfers made
 	std::uint64_t int0Ready = 0;      ///< waitReady() calls that found or saw INT0 ready
@@ -106,16 +106,16 @@ struct SpidevStats {
 	std::uint64_t int1Events = 0;     ///< waitEvent() calls that found INT1 asserted
 };
 
-/// Transport over spidev and libgpiod.
-class ECMXF_EXPORT SpidevTransport : public Transport
+/// Byte channel over spidev and libgpiod.
+class ECMXF_EXPORT SpidevChannel : public ByteChannel
 {
 public:
 	/// Opens the real backend for @p options (openSpidevBackend()).
-	explicit SpidevTransport(const SpidevOptions &options);
+	explicit SpidevChannel(const SpidevOptions &options);
 	/// Runs over @p backend (e.g. a fake in tests); @p options gives the
 	/// node name for messages, the INT0/INT1 polarity and the fallback.
-	SpidevTransport(std::unique_ptr<SpidevBackend> backend, SpidevOptions options);
-	~SpidevTransport() override;
+	SpidevChannel(std::unique_ptr<SpidevBackend> backend, SpidevOptions options);
+	~SpidevChannel() override;
 
 	/// One transfer; throws ecmxf::Error (the errno of the ioctl, or EIO
 	/// for a short transfer) naming the node.
@@ -128,6 +128,8 @@ public:
 	[[nodiscard]] bool waitReady(std::chrono::nanoseconds timeout) override;
 	[[nodiscard]] std::chrono::nanoseconds now() const override;
 	void sleepFor(std::chrono::nanoseconds duration) override;
+	/// "spidev:<node>".
+	[[nodiscard]] std::string name() const override;
 
 	/// Waits until INT1 says an event is pending (the chip's IntFlag &
 	/// IntEnable is non-zero), for at most @p timeout; true when it is.

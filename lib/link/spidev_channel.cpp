@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-// SpidevTransport: Linux spidev for the bytes, libgpiod (v1 API) for the
+// SpidevChannel: Linux spidev for the bytes, libgpiod (v1 API) for the
 // chip's INT0 (ready) and INT1 (event) lines
-// (include/ecmxf/link/spidev_transport.hpp, Documentation/library.rst).
+// (include/ecmxf/link/spidev_channel.hpp, Documentation/library.rst).
 
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/spidev_transport.hpp>
+#include <ecmxf/link/spidev_channel.hpp>
 
 #include <fcntl.h>
 #include <gpiod.h>
@@ -22,6 +22,9 @@
 #include <thread>
 #include <utility>
 
+#include "device/lib_text.hpp"
+#include "device/os.hpp"
+
 namespace ecmxf {
 
 SpidevBackend::~SpidevBackend() = default;
@@ -29,13 +32,7 @@ SpidevBackend::~SpidevBackend() = default;
 namespace {
 
 using std::chrono::nanoseconds;
-
-std::string quoted(const std::string &s)
-{
-	std::string q(1, '"');
-	q.append(s).push_back('"');
-	return q;
-}
+using detail::quoted;
 
 const char *lineName(IntLine l)
 {
@@ -56,34 +53,28 @@ public:
 	GpioLine(IntLine which, const GpioLineSpec &spec)
 	{
 		const std::string what = std::string(lineName(which)) + " line " + quoted(lineText(spec));
-		chip_ = ::gpiod_chip_open_lookup(spec.chip.c_str());
+		chip_.reset(::gpiod_chip_open_lookup(spec.chip.c_str()));
 		if (!chip_) {
 			const int err = errno ? errno : ENODEV;
 			throw Error("cannot open the GPIO chip " + quoted(spec.chip) + " of the " + what + ": " +
 					    std::strerror(err),
 				    err);
 		}
-		line_ = ::gpiod_chip_get_line(chip_, spec.line);
+		line_ = ::gpiod_chip_get_line(chip_.get(), spec.line);
 		if (!line_) {
 			const int err = errno ? errno : EINVAL;
-			::gpiod_chip_close(chip_);
 			throw Error("the GPIO chip " + quoted(spec.chip) + " has no line " + std::to_string(spec.line) +
 					    " (" + what + "): " + std::strerror(err),
 				    err);
 		}
 		if (::gpiod_line_request_both_edges_events(line_, "ecmxf") < 0) {
 			const int err = errno;
-			::gpiod_chip_close(chip_);
 			throw Error("cannot request edge events on the " + what + ": " + std::strerror(err) +
 					    (err == EBUSY ? " (another consumer holds the line)" : ""),
 				    err);
 		}
 	}
-	~GpioLine()
-	{
-		::gpiod_line_release(line_);
-		::gpiod_chip_close(chip_);
-	}
+	~GpioLine() { ::gpiod_line_release(line_); }
 	GpioLine(const GpioLine &) = delete;
 	GpioLine &operator=(const GpioLine &) = delete;
 
@@ -111,7 +102,11 @@ public:
 	}
 
 private:
-	gpiod_chip *chip_ = nullptr;
+	struct ChipCloser {
+		void operator()(gpiod_chip *c) const noexcept { ::gpiod_chip_close(c); }
+	};
+	/// the chip owns the line: released first (the destructor), then closed
+	std::unique_ptr<gpiod_chip, ChipCloser> chip_;
 	gpiod_line *line_ = nullptr;
 };
 
@@ -128,28 +123,19 @@ public:
 		if (o.int1)
 			lines_[1].emplace(IntLine::Int1, *o.int1);
 
-		fd_ = ::open(o.device.c_str(), O_RDWR | O_CLOEXEC);
-		if (fd_ < 0) {
-			const int err = errno;
-			throw Error("cannot open " + quoted(o.device) + ": " + std::strerror(err), err);
-		}
-		try {
-			std::uint8_t mode = o.mode;
-			if (::ioctl(fd_, SPI_IOC_WR_MODE, &mode) < 0)
-				setupFailed(o.device, "SPI mode " + std::to_string(mode), "SPI_IOC_WR_MODE");
-			std::uint8_t bits = 8;
-			if (::ioctl(fd_, SPI_IOC_WR_BITS_PER_WORD, &bits) < 0)
-				setupFailed(o.device, "8 bits per word", "SPI_IOC_WR_BITS_PER_WORD");
-			std::uint32_t speed = o.speedHz;
-			if (::ioctl(fd_, SPI_IOC_WR_MAX_SPEED_HZ, &speed) < 0)
-				setupFailed(o.device, "the clock to " + std::to_string(speed) + " Hz",
-					    "SPI_IOC_WR_MAX_SPEED_HZ");
-		} catch (...) {
-			::close(fd_);
-			throw;
-		}
+		fd_.reset(::open(o.device.c_str(), O_RDWR | O_CLOEXEC));
+		if (!fd_.valid())
+			detail::throwErrno("cannot open " + quoted(o.device), errno);
+		std::uint8_t mode = o.mode;
+		if (::ioctl(fd_.get(), SPI_IOC_WR_MODE, &mode) < 0)
+			setupFailed(o.device, "SPI mode " + std::to_string(mode), "SPI_IOC_WR_MODE");
+		std::uint8_t bits = 8;
+		if (::ioctl(fd_.get(), SPI_IOC_WR_BITS_PER_WORD, &bits) < 0)
+			setupFailed(o.device, "8 bits per word", "SPI_IOC_WR_BITS_PER_WORD");
+		std::uint32_t speed = o.speedHz;
+		if (::ioctl(fd_.get(), SPI_IOC_WR_MAX_SPEED_HZ, &speed) < 0)
+			setupFailed(o.device, "the clock to " + std::to_string(speed) + " Hz", "SPI_IOC_WR_MAX_SPEED_HZ");
 	}
-	~SystemBackend() override { ::close(fd_); }
 
 	int transfer(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso) noexcept override
 	{
@@ -159,7 +145,7 @@ public:
 		tr.len = static_cast<__u32>(std::min(mosi.size(), miso.size()));
 		tr.speed_hz = speedHz_;
 		tr.bits_per_word = 8;
-		const int r = ::ioctl(fd_, SPI_IOC_MESSAGE(1), &tr);
+		const int r = ::ioctl(fd_.get(), SPI_IOC_MESSAGE(1), &tr);
 		return r < 0 ? -errno : r;
 	}
 	bool hasLine(IntLine l) const noexcept override { return lines_[index(l)].has_value(); }
@@ -193,7 +179,7 @@ private:
 			    err);
 	}
 
-	int fd_ = -1;
+	detail::FileDescriptor fd_;
 	std::uint32_t speedHz_;
 	std::array<std::optional<GpioLine>, 2> lines_;
 };
@@ -218,20 +204,25 @@ std::unique_ptr<SpidevBackend> openSpidevBackend(const SpidevOptions &options)
 	return std::make_unique<SystemBackend>(options);
 }
 
-SpidevTransport::SpidevTransport(const SpidevOptions &options) : SpidevTransport(openSpidevBackend(options), options)
+SpidevChannel::SpidevChannel(const SpidevOptions &options) : SpidevChannel(openSpidevBackend(options), options)
 {
 }
 
-SpidevTransport::SpidevTransport(std::unique_ptr<SpidevBackend> backend, SpidevOptions options)
+SpidevChannel::SpidevChannel(std::unique_ptr<SpidevBackend> backend, SpidevOptions options)
 	: backend_(std::move(backend)), options_(std::move(options))
 {
 	if (!backend_)
 		throw Error("spidev " + options_.device + ": no backend given", EINVAL);
 }
 
-SpidevTransport::~SpidevTransport() = default;
+SpidevChannel::~SpidevChannel() = default;
 
-void SpidevTransport::exchange(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso)
+std::string SpidevChannel::name() const
+{
+	return "spidev:" + options_.device;
+}
+
+void SpidevChannel::exchange(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso)
 {
 	if (mosi.size() != miso.size())
 		throw Error("spidev " + options_.device + ": MOSI and MISO buffers differ in size (" +
@@ -251,7 +242,7 @@ void SpidevTransport::exchange(std::span<const std::uint8_t> mosi, std::span<std
 			    EIO);
 }
 
-bool SpidevTransport::lineActive(IntLine line, bool activeHigh)
+bool SpidevChannel::lineActive(IntLine line, bool activeHigh)
 {
 	const int v = backend_->lineValue(line);
 	if (v < 0)
@@ -261,7 +252,7 @@ bool SpidevTransport::lineActive(IntLine line, bool activeHigh)
 	return (v != 0) == activeHigh;
 }
 
-bool SpidevTransport::waitReady(std::chrono::nanoseconds timeout)
+bool SpidevChannel::waitReady(std::chrono::nanoseconds timeout)
 {
 	timeout = std::max(timeout, nanoseconds::zero());
 	if (!backend_->hasLine(IntLine::Int0)) {
@@ -303,7 +294,7 @@ bool SpidevTransport::waitReady(std::chrono::nanoseconds timeout)
 	}
 }
 
-bool SpidevTransport::waitEvent(std::chrono::nanoseconds timeout)
+bool SpidevChannel::waitEvent(std::chrono::nanoseconds timeout)
 {
 	if (!backend_->hasLine(IntLine::Int1))
 		throw Error("spidev " + options_.device +
@@ -326,12 +317,12 @@ bool SpidevTransport::waitEvent(std::chrono::nanoseconds timeout)
 	}
 }
 
-std::chrono::nanoseconds SpidevTransport::now() const
+std::chrono::nanoseconds SpidevChannel::now() const
 {
 	return backend_->now();
 }
 
-void SpidevTransport::sleepFor(std::chrono::nanoseconds duration)
+void SpidevChannel::sleepFor(std::chrono::nanoseconds duration)
 {
 	if (duration > nanoseconds::zero())
 		backend_->sleepFor(duration);

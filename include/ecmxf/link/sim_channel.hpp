@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 /**
- * @file sim_transport.hpp
- * @brief The in-process simulator as a Transport ("sim:" URIs).
+ * @file sim_channel.hpp
+ * @brief The in-process simulator as a ByteChannel ("sim:" URIs).
  *
- * SimTransport owns one simulated chip (ecmxf::sim::Chip) and answers
+ * SimChannel owns one simulated chip (ecmxf::sim::Chip) and answers
  * exchanges with it in the calling thread. Time is the chip's virtual
  * time: waiting and sleeping advance it, so a test runs as fast as the CPU
  * allows and is deterministic.
@@ -18,19 +18,22 @@
 
 #include <ecmxf/export.hpp>
 #include <ecmxf/sim/chip.hpp>
-#include <ecmxf/link/transport.hpp>
+#include <ecmxf/link/byte_channel.hpp>
 
 namespace ecmxf {
 
-/// Transport to an in-process simulated chip.
-class ECMXF_EXPORT SimTransport : public Transport
+/// Byte channel to an in-process simulated chip.
+class ECMXF_EXPORT SimChannel : public ByteChannel
 {
 public:
 	/// A new chip with the network in @p networkFile (empty: the default
 	/// network, 2 x EST-584 + 1 x digital I/O) and @p config. Throws when
 	/// the network file cannot be read or parsed.
-	explicit SimTransport(const std::string &networkFile = {}, sim::ChipConfig config = {});
-	~SimTransport() override;
+	explicit SimChannel(const std::string &networkFile = {}, sim::ChipConfig config = {});
+	/// A new chip with @p network (built in code, e.g. by a test) and
+	/// @p config; name() says "sim:<network name>".
+	explicit SimChannel(sim::Network network, sim::ChipConfig config = {});
+	~SimChannel() override;
 
 	/// Hands @p mosi to the chip, which answers in @p miso at once (the
 	/// chip's virtual time moves by the time the transfer takes on the
@@ -50,11 +53,15 @@ public:
 		return std::chrono::microseconds(10);
 	}
 
-	/// The simulated chip, owned by this transport (tests inject faults
+	/// "sim:", or "sim:<network file>".
+	[[nodiscard]] std::string name() const override;
+	/// The simulated chip, owned by this channel (tests inject faults
 	/// and inspect the network through it).
 	[[nodiscard]] sim::Chip &chip() noexcept { return *chip_; }
+	[[nodiscard]] sim::Chip *simulator() noexcept override { return chip_.get(); }
 
 private:
+	std::string network_;
 	std::unique_ptr<sim::Chip> chip_;
 };
 

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file byte_channel.hpp
+ * @brief A byte channel: SPI packets to one ECM-XF chip and its INT0
+ *        "ready" line, with no knowledge of the protocol.
+ *
+ * The engine link (engine_link.hpp) runs the shared protocol core over a
+ * ByteChannel: framing, check words, the one-exchange-late answers,
+ * retries and async tracking are all the engine's. A channel only moves
+ * bytes and reports readiness. Implementations:
+ *  - SimChannel (sim_channel.hpp): the in-process simulated chip, virtual time;
+ *  - UnixChannel (unix_channel.hpp): an `ecmxf-sim --socket` server;
+ *  - SpidevChannel (spidev_channel.hpp): /dev/spidevB.C + libgpiod INT0/INT1.
+ * Documentation/architecture.rst, "How to add a channel".
+ *
+ * Thread safety: a channel is not thread-safe; its one owner (an
+ * EngineLink) calls it from one thread at a time.
+ */
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include <ecmxf/export.hpp>
+
+namespace ecmxf {
+
+namespace sim {
+class Chip;
+}
+
+/// Abstract byte channel to one chip.
+class ECMXF_EXPORT ByteChannel
+{
+public:
+	ByteChannel() = default;
+	ByteChannel(const ByteChannel &) = delete;
+	ByteChannel &operator=(const ByteChannel &) = delete;
+	virtual ~ByteChannel();
+
+	/// One full-duplex SPI transfer: clocks out @p mosi and fills @p miso
+	/// with the bytes clocked in. Both spans have the same size (the
+	/// current packet size) and belong to the caller; the channel keeps no
+	/// reference to them after returning. Blocks for the duration of the
+	/// transfer. Throws ecmxf::Error when the transfer cannot be made at
+	/// all (a corrupted transfer is not an error here: the protocol core
+	/// detects it from the check word).
+	virtual void exchange(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso) = 0;
+
+	/// Waits until the chip signals "ready" on INT0 (it has processed the
+	/// previous packet), for at most @p timeout on the channel's clock.
+	/// Returns true at once when the chip is ready, false when @p timeout
+	/// passed without it (then now() has moved on by at least @p timeout).
+	/// Blocks (real channels) or advances virtual time (simulator). Throws
+	/// ecmxf::Error when the line cannot be read at all.
+	[[nodiscard]] virtual bool waitReady(std::chrono::nanoseconds timeout) = 0;
+
+	/// The channel's clock, monotonic, any origin: virtual time for the
+	/// simulator, std::chrono::steady_clock otherwise. The protocol core's
+	/// deadlines are measured on it.
+	[[nodiscard]] virtual std::chrono::nanoseconds now() const = 0;
+
+	/// Lets @p duration pass on the channel's clock: sleeps (real
+	/// channels; the default implementation sleeps on the steady clock)
+	/// or advances virtual time (simulator). Non-positive durations return
+	/// at once.
+	virtual void sleepFor(std::chrono::nanoseconds duration);
+
+	/// How messages name the channel, e.g. "sim:", "unix:/tmp/s",
+	/// "/dev/spidev0.0".
+	[[nodiscard]] virtual std::string name() const = 0;
+
+	/// The simulated chip behind this channel when it is the in-process
+	/// simulator (tests inject faults and inspect the network through it);
+	/// null for every other channel.
+	[[nodiscard]] virtual sim::Chip *simulator() noexcept { return nullptr; }
+};
+
+} // namespace ecmxf
