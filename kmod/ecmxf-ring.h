@@ -66,7 +66,7 @@ struct ecmxf_ring {
  * @out: output ring (RxPDO frames, application to chip)
  * @in: input ring (TxPDO frames, chip to application)
  * @status: the status block (&struct ecmxf_ring_status_block) in the
- *	input ring's memory, written only through ecmxf_status_publish()
+ *	input ring's memory, written only through ecmxf_rings_publish()
  * @cur: the status the kernel keeps; published into @status
  * @status_seq: the latch count last written to @status
  * @setup_flags: %ECMXF_RING_F_* of the setup
