@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "ecmxf-proto.h"
+#include "device/lib_text.hpp"
 #include "ecmxf-pump.h"
 #include "pdo/cyclic_path.hpp"
 
@@ -99,22 +100,7 @@ RawCommand rawCommand(const ecmxf_cmd_hdr &hdr, std::chrono::microseconds timeou
 ecmxf_rsp_hdr coreHeader(const ResponseHeader &h) noexcept
 {
 	ecmxf_rsp_hdr r{};
-	r.crc_err_cnt = h.crcErrCnt;
-	r.wkc_err_cnt = h.wkcErrCnt;
-	r.tx_fifo_cnt = h.txFifoCnt;
-	r.rx_fifo_cnt = h.rxFifoCnt;
-	r.ecat_state = h.ecatState;
-	r.err_status = h.errStatus;
-	r.ecm_status = h.ecmStatus;
-	r.index = h.index;
-	r.code = h.code;
-	r.ret = h.ret;
-	r.len = h.len;
-	r.int_flags = h.intFlags;
-	r.gpio_int_flag[0] = h.gpioIntFlag[0];
-	r.gpio_int_flag[1] = h.gpioIntFlag[1];
-	r.gpio_in[0] = h.gpioIn[0];
-	r.gpio_in[1] = h.gpioIn[1];
+	detail::headerTo(h, r);
 	return r;
 }
 
