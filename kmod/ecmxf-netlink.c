@@ -12,12 +12,17 @@
  * that do not sleep: never from an IRQ, never under a spinlock or
  * &ecmxf_dev.lock, never waiting in memory reclaim.
  *
- * A state change down or into ERROR first runs an "AL status query": the
- * worker reads ECAT_SLV_CNT_GET, then for every slave ECAT_STATE_GET and,
- * for the slaves not in OP that answer, ECAT_SLV_INFO_GET code 7 (the AL
- * status code, manual ver. 050) - immediate commands that take the
- * engine's command slot when no user command wants it (and at least every
- * fifth slot), so the event is late by a few exchanges.
+ * A state change down or into ERROR first runs an "AL status query":
+ * ECAT_SLV_CNT_GET, then for every slave ECAT_STATE_GET and, for the
+ * slaves not in OP that answer, ECAT_SLV_INFO_GET code 7 (the AL status
+ * code, manual ver. 050).  The query is a client of the worker's queue
+ * like an open file: it queues one immediate command at a time (a
+ * %ECMXF_REQ_KERNEL request) and takes the next step when the worker
+ * finishes it, taking turns with the files' commands, so the event is
+ * late by a few exchanges.
+ *
+ * The unit hooks into the worker with ecmxf_worker_watch() (&struct
+ * ecmxf_watch_ops): the worker calls no function of this file by name.
  *
  * While someone listens and the link is otherwise quiet, the worker polls
  * the chip with INFO_UPDATE every event_poll_ms so that changes are seen
@@ -35,6 +40,7 @@
 #include <linux/math64.h>
 #include <linux/module.h>
 #include <linux/moduleparam.h>
+#include <linux/slab.h>
 #include <net/genetlink.h>
 
 #include <linux/ecmxf_netlink.h>	/* kmod/uapi -> include/uapi */
@@ -51,8 +57,6 @@ MODULE_PARM_DESC(event_poll_ms,
 #define ECMXF_NL_RATE_PERIOD_NS	(100 * NSEC_PER_MSEC)
 /* attributes of an event without slaves: under 200 bytes */
 #define ECMXF_NL_EVENT_SIZE	256
-/* a user command may go before the AL status query this often in a row */
-#define ECMXF_NL_QUERY_PATIENCE	4
 /*
  * time allowed for each command of the AL status query: not the table's
  * 100 ms, which a loaded (or emulated) host exceeded for one exchange
@@ -393,7 +397,7 @@ static void ecmxf_nl_losses(struct ecmxf_dev *edev, u64 now)
  * Worker only, with no lock held: it allocates (GFP_NOWAIT) and
  * multicasts.  No listener is not an error.
  */
-void ecmxf_nl_flush(struct ecmxf_dev *edev)
+static void ecmxf_nl_flush(struct ecmxf_dev *edev)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
 	u64 now = ktime_get_ns();
@@ -444,6 +448,8 @@ static void ecmxf_nl_queue(struct ecmxf_dev *edev, const struct ecmxf_nl_ev *ev)
 
 /* ---- the AL status query --------------------------------------------- */
 
+static void ecmxf_nl_query_queue(struct ecmxf_dev *edev);
+
 /* The query ends: its state event goes to the queue. */
 static void ecmxf_nl_query_end(struct ecmxf_dev *edev, bool incomplete)
 {
@@ -469,7 +475,8 @@ static void ecmxf_nl_state_event(struct ecmxf_dev *edev,
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
 
-	if (!ecmxf_nl_state_went_down(&ev->d) || !ecmxf_nl_listening()) {
+	if (!ecmxf_nl_state_went_down(&ev->d) || !ecmxf_nl_listening() ||
+	    !nl->query) {
 		ecmxf_nl_queue(edev, ev);
 		return;
 	}
@@ -483,51 +490,46 @@ static void ecmxf_nl_state_event(struct ecmxf_dev *edev,
 	nl->q_ev.n_slaves = 0;
 	nl->q_state = ECMXF_NLQ_COUNT;
 	nl->q_pos = 0;
-	nl->q_skipped = 0;
+	mutex_lock(&edev->lock);
+	ecmxf_nl_query_queue(edev);
+	mutex_unlock(&edev->lock);
 }
 
 /**
- * ecmxf_nl_query_first() - does the AL status query take the next slot
- * @edev: the device
- * @picked: false to ask; true to report that a user command took the slot
- *
- * Called by the worker, with &ecmxf_dev.lock held, when the engine's
- * command slot is free: first with @picked false (true means: submit the
- * query's command instead of picking a user command), then with @picked
- * true if a user command went while the query waited.
- *
- * Return: true when the query must go first.
+ * struct ecmxf_nl_query - the AL status query's client of the worker's queue
+ * @client: on &ecmxf_dev.clients while the worker runs; never a file
+ * @req: its one request, queued again for every step
+ * @busy: @req is queued or in the engine
+ * @err_before: error status when @req was queued (a command error the
+ *	query causes is cleared again, one that was there is left)
+ * @gen: &ecmxf_nl_dev.q_gen when @req was queued
  */
-bool ecmxf_nl_query_first(struct ecmxf_dev *edev, bool picked)
+struct ecmxf_nl_query {
+	struct ecmxf_client client;
+	struct ecmxf_req req;
+	bool busy;
+	u8 err_before;
+	u32 gen;
+};
+
+static void ecmxf_nl_query_done(struct ecmxf_dev *edev, struct ecmxf_req *req);
+
+/*
+ * Queue the query's command for its current step, unless one is queued
+ * or running already (its answer takes the query on); lock held.
+ */
+static void ecmxf_nl_query_queue(struct ecmxf_dev *edev)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
+	struct ecmxf_nl_query *q = nl->query;
+	struct ecmxf_req *req;
+	struct ecmxf_xfer *x;
 
-	if (nl->q_state == ECMXF_NLQ_IDLE || nl->ix_busy)
-		return false;
-	if (picked) {
-		nl->q_skipped++;
-		return false;
-	}
-	return nl->q_skipped >= ECMXF_NL_QUERY_PATIENCE;
-}
-
-/**
- * ecmxf_nl_query_submit() - put the query's next command in the engine
- * @edev: the device; the engine's command slot is free
- *
- * Worker only, without &ecmxf_dev.lock.
- *
- * Return: true when a command was submitted (exchange now).
- */
-bool ecmxf_nl_query_submit(struct ecmxf_dev *edev)
-{
-	struct ecmxf_nl_dev *nl = &edev->nl;
-	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
-	struct ecmxf_xfer *x = &nl->ix;
-	int ret;
-
-	if (nl->q_state == ECMXF_NLQ_IDLE || nl->ix_busy)
-		return false;
+	lockdep_assert_held(&edev->lock);
+	if (!q || q->busy || nl->q_state == ECMXF_NLQ_IDLE)
+		return;
+	req = &q->req;
+	x = &req->x;
 	memset(x, 0, sizeof(*x));
 	switch (nl->q_state) {
 	case ECMXF_NLQ_COUNT:
@@ -541,21 +543,34 @@ bool ecmxf_nl_query_submit(struct ecmxf_dev *edev)
 		x->hdr.code = ECMXF_CMD_ECAT_SLV_INFO_GET;
 		x->hdr.param = (u8)nl->q_pos;
 		x->hdr.data[0] = 7;	/* AL status code */
-		x->rx_buf = nl->ix_rx;
-		x->rx_size = sizeof(nl->ix_rx);
+		x->rx_buf = req->rx;
+		x->rx_size = 16;
 		break;
 	}
-	x->timeout_us = ECMXF_NL_QUERY_TIMEOUT_US;
-	nl->ix_err = h ? h->err_status : 0;
-	ret = ecmxf_engine_submit(&edev->e, x, ktime_get_ns());
-	if (ret) {
-		ecmxf_nl_query_end(edev, true);
-		return false;
-	}
-	nl->ix_busy = true;
-	nl->ix_gen = nl->q_gen;
-	nl->q_skipped = 0;
-	return true;
+	x->status = -EINPROGRESS;
+	req->kind = ECMXF_REQ_KERNEL;
+	req->client = &q->client;
+	req->complete = ecmxf_nl_query_done;
+	req->state = ECMXF_RS_QUEUED;
+	req->deadline_ns = ktime_get_ns() +
+			   (u64)ECMXF_NL_QUERY_TIMEOUT_US * NSEC_PER_USEC;
+	q->err_before = edev->last.err_status;
+	q->gen = nl->q_gen;
+	q->busy = true;
+	list_add_tail(&req->node, &q->client.queue);
+	ecmxf_worker_kick(edev);
+}
+
+/* Withdraw the query's command if it is still queued; lock held. */
+static void ecmxf_nl_query_unqueue(struct ecmxf_dev *edev)
+{
+	struct ecmxf_nl_query *q = edev->nl.query;
+
+	lockdep_assert_held(&edev->lock);
+	if (!q || !q->busy || q->req.state != ECMXF_RS_QUEUED)
+		return;
+	list_del_init(&q->req.node);
+	q->busy = false;
 }
 
 /* The query moves to the next slave, or ends. */
@@ -571,29 +586,27 @@ static void ecmxf_nl_query_next(struct ecmxf_dev *edev)
 		ecmxf_nl_query_end(edev, true);
 }
 
-/**
- * ecmxf_nl_collect() - the query's command finished: take its answer
- * @edev: the device
- *
- * Worker only, from ecmxf_collect() (&ecmxf_dev.lock held; only the
- * worker's own state is touched).
+/*
+ * The worker finished the query's command (answered, failed, expired in
+ * the queue or cancelled): take the answer and queue the next step.
+ * Called by the worker with &ecmxf_dev.lock held (&ecmxf_req.complete).
  */
-void ecmxf_nl_collect(struct ecmxf_dev *edev)
+static void ecmxf_nl_query_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
-	struct ecmxf_xfer *x = &nl->ix;
+	struct ecmxf_nl_query *q = nl->query;
+	struct ecmxf_xfer *x = &req->x;
 	struct ecmxf_nl_slave *s;
 	bool cmd_err;
 
-	if (!nl->ix_busy || x->status == -EINPROGRESS)
-		return;
-	nl->ix_busy = false;
+	lockdep_assert_held(&edev->lock);
+	q->busy = false;
 	cmd_err = x->rsp.err_status & ECMXF_ERR_CMD;
 	/* leave no command error behind that was not there before */
-	if (cmd_err && !(nl->ix_err & ECMXF_ERR_CMD))
+	if (!x->status && cmd_err && !(q->err_before & ECMXF_ERR_CMD))
 		ecmxf_engine_clear_errors(&edev->e, ECMXF_CTL_CLR_CMD_ERR);
-	if (nl->ix_gen != nl->q_gen)
-		return;		/* the answer of a query that ended */
+	if (q->gen != nl->q_gen)
+		goto next;	/* the answer of a query that ended */
 	if ((x->status && x->status != -EMSGSIZE) || cmd_err) {
 		ecmxf_nl_query_end(edev, true);
 		return;
@@ -625,7 +638,7 @@ void ecmxf_nl_collect(struct ecmxf_dev *edev)
 	case ECMXF_NLQ_AL:
 		s = &nl->slaves[nl->q_ev.n_slaves - 1];
 		if (x->rx_len >= 2) {
-			s->al = get_unaligned_le16(nl->ix_rx);
+			s->al = get_unaligned_le16(req->rx);
 			s->have_al = true;
 		} else {
 			nl->q_ev.incomplete = true;
@@ -635,6 +648,8 @@ void ecmxf_nl_collect(struct ecmxf_dev *edev)
 	default:
 		break;
 	}
+next:
+	ecmxf_nl_query_queue(edev);
 }
 
 /* ---- what the worker reports ----------------------------------------- */
@@ -672,7 +687,7 @@ static void ecmxf_nl_detected(struct ecmxf_dev *edev,
  * Called by ecmxf_exchange() for every exchange that brought a valid
  * header; detects events from the engine's latest header.
  */
-void ecmxf_nl_header(struct ecmxf_dev *edev, u64 now_ns)
+static void ecmxf_nl_header(struct ecmxf_dev *edev, u64 now_ns)
 {
 	struct ecmxf_det_event d[ECMXF_DET_MAX_EVENTS];
 	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
@@ -691,7 +706,7 @@ void ecmxf_nl_header(struct ecmxf_dev *edev, u64 now_ns)
  *
  * Notes a WARM_RESET, so that the reset it causes is reported as such.
  */
-void ecmxf_nl_req_sent(struct ecmxf_dev *edev, const struct ecmxf_xfer *x)
+static void ecmxf_nl_req_sent(struct ecmxf_dev *edev, const struct ecmxf_xfer *x)
 {
 	if (x->hdr.code == ECMXF_CMD_WARM_RESET)
 		edev->nl.warm_sent = true;
@@ -705,7 +720,7 @@ void ecmxf_nl_req_sent(struct ecmxf_dev *edev, const struct ecmxf_xfer *x)
  * An async command that failed is an event.  Called by the worker with
  * &ecmxf_dev.lock held: the event is only queued.
  */
-void ecmxf_nl_req_done(struct ecmxf_dev *edev, const struct ecmxf_xfer *x)
+static void ecmxf_nl_req_done(struct ecmxf_dev *edev, const struct ecmxf_xfer *x)
 {
 	struct ecmxf_nl_ev ev;
 
@@ -733,7 +748,7 @@ void ecmxf_nl_req_done(struct ecmxf_dev *edev, const struct ecmxf_xfer *x)
  * %ECMXF_RESET_F_LINK: the engine starts afresh; the detector takes the
  * next header as its baseline.
  */
-void ecmxf_nl_link_reset(struct ecmxf_dev *edev)
+static void ecmxf_nl_link_reset(struct ecmxf_dev *edev)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
 	const struct ecmxf_rsp_hdr *h;
@@ -743,10 +758,9 @@ void ecmxf_nl_link_reset(struct ecmxf_dev *edev)
 
 	if (!nl->active)
 		return;
-	if (nl->ix_busy) {
-		/* the engine was re-initialised under it */
-		nl->ix_busy = false;
-	}
+	mutex_lock(&edev->lock);
+	ecmxf_nl_query_unqueue(edev);
+	mutex_unlock(&edev->lock);
 	ecmxf_nl_query_end(edev, true);
 	if (ecmxf_det_rebase(&nl->det, now, &d))
 		ecmxf_nl_detected(edev, &d, 1);
@@ -773,7 +787,7 @@ void ecmxf_nl_link_reset(struct ecmxf_dev *edev)
  * Return: true when someone listens and event_poll_ms has passed since
  * the last poll.
  */
-bool ecmxf_nl_poll_due(struct ecmxf_dev *edev, u64 now_ns)
+static bool ecmxf_nl_poll_due(struct ecmxf_dev *edev, u64 now_ns)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
 	unsigned int period = READ_ONCE(ecmxf_param_event_poll_ms);
@@ -798,7 +812,7 @@ bool ecmxf_nl_poll_due(struct ecmxf_dev *edev, u64 now_ns)
  * cyclic path not reported yet is due (ktime_get_ns() clock), or U64_MAX
  * for "only when kicked".
  */
-u64 ecmxf_nl_wake_at(struct ecmxf_dev *edev, u64 now_ns)
+static u64 ecmxf_nl_wake_at(struct ecmxf_dev *edev, u64 now_ns)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
 	u64 t = ecmxf_det_deadline(&nl->det);
@@ -818,17 +832,33 @@ u64 ecmxf_nl_wake_at(struct ecmxf_dev *edev, u64 now_ns)
  * @edev: the device, link up
  *
  * The header probe read last is the detector's baseline; the "added"
- * event is sent at once (just before probe creates /dev/ecmxfN).  Called by
- * the worker itself, no lock held.
+ * event is sent at once (just before probe creates /dev/ecmxfN).  The AL
+ * status query's client joins the worker's queue (without memory for it,
+ * state events go without their slaves).  Called by the worker itself, no
+ * lock held.
  */
-void ecmxf_nl_start(struct ecmxf_dev *edev)
+static void ecmxf_nl_start(struct ecmxf_dev *edev)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
 	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
 	struct ecmxf_det_event d[ECMXF_DET_MAX_EVENTS];
+	struct ecmxf_nl_query *q;
 	struct ecmxf_nl_ev ev;
 	u64 now = ktime_get_ns();
 
+	q = kzalloc(sizeof(*q), GFP_KERNEL);
+	if (q) {
+		q->client.edev = edev;
+		INIT_LIST_HEAD(&q->client.queue);
+		INIT_LIST_HEAD(&q->client.done);
+		init_waitqueue_head(&q->client.wq);
+		INIT_LIST_HEAD(&q->req.node);
+		init_completion(&q->req.done);
+		mutex_lock(&edev->lock);
+		list_add_tail(&q->client.node, &edev->clients);
+		nl->query = q;
+		mutex_unlock(&edev->lock);
+	}
 	ecmxf_det_init(&nl->det, NULL);
 	memset(&ev, 0, sizeof(ev));
 	if (h) {
@@ -853,21 +883,30 @@ void ecmxf_nl_start(struct ecmxf_dev *edev)
  * @edev: the device
  *
  * A pending state event is sent without the rest of its query, then the
- * "removed" event.  Called by the worker itself as it ends, no lock held;
- * the query's command, if in the engine, is cancelled here.
+ * "removed" event.  Called by the worker itself as it ends, after it
+ * cancelled what was in the engine, no lock held; the query's client
+ * leaves the queue.
  */
-void ecmxf_nl_stop(struct ecmxf_dev *edev)
+static void ecmxf_nl_stop(struct ecmxf_dev *edev)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
+	struct ecmxf_nl_query *q;
 	struct ecmxf_det_event d;
 	struct ecmxf_nl_ev ev;
 	u64 now = ktime_get_ns();
 
 	if (!nl->active)
 		return;
-	if (nl->ix_busy) {
-		ecmxf_engine_cancel(&edev->e, &nl->ix);
-		nl->ix_busy = false;
+	q = nl->query;
+	if (q) {
+		mutex_lock(&edev->lock);
+		ecmxf_nl_query_unqueue(edev);
+		list_del_init(&q->client.node);
+		nl->query = NULL;
+		mutex_unlock(&edev->lock);
+		/* the worker cancelled what it ran: the request is ours */
+		if (!WARN_ON_ONCE(q->busy))
+			kfree(q);
 	}
 	ecmxf_nl_query_end(edev, true);
 	if (ecmxf_det_poll(&nl->det, U64_MAX, &d))
@@ -880,6 +919,19 @@ void ecmxf_nl_stop(struct ecmxf_dev *edev)
 	ecmxf_nl_flush(edev);
 	nl->active = false;
 }
+
+/* what the link worker tells this unit (ecmxf_worker_watch()) */
+static const struct ecmxf_watch_ops ecmxf_nl_watch = {
+	.start = ecmxf_nl_start,
+	.stop = ecmxf_nl_stop,
+	.flush = ecmxf_nl_flush,
+	.header = ecmxf_nl_header,
+	.req_sent = ecmxf_nl_req_sent,
+	.req_done = ecmxf_nl_req_done,
+	.link_reset = ecmxf_nl_link_reset,
+	.poll_due = ecmxf_nl_poll_due,
+	.wake_at = ecmxf_nl_wake_at,
+};
 
 /* ---- counters -------------------------------------------------------- */
 
@@ -996,7 +1048,11 @@ static int ecmxf_nl_dump_counters(struct sk_buff *skb,
  */
 int ecmxf_nl_register(void)
 {
-	return genl_register_family(&ecmxf_nl_family);
+	int ret = genl_register_family(&ecmxf_nl_family);
+
+	if (!ret)
+		ecmxf_worker_watch(&ecmxf_nl_watch);
+	return ret;
 }
 
 /**
@@ -1004,5 +1060,6 @@ int ecmxf_nl_register(void)
  */
 void ecmxf_nl_unregister(void)
 {
+	ecmxf_worker_watch(NULL);
 	genl_unregister_family(&ecmxf_nl_family);
 }

@@ -25,24 +25,6 @@
 
 #include "ecmxf.h"
 
-/**
- * ecmxf_check_name() - name of a check word type
- * @check: 0..3
- *
- * Return: "fixed", "crc8", "crc-ccitt", "crc32" or "unknown".
- */
-const char *ecmxf_check_name(unsigned int check)
-{
-	static const char * const names[] = {
-		[ECMXF_CHECK_FIXED] = "fixed",
-		[ECMXF_CHECK_CRC8] = "crc8",
-		[ECMXF_CHECK_CCITT] = "crc-ccitt",
-		[ECMXF_CHECK_CRC32] = "crc32",
-	};
-
-	return check < ARRAY_SIZE(names) ? names[check] : "unknown";
-}
-
 static struct ecmxf_dev *ecmxf_from_dev(struct device *dev)
 {
 	return container_of(dev, struct ecmxf_dev, dev);

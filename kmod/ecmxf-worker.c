@@ -13,8 +13,10 @@
  * starve the others; the engine itself allows one async command on the
  * chip at a time and immediate commands meanwhile.  Resets have their own
  * queue and go first.  While PDO rings exist, the PDO pump's commands
- * (ecmxf-ring.c) take turns with the files' commands: when both are due,
- * one of each.
+ * (ecmxf-pump.c) take turns with the files' commands: when both are due,
+ * one of each.  The netlink unit's AL status query is one more client of
+ * the queue (%ECMXF_REQ_KERNEL); the unit learns what the worker sees
+ * through the &struct ecmxf_watch_ops it registered.
  *
  * Locking: &ecmxf_dev.lock (a mutex, so sleeping and PREEMPT_RT-safe) is
  * taken around queue and state changes only; spi_sync() and every wait
@@ -33,6 +35,93 @@
 #include <linux/slab.h>
 
 #include "ecmxf.h"	/* get_unaligned_le32(): core/ecmxf-compat.h */
+
+/* the watcher's callbacks (ecmxf-netlink.c), set at module load */
+static const struct ecmxf_watch_ops *ecmxf_watch __read_mostly;
+
+/**
+ * ecmxf_worker_watch() - set the watcher of every device's worker
+ * @ops: the callbacks (every one set), or NULL
+ *
+ * Module init and exit only: no worker runs then.
+ */
+void ecmxf_worker_watch(const struct ecmxf_watch_ops *ops)
+{
+	ecmxf_watch = ops;
+}
+
+/* The watcher's callbacks, each a no-op without a watcher. */
+static void ecmxf_watch_start(struct ecmxf_dev *edev)
+{
+	if (ecmxf_watch)
+		ecmxf_watch->start(edev);
+}
+
+static void ecmxf_watch_stop(struct ecmxf_dev *edev)
+{
+	if (ecmxf_watch)
+		ecmxf_watch->stop(edev);
+}
+
+static void ecmxf_watch_flush(struct ecmxf_dev *edev)
+{
+	if (ecmxf_watch)
+		ecmxf_watch->flush(edev);
+}
+
+static void ecmxf_watch_header(struct ecmxf_dev *edev, u64 now)
+{
+	if (ecmxf_watch)
+		ecmxf_watch->header(edev, now);
+}
+
+static void ecmxf_watch_req_sent(struct ecmxf_dev *edev,
+				 const struct ecmxf_xfer *x)
+{
+	if (ecmxf_watch)
+		ecmxf_watch->req_sent(edev, x);
+}
+
+static void ecmxf_watch_req_done(struct ecmxf_dev *edev,
+				 const struct ecmxf_xfer *x)
+{
+	if (ecmxf_watch)
+		ecmxf_watch->req_done(edev, x);
+}
+
+static void ecmxf_watch_link_reset(struct ecmxf_dev *edev)
+{
+	if (ecmxf_watch)
+		ecmxf_watch->link_reset(edev);
+}
+
+static bool ecmxf_watch_poll_due(struct ecmxf_dev *edev, u64 now)
+{
+	return ecmxf_watch && ecmxf_watch->poll_due(edev, now);
+}
+
+static u64 ecmxf_watch_wake_at(struct ecmxf_dev *edev, u64 now)
+{
+	return ecmxf_watch ? ecmxf_watch->wake_at(edev, now) : U64_MAX;
+}
+
+/**
+ * ecmxf_check_name() - name of a check word type
+ * @check: 0..3
+ *
+ * Return: "fixed", "crc8", "crc-ccitt", "crc32" or "unknown".
+ */
+const char *ecmxf_check_name(unsigned int check)
+{
+	static const char * const names[] = {
+		[ECMXF_CHECK_FIXED] = "fixed",
+		[ECMXF_CHECK_CRC8] = "crc8",
+		[ECMXF_CHECK_CCITT] = "crc-ccitt",
+		[ECMXF_CHECK_CRC32] = "crc32",
+	};
+
+	return check < ARRAY_SIZE(names) ? names[check] : "unknown";
+}
 
 /**
  * ecmxf_worker_kick() - wake the task that owns the link
@@ -206,7 +295,7 @@ static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
 	edev->xfer_end_ns = now;
 	ev = ecmxf_engine_input(&edev->e, now, edev->rxbuf, n);
 	if (ev & ECMXF_EV_HEADER)
-		ecmxf_nl_header(edev, now);	/* events (ecmxf-netlink.c) */
+		ecmxf_watch_header(edev, now);	/* events (ecmxf-netlink.c) */
 	return ev;
 }
 
@@ -436,7 +525,8 @@ int ecmxf_link_bringup(struct ecmxf_dev *edev)
  *
  * Sync and reset requests wake their ioctl (or are freed when it left);
  * submitted ones go to their file's completion list (or are freed when
- * the file was closed).  Call with &ecmxf_dev.lock held.
+ * the file was closed); a kernel client's have their callback called.
+ * Call with &ecmxf_dev.lock held.
  */
 void ecmxf_req_finish(struct ecmxf_dev *edev, struct ecmxf_req *req,
 		      int status)
@@ -446,6 +536,10 @@ void ecmxf_req_finish(struct ecmxf_dev *edev, struct ecmxf_req *req,
 	lockdep_assert_held(&edev->lock);
 	req->x.status = status;
 	req->state = ECMXF_RS_DONE;
+	if (req->kind == ECMXF_REQ_KERNEL) {
+		req->complete(edev, req);
+		return;
+	}
 	if (req->kind == ECMXF_REQ_SUBMIT) {
 		if (!c) {
 			kfree(req);
@@ -525,7 +619,7 @@ static int ecmxf_submit(struct ecmxf_dev *edev, struct ecmxf_req *req)
 		return -ETIMEDOUT;
 	left = div_u64(req->deadline_ns - now, NSEC_PER_USEC);
 	req->x.timeout_us = (u32)clamp_t(u64, left, 1, U32_MAX);
-	ecmxf_nl_req_sent(edev, &req->x);
+	ecmxf_watch_req_sent(edev, &req->x);
 	return ecmxf_engine_submit(&edev->e, &req->x, now);
 }
 
@@ -579,7 +673,7 @@ static void ecmxf_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 		edev->slave_count = 0;
 	if (req->kind == ECMXF_REQ_RESET)
 		ecmxf_reset_done(edev, req);
-	ecmxf_nl_req_done(edev, &req->x);
+	ecmxf_watch_req_done(edev, &req->x);
 	ecmxf_req_finish(edev, req, status);
 }
 
@@ -595,7 +689,6 @@ static struct ecmxf_rings *ecmxf_collect(struct ecmxf_dev *edev)
 
 	lockdep_assert_held(&edev->lock);
 	ecmxf_snapshot(edev);
-	ecmxf_nl_collect(edev);
 	if (req && req->x.status != -EINPROGRESS) {
 		edev->cur_req = NULL;
 		ecmxf_done(edev, req);
@@ -631,7 +724,7 @@ static int ecmxf_reset_link(struct ecmxf_dev *edev)
 	ecmxf_rings_put(pumped);
 
 	ecmxf_engine_reinit(edev, size, check);
-	ecmxf_nl_link_reset(edev);
+	ecmxf_watch_link_reset(edev);
 	ret = ecmxf_read_fw_version(edev);
 	if (ret)
 		ret = ecmxf_find_format(edev);
@@ -728,9 +821,10 @@ static int ecmxf_worker_fn(void *data)
 	bool slot_free;
 	int ret;
 
-	ecmxf_nl_start(edev);
+	ecmxf_watch_start(edev);
 	while (!kthread_should_stop()) {
-		ecmxf_nl_flush(edev);	/* the events found since, no lock held */
+		/* the events found since, no lock held */
+		ecmxf_watch_flush(edev);
 		atomic_set(&edev->kick, 0);
 		now = ktime_get_ns();
 		int1_at = ecmxf_int1_rearm(edev, now, false);
@@ -739,12 +833,8 @@ static int ecmxf_worker_fn(void *data)
 		pump = NULL;
 
 		mutex_lock(&edev->lock);
-		/*
-		 * the events' AL status query, or the pump, may hold the
-		 * command slot; a reset needs it too
-		 */
-		slot_free = !edev->cur_req && !edev->nl.ix_busy &&
-			    !edev->pump.busy;
+		/* the pump may hold the command slot; a reset needs it too */
+		slot_free = !edev->cur_req && !edev->pump.busy;
 		if (slot_free) {
 			reset = list_first_entry_or_null(&edev->resets,
 							 struct ecmxf_req,
@@ -758,7 +848,7 @@ static int ecmxf_worker_fn(void *data)
 			ecmxf_expire_queued(edev, now);
 			edev->next_expire_ns = now + ECMXF_EXPIRE_PERIOD_NS;
 		}
-		if (!reset && slot_free && !ecmxf_nl_query_first(edev, false)) {
+		if (!reset && slot_free) {
 			/* the pump and the files take turns */
 			if (edev->pump.turn)
 				pump = ecmxf_pump_take(edev, now);
@@ -768,7 +858,6 @@ static int ecmxf_worker_fn(void *data)
 				req->state = ECMXF_RS_ACTIVE;
 				edev->cur_req = req;
 				edev->pump.turn = true;
-				ecmxf_nl_query_first(edev, true);
 			} else if (!pump) {
 				pump = ecmxf_pump_take(edev, now);
 			}
@@ -792,19 +881,16 @@ static int ecmxf_worker_fn(void *data)
 			}
 		}
 
-		/* the slot is still free: the AL status query's next command */
-		if (!reset && !req && !pump && slot_free)
-			ecmxf_nl_query_submit(edev);
-
 		/*
 		 * INT1, or a poll for the events' listeners: refresh the
 		 * header (flags, state) with one exchange
 		 */
 		if (ecmxf_engine_idle(&edev->e) &&
 		    !atomic_xchg(&edev->int1_flag, 0) &&
-		    !ecmxf_nl_poll_due(edev, now)) {
-			ecmxf_nl_flush(edev);	/* a burst that just ended */
-			ecmxf_idle(edev, min(ecmxf_nl_wake_at(edev, now),
+		    !ecmxf_watch_poll_due(edev, now)) {
+			/* a burst that just ended */
+			ecmxf_watch_flush(edev);
+			ecmxf_idle(edev, min(ecmxf_watch_wake_at(edev, now),
 					     int1_at));
 			continue;
 		}
@@ -817,7 +903,6 @@ static int ecmxf_worker_fn(void *data)
 	}
 
 	/* the device is going away: nothing in flight survives */
-	ecmxf_nl_stop(edev);
 	mutex_lock(&edev->lock);
 	if (edev->cur_req) {
 		req = edev->cur_req;
@@ -829,6 +914,8 @@ static int ecmxf_worker_fn(void *data)
 	finished = ecmxf_pump_cancel(edev);
 	mutex_unlock(&edev->lock);
 	ecmxf_rings_put(finished);
+	/* the last events, after every command of the watcher ended */
+	ecmxf_watch_stop(edev);
 	return 0;
 }
 

@@ -10,9 +10,16 @@
  *   ecmxf-spi.c       spi_driver: probe/remove, properties, INT0/INT1
  *   ecmxf-worker.c    the kthread that owns the SPI link and the engine
  *   ecmxf-chrdev.c    /dev/ecmxfN: open/release, ioctls, read, poll
- *   ecmxf-ring.c      the mmap()ed PDO rings and the PDO pump
+ *   ecmxf-ring.c      the mmap()ed PDO rings (ecmxf-ring.h)
+ *   ecmxf-pump.c      the PDO pump (ecmxf-ring.h, lib/core/ecmxf-pump.c)
  *   ecmxf-sysfs.c     attributes of the class device
  *   ecmxf-netlink.c   generic netlink family: events, counters
+ *                     (ecmxf-netlink.h)
+ *
+ * The units depend one way: the file operations, sysfs and netlink on the
+ * worker (netlink through &struct ecmxf_watch_ops and a queue client, as
+ * a file does), the worker on the rings and the pump, all of them on the
+ * protocol core (lib/core).
  *
  * Copyright (C) 2026 The ecmxf authors
  */
@@ -36,6 +43,8 @@
 
 #include "ecmxf-proto.h"
 #include "ecmxf-events.h"
+#include "ecmxf-ring.h"
+#include "ecmxf-netlink.h"
 
 #define ECMXF_DRV_NAME		"ecmxf"
 /* minors (and so chips) the module can serve */
@@ -67,11 +76,14 @@
  * @ECMXF_REQ_SYNC: %ECMXF_IOC_CMD; the ioctl sleeps on &ecmxf_req.done
  * @ECMXF_REQ_SUBMIT: %ECMXF_IOC_SUBMIT; completion read() from the client
  * @ECMXF_REQ_RESET: %ECMXF_IOC_RESET; handled by the worker itself
+ * @ECMXF_REQ_KERNEL: a client inside the module (the netlink unit's AL
+ *	status query); &ecmxf_req.complete is called when it ends
  */
 enum ecmxf_req_kind {
 	ECMXF_REQ_SYNC,
 	ECMXF_REQ_SUBMIT,
 	ECMXF_REQ_RESET,
+	ECMXF_REQ_KERNEL,
 };
 
 /**
@@ -101,6 +113,9 @@ enum ecmxf_req_state {
  * @reset_flags: %ECMXF_REQ_RESET: %ECMXF_RESET_F_* value
  * @reset_param: %ECMXF_REQ_RESET: %ECMXF_RESET_ASYNC_* bits
  * @done: completed when @state becomes %ECMXF_RS_DONE (sync and reset)
+ * @complete: %ECMXF_REQ_KERNEL: called by the worker when @state becomes
+ *	%ECMXF_RS_DONE, with &ecmxf_dev.lock held; the request stays its
+ *	owner's (it may queue it again)
  * @x: the engine's view of the command, and its result
  * @tx: data section bytes to send (%ECMXF_DATA_MAX)
  * @rx: response data (%ECMXF_DATA_MAX)
@@ -119,13 +134,15 @@ struct ecmxf_req {
 	u32 reset_flags;
 	u32 reset_param;
 	struct completion done;
+	void (*complete)(struct ecmxf_dev *edev, struct ecmxf_req *req);
 	struct ecmxf_xfer x;
 	u8 tx[ECMXF_DATA_MAX];
 	u8 rx[ECMXF_DATA_MAX];
 };
 
 /**
- * struct ecmxf_client - one open file of /dev/ecmxfN
+ * struct ecmxf_client - one open file of /dev/ecmxfN, or a client inside
+ *	the module (the netlink unit's AL status query)
  * @edev: the device
  * @node: in &ecmxf_dev.clients, whose order is the round-robin order
  * @queue: requests not yet taken by the worker, in submission order
@@ -145,236 +162,6 @@ struct ecmxf_client {
 	unsigned int in_flight;
 	wait_queue_head_t wq;
 	bool writable;
-};
-
-/* slaves whose AL status codes one state event can carry */
-#define ECMXF_NL_MAX_SLAVES	64
-/* events that wait in &ecmxf_nl_dev.queue to be sent */
-#define ECMXF_NL_QUEUE		32
-/* event types (&enum ecmxf_nl_event values) with a rate limit each */
-#define ECMXF_NL_TYPES		16
-/* the counters a %ECMXF_NL_EV_PDO_LOSS event names (&enum ecmxf_nl_loss) */
-#define ECMXF_NL_LOSS_KINDS	7
-/* how often the worker looks at them */
-#define ECMXF_NL_LOSS_PERIOD_NS	(10 * NSEC_PER_MSEC)
-
-/**
- * struct ecmxf_nl_ev - one event on its way to the "events" group
- * @d: what the detector (or the worker) saw
- * @reset_reason: %ECMXF_NL_EV_RESET: &enum ecmxf_nl_reset_reason
- * @action: %ECMXF_NL_EV_DEVICE: &enum ecmxf_nl_device_action
- * @cmd_code: %ECMXF_NL_EV_ASYNC_ERROR: the command code
- * @status: %ECMXF_NL_EV_ASYNC_ERROR: its negative errno
- * @slaves: %ECMXF_NL_EV_STATE: the AL status query ran (for this event)
- * @incomplete: the query could not read every slave
- * @slave_count: slaves on the bus, from the query
- * @n_slaves: entries of &ecmxf_nl_dev.slaves that belong to the event
- * @total: %ECMXF_NL_EV_PDO_LOSS: the counter since probe (the kind is in
- *	@d.fifo, the increase in @d.increase)
- */
-struct ecmxf_nl_ev {
-	struct ecmxf_det_event d;
-	u8 reset_reason;
-	u8 action;
-	u8 cmd_code;
-	s32 status;
-	bool slaves;
-	bool incomplete;
-	u16 slave_count;
-	u16 n_slaves;
-	u64 total;
-};
-
-/**
- * struct ecmxf_nl_slave - a slave not in OP, for a state event
- * @pos: position on the bus
- * @state: ECAT_STATE_GET return value
- * @have_al: @al is valid (the slave answered SLV_INFO_GET 7)
- * @al: AL status code
- */
-struct ecmxf_nl_slave {
-	u16 pos;
-	u8 state;
-	bool have_al;
-	u16 al;
-};
-
-/**
- * struct ecmxf_nl_rate - rate limit of one event type (a token bucket)
- * @tokens: events that may be sent now
- * @last_ns: when the bucket was last refilled
- * @suppressed: events not sent since the last one sent
- */
-struct ecmxf_nl_rate {
-	u32 tokens;
-	u64 last_ns;
-	u32 suppressed;
-};
-
-/**
- * struct ecmxf_nl_dev - per-device state of the events (ecmxf-netlink.c)
- * @det: the header event detector of the protocol core
- * @active: the worker runs: headers are fed, events are sent
- * @warm_sent: a WARM_RESET went out; the next reset seen is its result
- * @seq: number of the next event (sent or suppressed)
- * @next_poll_ns: next INFO_UPDATE poll while someone listens
- * @queue: events detected, not yet sent
- * @queued: entries in @queue
- * @rate: rate limit per event type
- * @q_state: AL status query: 0 idle, else the step running
- * @q_pos: slave position the query is at
- * @q_skipped: times a user command went before the query
- * @q_gen: number of the query (an answer of an older one is dropped)
- * @q_ev: the state event that waits for the query
- * @ix_busy: @ix is in the engine
- * @ix_err: error status before @ix was sent
- * @ix_gen: @q_gen when @ix was sent
- * @ix: the query's command
- * @ix_rx: its response data
- * @slaves: slaves read by the query
- * @loss_seen: the cyclic path's counters as the last %ECMXF_NL_EV_PDO_LOSS
- *	events reported them (&enum ecmxf_nl_loss order)
- * @next_loss_ns: when the worker looks at those counters again
- * @events: events detected (atomic: read by the counters command)
- * @events_suppressed: events not sent because of the rate limit
- * @events_failed: events that could not be sent
- *
- * Everything but the three counters belongs to the worker (and to probe
- * before the worker runs); the counters are atomics.
- */
-struct ecmxf_nl_dev {
-	struct ecmxf_det det;
-	bool active;
-	bool warm_sent;
-	u32 seq;
-	u64 next_poll_ns;
-	struct ecmxf_nl_ev queue[ECMXF_NL_QUEUE];
-	unsigned int queued;
-	struct ecmxf_nl_rate rate[ECMXF_NL_TYPES];
-	u8 q_state;
-	u16 q_pos;
-	unsigned int q_skipped;
-	u32 q_gen;
-	struct ecmxf_nl_ev q_ev;
-	bool ix_busy;
-	u8 ix_err;
-	u32 ix_gen;
-	struct ecmxf_xfer ix;
-	u8 ix_rx[16];
-	struct ecmxf_nl_slave slaves[ECMXF_NL_MAX_SLAVES];
-	u64 loss_seen[ECMXF_NL_LOSS_KINDS];
-	u64 next_loss_ns;
-	atomic64_t events;
-	atomic64_t events_suppressed;
-	atomic64_t events_failed;
-};
-
-/**
- * struct ecmxf_ring - one mmap()ed ring (kernel view)
- * @mem: vmalloc_user() memory, @size bytes, mapped by userspace
- * @size: the mapping length (&struct ecmxf_ring_offsets.mmap_size)
- * @off: the layout as reported to userspace
- * @head: consumer index in @mem
- * @tail: producer index in @mem
- * @flags: %ECMXF_RING_S_* word in @mem
- * @dropped: dropped-frames count in @mem
- * @frames: slot 0 in @mem
- * @entries: slots (a power of two)
- * @frame_size: process data bytes per slot
- * @stride: bytes from slot to slot
- *
- * The indices live in shared memory: the kernel reads the one userspace
- * writes with smp_load_acquire() and never trusts it further than
- * "at most @entries frames apart".
- */
-struct ecmxf_ring {
-	void *mem;
-	size_t size;
-	struct ecmxf_ring_offsets off;
-	u32 *head;
-	u32 *tail;
-	u32 *flags;
-	u32 *dropped;
-	u8 *frames;
-	u32 entries;
-	u32 frame_size;
-	u32 stride;
-};
-
-/**
- * struct ecmxf_rings - the two PDO rings of the claim holder
- * @ref: held by &ecmxf_dev.rings, by every mapping and by the worker
- *	while a pump command uses them; the memory is freed with the last,
- *	never under &ecmxf_dev.lock (see there)
- * @edev: the device (it outlives the rings: every holder keeps the file,
- *	and so the device, alive)
- * @out: output ring (RxPDO frames, application to chip)
- * @in: input ring (TxPDO frames, chip to application)
- * @status: the status block (&struct ecmxf_ring_status_block) in the
- *	input ring's memory, written only through ecmxf_status_publish()
- * @cur: the status the kernel keeps; published into @status
- * @status_seq: the latch count last written to @status
- * @setup_flags: %ECMXF_RING_F_* of the setup
- * @poll_ns: pump timer period
- * @wkc_ns: working counter read period, 0 never
- * @rx_fill: RxFIFO level the pump fills up to
- * @rx_depth: the chip's RxFIFO depth at setup
- * @tx_depth: the chip's TxFIFO depth at setup
- * @tx_buf: data section of the pump's command (%ECMXF_DATA_MAX)
- * @rx_buf: data section of its answer (%ECMXF_DATA_MAX)
- * @stopped: the pump stopped for good (%ECMXF_RING_S_ERROR); under
- *	&ecmxf_dev.lock
- * @next_tick_ns: next timer-driven pump command (worker only)
- * @next_wkc_ns: next working counter read (worker only)
- * @again: the last command left work (frames queued either way): pump
- *	again without waiting (worker only)
- * @pushed_any: an output frame has been pushed (worker only)
- * @unconfirmed: frames of the previous command that the header's RxFIFO
- *	count may not show yet (worker only)
- */
-struct ecmxf_rings {
-	struct kref ref;
-	struct ecmxf_dev *edev;
-	struct ecmxf_ring out;
-	struct ecmxf_ring in;
-	struct ecmxf_ring_status_block *status;
-	struct ecmxf_ring_status cur;
-	u32 status_seq;
-	u32 setup_flags;
-	u64 poll_ns;
-	u64 wkc_ns;
-	u32 rx_fill;
-	u32 rx_depth;
-	u32 tx_depth;
-	u8 *tx_buf;
-	u8 *rx_buf;
-	bool stopped;
-	u64 next_tick_ns;
-	u64 next_wkc_ns;
-	bool again;
-	bool pushed_any;
-	u32 unconfirmed;
-};
-
-/**
- * struct ecmxf_pump - the PDO pump's command in the engine (worker only)
- * @x: the command (ECAT_PDO_DATA_FIFO_OP or ECAT_PDO_WC_GET)
- * @rings: the rings it serves, a reference held while @busy
- * @busy: @x is in the engine
- * @turn: the pump goes before the files' commands when both are due
- * @pushed: output frames in @x
- * @skipped: output frames skipped when @x was built (not yet counted in
- *	&ecmxf_dev.out_ring_skipped)
- * @wkc: @x reads the working counter
- */
-struct ecmxf_pump {
-	struct ecmxf_xfer x;
-	struct ecmxf_rings *rings;
-	bool busy;
-	bool turn;
-	u32 pushed;
-	u32 skipped;
-	bool wkc;
 };
 
 /**
@@ -464,7 +251,8 @@ struct ecmxf_pump {
  * @tx_fifo_overruns: &struct ecmxf_counters.tx_fifo_overruns
  * @out_ring_skipped: output frames the pump skipped (sysfs ring_skipped)
  * @pump_failures: pump commands that failed (sysfs ring_failures)
- * @nl: generic netlink events (worker only, see &struct ecmxf_nl_dev)
+ * @nl: generic netlink events (ecmxf-netlink.c; worker only, see
+ *	&struct ecmxf_nl_dev)
  */
 struct ecmxf_dev {
 	struct spi_device *spi;
@@ -523,7 +311,7 @@ struct ecmxf_dev {
 	atomic64_t int0_irqs;
 	atomic64_t int1_irqs;
 	struct ecmxf_rings *rings;
-	struct ecmxf_pump pump;
+	struct ecmxf_pump_slot pump;
 	u64 out_ring_underruns;
 	u64 in_ring_overruns;
 	u64 rx_fifo_underruns;
@@ -555,55 +343,54 @@ int ecmxf_spi_register(void);
 void ecmxf_spi_unregister(void);
 void ecmxf_irq_unmask(struct ecmxf_dev *edev, int irq, atomic_t *masked);
 
+/**
+ * struct ecmxf_watch_ops - what the link worker reports to its watcher
+ * @start: the worker starts (the link is up); called by the worker
+ * @stop: the worker ends; nothing is in the engine any more
+ * @flush: the worker holds no lock: a moment to send what was found
+ * @header: a valid response header arrived (at @now_ns); the engine's
+ *	last header is it
+ * @req_sent: a file's command goes to the engine
+ * @req_done: a file's command finished (&ecmxf_dev.lock held)
+ * @link_reset: the worker resynchronised the link (%ECMXF_RESET_F_LINK)
+ * @poll_due: the worker is idle: should it refresh the header now?
+ * @wake_at: the worker is idle: when it must look again (U64_MAX: only
+ *	when kicked)
+ *
+ * The netlink unit (ecmxf-netlink.c) registers these (every one set) with
+ * ecmxf_worker_watch(), so that the worker
+ * calls no netlink function by name: netlink depends on the worker, not
+ * the other way round.  Every callback runs in the worker thread.
+ */
+struct ecmxf_watch_ops {
+	void (*start)(struct ecmxf_dev *edev);
+	void (*stop)(struct ecmxf_dev *edev);
+	void (*flush)(struct ecmxf_dev *edev);
+	void (*header)(struct ecmxf_dev *edev, u64 now_ns);
+	void (*req_sent)(struct ecmxf_dev *edev, const struct ecmxf_xfer *x);
+	void (*req_done)(struct ecmxf_dev *edev, const struct ecmxf_xfer *x);
+	void (*link_reset)(struct ecmxf_dev *edev);
+	bool (*poll_due)(struct ecmxf_dev *edev, u64 now_ns);
+	u64 (*wake_at)(struct ecmxf_dev *edev, u64 now_ns);
+};
+
 /* ecmxf-worker.c */
 int ecmxf_link_bringup(struct ecmxf_dev *edev);
 int ecmxf_worker_start(struct ecmxf_dev *edev);
 void ecmxf_worker_stop(struct ecmxf_dev *edev);
 void ecmxf_worker_kick(struct ecmxf_dev *edev);
+void ecmxf_worker_watch(const struct ecmxf_watch_ops *ops);
 void ecmxf_wake_owner(struct ecmxf_dev *edev);
 void ecmxf_req_finish(struct ecmxf_dev *edev, struct ecmxf_req *req,
 		      int status);
 void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k);
-
-/* ecmxf-ring.c */
-int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
-		       const u16 sizes[2], const u8 depths[2],
-		       struct ecmxf_rings **out);
-void ecmxf_rings_put(struct ecmxf_rings *r);
-bool ecmxf_ring_setup_valid(const struct ecmxf_ring_setup *rs);
-int ecmxf_rings_mmap(struct ecmxf_rings *r, struct vm_area_struct *vma);
-struct ecmxf_rings *ecmxf_rings_teardown(struct ecmxf_dev *edev);
-void ecmxf_rings_stop(struct ecmxf_dev *edev, int err);
-__poll_t ecmxf_rings_poll(struct ecmxf_dev *edev);
-struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now);
-int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r,
-		      u64 now);
-struct ecmxf_rings *ecmxf_pump_collect(struct ecmxf_dev *edev);
-struct ecmxf_rings *ecmxf_pump_cancel(struct ecmxf_dev *edev);
-u64 ecmxf_pump_deadline(struct ecmxf_dev *edev);
+const char *ecmxf_check_name(unsigned int check);
 
 /* ecmxf-chrdev.c */
 extern const struct file_operations ecmxf_fops;
 void ecmxf_chrdev_fail_all(struct ecmxf_dev *edev, int status);
 
-/* ecmxf-netlink.c */
-int ecmxf_nl_register(void);
-void ecmxf_nl_unregister(void);
-void ecmxf_nl_start(struct ecmxf_dev *edev);
-void ecmxf_nl_stop(struct ecmxf_dev *edev);
-void ecmxf_nl_header(struct ecmxf_dev *edev, u64 now_ns);
-void ecmxf_nl_req_sent(struct ecmxf_dev *edev, const struct ecmxf_xfer *x);
-void ecmxf_nl_req_done(struct ecmxf_dev *edev, const struct ecmxf_xfer *x);
-void ecmxf_nl_link_reset(struct ecmxf_dev *edev);
-void ecmxf_nl_flush(struct ecmxf_dev *edev);
-bool ecmxf_nl_query_first(struct ecmxf_dev *edev, bool picked);
-bool ecmxf_nl_query_submit(struct ecmxf_dev *edev);
-void ecmxf_nl_collect(struct ecmxf_dev *edev);
-bool ecmxf_nl_poll_due(struct ecmxf_dev *edev, u64 now_ns);
-u64 ecmxf_nl_wake_at(struct ecmxf_dev *edev, u64 now_ns);
-
 /* ecmxf-sysfs.c */
 extern const struct attribute_group *ecmxf_groups[];
-const char *ecmxf_check_name(unsigned int check);
 
 #endif /* ECMXF_H */

@@ -32,6 +32,8 @@
 #include <ecmxf/cia402/cia402_axis.hpp>
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/pdo/process_image.hpp>
@@ -139,7 +141,7 @@ int run(Demo &d)
 	heading(2, "The slaves");
 	std::printf("   %-3s %-28s %-21s %-7s %4s %4s\n", "pos", "name", "vendor:product", "state", "out", "in");
 	for (const ecmxf::SlaveInfo &s : master.slaves()) {
-		const ecmxf::SlaveInfo live = dev.slaveInfo(s.position);
+		const ecmxf::SlaveInfo live = dev.bus().slaveInfo(s.position);
 		std::printf("   %-3u %-28s %s:%s %-7s %4u %4u\n", unsigned{ s.position }, s.name.c_str(),
 			    hex(s.vendorId, 8).c_str(), hex(s.productCode, 8).c_str(), ecmxf::stateName(live.state).c_str(),
 			    unsigned{ live.outputBytes }, unsigned{ live.inputBytes });
@@ -149,22 +151,22 @@ int run(Demo &d)
 
 	// ---------------------------------------------------------------- 3
 	heading(3, "SDO (CoE mailbox) on slave 0");
-	const auto vendor = dev.sdoRead<std::uint32_t>(0, 0x1018, 1);
-	const auto product = dev.sdoRead<std::uint32_t>(0, 0x1018, 2);
-	const auto serial = dev.sdoRead<std::uint32_t>(0, 0x1018, 4);
+	const auto vendor = dev.sdo().sdoRead<std::uint32_t>(0, 0x1018, 1);
+	const auto product = dev.sdo().sdoRead<std::uint32_t>(0, 0x1018, 2);
+	const auto serial = dev.sdo().sdoRead<std::uint32_t>(0, 0x1018, 4);
 	d.sdoCount += 3;
 	std::printf("   read  0x1018 identity: vendor %s, product %s, serial %u\n", hex(vendor, 8).c_str(),
 		    hex(product, 8).c_str(), serial);
-	const auto pv0 = dev.sdoRead<std::uint32_t>(0, 0x6081, 0);
-	dev.sdoWrite<std::uint32_t>(0, 0x6081, 0, 120000);
-	const auto pv1 = dev.sdoRead<std::uint32_t>(0, 0x6081, 0);
+	const auto pv0 = dev.sdo().sdoRead<std::uint32_t>(0, 0x6081, 0);
+	dev.sdo().sdoWrite<std::uint32_t>(0, 0x6081, 0, 120000);
+	const auto pv1 = dev.sdo().sdoRead<std::uint32_t>(0, 0x6081, 0);
 	d.sdoCount += 3;
 	std::printf("   0x6081 profile velocity: read %u, wrote 120000, read back %u\n", pv0, pv1);
 	if (pv1 != 120000)
 		d.fail("0x6081 read back " + std::to_string(pv1));
 	try {
 		d.sdoCount++;
-		(void)dev.sdoRead<std::uint32_t>(0, 0x2FFF, 0);
+		(void)dev.sdo().sdoRead<std::uint32_t>(0, 0x2FFF, 0);
 		d.fail("reading 0x2FFF did not abort");
 	} catch (const ecmxf::SdoError &e) {
 		std::printf("   read  0x2FFF (no such object): abort %s \"%s\"\n", hex(e.abortCode(), 8).c_str(),
@@ -175,7 +177,7 @@ int run(Demo &d)
 	}
 	try {
 		d.sdoCount++;
-		dev.sdoWrite<std::int32_t>(0, 0x6064, 0, 5);
+		dev.sdo().sdoWrite<std::int32_t>(0, 0x6064, 0, 5);
 		d.fail("writing 0x6064 did not abort");
 	} catch (const ecmxf::SdoError &e) {
 		std::printf("   write 0x6064 (read-only):   abort %s \"%s\"\n", hex(e.abortCode(), 8).c_str(),

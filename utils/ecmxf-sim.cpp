@@ -14,9 +14,16 @@
  *   'T'                                  'T' u64 now_ns   (read time)
  *   'F' u8 fault, u32 value              'F' u8 0
  *   'Q'                                  'Q'              (then exit/close)
+ *   'H'                                  'H' "ECMXFSIM" u16 version (hello;
+ *                                            version 1 = this protocol)
  *   anything malformed                   'E' u16 n, n bytes of message
+ *   (a second client on --socket)        'B' u16 n, n bytes of message,
+ *                                            then the connection is closed
  *
- * All integers are little-endian.
+ * All integers are little-endian. Over --socket the chip lives as long as
+ * the server: its state survives between clients. One client is served at
+ * a time; a client that connects while another is served is refused at
+ * once with 'B' ("busy").
  */
 #include <cerrno>
 #include <csignal>
@@ -27,12 +34,15 @@
 #include <exception>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
+#include <poll.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <ecmxf/link/unix_channel.hpp>
 #include <ecmxf/protocol.hpp>
 #include <ecmxf/sim/chip.hpp>
 
@@ -48,6 +58,32 @@ enum FaultId : std::uint8_t {
 	kFaultSlaveDropped = 6,
 	kFaultSdoAbort = 7,
 	kFaultAsyncStuck = 8,
+};
+
+// A socket descriptor, closed with the object.
+struct Socket {
+	int fd = -1;
+	Socket() = default;
+	explicit Socket(int f) : fd(f) {}
+	Socket(Socket &&o) noexcept : fd(o.fd) { o.fd = -1; }
+	Socket &operator=(Socket &&o) noexcept
+	{
+		if (this != &o) {
+			reset();
+			fd = o.fd;
+			o.fd = -1;
+		}
+		return *this;
+	}
+	Socket(const Socket &) = delete;
+	Socket &operator=(const Socket &) = delete;
+	~Socket() { reset(); }
+	void reset()
+	{
+		if (fd >= 0)
+			::close(fd);
+		fd = -1;
+	}
 };
 
 class Pipe
@@ -117,114 +153,146 @@ std::uint64_t le(const std::uint8_t *b, int n)
 	return v;
 }
 
-void error(Pipe &p, const std::string &msg)
+void refuse(Pipe &p, char type, const std::string &msg)
 {
-	p.writeU8('E');
+	p.writeU8(static_cast<std::uint8_t>(type));
 	p.writeU16(static_cast<std::uint16_t>(msg.size()));
 	p.write(msg.data(), msg.size());
 }
 
-// Serve one client until 'Q' or end of input. Returns false after 'Q'.
-bool serve(ecmxf::sim::Chip &chip, Pipe &p)
+void error(Pipe &p, const std::string &msg)
+{
+	refuse(p, 'E', msg);
+}
+
+// What serveOne() leaves behind.
+enum class Served {
+	More,	// the request was answered; the client may send another
+	Closed, // the client went away (or must be dropped)
+	Quit,	// 'Q': the server ends
+};
+
+// Read one request and answer it.
+Served serveOne(ecmxf::sim::Chip &chip, Pipe &p)
 {
 	std::vector<std::uint8_t> mosi, miso;
 	std::uint8_t type;
 
-	while (p.read(&type, 1)) {
-		switch (type) {
-		case 'X': {
-			std::uint8_t b[2];
-			if (!p.read(b, 2))
-				return true;
-			const std::size_t n = le(b, 2);
-			mosi.resize(n);
-			miso.assign(n, 0);
-			if (!p.read(mosi.data(), n))
-				return true;
-			if (n < ecmxf::packetSize(ecmxf::kDataMin) ||
-			    n > ecmxf::packetSize(ecmxf::kDataMax)) {
-				error(p, "exchange of " + std::to_string(n) +
-						 " bytes: packets are 56..1440 bytes");
-				break;
-			}
-			chip.exchange(mosi, miso);
-			p.writeU8('X');
-			p.writeU16(static_cast<std::uint16_t>(n));
-			p.write(miso.data(), n);
+	if (!p.read(&type, 1))
+		return Served::Closed;
+
+	switch (type) {
+	case 'X': {
+		std::uint8_t b[2];
+		if (!p.read(b, 2))
+			return Served::Closed;
+		const std::size_t n = le(b, 2);
+		mosi.resize(n);
+		miso.assign(n, 0);
+		if (!p.read(mosi.data(), n))
+			return Served::Closed;
+		if (n < ecmxf::packetSize(ecmxf::kDataMin) ||
+		    n > ecmxf::packetSize(ecmxf::kDataMax)) {
+			error(p, "exchange of " + std::to_string(n) +
+					 " bytes: packets are 56..1440 bytes");
 			break;
 		}
-		case 'L':
-			p.writeU8('L');
-			p.writeU8(static_cast<std::uint8_t>((chip.int0() ? 1 : 0) |
-							    (chip.int1() ? 2 : 0) |
-							    (chip.ready() ? 4 : 0)));
-			break;
-		case 'A': {
-			std::uint8_t b[8];
-			if (!p.read(b, 8))
-				return true;
-			const std::uint64_t ns = le(b, 8);
-			if (ns > 3'600'000'000'000ULL) {
-				error(p, "advance of more than one hour refused");
-				break;
-			}
-			chip.advance(std::chrono::nanoseconds(static_cast<std::int64_t>(ns)));
-			p.writeU8('A');
-			p.writeU64(static_cast<std::uint64_t>(chip.now().count()));
-			break;
-		}
-		case 'T':
-			p.writeU8('T');
-			p.writeU64(static_cast<std::uint64_t>(chip.now().count()));
-			break;
-		case 'F': {
-			std::uint8_t b[5];
-			if (!p.read(b, 5))
-				return true;
-			const auto v = static_cast<std::uint32_t>(le(b + 1, 4));
-			auto &f = chip.faults();
-			switch (b[0]) {
-			case kFaultMosiBitErrors:
-				f.mosiBitErrors = v;
-				break;
-			case kFaultMisoBitErrors:
-				f.misoBitErrors = v;
-				break;
-			case kFaultNotReady:
-				f.notReady = v;
-				break;
-			case kFaultInt0StuckBusy:
-				f.int0StuckBusy = v != 0;
-				break;
-			case kFaultLinkLost:
-				f.linkLost = v != 0;
-				break;
-			case kFaultSlaveDropped:
-				f.slaveDropped = static_cast<int>(v == 0xFFFFFFFFu ? -1 : static_cast<int>(v));
-				break;
-			case kFaultSdoAbort:
-				f.forcedSdoAbort = v;
-				break;
-			case kFaultAsyncStuck:
-				f.asyncStuckBusy = v != 0;
-				break;
-			default:
-				error(p, "unknown fault id " + std::to_string(b[0]));
-				continue;
-			}
-			p.writeU8('F');
-			p.writeU8(0);
-			break;
-		}
-		case 'Q':
-			p.writeU8('Q');
-			return false;
-		default:
-			error(p, "unknown request type 0x" + std::to_string(type));
-			return true;	// the stream is out of step: drop it
-		}
+		chip.exchange(mosi, miso);
+		p.writeU8('X');
+		p.writeU16(static_cast<std::uint16_t>(n));
+		p.write(miso.data(), n);
+		break;
 	}
-	return true;
+	case 'L':
+		p.writeU8('L');
+		p.writeU8(static_cast<std::uint8_t>((chip.int0() ? 1 : 0) |
+						    (chip.int1() ? 2 : 0) |
+						    (chip.ready() ? 4 : 0)));
+		break;
+	case 'A': {
+		std::uint8_t b[8];
+		if (!p.read(b, 8))
+			return Served::Closed;
+		const std::uint64_t ns = le(b, 8);
+		if (ns > 3'600'000'000'000ULL) {
+			error(p, "advance of more than one hour refused");
+			break;
+		}
+		chip.advance(std::chrono::nanoseconds(static_cast<std::int64_t>(ns)));
+		p.writeU8('A');
+		p.writeU64(static_cast<std::uint64_t>(chip.now().count()));
+		break;
+	}
+	case 'T':
+		p.writeU8('T');
+		p.writeU64(static_cast<std::uint64_t>(chip.now().count()));
+		break;
+	case 'F': {
+		std::uint8_t b[5];
+		if (!p.read(b, 5))
+			return Served::Closed;
+		const auto v = static_cast<std::uint32_t>(le(b + 1, 4));
+		auto &f = chip.faults();
+		switch (b[0]) {
+		case kFaultMosiBitErrors:
+			f.mosiBitErrors = v;
+			break;
+		case kFaultMisoBitErrors:
+			f.misoBitErrors = v;
+			break;
+		case kFaultNotReady:
+			f.notReady = v;
+			break;
+		case kFaultInt0StuckBusy:
+			f.int0StuckBusy = v != 0;
+			break;
+		case kFaultLinkLost:
+			f.linkLost = v != 0;
+			break;
+		case kFaultSlaveDropped:
+			f.slaveDropped = static_cast<int>(v == 0xFFFFFFFFu ? -1 : static_cast<int>(v));
+			break;
+		case kFaultSdoAbort:
+			f.forcedSdoAbort = v;
+			break;
+		case kFaultAsyncStuck:
+			f.asyncStuckBusy = v != 0;
+			break;
+		default:
+			error(p, "unknown fault id " + std::to_string(b[0]));
+			return Served::More;
+		}
+		p.writeU8('F');
+		p.writeU8(0);
+		break;
+	}
+	case 'Q':
+		p.writeU8('Q');
+		return Served::Quit;
+	case 'H': {
+		const auto magic = ecmxf::UnixChannel::kHelloMagic;
+		p.writeU8('H');
+		p.write(magic.data(), magic.size());
+		p.writeU16(ecmxf::UnixChannel::kProtocolVersion);
+		break;
+	}
+	default: {
+		char hex[8];
+		std::snprintf(hex, sizeof(hex), "0x%02x", type);
+		error(p, std::string("unknown request type ") + hex);
+		return Served::Closed; // the stream is out of step: drop it
+	}
+	}
+	return Served::More;
+}
+
+// The socket of --socket, for removeSocketAndExit().
+char gSocketPath[sizeof(sockaddr_un::sun_path)];
+
+extern "C" void removeSocketAndExit(int)
+{
+	::unlink(gSocketPath); // async-signal-safe, as _exit()
+	::_exit(0);
 }
 
 void usage(std::FILE *out)
@@ -233,8 +301,10 @@ void usage(std::FILE *out)
 		     "Usage: ecmxf-sim [--network FILE] [--paced] [--socket PATH]\n"
 		     "\n"
 		     "Serve a simulated ECM-XF over standard input/output, or over a Unix\n"
-		     "stream socket (one client at a time). The wire protocol is described in\n"
-		     "Documentation/simulator.rst.\n"
+		     "stream socket (one client at a time: another one is refused as busy; the\n"
+		     "chip keeps its state between clients, reach it with the device URI\n"
+		     "unix:PATH). The wire protocol is described in\n"
+		     "Documentation/sim-wire-protocol.rst.\n"
 		     "\n"
 		     "  -n, --network FILE  network description (default: 2x EST-584 + I/O)\n"
 		     "  -p, --paced         follow the wall clock instead of virtual time\n"
@@ -273,46 +343,73 @@ int run(int argc, char **argv)
 
 	if (socketPath.empty()) {
 		Pipe p(STDIN_FILENO, STDOUT_FILENO);
-		serve(chip, p);
+		while (serveOne(chip, p) == Served::More) {
+		}
 		return 0;
 	}
 
-	const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-	if (fd < 0)
+	const Socket listener(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+	if (listener.fd < 0)
 		throw std::runtime_error(std::string("socket: ") + std::strerror(errno));
 	sockaddr_un addr{};
 	addr.sun_family = AF_UNIX;
 	if (socketPath.size() >= sizeof(addr.sun_path))
-		throw std::invalid_argument("socket path too long: " + socketPath);
+		throw std::invalid_argument("socket path too long (at most " +
+					    std::to_string(sizeof(addr.sun_path) - 1) + " bytes): " + socketPath);
 	std::memcpy(addr.sun_path, socketPath.c_str(), socketPath.size() + 1);
 	::unlink(socketPath.c_str());
-	if (::bind(fd, reinterpret_cast<sockaddr *>(&addr), sizeof(addr)) < 0 ||
-	    ::listen(fd, 1) < 0) {
-		const int e = errno;
-		::close(fd);
-		throw std::runtime_error("listen on " + socketPath + ": " + std::strerror(e));
-	}
+	if (::bind(listener.fd, reinterpret_cast<sockaddr *>(&addr), sizeof(addr)) < 0 ||
+	    ::listen(listener.fd, 4) < 0)
+		throw std::runtime_error("listen on " + socketPath + ": " + std::strerror(errno));
+	// SIGTERM/SIGINT remove the socket: no stale one is left behind
+	std::memcpy(gSocketPath, addr.sun_path, sizeof(addr.sun_path));
+	std::signal(SIGTERM, removeSocketAndExit);
+	std::signal(SIGINT, removeSocketAndExit);
+
+	// One client at a time; the chip is the server's and outlives them.
+	// The client's requests are served before new connections are looked
+	// at, so a client that closes and reconnects is never refused.
+	Socket client;
 	for (;;) {
-		const int c = ::accept4(fd, nullptr, nullptr, SOCK_CLOEXEC);
-		if (c < 0) {
+		pollfd fds[2] = { { listener.fd, POLLIN, 0 }, { client.fd, POLLIN, 0 } };
+		if (::poll(fds, client.fd >= 0 ? 2 : 1, -1) < 0) {
 			if (errno == EINTR)
 				continue;
-			const int e = errno;
-			::close(fd);
-			throw std::runtime_error(std::string("accept: ") + std::strerror(e));
+			throw std::runtime_error(std::string("poll: ") + std::strerror(errno));
 		}
-		Pipe p(c, c);
-		bool more = true;
-		try {
-			more = serve(chip, p);
-		} catch (const std::exception &ex) {
-			std::fprintf(stderr, "ecmxf-sim: client dropped: %s\n", ex.what());
+		if (client.fd >= 0 && fds[1].revents != 0) {
+			Pipe p(client.fd, client.fd);
+			Served s = Served::Closed;
+			try {
+				s = serveOne(chip, p);
+			} catch (const std::exception &ex) {
+				std::fprintf(stderr, "ecmxf-sim: client dropped: %s\n", ex.what());
+			}
+			if (s == Served::Quit)
+				break;
+			if (s == Served::Closed)
+				client.reset();
 		}
-		::close(c);
-		if (!more)
-			break;
+		if (fds[0].revents & POLLIN) {
+			Socket c(::accept4(listener.fd, nullptr, nullptr, SOCK_CLOEXEC));
+			if (c.fd < 0) {
+				if (errno == EINTR || errno == ECONNABORTED || errno == EAGAIN)
+					continue;
+				throw std::runtime_error(std::string("accept: ") + std::strerror(errno));
+			}
+			if (client.fd < 0) {
+				client = std::move(c);
+				continue;
+			}
+			Pipe p(c.fd, c.fd);
+			try {
+				refuse(p, 'B',
+				       "busy: ecmxf-sim serves one client at a time and another one is connected");
+			} catch (const std::exception &) {
+				// the refused client is gone already
+			}
+		}
 	}
-	::close(fd);
 	::unlink(socketPath.c_str());
 	return 0;
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/chip/peripherals.hpp>
 
 namespace ecmxf_util {
 
@@ -46,11 +47,11 @@ int cmdAdc(Globals &g, const Args &args)
 			channels.push_back(c);
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	dev->adcOpen(diff ? ecmxf::AdcInputMode::Differential : ecmxf::AdcInputMode::SingleEnded);
+	dev->peripherals().adcOpen(diff ? ecmxf::AdcInputMode::Differential : ecmxf::AdcInputMode::SingleEnded);
 	std::vector<std::uint16_t> raw;
 	for (const unsigned c : channels) {
-		dev->adcConfigureModule(ecmxf::kAdcDefaultModule, c);
-		raw.push_back(dev->adcConvert(ecmxf::kAdcDefaultModule));
+		dev->peripherals().adcConfigureModule(ecmxf::kAdcDefaultModule, c);
+		raw.push_back(dev->peripherals().adcConvert(ecmxf::kAdcDefaultModule));
 	}
 	const auto volts = [](std::uint16_t r) { return r * 3.3 / 4095.0; };
 	if (g.json) {

@@ -3,6 +3,7 @@
  * ecmxf-util - helpers shared by the command units.
  */
 #include "ecmxf-util.hpp"
+#include <ecmxf/bus/bus.hpp>
 
 #include <cerrno>
 #include <charconv>
@@ -86,20 +87,18 @@ std::uint32_t le32(const ecmxf::Response &r, std::string_view what)
 
 std::string stateName(std::uint8_t state)
 {
-	switch (state) {
-	case 0x00: return "NONE";
-	case 0x01: return "INIT";
-	case 0x02: return "PREOP";
-	case 0x03: return "BOOT";
-	case 0x04: return "SAFEOP";
-	case 0x08: return "OP";
-	case 0x10: return "ERROR";
-	default: {
+	// the library's names (ecmxf::stateName()) in the spelling the
+	// command line takes: "PREOP", "SAFEOP"
+	if (state == 0x10)
+		return "ERROR";
+	std::string name = ecmxf::stateName(static_cast<ecmxf::State>(state));
+	if (name.rfind("0x", 0) == 0) {
 		char buf[8];
 		std::snprintf(buf, sizeof(buf), "0x%02x", state);
 		return buf;
 	}
-	}
+	std::erase(name, '-');
+	return name;
 }
 
 // ---------------------------------------------------------------------------
@@ -300,7 +299,7 @@ std::unique_ptr<ecmxf::Device> openDevice(const Globals &g)
 
 bool busDown(ecmxf::Device &dev)
 {
-	const unsigned count = dev.slaveCount();
+	const unsigned count = dev.bus().slaveCount();
 	return count == 0 && dev.lastHeader().ecatState == 0;
 }
 
@@ -310,11 +309,11 @@ unsigned ensureBus(ecmxf::Device &dev, BusNeed need, bool verbose)
 		if (verbose)
 			std::fprintf(stderr, "ecmxf-util: no network initialised yet, running ECAT_INIT_OP%s\n",
 				     need == BusNeed::PreOp ? " and PRE-OP" : "");
-		dev.initNetwork();
-		if (need == BusNeed::PreOp && dev.slaveCount() > 0)
-			dev.stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
+		dev.bus().initNetwork();
+		if (need == BusNeed::PreOp && dev.bus().slaveCount() > 0)
+			dev.bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
 	}
-	return dev.slaveCount();
+	return dev.bus().slaveCount();
 }
 
 void checkPosition(unsigned position, unsigned count)

@@ -9,6 +9,7 @@
 #include <string>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/chip/peripherals.hpp>
 
 namespace ecmxf_util {
 
@@ -36,8 +37,8 @@ int cmdDac(Globals &g, const Args &args)
 	parseUnsigned("dac", "CH (the ECM-XF has one DAC output, channel 0)", (*pos)[1], 0);
 	const auto value = static_cast<std::uint16_t>(parseUnsigned("dac", "VALUE", (*pos)[2], 4095));
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	dev->dacOpen(ecmxf::DacTrigger::SetData);
-	dev->dacWrite(value);
+	dev->peripherals().dacOpen(ecmxf::DacTrigger::SetData);
+	dev->peripherals().dacWrite(value);
 	return 0;
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
 
 namespace ecmxf_util {
@@ -58,7 +59,7 @@ int cmdDownload(Globals &g, const Args &args)
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
 	if (!typeText) {
-		const std::size_t n = dev->sdoUpload(position, obj.index, obj.sub).size();
+		const std::size_t n = dev->sdo().sdoUpload(position, obj.index, obj.sub).size();
 		if (n != 1 && n != 2 && n != 4 && n != 8)
 			throw UsageError("download: slave " + std::to_string(position) + " " + objectName(obj) +
 					 " has " + std::to_string(n) +
@@ -69,7 +70,7 @@ int cmdDownload(Globals &g, const Args &args)
 												  : DataType::Int64;
 		bytes = encodeValue("download", !valueText.empty() && valueText[0] == '-' ? s : u, valueText);
 	}
-	dev->sdoDownload(position, obj.index, obj.sub, bytes);
+	dev->sdo().sdoDownload(position, obj.index, obj.sub, bytes);
 	return 0;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/slave_access.hpp>
 
 namespace ecmxf_util {
 
@@ -59,7 +60,7 @@ int cmdEeprom(Globals &g, const Args &args)
 					      : 1;
 		const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 		checkPosition(position, ensureBus(*dev, BusNeed::Scan));
-		const std::vector<std::uint16_t> words = dev->eepromReadWords(position, addr, n);
+		const std::vector<std::uint16_t> words = dev->slaves().eepromReadWords(position, addr, n);
 		if (g.json) {
 			std::printf("{\"position\": %u, \"address\": %u, \"words\": [", position, addr);
 			for (std::size_t i = 0; i < words.size(); i++)
@@ -90,7 +91,7 @@ int cmdEeprom(Globals &g, const Args &args)
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	checkPosition(position, ensureBus(*dev, BusNeed::Scan));
 	for (std::size_t i = 0; i < values.size(); i++)
-		dev->eepromWrite(position, static_cast<std::uint16_t>(addr + i), values[i]);
+		dev->slaves().eepromWrite(position, static_cast<std::uint16_t>(addr + i), values[i]);
 	return 0;
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/slave_access.hpp>
 
 namespace ecmxf_util {
 
@@ -81,7 +82,7 @@ int cmdEmergency(Globals &g, const Args &args)
 	if (one)
 		checkPosition(static_cast<unsigned>(position), ensureBus(*dev, BusNeed::Scan));
 	std::vector<ecmxf::CoeEmergency> list;
-	for (const ecmxf::CoeEmergency &e : dev->coeEmergencies(8))
+	for (const ecmxf::CoeEmergency &e : dev->slaves().coeEmergencies(8))
 		if (!one || e.slave == position)
 			list.push_back(e);
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/slave_access.hpp>
 #include <ecmxf/error.hpp>
 
 namespace ecmxf_util {
@@ -85,7 +86,7 @@ int cmdFoeRead(Globals &g, const Args &args)
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
-	const std::vector<std::uint8_t> data = dev->foeRead(position, pos->front(), opt);
+	const std::vector<std::uint8_t> data = dev->slaves().foeRead(position, pos->front(), opt);
 	if (out) {
 		std::ofstream f(*out, std::ios::binary | std::ios::trunc);
 		if (!f)
@@ -124,7 +125,7 @@ int cmdFoeWrite(Globals &g, const Args &args)
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
-	dev->foeWrite(position, remote, data, opt);
+	dev->slaves().foeWrite(position, remote, data, opt);
 	return 0;
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/chip/peripherals.hpp>
 
 namespace ecmxf_util {
 
@@ -61,7 +62,7 @@ int cmdGpio(Globals &g, const Args &args)
 		const std::optional<unsigned> line =
 			pos->size() == 2 ? std::optional<unsigned>(parseLine((*pos)[1])) : std::nullopt;
 		const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-		const std::uint32_t v = dev->gpioReadAll();
+		const std::uint32_t v = dev->peripherals().gpioReadAll();
 		if (line) {
 			const unsigned bit = (v >> *line) & 1u;
 			if (g.json)
@@ -93,9 +94,9 @@ int cmdGpio(Globals &g, const Args &args)
 		const unsigned line = parseLine((*pos)[1]);
 		const auto value = parseUnsigned("gpio", "VALUE", (*pos)[2], 1);
 		const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-		std::uint32_t v = dev->gpioReadAll();
+		std::uint32_t v = dev->peripherals().gpioReadAll();
 		v = value ? (v | (1u << line)) : (v & ~(1u << line));
-		dev->gpioWriteAll(v);
+		dev->peripherals().gpioWriteAll(v);
 		return 0;
 	}
 	if (op == "config") {
@@ -143,11 +144,11 @@ int cmdGpio(Globals &g, const Args &args)
 				throw UsageError("gpio: --irq: unknown '" + *irq + "' (none, both, falling, rising)");
 		}
 		const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-		dev->gpioSetMode(1u << line, mode, p);
+		dev->peripherals().gpioSetMode(1u << line, mode, p);
 		if (deb)
-			dev->gpioSetDebounce(1u << line, *deb);
+			dev->peripherals().gpioSetDebounce(1u << line, *deb);
 		if (edge)
-			dev->gpioSetInterrupt(line, *edge);
+			dev->peripherals().gpioSetInterrupt(line, *edge);
 		return 0;
 	}
 	throw UsageError("gpio: unknown operation '" + op + "' (get, set or config)");

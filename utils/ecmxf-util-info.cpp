@@ -11,6 +11,8 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/chip/chip.hpp>
 #include <ecmxf/bus/status.hpp>
 
 namespace ecmxf_util {
@@ -51,8 +53,8 @@ int cmdInfo(Globals &g, const Args &args)
 		return 0;
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	const ecmxf::ChipInfo ci = dev->info();
-	const unsigned slaves = dev->slaveCount();
+	const ecmxf::ChipInfo ci = dev->chip().info();
+	const unsigned slaves = dev->bus().slaveCount();
 	const ecmxf::ResponseHeader h = dev->lastHeader();
 	const ecmxf::FirmwareVersion &fw = ci.firmware;
 	const std::string series = ecmxf::masterSeriesName(fw.seriesCode);

@@ -7,7 +7,7 @@
  * events (libmnl, through ecmxf::EventSubscriber) and needs no access to
  * the device node; the kernel detects them (its worker sees every
  * response header) and reads the slaves' AL status codes itself. On the
- * byte transports (sim:, spidev:) it polls the chip with INFO_UPDATE and
+ * byte transports (sim:, unix:, spidev:) it polls the chip with INFO_UPDATE and
  * runs the same detector (ecmxf::EventDetector, lib/core/ecmxf-events.c)
  * over the headers, and asks the slaves itself.
  */
@@ -47,9 +47,9 @@ const char *const kMonitorHelp =
 	"Print one line per event of the chip, until --count events, --duration\n"
 	"or Ctrl-C. With a kernel device (-d /dev/ecmxfN) the events come from the\n"
 	"kernel module over generic netlink (family \"ecmxf\", group \"events\"; no\n"
-	"access to the device node is needed); on sim: and spidev: devices the\n"
-	"chip is polled with INFO_UPDATE every --interval and the same rules run\n"
-	"over the response headers:\n"
+	"access to the device node is needed); on sim:, unix: and spidev: devices\n"
+	"the chip is polled with INFO_UPDATE every --interval and the same rules\n"
+	"run over the response headers:\n"
 	"  state          the ECAT state changed; when it went down or to ERROR,\n"
 	"                 each slave not in OP with its state and AL status code\n"
 	"                 + text (STATE_GET, SLV_INFO_GET 7)\n"
@@ -701,7 +701,7 @@ int cmdMonitor(Globals &g, const Args &args)
 							    : nullptr;
 		if (polledOnly)
 			throw UsageError(std::string("monitor: ") + polledOnly +
-					 " applies to polled devices (sim:, spidev:), not to the kernel's events");
+					 " applies to polled devices (sim:, unix:, spidev:), not to the kernel's events");
 		if (counters) {
 			const ecmxf::NetlinkCounters c = ecmxf::readNetlinkCounters(*kminor);
 			std::fputs((g.json ? monitor::countersJson(c) : monitor::countersText(c)).c_str(), stdout);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/slave_access.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/bus/master.hpp>
 
@@ -97,7 +98,7 @@ int cmdPdos(Globals &g, const Args &args)
 			continue;
 		const auto p8 = static_cast<std::uint8_t>(p);
 		pdos[p] = m.pdos().size() > p ? m.pdos()[p] : m.readSlavePdos(p8);
-		const std::uint16_t mbxSize = dev->eepromRead(p, 0x19);
+		const std::uint16_t mbxSize = dev->slaves().eepromRead(p, 0x19);
 		mailbox[p] = mbxSize != 0 && mbxSize != 0xFFFF;
 	}
 

@@ -9,6 +9,7 @@
 #include <string>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/chip/peripherals.hpp>
 
 namespace ecmxf_util {
 
@@ -62,13 +63,13 @@ int cmdQei(Globals &g, const Args &args)
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	if (op == "open") {
-		dev->qeiOpen(mode);
+		dev->peripherals().qeiOpen(mode);
 	} else if (op == "start") {
-		dev->qeiStart();
+		dev->peripherals().qeiStart();
 	} else if (op == "stop") {
-		dev->qeiStop();
+		dev->peripherals().qeiStop();
 	} else {
-		const std::uint32_t c = dev->qeiCount();
+		const std::uint32_t c = dev->peripherals().qeiCount();
 		const auto signedPos = static_cast<std::int32_t>(c);
 		if (g.json)
 			std::printf("{\"channel\": 0, \"count\": %u, \"position\": %d}\n", c, signedPos);

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/chip/chip.hpp>
 
 namespace ecmxf_util {
 
@@ -46,13 +47,13 @@ int cmdReset(Globals &g, const Args &args)
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	if (warm) {
-		dev->warmReset();
+		dev->chip().warmReset();
 		if (!g.quiet)
 			std::printf("WARM_RESET: the chip restarted with its power-on settings\n");
 		return 0;
 	}
 	const std::uint8_t actions = ecmxf::async_reset::kClearBusy | ecmxf::async_reset::kAbandon;
-	dev->resetAsyncCommand(actions);
+	dev->chip().resetAsyncCommand(actions);
 	if (!g.quiet)
 		std::printf("ASYNCCMD_RESET 0x%02x: async busy flag cleared, last async command abandoned\n",
 			    actions);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/slave_access.hpp>
 #include <ecmxf/error.hpp>
 
 namespace ecmxf_util {
@@ -49,10 +50,10 @@ std::size_t lengthToCategoryEnd(ecmxf::Device &dev, unsigned slave, std::size_t 
 {
 	std::size_t w = kCategoriesStart;
 	while (w + 1 < eepromWords) {
-		const std::uint16_t type = dev.eepromRead(slave, static_cast<std::uint16_t>(w));
+		const std::uint16_t type = dev.slaves().eepromRead(slave, static_cast<std::uint16_t>(w));
 		if (type == 0xFFFF)
 			return w + 1;
-		const std::uint16_t size = dev.eepromRead(slave, static_cast<std::uint16_t>(w + 1));
+		const std::uint16_t size = dev.slaves().eepromRead(slave, static_cast<std::uint16_t>(w + 1));
 		w += 2 + size;
 	}
 	return eepromWords;
@@ -103,18 +104,18 @@ int cmdSiiRead(Globals &g, const Args &args)
 
 	std::vector<std::uint16_t> identity;
 	if (verbose)
-		identity = dev->eepromReadWords(position, 0, 0x40);
+		identity = dev->slaves().eepromReadWords(position, 0, 0x40);
 	if (!length && verbose) {
 		length = 0; // identity only
 	} else if (!length) {
-		const std::uint16_t sizeWord = dev->eepromRead(position, 0x3E);
+		const std::uint16_t sizeWord = dev->slaves().eepromRead(position, 0x3E);
 		const std::size_t words = (static_cast<std::size_t>(sizeWord) + 1) * 1024 / 16;
 		const std::size_t end = lengthToCategoryEnd(*dev, position, words);
 		length = end > offset ? end - offset : 0;
 	}
 	std::vector<std::uint16_t> words;
 	if (*length)
-		words = dev->eepromReadWords(position, offset, *length);
+		words = dev->slaves().eepromReadWords(position, offset, *length);
 
 	if (raw) {
 		for (const std::uint16_t w : words) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/slave_access.hpp>
 #include <ecmxf/error.hpp>
 
 namespace ecmxf_util {
@@ -59,7 +60,7 @@ std::optional<bool> readDc(ecmxf::Device &dev, std::uint16_t station)
 		d.adp = station;
 		d.ado = 0x0008;
 		d.data.assign(2, 0);
-		const ecmxf::DatagramResult r = dev.rawDatagram(d);
+		const ecmxf::DatagramResult r = dev.slaves().rawDatagram(d);
 		if (r.workingCounter != 1 || r.data.empty())
 			return std::nullopt;
 		return (r.data[0] & 0x04) != 0;

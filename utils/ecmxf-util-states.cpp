@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/bus/master.hpp>
 
@@ -53,15 +54,15 @@ ecmxf::State parseState(const std::string &text)
 	for (const char c : text)
 		if (c != '-' && c != '_')
 			u += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-	if (u == "INIT")
-		return ecmxf::State::Init;
-	if (u == "PREOP")
-		return ecmxf::State::PreOp;
-	if (u == "SAFEOP")
-		return ecmxf::State::SafeOp;
-	if (u == "OP")
-		return ecmxf::State::Op;
-	if (u == "BOOT" || u == "BOOTSTRAP")
+	// the library's state names (ecmxf::stateName()) without their '-'
+	for (const ecmxf::State s : { ecmxf::State::Init, ecmxf::State::PreOp, ecmxf::State::SafeOp,
+				      ecmxf::State::Op, ecmxf::State::Boot }) {
+		std::string name = ecmxf::stateName(s);
+		std::erase(name, '-');
+		if (u == name)
+			return s;
+	}
+	if (u == "BOOTSTRAP")
 		return ecmxf::State::Boot;
 	throw UsageError("states: unknown state '" + text + "' (INIT, PREOP, SAFEOP, OP or BOOT)");
 }
@@ -105,25 +106,25 @@ int cmdStates(Globals &g, const Args &args)
 			ecmxf::Master m(*dev);
 			m.bringUp(mc);
 		} else {
-			dev->initNetwork(init); // BOOT is entered from INIT (ETG.1000.6)
+			dev->bus().initNetwork(init); // BOOT is entered from INIT (ETG.1000.6)
 		}
 	}
-	count = dev->slaveCount();
+	count = dev->bus().slaveCount();
 	if (one)
 		checkPosition(static_cast<unsigned>(position), count);
 	else if (count == 0)
 		throw ecmxf::Error("no slaves on the bus", ENODEV);
 
-	dev->stateSet(one ? static_cast<std::uint8_t>(position) : ecmxf::kAllSlaves, want);
-	dev->stateUpdate();
+	dev->bus().stateSet(one ? static_cast<std::uint8_t>(position) : ecmxf::kAllSlaves, want);
+	dev->bus().stateUpdate();
 
 	std::vector<Row> rows;
 	for (unsigned p = 0; p < count; p++) {
 		if (one && p != static_cast<unsigned>(position))
 			continue;
 		const auto p8 = static_cast<std::uint8_t>(p);
-		const ecmxf::SlaveInfo si = dev->slaveInfo(p8);
-		const ecmxf::StateReading st = dev->stateGet(p8);
+		const ecmxf::SlaveInfo si = dev->bus().slaveInfo(p8);
+		const ecmxf::StateReading st = dev->bus().stateGet(p8);
 		rows.push_back({ p, static_cast<std::uint8_t>(si.state), st.error(), si.alStatusCode });
 	}
 

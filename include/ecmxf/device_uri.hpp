@@ -5,6 +5,9 @@
  *
  *  - "sim:" / "sim:<network file>": the in-process simulator;
  *  - "/dev/ecmxfN" (any absolute path): the kernel module's device;
+ *  - "unix:<socket path>": an `ecmxf-sim --socket <socket path>` server
+ *    (UnixChannel, include/ecmxf/link/unix_channel.hpp); the simulated chip
+ *    lives in the server, so its state persists between opens;
  *  - "spidev:/dev/spidevB.C[?int0=<chip>:<line>][&int1=<chip>:<line>]
  *    [&speed=<Hz>][&mode=0..3][&ready=high|low][&size=<bytes>]
  *    [&check=fixed|crc8|ccitt|crc32]": spidev + libgpiod; size= and check=
@@ -29,15 +32,17 @@ namespace ecmxf {
 /// The accepted forms, as error messages list them.
 inline constexpr std::string_view kDeviceUriForms =
 	"\"sim:\", \"sim:<network file>\", \"/dev/ecmxfN\" (kernel module), "
+	"\"unix:<socket path>\" (an ecmxf-sim --socket server), "
 	"\"spidev:/dev/spidevB.C[?int0=<chip>:<line>][&int1=<chip>:<line>][&speed=<Hz>]"
 	"[&mode=0..3][&ready=high|low][&size=<bytes>][&check=fixed|crc8|ccitt|crc32]\"; each may add \"trace=<file>\" as an option";
 
 /// A parsed device URI.
 struct DeviceUri {
-	enum class Kind { Sim, Kernel, Spidev };
+	enum class Kind { Sim, Kernel, Spidev, Unix };
 	Kind kind = Kind::Sim;
 	/// Sim: the network file (empty: the default network); Kernel: the
-	/// device node; Spidev: the spidev node (also in spidev.device).
+	/// device node; Spidev: the spidev node (also in spidev.device);
+	/// Unix: the socket path.
 	std::string path;
 	/// Spidev: the options (defaults from the chip manual otherwise).
 	SpidevOptions spidev;

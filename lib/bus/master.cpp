@@ -5,9 +5,12 @@
 //
 // FIFO_PACK_SIZE_GET (19) and FIFO_ENABLE (18) are sent raw through
 // Device::command() here; the typed process-data calls live in another
-// part of the library (lib/pdo/commands_pdo.cpp).
+// part of the library (lib/pdo/process_data.cpp).
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/bus/sdo.hpp>
+#include <ecmxf/bus/slave_access.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/bus/master.hpp>
 
@@ -84,26 +87,7 @@ void step(const char *name, const std::function<void()> &fn)
 /// One SII word through EEPROM_REQ (38) / EEPROM_GET (39).
 std::uint16_t siiWord(Device &dev, std::uint8_t pos, std::uint16_t addr)
 {
-	const std::string what = "EEPROM_REQ read of SII word " + bus::hex(addr, 4) + " of slave " + std::to_string(pos);
-	Command c = bus::cmd(ECMXF_CMD_EEPROM_REQ);
-	bus::put16(c.payload, 0); // read
-	bus::put16(c.payload, pos);
-	bus::put16(c.payload, addr);
-	bus::put16(c.payload, 0);
-	bus::put32(c.payload, 0); // default timeout
-	try {
-		bus::async(dev, c, what, pos);
-	} catch (const Error &e) {
-		if (e.errnoValue() != EREMOTEIO)
-			throw;
-		const Response g = dev.command(bus::cmd(ECMXF_CMD_EEPROM_GET));
-		throw Error(what + " failed (EEPROM_GET return value " + std::to_string(g.ret) + ")", EREMOTEIO,
-			    e.errorStatus());
-	}
-	const Response g = bus::immediate(dev, bus::cmd(ECMXF_CMD_EEPROM_GET), what + ": EEPROM_GET");
-	if (g.data.size() < 2)
-		throw Error(what + ": EEPROM_GET gave " + std::to_string(g.data.size()) + " bytes, expected 2", EPROTO);
-	return bus::le16(g.data);
+	return SlaveAccess(dev).eepromRead(pos, addr);
 }
 
 /// Appends the entries of @p pdos to @p out with running bit offsets.
@@ -129,18 +113,18 @@ void addEntries(std::vector<PdoEntryInfo> &out, const std::vector<PdoDef> &pdos)
 /// when it holds more than the command's 3 PDOs of 8 entries.
 std::vector<PdoDef> readAssignment(Device &dev, std::uint8_t pos, std::uint16_t assign)
 {
-	const PdoConfig c = dev.pdoConfigRead(pos, assign);
+	const PdoConfig c = dev.bus().pdoConfigRead(pos, assign);
 	if (c.complete())
 		return c.pdos;
 	std::vector<PdoDef> pdos;
-	const auto n = dev.sdoRead<std::uint8_t>(pos, assign, 0);
+	const auto n = dev.sdo().sdoRead<std::uint8_t>(pos, assign, 0);
 	for (unsigned i = 1; i <= n; i++) {
 		PdoDef p;
-		p.index = dev.sdoRead<std::uint16_t>(pos, assign, static_cast<std::uint8_t>(i));
-		const auto m = dev.sdoRead<std::uint8_t>(pos, p.index, 0);
+		p.index = dev.sdo().sdoRead<std::uint16_t>(pos, assign, static_cast<std::uint8_t>(i));
+		const auto m = dev.sdo().sdoRead<std::uint8_t>(pos, p.index, 0);
 		for (unsigned j = 1; j <= m; j++)
 			p.entries.push_back(PdoMapEntry::fromValue(
-				dev.sdoRead<std::uint32_t>(pos, p.index, static_cast<std::uint8_t>(j))));
+				dev.sdo().sdoRead<std::uint32_t>(pos, p.index, static_cast<std::uint8_t>(j))));
 		pdos.push_back(std::move(p));
 	}
 	return pdos;
@@ -181,16 +165,16 @@ void readSiiPdos(Device &dev, std::uint8_t pos, std::vector<PdoDef> &rx, std::ve
 /// mappings, PDO list, count).
 void writeAssignmentSdo(Device &dev, std::uint8_t pos, std::uint16_t assign, const std::vector<PdoDef> &pdos)
 {
-	dev.sdoWrite<std::uint8_t>(pos, assign, 0, 0);
+	dev.sdo().sdoWrite<std::uint8_t>(pos, assign, 0, 0);
 	for (const PdoDef &p : pdos) {
-		dev.sdoWrite<std::uint8_t>(pos, p.index, 0, 0);
+		dev.sdo().sdoWrite<std::uint8_t>(pos, p.index, 0, 0);
 		for (std::size_t j = 0; j < p.entries.size(); j++)
-			dev.sdoWrite<std::uint32_t>(pos, p.index, static_cast<std::uint8_t>(j + 1), p.entries[j].value());
-		dev.sdoWrite<std::uint8_t>(pos, p.index, 0, static_cast<std::uint8_t>(p.entries.size()));
+			dev.sdo().sdoWrite<std::uint32_t>(pos, p.index, static_cast<std::uint8_t>(j + 1), p.entries[j].value());
+		dev.sdo().sdoWrite<std::uint8_t>(pos, p.index, 0, static_cast<std::uint8_t>(p.entries.size()));
 	}
 	for (std::size_t i = 0; i < pdos.size(); i++)
-		dev.sdoWrite<std::uint16_t>(pos, assign, static_cast<std::uint8_t>(i + 1), pdos[i].index);
-	dev.sdoWrite<std::uint8_t>(pos, assign, 0, static_cast<std::uint8_t>(pdos.size()));
+		dev.sdo().sdoWrite<std::uint16_t>(pos, assign, static_cast<std::uint8_t>(i + 1), pdos[i].index);
+	dev.sdo().sdoWrite<std::uint8_t>(pos, assign, 0, static_cast<std::uint8_t>(pdos.size()));
 }
 
 void writeAssignment(Device &dev, std::uint8_t pos, std::uint16_t assign, const std::vector<PdoDef> &pdos)
@@ -206,7 +190,7 @@ void writeAssignment(Device &dev, std::uint8_t pos, std::uint16_t assign, const 
 	c.slave = pos;
 	c.assignIndex = assign;
 	c.pdos = pdos;
-	dev.pdoConfigSet(c);
+	dev.bus().pdoConfigSet(c);
 }
 
 std::uint32_t bits(const std::vector<PdoEntryInfo> &v)
@@ -223,11 +207,11 @@ Master::Master(Device &device) : dev_(device) {}
 
 void Master::rescan()
 {
-	const std::uint8_t n = dev_.slaveCount();
+	const std::uint8_t n = dev_.bus().slaveCount();
 	std::vector<SlaveInfo> found;
 	found.reserve(n);
 	for (unsigned p = 0; p < n; p++)
-		found.push_back(dev_.slaveInfo(static_cast<std::uint8_t>(p)));
+		found.push_back(dev_.bus().slaveInfo(static_cast<std::uint8_t>(p)));
 	slaves_ = std::move(found);
 	rxPdoSize_ = txPdoSize_ = 0;
 	for (const SlaveInfo &s : slaves_) {
@@ -318,7 +302,7 @@ void Master::bringUp(const MasterConfig &config)
 		ecmxf::step(name, fn);
 	};
 
-	step("init", [&] { dev_.initNetwork(config.init); });
+	step("init", [&] { dev_.bus().initNetwork(config.init); });
 	step("scan", [&] {
 		rescan();
 		if (config.expectedSlaves && slaves_.size() != *config.expectedSlaves)
@@ -328,7 +312,7 @@ void Master::bringUp(const MasterConfig &config)
 		if (slaves_.empty())
 			throw Error("no slaves found", ENODEV);
 	});
-	step("states to PRE-OP", [&] { dev_.stateSet(kAllSlaves, State::PreOp); });
+	step("states to PRE-OP", [&] { dev_.bus().stateSet(kAllSlaves, State::PreOp); });
 	if (!config.pdoAssignments.empty())
 		step("PDO configuration", [&] {
 			for (const SlavePdoAssignment &a : config.pdoAssignments) {
@@ -342,29 +326,29 @@ void Master::bringUp(const MasterConfig &config)
 					writeAssignment(dev_, a.slave, 0x1C13, *a.txPdos);
 			}
 			if (config.remap == RemapCommand::ConfigMap) {
-				dev_.configMap();
+				dev_.bus().configMap();
 			} else {
-				dev_.reconfigure();
-				dev_.stateUpdate(); // the header reads INIT after RECONFIG_OP
+				dev_.bus().reconfigure();
+				dev_.bus().stateUpdate(); // the header reads INIT after RECONFIG_OP
 			}
 			rescan();
 		});
 	if (!config.startupSdos.empty())
 		step("start-up SDOs", [&] {
 			for (const StartupSdo &s : config.startupSdos)
-				dev_.sdoDownload(s.slave, s.index, s.sub, s.data);
+				dev_.sdo().sdoDownload(s.slave, s.index, s.sub, s.data);
 		});
 	if (config.readPdoMapping)
 		step("PDO mapping", [&] { readPdoMapping(); });
 	if (config.target == State::SafeOp || config.target == State::Op)
-		step("states to SAFE-OP", [&] { dev_.stateSet(kAllSlaves, State::SafeOp); });
+		step("states to SAFE-OP", [&] { dev_.bus().stateSet(kAllSlaves, State::SafeOp); });
 	if (config.target == State::Op)
-		step("states to OP", [&] { dev_.stateSet(kAllSlaves, State::Op); });
+		step("states to OP", [&] { dev_.bus().stateSet(kAllSlaves, State::Op); });
 	if (config.enableFifo)
 		step("FIFO enable", [&] {
 			std::uint32_t size[2] = { 0, 0 };
 			for (std::uint8_t dir = 0; dir < 2; dir++) {
-				const Response r = bus::immediate(dev_, bus::cmd(ECMXF_CMD_FIFO_PACK_SIZE_GET, dir),
+				const Response r = detail::immediate(dev_, bus::cmd(ECMXF_CMD_FIFO_PACK_SIZE_GET, dir),
 								  dir ? "FIFO_PACK_SIZE_GET TxPDO" : "FIFO_PACK_SIZE_GET RxPDO");
 				size[dir] = bus::le16(r.data);
 			}
@@ -374,7 +358,7 @@ void Master::bringUp(const MasterConfig &config)
 						    std::to_string(rxPdoSize_) + " output and " + std::to_string(txPdoSize_) +
 						    " input bytes",
 					    EPROTO);
-			bus::immediate(dev_, bus::cmd(ECMXF_CMD_FIFO_ENABLE, 1), "FIFO_ENABLE");
+			detail::immediate(dev_, bus::cmd(ECMXF_CMD_FIFO_ENABLE, 1), "FIFO_ENABLE");
 			if (!(dev_.lastHeader().ecmStatus & ECMXF_STS_FIFO_EN))
 				throw Error("FIFO_ENABLE: the chip does not report the FIFO enabled (ECM status bit 6)",
 					    EPROTO);

@@ -1,7 +1,12 @@
 // SPDX-License-Identifier: MIT
 // SDO upload/download through ECAT_SDO_REQ / ECAT_SDO_GET, the abort code
-// of a failed transfer (ECAT_SDO_ABORTCODE_GET) in words, and SdoError
-// (include/ecmxf/device.hpp section "bus", Documentation/sdo.rst).
+// of a failed transfer (ECAT_SDO_ABORTCODE_GET) in words, the one SDO-abort
+// map (bus::throwSdoAbort) and SdoError (include/ecmxf/bus/sdo.hpp,
+// Documentation/sdo.rst).
+
+#include <ecmxf/bus/sdo.hpp>
+
+#include <ecmxf/bus/bus.hpp>
 
 #include "bus/bus_internal.hpp"
 
@@ -14,74 +19,54 @@
 
 namespace ecmxf {
 
+namespace {
+
+/// The ETG table of manual ver. 050 (ECM_CMD_ECAT_SDO_ABORTCODE_GET), its
+/// wording.
+constexpr struct {
+	std::uint32_t code;
+	std::string_view text;
+} kSdoAbortTexts[] = {
+	{ 0x00000000, "No SDO error" },
+	{ 0x05030000, "Toggle bit not changed" },
+	{ 0x05040000, "SDO timeout" },
+	{ 0x05040001, "Command specifier unknown" },
+	{ 0x05040005, "Out of memory" },
+	{ 0x06010000, "Unsupported Access" },
+	{ 0x06010001, "Write only entry" },
+	{ 0x06010002, "Read only entry" },
+	{ 0x06010003, "Entry can not be written because Subindex0 is not 0" },
+	{ 0x06010004, "The object can not be accessed via complete access" },
+	{ 0x06020000, "Object not existing" },
+	{ 0x06040041, "Object can not be mapped to PDO" },
+	{ 0x06040042, "Mapped Object exceeds PDO" },
+	{ 0x06040043, "Parameter is incompatible" },
+	{ 0x06040047, "Device incompatibility" },
+	{ 0x06060000, "Hardware error" },
+	{ 0x06070010, "Parameter length error" },
+	{ 0x06070012, "Parameter is too long" },
+	{ 0x06070013, "Parameter is too short" },
+	{ 0x06090011, "Subindex (Entry) not exists" },
+	{ 0x06090030, "Value exceeds" },
+	{ 0x06090031, "Value is too great" },
+	{ 0x06090032, "Value is too small" },
+	{ 0x06090033, "Detected Module Ident List (0xF030) and Configured Module Ident list (0xF050) does not match" },
+	{ 0x06090036, "Value is less than minimum value" },
+	{ 0x08000000, "General error" },
+	{ 0x08000020, "Data can not be read or written" },
+	{ 0x08000021, "Data can not be accessed because of local control" },
+	{ 0x08000022, "Data can not be read or written in the current state" },
+	{ 0x08000023, "Object is not in the object dictionary" },
+};
+
+} // namespace
+
 std::string_view sdoAbortText(std::uint32_t code) noexcept
 {
-	// The ETG table of manual ver. 050 (ECM_CMD_ECAT_SDO_ABORTCODE_GET),
-	// its wording.
-	switch (code) {
-	case 0x00000000:
-		return "No SDO error";
-	case 0x05030000:
-		return "Toggle bit not changed";
-	case 0x05040000:
-		return "SDO timeout";
-	case 0x05040001:
-		return "Command specifier unknown";
-	case 0x05040005:
-		return "Out of memory";
-	case 0x06010000:
-		return "Unsupported Access";
-	case 0x06010001:
-		return "Write only entry";
-	case 0x06010002:
-		return "Read only entry";
-	case 0x06010003:
-		return "Entry can not be written because Subindex0 is not 0";
-	case 0x06010004:
-		return "The object can not be accessed via complete access";
-	case 0x06020000:
-		return "Object not existing";
-	case 0x06040041:
-		return "Object can not be mapped to PDO";
-	case 0x06040042:
-		return "Mapped Object exceeds PDO";
-	case 0x06040043:
-		return "Parameter is incompatible";
-	case 0x06040047:
-		return "Device incompatibility";
-	case 0x06060000:
-		return "Hardware error";
-	case 0x06070010:
-		return "Parameter length error";
-	case 0x06070012:
-		return "Parameter is too long";
-	case 0x06070013:
-		return "Parameter is too short";
-	case 0x06090011:
-		return "Subindex (Entry) not exists";
-	case 0x06090030:
-		return "Value exceeds";
-	case 0x06090031:
-		return "Value is too great";
-	case 0x06090032:
-		return "Value is too small";
-	case 0x06090033:
-		return "Detected Module Ident List (0xF030) and Configured Module Ident list (0xF050) does not match";
-	case 0x06090036:
-		return "Value is less than minimum value";
-	case 0x08000000:
-		return "General error";
-	case 0x08000020:
-		return "Data can not be read or written";
-	case 0x08000021:
-		return "Data can not be accessed because of local control";
-	case 0x08000022:
-		return "Data can not be read or written in the current state";
-	case 0x08000023:
-		return "Object is not in the object dictionary";
-	default:
-		return "unknown abort code";
-	}
+	for (const auto &e : kSdoAbortTexts)
+		if (e.code == code)
+			return e.text;
+	return "unknown abort code";
 }
 
 SdoError::SdoError(const std::string &message, int errnoValue, std::uint32_t abortCode,
@@ -104,6 +89,23 @@ void throwSdoSizeMismatch(std::uint8_t slave, std::uint16_t index, std::uint8_t 
 }
 
 } // namespace detail
+
+void bus::throwSdoAbort(const Bus &b, const std::string &what, const Error &e)
+{
+	if (e.errnoValue() != EREMOTEIO)
+		throw;
+	const std::uint32_t ab = b.sdoAbortCode();
+	if (ab == 0)
+		throw SdoError(what + " failed: the chip reported an error (error status bit 3) but no abort code",
+			       EREMOTEIO, 0, e.errorStatus());
+	throw SdoError(what + " aborted: " + bus::hex(ab, 8) + " " + std::string(sdoAbortText(ab)), EREMOTEIO, ab,
+		       e.errorStatus());
+}
+
+Sdo Device::sdo() noexcept
+{
+	return Sdo(*this);
+}
 
 namespace {
 
@@ -144,27 +146,19 @@ void checkCommon(const std::string &what, std::uint8_t slave, const SdoOptions &
 
 /// Runs the SDO_REQ; a failure on the bus becomes an SdoError with the
 /// abort code and its text.
-void runSdo(Device &dev, const Command &c, const std::string &what, std::uint8_t slave)
+void runSdo(const Sdo &sdo, const Command &c, const std::string &what, std::uint8_t slave)
 {
 	try {
-		bus::async(dev, c, what, slave);
+		detail::async(sdo.device(), c, what, {}, {}, slave);
 	} catch (const Error &e) {
-		if (e.errnoValue() != EREMOTEIO)
-			throw;
-		const std::uint32_t ab = dev.sdoAbortCode();
-		if (ab == 0)
-			throw SdoError(what + " failed: the chip reported an error (error status bit 3) but no abort "
-					      "code",
-				       EREMOTEIO, 0, e.errorStatus());
-		throw SdoError(what + " aborted: " + bus::hex(ab, 8) + " " + std::string(sdoAbortText(ab)), EREMOTEIO,
-			       ab, e.errorStatus());
+		bus::throwSdoAbort(sdo.device().bus(), what, e);
 	}
 }
 
 } // namespace
 
-std::vector<std::uint8_t> Device::sdoUpload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
-					    const SdoOptions &options)
+std::vector<std::uint8_t> Sdo::sdoUpload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+					    const SdoOptions &options) const
 {
 	const std::string what = transferName(true, slave, index, sub);
 	checkCommon(what, slave, options);
@@ -173,11 +167,11 @@ std::vector<std::uint8_t> Device::sdoUpload(std::uint8_t slave, std::uint16_t in
 				    " bytes requested, the chip moves at most 256 bytes per SDO request",
 			    EMSGSIZE);
 	runSdo(*this, sdoRequest(true, slave, index, sub, options.length, options), what, slave);
-	Response r = bus::immediate(*this, bus::cmd(ECMXF_CMD_ECAT_SDO_GET), what + ": ECAT_SDO_GET");
+	Response r = detail::immediate(*dev_, bus::cmd(ECMXF_CMD_ECAT_SDO_GET), what);
 	// the answer is clipped to the data section: a full section may
 	// hide a longer object
 	if (r.data.size() >= ECMXF_DATA_MIN && r.data.size() != options.length) {
-		const Response s = bus::immediate(*this, bus::cmd(ECMXF_CMD_SPI_PACK_SIZE_GET), "SPI_PACK_SIZE_GET");
+		const Response s = detail::immediate(*dev_, bus::cmd(ECMXF_CMD_SPI_PACK_SIZE_GET), "SPI_PACK_SIZE_GET");
 		const std::uint16_t section = bus::le16(s.data);
 		if (r.data.size() >= section)
 			throw Error(what + ": the answer fills the whole data section (" + std::to_string(section) +
@@ -188,8 +182,8 @@ std::vector<std::uint8_t> Device::sdoUpload(std::uint8_t slave, std::uint16_t in
 	return std::move(r.data);
 }
 
-void Device::sdoDownload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
-			 std::span<const std::uint8_t> data, const SdoOptions &options)
+void Sdo::sdoDownload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+			 std::span<const std::uint8_t> data, const SdoOptions &options) const
 {
 	const std::string what = transferName(false, slave, index, sub);
 	checkCommon(what, slave, options);
@@ -204,8 +198,8 @@ void Device::sdoDownload(std::uint8_t slave, std::uint16_t index, std::uint8_t s
 	runSdo(*this, c, what, slave);
 }
 
-std::string Device::sdoReadString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
-				  const SdoOptions &options)
+std::string Sdo::sdoReadString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+				  const SdoOptions &options) const
 {
 	const std::vector<std::uint8_t> b = sdoUpload(slave, index, sub, options);
 	std::string s(b.begin(), b.end());
@@ -214,8 +208,8 @@ std::string Device::sdoReadString(std::uint8_t slave, std::uint16_t index, std::
 	return s;
 }
 
-void Device::sdoWriteString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub, std::string_view value,
-			    const SdoOptions &options)
+void Sdo::sdoWriteString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub, std::string_view value,
+			    const SdoOptions &options) const
 {
 	sdoDownload(slave, index, sub,
 		    std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t *>(value.data()), value.size()),

@@ -4,6 +4,7 @@
 // bit meanings from manual ver. 050, table 2 and ECM_CMD_ECAT_INT_SET_ENABLE).
 
 #include <ecmxf/bus/status.hpp>
+#include <ecmxf/bus/types_bus.hpp>
 
 #include <cstdio>
 
@@ -126,40 +127,17 @@ std::string describeInterruptFlags(std::uint32_t flags)
 
 std::string ecatStateName(std::uint8_t state)
 {
+	// the names are stateName()'s (lib/bus/al_status.cpp): one table
 	const bool error = (state & 0x10u) != 0;
-	std::string name;
-	switch (state & 0x0Fu) {
-	case 0x00:
-		name = error ? "" : "NONE";
-		break;
-	case 0x01:
-		name = "INIT";
-		break;
-	case 0x02:
-		name = "PRE-OP";
-		break;
-	case 0x03:
-		name = "BOOT";
-		break;
-	case 0x04:
-		name = "SAFE-OP";
-		break;
-	case 0x08:
-		name = "OP";
-		break;
-	default: {
-		char buf[24];
-		std::snprintf(buf, sizeof(buf), "unknown (0x%02X)", state);
-		return buf;
-	}
-	}
-	if ((state & 0xE0u) != 0) {
+	const auto base = static_cast<std::uint8_t>(state & 0x0Fu);
+	const std::string name = base == 0 ? std::string(error ? "" : "NONE") : stateName(static_cast<State>(base));
+	if ((state & 0xE0u) != 0 || name.rfind("0x", 0) == 0) {
 		char buf[24];
 		std::snprintf(buf, sizeof(buf), "unknown (0x%02X)", state);
 		return buf;
 	}
 	if (error)
-		name.append(name.empty() ? "ERROR" : "+ERROR");
+		return name.empty() ? "ERROR" : name + "+ERROR";
 	return name;
 }
 

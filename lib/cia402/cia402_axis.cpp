@@ -5,6 +5,8 @@
 #include <ecmxf/cia402/cia402_axis.hpp>
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/link.hpp>
 
@@ -222,7 +224,7 @@ void Cia402Axis::setMode(std::int8_t mode, nanoseconds now)
 	if (mode_.bound())
 		mode_.set(mode);
 	else
-		dev_.sdoWrite<std::int8_t>(slave_, 0x6060, 0, mode); // SdoError on an abort
+		dev_.sdo().sdoWrite<std::int8_t>(slave_, 0x6060, 0, mode); // SdoError on an abort
 	modeSet_ = mode;
 	modeKnown_ = true;
 	begin(Cia402Request::Mode, now);
@@ -232,7 +234,7 @@ void Cia402Axis::needEnabledIn(std::int8_t mode, std::string_view what) const
 {
 	std::int8_t m = modeDisplay();
 	if (!modeDisp_.bound() && !modeKnown_)
-		m = dev_.sdoRead<std::int8_t>(slave_, 0x6061, 0);
+		m = dev_.sdo().sdoRead<std::int8_t>(slave_, 0x6061, 0);
 	if (m != mode)
 		throw Error(slaveText(slave_) + std::string(what) + " needs mode " + modeName(mode) +
 				    "; the drive is in mode " + modeName(m) + " (setMode() first)",
@@ -250,7 +252,7 @@ void Cia402Axis::writeParam(std::uint16_t index, std::uint8_t sub, std::uint32_t
 		image_.output<std::uint32_t>(slave_, index, sub).set(value);
 		return;
 	}
-	dev_.sdoWrite<std::uint32_t>(slave_, index, sub, value);
+	dev_.sdo().sdoWrite<std::uint32_t>(slave_, index, sub, value);
 }
 
 void Cia402Axis::moveTo(std::int32_t target, const PpMove &move, nanoseconds now)
@@ -297,7 +299,7 @@ void Cia402Axis::home(const HomingParams &params, nanoseconds now)
 		if (isMapped(image_.slave(slave_).outputs, 0x6098, 0))
 			image_.output<std::int8_t>(slave_, 0x6098, 0).set(*params.method);
 		else
-			dev_.sdoWrite<std::int8_t>(slave_, 0x6098, 0, *params.method);
+			dev_.sdo().sdoWrite<std::int8_t>(slave_, 0x6098, 0, *params.method);
 	}
 	if (params.speedSearch)
 		writeParam(0x6099, 1, *params.speedSearch);
@@ -602,9 +604,9 @@ std::uint64_t runUntil(Cyclic &cyclic, std::span<Cia402Axis *const> axes, const 
 			if (dev) {
 				// name the slaves that left OP, with their AL status codes
 				try {
-					const std::uint8_t n = dev->slaveCount();
+					const std::uint8_t n = dev->bus().slaveCount();
 					for (std::uint8_t s = 0; s < n; s++) {
-						const SlaveInfo i = dev->slaveInfo(s);
+						const SlaveInfo i = dev->bus().slaveInfo(s);
 						if (i.state != State::Op)
 							m.append("; slave ")
 								.append(std::to_string(s))

@@ -9,6 +9,7 @@
 #include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/link/spidev_channel.hpp>
+#include <ecmxf/link/unix_channel.hpp>
 
 #include <cerrno>
 #include <cstdint>
@@ -75,6 +76,7 @@ DeviceUri parseDeviceUri(std::string_view uri)
 {
 	constexpr std::string_view kSim = "sim:";
 	constexpr std::string_view kSpidev = "spidev:";
+	constexpr std::string_view kUnix = "unix:";
 
 	if (uri.empty())
 		bad(uri, "empty device URI");
@@ -92,6 +94,12 @@ DeviceUri parseDeviceUri(std::string_view uri)
 		if (u.path.empty())
 			bad(uri, "no spidev node after \"spidev:\" (e.g. spidev:/dev/spidev0.0)");
 		u.spidev.device = u.path;
+	} else if (base.starts_with(kUnix)) {
+		u.kind = DeviceUri::Kind::Unix;
+		u.path = std::string(base.substr(kUnix.size()));
+		if (u.path.empty())
+			bad(uri, "no socket path after \"unix:\" (e.g. unix:/tmp/ecmxf-sim.sock, served by "
+				 "`ecmxf-sim --socket /tmp/ecmxf-sim.sock`)");
 	} else if (base.starts_with("/")) {
 		u.kind = DeviceUri::Kind::Kernel;
 		u.path = std::string(base);
@@ -127,7 +135,9 @@ DeviceUri parseDeviceUri(std::string_view uri)
 			u.trace = std::string(value);
 		} else if (spidevKey && !spidev) {
 			bad(uri, "option " + quoted(key) + " applies to spidev: URIs only (" +
-					 (u.kind == DeviceUri::Kind::Sim ? "sim:" : "the kernel device") +
+					 (u.kind == DeviceUri::Kind::Sim    ? "sim:"
+					  : u.kind == DeviceUri::Kind::Unix ? "unix:"
+									    : "the kernel device") +
 					 " takes only trace=<file>)");
 		} else if (key == "int0") {
 			u.spidev.int0 = gpioLine(uri, key, value);
@@ -200,6 +210,9 @@ std::unique_ptr<Device> Device::open(std::string_view uri)
 		break;
 	case DeviceUri::Kind::Spidev:
 		link = std::make_unique<EngineLink>(std::make_unique<SpidevChannel>(u.spidev));
+		break;
+	case DeviceUri::Kind::Unix:
+		link = std::make_unique<EngineLink>(std::make_unique<UnixChannel>(u.path));
 		break;
 	}
 	auto dev = std::make_unique<Device>(std::move(link));

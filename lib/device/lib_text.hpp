@@ -45,6 +45,29 @@ ResponseHeader headerFrom(const Wire &h) noexcept
 	return r;
 }
 
+/// @p h into the protocol core's struct ecmxf_rsp_hdr (or the uAPI's
+/// struct ecmxf_rsp_header): headerFrom() the other way round.
+template <typename Wire>
+void headerTo(const ResponseHeader &h, Wire &r) noexcept
+{
+	r.crc_err_cnt = h.crcErrCnt;
+	r.wkc_err_cnt = h.wkcErrCnt;
+	r.tx_fifo_cnt = h.txFifoCnt;
+	r.rx_fifo_cnt = h.rxFifoCnt;
+	r.ecat_state = h.ecatState;
+	r.err_status = h.errStatus;
+	r.ecm_status = h.ecmStatus;
+	r.index = h.index;
+	r.code = h.code;
+	r.ret = h.ret;
+	r.len = h.len;
+	r.int_flags = h.intFlags;
+	r.gpio_int_flag[0] = h.gpioIntFlag[0];
+	r.gpio_int_flag[1] = h.gpioIntFlag[1];
+	r.gpio_in[0] = h.gpioIn[0];
+	r.gpio_in[1] = h.gpioIn[1];
+}
+
 /// The command header fields of @p req into the protocol core's struct
 /// ecmxf_cmd_hdr or the uAPI's struct ecmxf_cmd_header (same field names;
 /// the reserved word, named differently, is the caller's).

@@ -4,6 +4,7 @@
 
 #include <ecmxf/events/events.hpp>
 
+#include "device/lib_text.hpp"
 #include "ecmxf-events.h"
 
 namespace ecmxf {
@@ -41,25 +42,10 @@ Event fromCore(const ecmxf_det_event &d)
 	return e;
 }
 
-ecmxf_rsp_hdr toCore(const ResponseHeader &h)
+ecmxf_rsp_hdr toCore(const ResponseHeader &h) noexcept
 {
 	ecmxf_rsp_hdr r{};
-	r.crc_err_cnt = h.crcErrCnt;
-	r.wkc_err_cnt = h.wkcErrCnt;
-	r.tx_fifo_cnt = h.txFifoCnt;
-	r.rx_fifo_cnt = h.rxFifoCnt;
-	r.ecat_state = h.ecatState;
-	r.err_status = h.errStatus;
-	r.ecm_status = h.ecmStatus;
-	r.index = h.index;
-	r.code = h.code;
-	r.ret = h.ret;
-	r.len = h.len;
-	r.int_flags = h.intFlags;
-	r.gpio_int_flag[0] = h.gpioIntFlag[0];
-	r.gpio_int_flag[1] = h.gpioIntFlag[1];
-	r.gpio_in[0] = h.gpioIn[0];
-	r.gpio_in[1] = h.gpioIn[1];
+	detail::headerTo(h, r);
 	return r;
 }
 

@@ -2,14 +2,17 @@
 // Cyclic: the allocation-free, exception-free cyclic exchange of the
 // process image (include/ecmxf/pdo/cyclic.hpp, Documentation/process-data.rst).
 //
-// The exchange itself is a strategy (CyclicPath). FifoCommandPath drives
-// the chip's FIFOs with ECAT_PDO_DATA_FIFO_OP over Device::transact();
-// RingPath, chosen when the Device's transport is a KernelLink, moves
+// The exchange itself is a strategy (CyclicPath, pdo/cyclic_path.hpp).
+// FifoCommandPath (fifo_command_path.cpp) drives the chip's FIFOs with
+// ECAT_PDO_DATA_FIFO_OP over Device::transact(); RingPath, chosen when the
+// Device's link offers the kernel's PDO rings (a KernelLink), moves
 // the frames through the kernel's mmap()ed PDO rings, whose pump in the
 // kernel sends those commands (Documentation/process-data.rst).
 
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
+#include <ecmxf/chip/chip.hpp>
+#include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/link.hpp>
 #include <ecmxf/pdo/process_image.hpp>
@@ -23,146 +26,19 @@
 #include <vector>
 
 #include "ecmxf-proto.h"
+#include "ecmxf-pump.h"
 #include "link/pdo_rings.hpp"
+#include "pdo/cyclic_path.hpp"
 #include "pdo/pdo_ring.hpp"
 
 namespace ecmxf {
 
-namespace {
-
-using std::chrono::nanoseconds;
-
-/// Frames kept free in the RxFIFO: the header's FIFO counts lag by up to
-/// two exchanges (spec, "PDO exchange details").
-constexpr unsigned kRxMargin = 2;
-
-// Static failure texts: cycle() may not build strings.
-#define ECMXF_FIFO_OP "ECAT_PDO_DATA_FIFO_OP: "
-#define ECMXF_WC_GET "ECAT_PDO_WC_GET: "
-#define ECMXF_TEXTS(P)                                                                                         \
-	switch (err) {                                                                                         \
-	case ETIMEDOUT:                                                                                        \
-		return P "timed out waiting for the chip's answer";                                            \
-	case EBADMSG:                                                                                          \
-		return P "bad packets in a row (check word mismatch): the SPI link is failing";               \
-	case EIO:                                                                                              \
-		return P "the transport failed, or bad packets in a row";                                      \
-	case EPROTO:                                                                                           \
-		return P "the answer was lost on the wire";                                                    \
-	case ECONNRESET:                                                                                       \
-		return P "the chip reset while the command was in flight";                                     \
-	case EMSGSIZE:                                                                                         \
-		return P "the data does not fit the data section (was SPI_RECONFIG_OP sent meanwhile?)";      \
-	case EBUSY:                                                                                            \
-		return P "the device refused the command (busy)";                                             \
-	case EREMOTEIO:                                                                                        \
-		return P "the chip refused the command (error status bit 7, command error)";                  \
-	case ECANCELED:                                                                                        \
-		return P "the command was cancelled";                                                          \
-	default:                                                                                               \
-		return P "failed";                                                                             \
-	}
-
-const char *fifoOpText(int err) noexcept
+void detail::CyclicPath::readChip(Device &dev, const ProcessImage &image, const CyclicConfig &cfg)
 {
-	ECMXF_TEXTS(ECMXF_FIFO_OP)
-}
-
-const char *wcGetText(int err) noexcept
-{
-	ECMXF_TEXTS(ECMXF_WC_GET)
-}
-
-#undef ECMXF_TEXTS
-
-constexpr const char *kNotWholeFrames = ECMXF_FIFO_OP "the TxPDO data is not a whole number of frames";
-constexpr const char *kShortWkc = ECMXF_WC_GET "the answer is shorter than 4 bytes";
-constexpr const char *kNotStarted = "Cyclic: cycle() before start()";
-
-#undef ECMXF_FIFO_OP
-#undef ECMXF_WC_GET
-
-void fail(CycleResult &r, int err, const char *text) noexcept
-{
-	r.error = err;
-	r.message = text;
-}
-
-/// How one cycle's frames travel between the image and the bus.
-class CyclicPath
-{
-public:
-	CyclicPath() = default;
-	CyclicPath(const CyclicPath &) = delete;
-	CyclicPath &operator=(const CyclicPath &) = delete;
-	virtual ~CyclicPath() = default;
-
-	/// Prepares the exchange (may send commands; throws ecmxf::Error).
-	virtual void start() = 0;
-	/// Ends it (throws ecmxf::Error).
-	virtual void stop() = 0;
-	/// One cycle: outputs out, inputs in; fills @p r (its WKC fields hold
-	/// the previous read). Allocates nothing, throws nothing.
-	virtual void exchange(CycleResult &r, bool readWkc) noexcept = 0;
-	/// The clock the cycle is paced on.
-	virtual Link &clock() noexcept = 0;
-	/// Cyclic::waitInputs() after its checks.
-	virtual int waitInputs(nanoseconds timeout) noexcept = 0;
-	/// The kernel's PDO rings carry the frames.
-	[[nodiscard]] virtual bool kernelRings() const noexcept { return false; }
-
-	/// Reads the frame sizes, slave counts and FIFO depths and checks the
-	/// image and the configuration against them (throws ecmxf::Error).
-	void readChip(Device &dev, const ProcessImage &image, const CyclicConfig &cfg);
-
-	// what the path found out when it was set up
-	FifoPackSizes sizes{};
-	PdoSlaveCounts counts{};
-	unsigned rxDepth = 0;
-	unsigned txDepth = 0;
-	unsigned rxFill = 0;
-	unsigned perWrite = 0;
-	unsigned perRead = 0;
-};
-
-/// The FIFO-command path: ECAT_PDO_DATA_FIFO_OP over Device::transact().
-class FifoCommandPath final : public CyclicPath
-{
-public:
-	FifoCommandPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg);
-
-	void start() override;
-	void stop() override;
-	void exchange(CycleResult &r, bool readWkc) noexcept override;
-	Link &clock() noexcept override { return dev_.link(); }
-	int waitInputs(nanoseconds timeout) noexcept override;
-
-private:
-	/// One ECAT_PDO_DATA_FIFO_OP: @p frames copies of the output frame,
-	/// with a read when @p read. False (and @p r failed) on an error.
-	bool fifoOp(CycleResult &r, unsigned frames, bool read, ResponseHeader &h) noexcept;
-	/// Hands the TxPDO frames of the last answer over; their number, or -1
-	/// (and @p r failed) when they are not whole frames.
-	int takeFrames(CycleResult &r, const ResponseHeader &h) noexcept;
-
-	Device &dev_;
-	ProcessImage &image_;
-	const CyclicConfig &cfg_;
-	std::vector<std::uint8_t> txBuf_, rxBuf_;
-	/// RxFIFO count after our last write, TxFIFO count after our last read
-	/// (the answers' headers), and when those answers came.
-	unsigned rxLevel_ = 0;
-	unsigned txLevel_ = 0;
-	nanoseconds rxTime_{ 0 }, txTime_{ 0 };
-	unsigned maxReads_ = 0;
-};
-
-void CyclicPath::readChip(Device &dev, const ProcessImage &image, const CyclicConfig &cfg)
-{
-	sizes = dev.fifoPackSizes();
-	counts = dev.pdoSlaveCounts();
-	rxDepth = dev.fifoRxCount();
-	txDepth = dev.fifoTxCount();
+	sizes = dev.pdo().fifoPackSizes();
+	counts = dev.pdo().pdoSlaveCounts();
+	rxDepth = dev.pdo().fifoRxCount();
+	txDepth = dev.pdo().fifoTxCount();
 
 	const std::size_t outBytes = image.outputs().size();
 	const std::size_t inBytes = image.inputs().size();
@@ -185,10 +61,15 @@ void CyclicPath::readChip(Device &dev, const ProcessImage &image, const CyclicCo
 					    std::to_string(cap) + " bytes); enlarge it with SPI_RECONFIG_OP",
 				    EMSGSIZE);
 	}
-	perWrite = sizes.rxPdoBytes ? static_cast<unsigned>(std::min<std::size_t>(255, cap / sizes.rxPdoBytes)) : 0;
-	perRead = sizes.txPdoBytes ? static_cast<unsigned>(cap / sizes.txPdoBytes) : 0;
+	// the frames per command and the fill level: the protocol core's pump
+	dataCapacity = cap;
+	ecmxf_pump pump;
+	ecmxf_pump_init(&pump, static_cast<u32>(sizes.rxPdoBytes), static_cast<u32>(sizes.txPdoBytes),
+			static_cast<u32>(cap), rxDepth, 0, txDepth);
+	perWrite = ecmxf_pump_per_write(&pump);
+	perRead = ecmxf_pump_per_read(&pump);
 
-	const unsigned maxFill = rxDepth > kRxMargin ? rxDepth - kRxMargin : 1;
+	const unsigned maxFill = ecmxf_pump_max_fill(rxDepth);
 	if (cfg.rxFill > maxFill)
 		throw Error("Cyclic: rxFill " + std::to_string(cfg.rxFill) + " out of range (1.." +
 				    std::to_string(maxFill) + ": the RxFIFO depth " + std::to_string(rxDepth) +
@@ -197,227 +78,13 @@ void CyclicPath::readChip(Device &dev, const ProcessImage &image, const CyclicCo
 	rxFill = cfg.rxFill ? cfg.rxFill : maxFill;
 }
 
-FifoCommandPath::FifoCommandPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg)
-	: dev_(dev), image_(image), cfg_(cfg)
-{
-	readChip(dev, image, cfg);
-	maxReads_ = perRead ? txDepth / perRead + 2 : 0;
-	const std::size_t cap = dev.pdoDataCapacity();
-	txBuf_.assign(cap, 0);
-	rxBuf_.assign(cap, 0);
-}
+namespace {
 
-void FifoCommandPath::start()
-{
-	if (sizes.rxPdoBytes)
-		dev_.pdoWrite(image_.outputs());
-	dev_.fifoClear(FifoSelect::Both);
-	dev_.fifoEnable(true);
-	rxLevel_ = 0;
-	txLevel_ = 0;
-	rxTime_ = txTime_ = clock().now();
-}
+using std::chrono::nanoseconds;
+using detail::CyclicPath;
+using detail::cycleFail;
 
-void FifoCommandPath::stop()
-{
-	dev_.fifoEnable(false);
-}
-
-bool FifoCommandPath::fifoOp(CycleResult &r, unsigned frames, bool read, ResponseHeader &h) noexcept
-{
-	const std::size_t frameBytes = sizes.rxPdoBytes;
-	const std::span<const std::uint8_t> out = image_.outputs();
-	for (unsigned i = 0; i < frames; i++)
-		std::memcpy(txBuf_.data() + i * frameBytes, out.data(), frameBytes);
-	RawCommand c;
-	c.code = ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP;
-	c.param = static_cast<std::uint8_t>(frames);
-	c.data[0] = static_cast<std::uint8_t>((frames ? 0x01 : 0x00) | (read ? 0x02 : 0x00));
-	// error status bits 5 and 7 then belong to this command alone
-	c.control = ECMXF_CTL_CLR_CMD_ERR | ECMXF_CTL_CLR_FIFO_ERR;
-	c.timeout = cfg_.commandTimeout;
-	const int err = dev_.transact(c, std::span<const std::uint8_t>(txBuf_.data(), frames * frameBytes), rxBuf_, h);
-	r.commands++;
-	if (err) {
-		fail(r, err, fifoOpText(err));
-		return false;
-	}
-	if (h.errStatus & ECMXF_ERR_CMD) {
-		fail(r, EREMOTEIO, fifoOpText(EREMOTEIO));
-		return false;
-	}
-	return true;
-}
-
-int FifoCommandPath::takeFrames(CycleResult &r, const ResponseHeader &h) noexcept
-{
-	const std::size_t size = sizes.txPdoBytes;
-	if (!size || h.len % size != 0) {
-		fail(r, EPROTO, kNotWholeFrames);
-		return -1;
-	}
-	const std::size_t n = h.len / size;
-	if (n == 0)
-		return 0;
-	if (cfg_.onInputFrame)
-		for (std::size_t i = 0; i < n; i++)
-			cfg_.onInputFrame(cfg_.context, std::span<const std::uint8_t>(rxBuf_.data() + i * size, size));
-	std::memcpy(image_.inputs().data(), rxBuf_.data() + (n - 1) * size, size);
-	r.framesPopped += static_cast<unsigned>(n);
-	r.inputsUpdated = true;
-	return static_cast<int>(n);
-}
-
-int FifoCommandPath::waitInputs(nanoseconds timeout) noexcept
-{
-	if (!sizes.txPdoBytes)
-		return EINVAL;
-	// once per bus cycle: a new input frame can only come with one
-	const nanoseconds step = cfg_.busCycle.count() > 0 ? cfg_.busCycle : cfg_.period;
-	try {
-		Link &t = clock();
-		const nanoseconds deadline = t.now() + std::max(timeout, nanoseconds(0));
-		for (;;) {
-			// a FIFO command that moves no frame: its answer's header
-			// has the TxFIFO count
-			RawCommand c;
-			c.code = ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP;
-			c.control = ECMXF_CTL_CLR_CMD_ERR;
-			c.timeout = cfg_.commandTimeout;
-			ResponseHeader h{};
-			const int err = dev_.transact(c, {}, rxBuf_, h);
-			if (err)
-				return err;
-			if (h.errStatus & ECMXF_ERR_CMD)
-				return EREMOTEIO;
-			if (h.txFifoCnt > 0)
-				return 0;
-			const nanoseconds now = t.now();
-			if (now >= deadline)
-				return ETIMEDOUT;
-			t.sleepFor(std::min(step, deadline - now));
-		}
-	} catch (...) {
-		return EIO;
-	}
-}
-
-void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
-{
-	const bool haveOut = sizes.rxPdoBytes > 0;
-	const bool haveIn = sizes.txPdoBytes > 0;
-	ResponseHeader h{};
-
-	// frames to push: up to the target level, at least this cycle's
-	// outputs. The RxFIFO count is from our last write; since then about
-	// one frame per bus cycle went out (one per application cycle when
-	// the bus cycle is not configured).
-	unsigned want = 0;
-	if (haveOut) {
-		std::uint64_t gone = 1;
-		if (cfg_.busCycle.count() > 0) {
-			const nanoseconds dt = clock().now() - rxTime_;
-			gone = dt.count() > 0 ? static_cast<std::uint64_t>(dt / cfg_.busCycle) : 0;
-		}
-		const unsigned level = gone >= rxLevel_ ? 0u : rxLevel_ - static_cast<unsigned>(gone);
-		want = level < rxFill ? rxFill - level : 1u;
-	}
-
-	// the writes; the first command also reads
-	bool first = haveOut || haveIn;
-	unsigned left = want;
-	while (first || left > 0) {
-		const unsigned k = std::min(left, perWrite);
-		const bool read = first && haveIn;
-		if (!fifoOp(r, k, read, h))
-			return;
-		r.framesPushed += k;
-		// return value bit 0 clear: the RxFIFO was full, the newest
-		// frames were refused, and more would be too
-		const bool refused = k && !(h.ret & 0x01);
-		if (k) {
-			rxLevel_ = h.rxFifoCnt;
-			rxTime_ = clock().now();
-		}
-		if (read) {
-			const int n = takeFrames(r, h);
-			if (n < 0)
-				return;
-			// the answer's TxFIFO count is right after the read: popped +
-			// left = what was queued; a full FIFO has dropped its oldest
-			const unsigned queued = static_cast<unsigned>(n) + h.txFifoCnt;
-			const nanoseconds now = clock().now();
-			if (txDepth && queued >= txDepth) {
-				r.txOverflow = true;
-				if (cfg_.busCycle.count() > 0) {
-					const auto made = static_cast<std::uint64_t>((now - txTime_) / cfg_.busCycle);
-					const std::uint64_t expected = txLevel_ + made;
-					r.txDroppedEstimate = expected > queued
-								      ? static_cast<std::uint32_t>(std::min<std::uint64_t>(
-										expected - queued, UINT32_MAX))
-								      : 0;
-				}
-			}
-			txTime_ = now;
-			txLevel_ = h.txFifoCnt;
-			// more queued than one answer holds: read on while the
-			// answer's count says so (a count that lags shows up as
-			// an empty read, or as frames left for the next cycle)
-			for (unsigned reads = 0; h.txFifoCnt > 0 && reads < maxReads_; reads++) {
-				if (!fifoOp(r, 0, true, h))
-					return;
-				const int m = takeFrames(r, h);
-				if (m < 0)
-					return;
-				txLevel_ = h.txFifoCnt;
-				txTime_ = clock().now();
-				if (m == 0)
-					break;
-			}
-		}
-		first = false;
-		left -= k;
-		if (refused) {
-			r.rxRefused = true;
-			break;
-		}
-	}
-
-	if (readWkc) {
-		RawCommand c;
-		c.code = ECMXF_CMD_ECAT_PDO_WC_GET;
-		c.param = 3;
-		c.control = ECMXF_CTL_CLR_CMD_ERR;
-		c.timeout = cfg_.commandTimeout;
-		std::array<std::uint8_t, 4> v{};
-		const int err = dev_.transact(c, {}, v, h);
-		r.commands++;
-		if (err) {
-			fail(r, err, wcGetText(err));
-			return;
-		}
-		if (h.errStatus & ECMXF_ERR_CMD) {
-			fail(r, EREMOTEIO, wcGetText(EREMOTEIO));
-			return;
-		}
-		if (h.len < 4) {
-			fail(r, EPROTO, kShortWkc);
-			return;
-		}
-		r.wkcRead = true;
-		r.wkc = static_cast<std::uint32_t>(v[0]) | static_cast<std::uint32_t>(v[1]) << 8 |
-			static_cast<std::uint32_t>(v[2]) << 16 | static_cast<std::uint32_t>(v[3]) << 24;
-		r.wkcOk = r.wkc == r.expectedWkc;
-	}
-
-	r.rxFifoCount = h.rxFifoCnt;
-	r.txFifoCount = h.txFifoCnt;
-	r.wkcErrorCount = h.wkcErrCnt;
-	r.ecatState = h.ecatState;
-	r.errStatus = h.errStatus;
-	r.ecmStatus = h.ecmStatus;
-	r.intFlags = h.intFlags;
-}
+constexpr const char *kNotStarted = "Cyclic: cycle() before start()";
 
 // ---------------------------------------------------------------------------
 // RingPath: the kernel's PDO rings
@@ -493,9 +160,9 @@ RingPath::~RingPath()
 void RingPath::start()
 {
 	// the FIFO off while the rings are made: the pump waits for it
-	dev_.fifoEnable(false);
+	dev_.pdo().fifoEnable(false);
 	if (sizes.rxPdoBytes)
-		dev_.pdoWrite(image_.outputs());
+		dev_.pdo().pdoWrite(image_.outputs());
 
 	// rings deep enough for a few cycles' worth of bus cycles
 	const std::int64_t period = cfg_.period.count();
@@ -514,7 +181,7 @@ void RingPath::start()
 	rings_->setup(rs);
 	wkcReads_ = outDropped_ = inDropped_ = txOverflows_ = rxRefusals_ = pumpFailures_ = 0;
 
-	dev_.fifoClear(FifoSelect::Both);
+	dev_.pdo().fifoClear(FifoSelect::Both);
 	// INT1 on every TxPDO frame (TxFIFO high mark 1) and when the RxFIFO
 	// runs low: the pump runs when there is something to move
 	FifoThresholds th;
@@ -522,35 +189,35 @@ void RingPath::start()
 	th.txHigh = 1;
 	th.rxLowEnabled = sizes.rxPdoBytes > 0 && rxFill > 1;
 	th.rxLow = static_cast<std::uint8_t>(rxFill > 1 ? rxFill / 2 : 0);
-	dev_.fifoSetThresholds(th);
-	InterruptConfig ic = dev_.interruptConfig();
+	dev_.pdo().fifoSetThresholds(th);
+	InterruptConfig ic = dev_.chip().interruptConfig();
 	if (!irqSaved_)
 		savedIrq_ = ic;
 	irqSaved_ = true;
 	ic.sources |= irq::kTxFifoHigh | irq::kRxFifoLow;
-	dev_.setInterruptConfig(ic);
-	dev_.fifoEnable(true);
+	dev_.chip().setInterruptConfig(ic);
+	dev_.pdo().fifoEnable(true);
 }
 
 void RingPath::stop()
 {
-	dev_.fifoEnable(false);
+	dev_.pdo().fifoEnable(false);
 	if (irqSaved_) {
 		irqSaved_ = false;
-		dev_.setInterruptConfig(savedIrq_);
+		dev_.chip().setInterruptConfig(savedIrq_);
 	}
 }
 
 void RingPath::exchange(CycleResult &r, bool) noexcept
 {
 	if (!in_.valid() || !out_.valid()) {
-		fail(r, EINVAL, kNoRings);
+		cycleFail(r, EINVAL, kNoRings);
 		return;
 	}
 	if ((in_.flags() | out_.flags()) & ECMXF_RING_S_ERROR) {
 		ecmxf_ring_status st{};
 		in_.status(st);
-		fail(r, st.error ? static_cast<int>(st.error) : EIO, kPumpStopped);
+		cycleFail(r, st.error ? static_cast<int>(st.error) : EIO, kPumpStopped);
 		return;
 	}
 	// outputs: this cycle's frame; a full ring refuses it
@@ -598,7 +265,7 @@ void RingPath::exchange(CycleResult &r, bool) noexcept
 		if (st.pump_failures != pumpFailures_) {
 			// frames lost in a failed command: this cycle reports it
 			pumpFailures_ = st.pump_failures;
-			fail(r, st.error ? static_cast<int>(st.error) : EIO, kPumpFailed);
+			cycleFail(r, st.error ? static_cast<int>(st.error) : EIO, kPumpFailed);
 		}
 	}
 	// frames the chip refused, frames the input ring had no room for
@@ -670,7 +337,7 @@ public:
 		if (auto rings = dev.link().openPdoRings())
 			path = std::make_unique<RingPath>(dev, image, cfg, std::move(rings));
 		else
-			path = std::make_unique<FifoCommandPath>(dev, image, cfg);
+			path = detail::makeFifoCommandPath(dev, image, cfg);
 		last.expectedWkc = path->counts.expectedWkc();
 	}
 
@@ -720,7 +387,7 @@ const CycleResult &Cyclic::cycle() noexcept
 	r.wkcOk = wkcOk;
 	r.expectedWkc = m.path->counts.expectedWkc();
 	if (!m.started) {
-		fail(r, EINVAL, kNotStarted);
+		cycleFail(r, EINVAL, kNotStarted);
 		return r;
 	}
 

@@ -5,6 +5,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/bus/status.hpp>
 #include <ecmxf/protocol.hpp>
 #include <ecmxf/trace/trace.hpp>
 
@@ -301,36 +302,14 @@ const char *checkName(unsigned check)
 	}
 }
 
+/// The header's ECAT state: ecatStateName()'s words (the one table of
+/// state names) and the byte.
 std::string stateName(std::uint8_t s)
 {
-	std::string base;
-	switch (s & 0x0F) {
-	case 0:
-		base = (s & 0x10) ? "" : "NONE";
-		break;
-	case ECMXF_ECAT_INIT:
-		base = "INIT";
-		break;
-	case ECMXF_ECAT_PREOP:
-		base = "PRE-OP";
-		break;
-	case ECMXF_ECAT_BOOT:
-		base = "BOOT";
-		break;
-	case ECMXF_ECAT_SAFEOP:
-		base = "SAFE-OP";
-		break;
-	case ECMXF_ECAT_OP:
-		base = "OP";
-		break;
-	default:
-		return fmt("unknown (0x%02X)", s);
-	}
-	if (s & 0xE0)
-		return fmt("unknown (0x%02X)", s);
-	if (s & ECMXF_ECAT_ERROR)
-		base = base.empty() ? "ERROR" : base + " + ERROR";
-	return fmt("%s (0x%02X)", base.c_str(), s);
+	const std::string name = ecatStateName(s);
+	if (name.rfind("unknown", 0) == 0)
+		return name;
+	return fmt("%s (0x%02X)", name.c_str(), s);
 }
 
 const char *statusName(int status)

@@ -28,6 +28,8 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/link/sim_channel.hpp>
@@ -133,12 +135,12 @@ Figures ours(unsigned latencyUs)
 	auto t = std::make_unique<ecmxf::SimChannel>(network(latencyUs));
 	sim::Chip &chip = t->chip();
 	ecmxf::Device dev(std::move(t));
-	dev.initNetwork();
-	dev.stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
+	dev.bus().initNetwork();
+	dev.bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
 	const auto x0 = chip.stats().exchanges;
 	const auto t0 = chip.now();
 	for (int i = 0; i < kRounds; i++)
-		(void)dev.sdoRead<std::int32_t>(kSlave, kIndex, 0);
+		(void)dev.sdo().sdoRead<std::int32_t>(kSlave, kIndex, 0);
 	Figures f;
 	f.exchanges = static_cast<double>(chip.stats().exchanges - x0) / kRounds;
 	f.micros = std::chrono::duration<double, std::micro>(chip.now() - t0).count() / kRounds;

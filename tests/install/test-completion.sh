@@ -62,10 +62,12 @@ comp "ecmxf-util --j" --json
 comp "ecmxf-util --json -d sim: st" states
 comp "ecmxf-util help mon" monitor
 # devices
-comp "ecmxf-util -d " sim: "$tmp/dev/ecmxf0" "$tmp/dev/ecmxf1" "spidev:$tmp/dev/spidev0.0"
+comp "ecmxf-util -d " sim: unix: "$tmp/dev/ecmxf0" "$tmp/dev/ecmxf1" "spidev:$tmp/dev/spidev0.0"
 comp "ecmxf-util -d s" sim: "spidev:$tmp/dev/spidev0.0"
 comp "ecmxf-util --device $tmp/dev/e" "$tmp/dev/ecmxf0" "$tmp/dev/ecmxf1"
 comp "ecmxf-util -d sim:$tmp/files/b" "$tmp/files/b.net"
+comp "ecmxf-util -d u" unix:
+comp "ecmxf-util -d unix:$tmp/files/b" "$tmp/files/b.net"
 comp "ecmxf-util -d spidev:$tmp/dev/sp" "$tmp/dev/spidev0.0"
 # per command
 comp "ecmxf-util states " INIT PREOP SAFEOP OP BOOT

@@ -30,6 +30,9 @@
 #include <ecmxf/cia402/cia402_axis.hpp>
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/chip/chip402.hpp>
+#include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/device_uri.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/kernel_link.hpp>
@@ -63,6 +66,7 @@ inline Kind kindOf(const std::string &u)
 	case ecmxf::DeviceUri::Kind::Spidev:
 		return Kind::Spidev;
 	case ecmxf::DeviceUri::Kind::Sim:
+	case ecmxf::DeviceUri::Kind::Unix: // an ecmxf-sim server: the simulator, virtual time
 		break;
 	}
 	return Kind::Sim;
@@ -81,6 +85,7 @@ inline ecmxf::CheckType startCheckType(const std::string &u)
 	case ecmxf::DeviceUri::Kind::Spidev:
 		return p.checkType.value_or(ecmxf::CheckType::Fixed);
 	case ecmxf::DeviceUri::Kind::Sim:
+	case ecmxf::DeviceUri::Kind::Unix:
 		break;
 	}
 	return ecmxf::CheckType::Fixed;
@@ -92,7 +97,7 @@ inline ecmxf::CheckType startCheckType(const std::string &u)
 inline void engineOff(ecmxf::Device &d)
 {
 	for (unsigned m = 0; m < 2; m++)
-		d.chip402Configure(m, ecmxf::Chip402Config{ m, 0, 0, {} });
+		d.chip402().chip402Configure(m, ecmxf::Chip402Config{ m, 0, 0, {} });
 }
 
 /// The EST-584's default PDO assignment (manual 5.4.1): RxPDO 0x1600 =
@@ -146,8 +151,8 @@ inline void initBus(ecmxf::Device &d)
 	mc.enableFifo = false;
 	mc.readPdoMapping = false;
 	m.bringUp(mc);
-	d.fifoEnable(false);
-	d.stateSet(ecmxf::kAllSlaves, ecmxf::State::Init);
+	d.pdo().fifoEnable(false);
+	d.bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::Init);
 }
 
 /// The Cyclic settings of the tests: 1 ms application and bus cycle, a

@@ -20,6 +20,10 @@
 #include <vector>
 
 #include "integration.hpp"
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/pdo/process_data.hpp>
+#include <ecmxf/bus/sdo.hpp>
+#include <ecmxf/bus/slave_access.hpp>
 
 using namespace std::chrono_literals;
 using Catch::Matchers::Contains;
@@ -86,24 +90,24 @@ TEST_CASE("bus: Master brings the network to OP and the scan names every slave",
 	CHECK(m.pdos()[2].inputs[0].index == 0x6000);
 
 	// every slave in OP, as the chip reads it
-	CHECK(d.slaveCount() == 3);
-	d.stateUpdate();
-	CHECK(d.stateGet(kAllSlaves).state() == State::Op);
-	CHECK(d.stateCheck(1, State::Op).state() == State::Op);
-	const ecmxf::SlaveInfo s1 = d.slaveInfo(1);
+	CHECK(d.bus().slaveCount() == 3);
+	d.bus().stateUpdate();
+	CHECK(d.bus().stateGet(kAllSlaves).state() == State::Op);
+	CHECK(d.bus().stateCheck(1, State::Op).state() == State::Op);
+	const ecmxf::SlaveInfo s1 = d.bus().slaveInfo(1);
 	CHECK(s1.state == State::Op);
 	CHECK(s1.productCode == 0x584u);
 	CHECK(s1.stationAddress == 0x1002);
 	// the raw bytes of one code: the vendor id, little-endian
-	CHECK(d.slaveInfoRaw(2, ecmxf::SlaveInfoCode::Vendor) == std::vector<std::uint8_t>{ 0x5C, 0x0E, 0, 0 });
+	CHECK(d.bus().slaveInfoRaw(2, ecmxf::SlaveInfoCode::Vendor) == std::vector<std::uint8_t>{ 0x5C, 0x0E, 0, 0 });
 	// ECAT_PDO_WC_GET: 3 slaves with inputs, 3 with outputs: 3 + 2 x 3 = 9
-	const ecmxf::PdoSlaveCounts pc = d.pdoSlaveCounts();
+	const ecmxf::PdoSlaveCounts pc = d.pdo().pdoSlaveCounts();
 	CHECK(pc.inputSlaves == 3);
 	CHECK(pc.outputSlaves == 3);
 	CHECK(pc.expectedWkc() == 9);
 	m.rescan();
 	CHECK(m.slaves().size() == 3);
-	d.fifoEnable(false);
+	d.pdo().fifoEnable(false);
 }
 
 TEST_CASE("bus: refused state changes report the slave, the state reached and the AL status", "[bus][states]")
@@ -111,23 +115,23 @@ TEST_CASE("bus: refused state changes report the slave, the state reached and th
 	Rig r;
 	ecmxf::Device &d = r.d();
 	integ::initBus(d);
-	CHECK(d.stateGet(kAllSlaves).state() == State::Init);
+	CHECK(d.bus().stateGet(kAllSlaves).state() == State::Init);
 	// INIT -> SAFE-OP skips PRE-OP: 0x0011 (AKD2G table, ETG.1000)
-	const auto e = integ::thrown<ecmxf::AlStatusError>([&] { d.stateSet(0, State::SafeOp); });
+	const auto e = integ::thrown<ecmxf::AlStatusError>([&] { d.bus().stateSet(0, State::SafeOp); });
 	CHECK(e.slave() == 0);
 	CHECK(e.requested() == State::SafeOp);
 	CHECK(e.reached() == State::Init);
 	CHECK(e.alStatusCode() == 0x0011);
 	CHECK(e.errnoValue() == EREMOTEIO);
 	CHECK_THAT(e.what(), Contains("AL status 0x0011 Invalid requested state change"));
-	const ecmxf::SlaveInfo s0 = d.slaveInfo(0);
+	const ecmxf::SlaveInfo s0 = d.bus().slaveInfo(0);
 	CHECK(s0.alStatusCode == 0x0011);
 	CHECK(s0.state == State::Init);
 	// the next request acknowledges the error
-	d.stateSet(kAllSlaves, State::PreOp);
-	CHECK(d.slaveInfo(0).alStatusCode == 0);
-	CHECK(d.stateCheck(kAllSlaves, State::PreOp).state() == State::PreOp);
-	CHECK_FALSE(d.stateCheck(kAllSlaves, State::PreOp).error());
+	d.bus().stateSet(kAllSlaves, State::PreOp);
+	CHECK(d.bus().slaveInfo(0).alStatusCode == 0);
+	CHECK(d.bus().stateCheck(kAllSlaves, State::PreOp).state() == State::PreOp);
+	CHECK_FALSE(d.bus().stateCheck(kAllSlaves, State::PreOp).error());
 }
 
 TEST_CASE("SDO: typed reads and writes, strings, and real aborts", "[bus][sdo]")
@@ -135,45 +139,45 @@ TEST_CASE("SDO: typed reads and writes, strings, and real aborts", "[bus][sdo]")
 	Rig r;
 	ecmxf::Device &d = r.d();
 	integ::initBus(d);
-	d.stateSet(kAllSlaves, State::PreOp);
+	d.bus().stateSet(kAllSlaves, State::PreOp);
 	struct Restore {
 		ecmxf::Device &d;
 		~Restore()
 		{
 			try {
-				d.sdoWrite<std::uint16_t>(1, 0x2000, 0, 3200);
-				d.sdoWrite<std::uint16_t>(0, 0x2000, 0, 3200);
+				d.sdo().sdoWrite<std::uint16_t>(1, 0x2000, 0, 3200);
+				d.sdo().sdoWrite<std::uint16_t>(0, 0x2000, 0, 3200);
 			} catch (...) {
 			}
 		}
 	} restore{ d };
 
-	CHECK(d.sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);      // 3.5 pulses/rev
-	CHECK(d.sdoRead<std::uint32_t>(1, 0x1000, 0) == 0x00030192u); // CiA 402 stepper
-	CHECK(d.sdoRead<std::uint32_t>(1, 0x1018, 1) == 0x00000E5Cu); // vendor
-	CHECK(d.sdoRead<std::uint32_t>(1, 0x1018, 2) == 0x584u);      // product
-	CHECK(d.sdoRead<std::uint32_t>(1, 0x1018, 4) == 2u);          // serial = position + 1
-	CHECK(d.sdoReadString(0, 0x1008, 0) == "EST-584");
-	CHECK(d.sdoUpload(0, 0x2001, 0) == std::vector<std::uint8_t>{ 0x50, 0xC3 });
+	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);      // 3.5 pulses/rev
+	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1000, 0) == 0x00030192u); // CiA 402 stepper
+	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1018, 1) == 0x00000E5Cu); // vendor
+	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1018, 2) == 0x584u);      // product
+	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1018, 4) == 2u);          // serial = position + 1
+	CHECK(d.sdo().sdoReadString(0, 0x1008, 0) == "EST-584");
+	CHECK(d.sdo().sdoUpload(0, 0x2001, 0) == std::vector<std::uint8_t>{ 0x50, 0xC3 });
 
 	// 0x2000 peak current: 3200 mA by default, 1..8400
-	CHECK(d.sdoRead<std::uint16_t>(1, 0x2000, 0) == 3200);
-	d.sdoWrite<std::uint16_t>(1, 0x2000, 0, 2000);
-	CHECK(d.sdoRead<std::uint16_t>(1, 0x2000, 0) == 2000);
-	CHECK(d.sdoRead<std::uint16_t>(0, 0x2000, 0) == 3200); // the other drive keeps its own
+	CHECK(d.sdo().sdoRead<std::uint16_t>(1, 0x2000, 0) == 3200);
+	d.sdo().sdoWrite<std::uint16_t>(1, 0x2000, 0, 2000);
+	CHECK(d.sdo().sdoRead<std::uint16_t>(1, 0x2000, 0) == 2000);
+	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2000, 0) == 3200); // the other drive keeps its own
 
 	// a missing object: abort 0x06020000
-	const auto e = integ::thrown<ecmxf::SdoError>([&] { (void)d.sdoRead<std::uint32_t>(0, 0x2FFF, 0); });
+	const auto e = integ::thrown<ecmxf::SdoError>([&] { (void)d.sdo().sdoRead<std::uint32_t>(0, 0x2FFF, 0); });
 	CHECK(e.abortCode() == 0x06020000u);
 	CHECK_THAT(e.what(), Contains("SDO upload 0x2FFF:00 from slave 0 aborted: 0x06020000 Object not existing"));
-	CHECK(d.sdoAbortCode() == 0x06020000u);
+	CHECK(d.bus().sdoAbortCode() == 0x06020000u);
 	// above the range: 0x06090031, and the EST-584 stores the limit (5.3.3)
-	const auto hi = integ::thrown<ecmxf::SdoError>([&] { d.sdoWrite<std::uint16_t>(0, 0x2000, 0, 9000); });
+	const auto hi = integ::thrown<ecmxf::SdoError>([&] { d.sdo().sdoWrite<std::uint16_t>(0, 0x2000, 0, 9000); });
 	CHECK(hi.abortCode() == 0x06090031u);
 	CHECK_THAT(hi.what(), Contains("0x06090031 Value is too great"));
-	CHECK(d.sdoRead<std::uint16_t>(0, 0x2000, 0) == 8400);
+	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2000, 0) == 8400);
 	// a good transfer after the aborts
-	CHECK(d.sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);
+	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);
 }
 
 TEST_CASE("slaves: SII EEPROM words, raw datagrams, mailbox and the staging flash", "[bus][eeprom]")
@@ -181,15 +185,15 @@ TEST_CASE("slaves: SII EEPROM words, raw datagrams, mailbox and the staging flas
 	Rig r;
 	ecmxf::Device &d = r.d();
 	integ::initBus(d);
-	d.stateSet(kAllSlaves, State::PreOp);
+	d.bus().stateSet(kAllSlaves, State::PreOp);
 
 	// SII words 0x08..0x0F: vendor, product, revision, serial (ETG.2010)
-	CHECK(d.eepromRead(0, 0x08) == 0x0E5C);
-	CHECK(d.eepromReadWords(2, 0x08, 8) ==
+	CHECK(d.slaves().eepromRead(0, 0x08) == 0x0E5C);
+	CHECK(d.slaves().eepromReadWords(2, 0x08, 8) ==
 	      std::vector<std::uint16_t>{ 0x0E5C, 0x0000, 0x1088, 0x0000, 0x0000, 0x0001, 0x0003, 0x0000 });
-	CHECK(d.eepromRead(1, 0x0E) == 2); // serial, low word
+	CHECK(d.slaves().eepromRead(1, 0x0E) == 2); // serial, low word
 	// the size word 0x3E: 2 KiB image = 15 (sim-slaves.rst)
-	CHECK(d.eepromRead(0, 0x3E) == 15);
+	CHECK(d.slaves().eepromRead(0, 0x3E) == 15);
 
 	// raw datagrams: ESC type register 0x0000 (0x11 drives, 0x12 dio)
 	ecmxf::Datagram g;
@@ -197,12 +201,12 @@ TEST_CASE("slaves: SII EEPROM words, raw datagrams, mailbox and the staging flas
 	g.adp = ecmxf::autoIncrementAddress(0);
 	g.ado = 0x0000;
 	g.data = { 0 };
-	ecmxf::DatagramResult res = d.rawDatagram(g);
+	ecmxf::DatagramResult res = d.slaves().rawDatagram(g);
 	CHECK(res.workingCounter == 1);
 	CHECK(res.data == std::vector<std::uint8_t>{ 0x11 });
 	g.command = ecmxf::DatagramCommand::FPRD;
 	g.adp = 0x1003;
-	res = d.rawDatagram(g);
+	res = d.slaves().rawDatagram(g);
 	CHECK(res.workingCounter == 1);
 	CHECK(res.data == std::vector<std::uint8_t>{ 0x12 });
 	// BRD of the configured station address: every slave answers
@@ -210,20 +214,20 @@ TEST_CASE("slaves: SII EEPROM words, raw datagrams, mailbox and the staging flas
 	g.adp = 0;
 	g.ado = 0x0010;
 	g.data = { 0, 0 };
-	CHECK(d.rawDatagram(g).workingCounter == 3);
+	CHECK(d.slaves().rawDatagram(g).workingCounter == 3);
 
 	// the mailboxes are empty; the drives' receive mailbox too
-	CHECK(d.mailboxPending().empty());
-	CHECK(d.receiveMailbox(0).empty());
-	const std::vector<bool> poll = d.mailboxPolling();
+	CHECK(d.slaves().mailboxPending().empty());
+	CHECK(d.slaves().receiveMailbox(0).empty());
+	const std::vector<bool> poll = d.slaves().mailboxPolling();
 	CHECK(poll.size() == 3);
 
 	// the staging flash of FOE_FUNC_REQ: written and read back
 	std::vector<std::uint8_t> pattern(300);
 	for (std::size_t i = 0; i < pattern.size(); i++)
 		pattern[i] = static_cast<std::uint8_t>(i * 7 + 1);
-	d.flashWrite(0x100, pattern);
-	CHECK(d.flashRead(0x100, 300) == pattern);
+	d.slaves().flashWrite(0x100, pattern);
+	CHECK(d.slaves().flashRead(0x100, 300) == pattern);
 	// the EST-584 has no FoE (SII mailbox protocols: CoE only)
-	CHECK_THROWS_AS(d.foeRead(0, "log.txt"), ecmxf::Error);
+	CHECK_THROWS_AS(d.slaves().foeRead(0, "log.txt"), ecmxf::Error);
 }

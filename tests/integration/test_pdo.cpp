@@ -21,6 +21,8 @@
 #include <vector>
 
 #include <ecmxf/pdo/cyclic.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 
 #include "integration.hpp"
@@ -35,9 +37,9 @@ TEST_CASE("PDO: the mapping read back, the FIFO set up, the image read and writt
 	Rig r;
 	ecmxf::Device &d = r.d();
 	integ::initBus(d);
-	d.stateSet(kAllSlaves, State::PreOp);
+	d.bus().stateSet(kAllSlaves, State::PreOp);
 
-	const ecmxf::PdoConfig rx = d.pdoConfigRead(0, 0x1C12);
+	const ecmxf::PdoConfig rx = d.bus().pdoConfigRead(0, 0x1C12);
 	CHECK(rx.slave == 0);
 	CHECK(rx.assignIndex == 0x1C12);
 	CHECK(rx.pdoCount == 1);
@@ -48,70 +50,70 @@ TEST_CASE("PDO: the mapping read back, the FIFO set up, the image read and writt
 		{ 0x6040, 0, 16 }, { 0x607A, 0, 32 }, { 0x60B0, 0, 32 }, { 0x60B8, 0, 16 }
 	};
 	CHECK(rx.pdos[0].entries == want);
-	const ecmxf::PdoConfig tx = d.pdoConfigRead(1, 0x1C13);
+	const ecmxf::PdoConfig tx = d.bus().pdoConfigRead(1, 0x1C13);
 	REQUIRE(tx.pdos.size() == 1);
 	CHECK(tx.pdos[0].index == 0x1A00);
 	CHECK(tx.pdos[0].entries.size() == 6);
 	CHECK(tx.pdos[0].entries[0] == ecmxf::PdoMapEntry{ 0x6041, 0, 16 });
-	CHECK(d.pdoConfigGet().assignIndex == 0x1C13);
+	CHECK(d.bus().pdoConfigGet().assignIndex == 0x1C13);
 
-	d.stateSet(kAllSlaves, State::SafeOp);
-	const ecmxf::FifoPackSizes ps = d.fifoPackSizes();
+	d.bus().stateSet(kAllSlaves, State::SafeOp);
+	const ecmxf::FifoPackSizes ps = d.pdo().fifoPackSizes();
 	CHECK(ps.rxPdoBytes == 25);
 	CHECK(ps.txPdoBytes == 35);
 	// depths within the budget (25 x 100 + 35 x 150 <= 0x4000), read back
-	d.fifoSetCounts(100, 150);
-	CHECK(d.fifoRxCount() == 100);
-	CHECK(d.fifoTxCount() == 150);
-	d.fifoSetCounts(64, 64);
-	CHECK(d.fifoRxCount() == 64);
-	CHECK(d.fifoTxCount() == 64);
-	const ecmxf::Error e = integ::thrown([&] { d.fifoSetRxCount(0); });
+	d.pdo().fifoSetCounts(100, 150);
+	CHECK(d.pdo().fifoRxCount() == 100);
+	CHECK(d.pdo().fifoTxCount() == 150);
+	d.pdo().fifoSetCounts(64, 64);
+	CHECK(d.pdo().fifoRxCount() == 64);
+	CHECK(d.pdo().fifoTxCount() == 64);
+	const ecmxf::Error e = integ::thrown([&] { d.pdo().fifoSetRxCount(0); });
 	CHECK(e.errnoValue() == EINVAL);
 	ecmxf::FifoThresholds th;
 	th.txHighEnabled = true;
 	th.txHigh = 32;
-	d.fifoSetThresholds(th);
-	d.fifoSetThresholds({});
-	d.fifoInit();
-	d.fifoClear(ecmxf::FifoSelect::Both);
+	d.pdo().fifoSetThresholds(th);
+	d.pdo().fifoSetThresholds({});
+	d.pdo().fifoInit();
+	d.pdo().fifoClear(ecmxf::FifoSelect::Both);
 
 	// the direct image (FIFO off): outputs pre-loaded, inputs read
-	d.fifoEnable(false);
+	d.pdo().fifoEnable(false);
 	std::vector<std::uint8_t> out(25, 0);
 	out[24] = 0x5A; // the dio's output byte
-	d.pdoWrite(out);
-	d.stateSet(kAllSlaves, State::Op);
+	d.pdo().pdoWrite(out);
+	d.bus().stateSet(kAllSlaves, State::Op);
 	// the dio copies its outputs to its inputs every bus cycle in OP
 	std::vector<std::uint8_t> in;
 	for (int i = 0; i < 200; i++) {
-		in = d.pdoWriteRead(out);
+		in = d.pdo().pdoWriteRead(out);
 		if (in.size() == 35 && in[34] == 0x5A)
 			break;
 		d.link().sleepFor(1ms);
 	}
 	REQUIRE(in.size() == 35);
 	CHECK(in[34] == 0x5A);
-	CHECK(d.pdoRead().size() == 35);
+	CHECK(d.pdo().pdoRead().size() == 35);
 	// and the FIFO path by hand: one RxPDO frame in, TxPDO frames out
-	d.fifoClear();
-	d.fifoEnable(true);
+	d.pdo().fifoClear();
+	d.pdo().fifoEnable(true);
 	out[24] = 0xC3;
-	const ecmxf::PdoFifoResult w = d.pdoFifoExchange(out, 1, false);
+	const ecmxf::PdoFifoResult w = d.pdo().pdoFifoExchange(out, 1, false);
 	CHECK(w.allWritten);
 	CHECK(w.framesRead == 0);
 	ecmxf::PdoFifoResult got;
 	for (int i = 0; i < 200; i++) {
 		d.link().sleepFor(2ms);
-		got = d.pdoFifoExchange({}, 0, true);
+		got = d.pdo().pdoFifoExchange({}, 0, true);
 		if (got.framesRead && got.inputs[(got.framesRead - 1) * 35 + 34] == 0xC3)
 			break;
 	}
 	REQUIRE(got.framesRead > 0);
 	CHECK(got.inputs.size() == got.framesRead * 35);
 	CHECK(got.inputs[(got.framesRead - 1) * 35 + 34] == 0xC3);
-	d.fifoEnable(false);
-	CHECK(d.pdoWorkingCounter() == 9);
+	d.pdo().fifoEnable(false);
+	CHECK(d.pdo().pdoWorkingCounter() == 9);
 }
 
 TEST_CASE("cyclic: a few hundred FIFO cycles, the WKC right, the dio's inputs follow its outputs", "[pdo][cyclic]")

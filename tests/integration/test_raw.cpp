@@ -21,6 +21,7 @@
 
 #include <ecmxf/link/engine_link.hpp>
 #include <ecmxf/trace/trace.hpp>
+#include <ecmxf/chip/chip.hpp>
 
 #include "integration.hpp"
 
@@ -78,8 +79,8 @@ TEST_CASE("trace: the exchanges of a few commands are recorded and decode", "[ra
 		std::filesystem::temp_directory_path() / ("ecmxf-integ-trace-" + std::to_string(::getpid()) + ".txt");
 	d.startTrace(path.string());
 	CHECK(d.tracing());
-	CHECK(d.firmwareVersion().version == 0x30);
-	CHECK(d.queryDataSize() == 112);
+	CHECK(d.chip().firmwareVersion().version == 0x30);
+	CHECK(d.chip().queryDataSize() == 112);
 	d.stopTrace();
 	CHECK_FALSE(d.tracing());
 
@@ -107,7 +108,7 @@ TEST_CASE("transport: INT0 drove the exchanges (the transport's own counters)", 
 	const ecmxf::LinkCounters before = link.counters();
 	integ::initBus(d); // an async command: the chip is busy for a while
 	for (int i = 0; i < 10; i++)
-		CHECK(d.firmwareVersion().version == 0x30);
+		CHECK(d.chip().firmwareVersion().version == 0x30);
 	if (sp) {
 		// libgpiod edge events on INT0 ended the waits, none timed out
 		const ecmxf::SpidevStats &st = sp->stats();

@@ -23,6 +23,7 @@
 
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
+#include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/bus/master.hpp>
@@ -158,9 +159,9 @@ Figures ioctlPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
 {
 	auto &kt = dynamic_cast<ecmxf::KernelLink &>(dev.link());
 	const int fd = kt.fd();
-	dev.pdoWrite(image.outputs());
-	dev.fifoClear(ecmxf::FifoSelect::Both);
-	dev.fifoEnable(true);
+	dev.pdo().pdoWrite(image.outputs());
+	dev.pdo().fifoClear(ecmxf::FifoSelect::Both);
+	dev.pdo().fifoEnable(true);
 	std::vector<std::uint8_t> out(image.outputs().begin(), image.outputs().end());
 	std::vector<std::uint8_t> in(1408);
 	timespec next{};
@@ -187,7 +188,7 @@ Figures ioctlPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
 		clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr);
 	});
 	std::printf("bench: cyclic ioctl: %u failed commands\n", errors);
-	dev.fifoEnable(false);
+	dev.pdo().fifoEnable(false);
 	return f;
 }
 

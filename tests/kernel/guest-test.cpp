@@ -11,6 +11,9 @@
 //       then those of a level-triggered INT1 (ecmxf-vspi int1=irq-level)
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/chip/chip.hpp>
+#include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/kernel_link.hpp>
 
@@ -76,7 +79,7 @@ void int1Level(ecmxf::Device &dev, ecmxf::KernelLink &kt)
 	using namespace std::chrono;
 	ecmxf::InterruptConfig ic;
 	ic.sources = ecmxf::irq::kEcatPacket;
-	dev.setInterruptConfig(ic);
+	dev.chip().setInterruptConfig(ic);
 	// the line asserts with the next bus cycle: wait for the first one
 	auto k0 = kt.counters();
 	for (int i = 0; i < 1000 && kt.counters().int1Irqs == k0.int1Irqs; i++)
@@ -101,7 +104,7 @@ void int1Level(ecmxf::Device &dev, ecmxf::KernelLink &kt)
 
 	// the source off and its flag cleared: the line goes idle
 	ic.sources = 0;
-	dev.setInterruptConfig(ic);
+	dev.chip().setInterruptConfig(ic);
 	ecmxf::RawRequest rq;
 	rq.code = 0; // INFO_UPDATE
 	rq.intClear = ecmxf::irq::kEcatPacket;
@@ -140,7 +143,7 @@ int main(int argc, char **argv)
 		// what the bridge's chip is (ChipConfig defaults) and what
 		// ecmxf.ko set at probe: the power-on 112-byte data section
 		// (data_size=0 keeps it), CRC-32 (check_type default 3)
-		const ecmxf::ChipInfo info = dev->info();
+		const ecmxf::ChipInfo info = dev->chip().info();
 		check("firmware version", info.firmware.version, 0x30u);
 		check("data section size", info.dataSize, 112u);
 		check("check type is CRC-32", static_cast<unsigned>(info.checkType),
@@ -151,19 +154,19 @@ int main(int argc, char **argv)
 			std::printf("guest-test: FAIL %s is not opened by the kernel transport\n", path.c_str());
 			return 1;
 		}
-		dev->initNetwork();
+		dev->bus().initNetwork();
 		// default network: EST-584, EST-584, digital I/O
-		check("slave count after ECAT_INIT_OP", dev->slaveCount(), 3u);
+		check("slave count after ECAT_INIT_OP", dev->bus().slaveCount(), 3u);
 		// the driver keeps the count it passed on (driver.rst)
 		check("devinfo slave_count after ECAT_SLV_CNT_GET", kt->devInfo().slaveCount, 3u);
 
-		dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
+		dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
 		// EST-584 manual 3.5: 0x2001:00 pulses per revolution, default 50000
-		check("SDO 0x2001:00 of slave 0", dev->sdoRead<std::uint16_t>(0, 0x2001, 0), 50000u);
+		check("SDO 0x2001:00 of slave 0", dev->sdo().sdoRead<std::uint16_t>(0, 0x2001, 0), 50000u);
 		// EtherCAT: PRE-OP -> OP directly is refused (AL status 0x0011)
-		dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::SafeOp);
-		dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::Op);
-		const auto st = dev->stateCheck(0, ecmxf::State::Op);
+		dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::SafeOp);
+		dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::Op);
+		const auto st = dev->bus().stateCheck(0, ecmxf::State::Op);
 		check("slave 0 state after STATE_SET OP", static_cast<unsigned>(st.state()),
 		      static_cast<unsigned>(ecmxf::State::Op));
 
@@ -173,7 +176,7 @@ int main(int argc, char **argv)
 		const std::uint64_t int1Before = kt->counters().int1Irqs;
 		ecmxf::InterruptConfig ic;
 		ic.sources = ecmxf::irq::kEcatPacket;
-		dev->setInterruptConfig(ic);
+		dev->chip().setInterruptConfig(ic);
 		// the first one within 10 s (polled): a loaded guest may not run
 		// the bridge's bus cycle within a fixed 100 ms
 		std::uint64_t int1After = kt->counters().int1Irqs;
@@ -184,7 +187,7 @@ int main(int argc, char **argv)
 		check("INT1 interrupts after enabling the frame interrupt (more than before)",
 		      int1After > int1Before ? 1u : 0u, 1u);
 		ic.sources = 0;
-		dev->setInterruptConfig(ic);
+		dev->chip().setInterruptConfig(ic);
 		if (level)
 			int1Level(*dev, *kt);
 	} catch (const std::exception &e) {

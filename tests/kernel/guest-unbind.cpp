@@ -39,6 +39,7 @@
 // Exit status 0 when every check holds.
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/bus/master.hpp>
@@ -313,7 +314,7 @@ Rings startRings(ecmxf::Device &dev, int fd)
 	Rings r;
 	if (::ioctl(fd, ECMXF_IOC_CLAIM) < 0)
 		fatal(std::string("ECMXF_IOC_CLAIM: ") + std::strerror(errno));
-	dev.fifoEnable(false);
+	dev.pdo().fifoEnable(false);
 	r.rs.out_entries = 16;
 	r.rs.in_entries = 64;
 	r.rs.flags = ECMXF_RING_F_POLL_IN;
@@ -330,8 +331,8 @@ Rings startRings(ecmxf::Device &dev, int fd)
 	r.inLen = r.rs.in.mmap_size;
 	if (!r.rs.in.frame_size || !r.rs.out.frame_size || !r.rs.in.status)
 		fatal("the default network has no PDO frames both ways");
-	dev.fifoClear(ecmxf::FifoSelect::Both);
-	dev.fifoEnable(true);
+	dev.pdo().fifoClear(ecmxf::FifoSelect::Both);
+	dev.pdo().fifoEnable(true);
 	return r;
 }
 

@@ -22,6 +22,7 @@
 // guest program.)
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/kernel_link.hpp>
 
@@ -59,19 +60,19 @@ int main(int argc, char **argv)
 		if (what == "op") {
 			auto dev = ecmxf::Device::open(path);
 			dev->setMinimumTimeout(kPatience);
-			dev->initNetwork();
-			dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
-			dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::SafeOp);
-			dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::Op);
-			std::printf("guest-test: ok   %s: bus in OP (%u slaves)\n", path.c_str(), static_cast<unsigned>(dev->slaveCount()));
+			dev->bus().initNetwork();
+			dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
+			dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::SafeOp);
+			dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::Op);
+			std::printf("guest-test: ok   %s: bus in OP (%u slaves)\n", path.c_str(), static_cast<unsigned>(dev->bus().slaveCount()));
 			return 0;
 		}
 		if (what == "refused") {
 			auto dev = ecmxf::Device::open(path);
 			dev->setMinimumTimeout(kPatience);
-			dev->stateSet(0, ecmxf::State::Init);
+			dev->bus().stateSet(0, ecmxf::State::Init);
 			try {
-				dev->stateSet(0, ecmxf::State::Op); // INIT -> OP: not allowed
+				dev->bus().stateSet(0, ecmxf::State::Op); // INIT -> OP: not allowed
 			} catch (const ecmxf::Error &e) {
 				std::printf("guest-test: ok   %s: slave 0 INIT -> OP refused: %s\n", path.c_str(),
 					    e.what());

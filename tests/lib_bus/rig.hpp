@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/link/sim_channel.hpp>
@@ -60,8 +61,8 @@ struct Rig {
 	/// INIT_OP and every slave to PRE-OP (mailbox running).
 	void preOp(ecmxf::InitConfig cfg = {})
 	{
-		dev->initNetwork(cfg);
-		dev->stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
+		dev->bus().initNetwork(cfg);
+		dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
 	}
 };
 

@@ -16,6 +16,8 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/sdo.hpp>
+#include <ecmxf/bus/bus.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/bus/types_bus.hpp>
@@ -57,13 +59,13 @@ TEST_CASE("bus: INIT_OP, SLV_CNT_GET and SLV_INFO_GET of every slave", "[bus]")
 {
 	Rig r;
 	auto &d = r.d();
-	CHECK(d.stateGet(kAllSlaves).raw == 0); // nothing initialised yet
-	d.initNetwork();
-	CHECK(d.slaveCount() == 3);
-	CHECK(d.stateGet(kAllSlaves).state() == State::Init);
+	CHECK(d.bus().stateGet(kAllSlaves).raw == 0); // nothing initialised yet
+	d.bus().initNetwork();
+	CHECK(d.bus().slaveCount() == 3);
+	CHECK(d.bus().stateGet(kAllSlaves).state() == State::Init);
 
 	for (std::uint8_t p = 0; p < 2; p++) {
-		const ecmxf::SlaveInfo s = d.slaveInfo(p);
+		const ecmxf::SlaveInfo s = d.bus().slaveInfo(p);
 		CHECK(s.position == p);
 		CHECK(s.vendorId == 0x00000E5Cu);
 		CHECK(s.productCode == 0x00000584u);
@@ -77,24 +79,24 @@ TEST_CASE("bus: INIT_OP, SLV_CNT_GET and SLV_INFO_GET of every slave", "[bus]")
 		CHECK(s.outputBytes == 12);
 		CHECK(s.inputBytes == 17);
 	}
-	const ecmxf::SlaveInfo io = d.slaveInfo(2);
+	const ecmxf::SlaveInfo io = d.bus().slaveInfo(2);
 	CHECK(io.productCode == 0x00001088u);
 	CHECK(io.name == "Digital I/O 8 out / 8 in");
 	CHECK(io.stationAddress == 0x1003);
 	CHECK(io.outputBytes == 1);
 	CHECK(io.inputBytes == 1);
-	CHECK(d.slaveInfoRaw(0, ecmxf::SlaveInfoCode::Vendor) == std::vector<std::uint8_t>{ 0x5C, 0x0E, 0, 0 });
+	CHECK(d.bus().slaveInfoRaw(0, ecmxf::SlaveInfoCode::Vendor) == std::vector<std::uint8_t>{ 0x5C, 0x0E, 0, 0 });
 
 	try {
-		(void)d.slaveInfo(3);
+		(void)d.bus().slaveInfo(3);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
 		CHECK_THAT(e.what(), Equals("ECAT_SLV_INFO_GET code 0 of slave 3: the chip refused the command (error "
-					    "status bit 7: a parameter it does not accept)"));
+					    "status bit 7, command error)"));
 	}
 	try {
-		(void)d.slaveInfoRaw(0, static_cast<ecmxf::SlaveInfoCode>(10));
+		(void)d.bus().slaveInfoRaw(0, static_cast<ecmxf::SlaveInfoCode>(10));
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
@@ -106,36 +108,36 @@ TEST_CASE("bus: STATE_SET per slave and for all, STATE_GET, STATE_UPDATE, STATE_
 {
 	Rig r;
 	auto &d = r.d();
-	d.initNetwork();
-	d.stateSet(1, State::PreOp);
-	CHECK(d.stateGet(1).state() == State::PreOp);
-	CHECK(d.stateGet(0).state() == State::Init);
-	CHECK(d.slaveInfo(1).state == State::PreOp);
-	d.stateSet(kAllSlaves, State::PreOp);
-	d.stateSet(kAllSlaves, State::SafeOp);
-	CHECK(d.stateGet(kAllSlaves).state() == State::SafeOp);
+	d.bus().initNetwork();
+	d.bus().stateSet(1, State::PreOp);
+	CHECK(d.bus().stateGet(1).state() == State::PreOp);
+	CHECK(d.bus().stateGet(0).state() == State::Init);
+	CHECK(d.bus().slaveInfo(1).state == State::PreOp);
+	d.bus().stateSet(kAllSlaves, State::PreOp);
+	d.bus().stateSet(kAllSlaves, State::SafeOp);
+	CHECK(d.bus().stateGet(kAllSlaves).state() == State::SafeOp);
 	CHECK(d.lastHeader().ecatState == 4);
-	d.stateSet(kAllSlaves, State::Op);
-	CHECK(d.stateGet(kAllSlaves).state() == State::Op);
-	CHECK_FALSE(d.stateGet(kAllSlaves).error());
+	d.bus().stateSet(kAllSlaves, State::Op);
+	CHECK(d.bus().stateGet(kAllSlaves).state() == State::Op);
+	CHECK_FALSE(d.bus().stateGet(kAllSlaves).error());
 	for (std::uint8_t p = 0; p < 3; p++)
-		CHECK(d.stateGet(p).state() == State::Op);
+		CHECK(d.bus().stateGet(p).state() == State::Op);
 
 	// STATE_CHECK = SET + UPDATE + GET
-	const ecmxf::StateReading s = d.stateCheck(2, State::SafeOp);
+	const ecmxf::StateReading s = d.bus().stateCheck(2, State::SafeOp);
 	CHECK(s.state() == State::SafeOp);
-	CHECK(d.stateGet(kAllSlaves).state() == State::SafeOp);
-	d.stateUpdate();
-	CHECK(d.stateGet(2).state() == State::SafeOp);
-	CHECK(d.stateCheck(kAllSlaves, State::PreOp).state() == State::PreOp);
+	CHECK(d.bus().stateGet(kAllSlaves).state() == State::SafeOp);
+	d.bus().stateUpdate();
+	CHECK(d.bus().stateGet(2).state() == State::SafeOp);
+	CHECK(d.bus().stateCheck(kAllSlaves, State::PreOp).state() == State::PreOp);
 }
 
 TEST_CASE("bus: a state skip is refused with AL status 0x0011", "[bus][errors]")
 {
 	Rig r;
-	r.d().initNetwork();
+	r.d().bus().initNetwork();
 	try {
-		r.d().stateSet(0, State::SafeOp);
+		r.d().bus().stateSet(0, State::SafeOp);
 		FAIL("no error");
 	} catch (const AlStatusError &e) {
 		CHECK(e.slave() == 0);
@@ -148,7 +150,7 @@ TEST_CASE("bus: a state skip is refused with AL status 0x0011", "[bus][errors]")
 	}
 	// STATE_CHECK reports the same way, for all slaves: each one named
 	try {
-		(void)r.d().stateCheck(kAllSlaves, State::Op);
+		(void)r.d().bus().stateCheck(kAllSlaves, State::Op);
 		FAIL("no error");
 	} catch (const AlStatusError &e) {
 		CHECK(e.slave() == 0);
@@ -160,8 +162,8 @@ TEST_CASE("bus: a state skip is refused with AL status 0x0011", "[bus][errors]")
 				  "INIT, AL status 0x0011 Invalid requested state change"));
 	}
 	// the error is acknowledged by the next request
-	r.d().stateSet(kAllSlaves, State::PreOp);
-	CHECK(r.d().slaveInfo(0).alStatusCode == 0);
+	r.d().bus().stateSet(kAllSlaves, State::PreOp);
+	CHECK(r.d().bus().slaveInfo(0).alStatusCode == 0);
 }
 
 TEST_CASE("bus: OP on the servo without DC gives its AL status code 0x0030", "[bus][errors]")
@@ -169,11 +171,11 @@ TEST_CASE("bus: OP on the servo without DC gives its AL status code 0x0030", "[b
 	Rig r("servo-io.net");
 	ecmxf::InitConfig cfg;
 	cfg.dc.assignActivate = 0; // no SYNC0 on the slaves
-	r.d().initNetwork(cfg);
-	r.d().stateSet(kAllSlaves, State::PreOp);
-	r.d().stateSet(kAllSlaves, State::SafeOp);
+	r.d().bus().initNetwork(cfg);
+	r.d().bus().stateSet(kAllSlaves, State::PreOp);
+	r.d().bus().stateSet(kAllSlaves, State::SafeOp);
 	try {
-		r.d().stateSet(0, State::Op);
+		r.d().bus().stateSet(0, State::Op);
 		FAIL("no error");
 	} catch (const AlStatusError &e) {
 		CHECK(e.reached() == State::SafeOp);
@@ -189,18 +191,18 @@ TEST_CASE("bus: STATE_SET BOOT sets up the bootstrap mailbox, PRE-OP after it th
 	// the servo's SII has a bootstrap mailbox (sim-slaves.rst); the
 	// EST-584 has none and refuses BOOT with 0x0015 (AKD2G table)
 	Rig r("servo-io.net");
-	r.d().initNetwork();
-	r.d().stateSet(0, State::Boot);
-	CHECK(r.d().stateGet(0).state() == State::Boot);
-	r.d().stateSet(0, State::Init);
-	r.d().stateSet(0, State::PreOp);
-	CHECK(r.d().stateGet(0).state() == State::PreOp);
-	CHECK(r.d().sdoRead<std::uint32_t>(0, 0x1018, 1) == 0x00000E5Cu); // vendor id, sim-slaves.rst
+	r.d().bus().initNetwork();
+	r.d().bus().stateSet(0, State::Boot);
+	CHECK(r.d().bus().stateGet(0).state() == State::Boot);
+	r.d().bus().stateSet(0, State::Init);
+	r.d().bus().stateSet(0, State::PreOp);
+	CHECK(r.d().bus().stateGet(0).state() == State::PreOp);
+	CHECK(r.d().sdo().sdoRead<std::uint32_t>(0, 0x1018, 1) == 0x00000E5Cu); // vendor id, sim-slaves.rst
 
 	Rig e("est584x2-io.net");
-	e.d().initNetwork();
+	e.d().bus().initNetwork();
 	try {
-		e.d().stateSet(0, State::Boot);
+		e.d().bus().stateSet(0, State::Boot);
 		FAIL("no error");
 	} catch (const AlStatusError &ex) {
 		CHECK(ex.alStatusCode() == 0x0015);
@@ -211,11 +213,11 @@ TEST_CASE("bus: STATE_SET BOOT sets up the bootstrap mailbox, PRE-OP after it th
 TEST_CASE("bus: the servo reaches OP with DC from INIT_OP", "[bus]")
 {
 	Rig r("servo-io.net");
-	r.d().initNetwork(); // SYNC0 1 ms, AssignActivate 0x0300
-	r.d().stateSet(kAllSlaves, State::PreOp);
-	r.d().stateSet(kAllSlaves, State::SafeOp);
-	r.d().stateSet(kAllSlaves, State::Op);
-	CHECK(r.d().stateGet(kAllSlaves).state() == State::Op);
+	r.d().bus().initNetwork(); // SYNC0 1 ms, AssignActivate 0x0300
+	r.d().bus().stateSet(kAllSlaves, State::PreOp);
+	r.d().bus().stateSet(kAllSlaves, State::SafeOp);
+	r.d().bus().stateSet(kAllSlaves, State::Op);
+	CHECK(r.d().bus().stateGet(kAllSlaves).state() == State::Op);
 }
 
 TEST_CASE("bus: INIT_OP and DCSYNC + INIT_DC_OP configure DC on the slaves", "[bus]")
@@ -230,7 +232,7 @@ TEST_CASE("bus: INIT_OP and DCSYNC + INIT_DC_OP configure DC on the slaves", "[b
 	cfg.dc.assignActivate = 0x0700;
 	cfg.lrw = false;
 	cfg.busShift = true;
-	r.d().initNetwork(cfg);
+	r.d().bus().initNetwork(cfg);
 	CHECK(r.test(0).dcAssign == 0x0700);
 	CHECK(r.test(0).dcSync0 == 500'000u);
 	CHECK(r.test(0).dcSync1 == 250'000u);
@@ -241,22 +243,22 @@ TEST_CASE("bus: INIT_OP and DCSYNC + INIT_DC_OP configure DC on the slaves", "[b
 	one.sync1Ns = 0;
 	one.shiftNs = 12'345;
 	one.assignActivate = 0x0300;
-	r.d().dcSync(1, one);
+	r.d().bus().dcSync(1, one);
 	CHECK(r.test(1).dcSync0 == 500'000u); // applied by INIT_DC_OP only
-	r.d().initDc();
+	r.d().bus().initDc();
 	CHECK(r.test(1).dcSync0 == 1'000'000u);
 	CHECK(r.test(1).dcShift == 12'345);
 	CHECK(r.test(1).dcAssign == 0x0300);
 	CHECK(r.test(0).dcSync0 == 500'000u);
-	r.d().enableLrw(true);
-	r.d().enableLrw(false);
+	r.d().bus().enableLrw(true);
+	r.d().bus().enableLrw(false);
 }
 
 TEST_CASE("bus: PDO_CONFIG_SET / REQ / GET with the EST-584's RxPDO2, then CONFIG_MAP", "[bus][pdo]")
 {
 	Rig r;
-	r.d().initNetwork();
-	r.d().stateSet(kAllSlaves, State::PreOp);
+	r.d().bus().initNetwork();
+	r.d().bus().stateSet(kAllSlaves, State::PreOp);
 
 	// manual 5.4.1 RXPDO2 (0x1601): controlword, target position, max.
 	// speed, acceleration, deceleration, operation mode = 19 bytes
@@ -266,11 +268,11 @@ TEST_CASE("bus: PDO_CONFIG_SET / REQ / GET with the EST-584's RxPDO2, then CONFI
 	c.pdos.push_back(PdoDef{ 0x1601,
 				 { { 0x6040, 0, 16 }, { 0x607A, 0, 32 }, { 0x6081, 0, 32 }, { 0x6083, 0, 32 },
 				   { 0x6084, 0, 32 }, { 0x6060, 0, 8 } } });
-	r.d().pdoConfigSet(c);
-	CHECK(r.d().sdoRead<std::uint16_t>(1, 0x1C12, 1) == 0x1601);
-	CHECK(r.d().sdoRead<std::uint32_t>(1, 0x1601, 6) == 0x60600008u);
+	r.d().bus().pdoConfigSet(c);
+	CHECK(r.d().sdo().sdoRead<std::uint16_t>(1, 0x1C12, 1) == 0x1601);
+	CHECK(r.d().sdo().sdoRead<std::uint32_t>(1, 0x1601, 6) == 0x60600008u);
 
-	const PdoConfig back = r.d().pdoConfigRead(1, 0x1C12);
+	const PdoConfig back = r.d().bus().pdoConfigRead(1, 0x1C12);
 	CHECK(back.slave == 1);
 	CHECK(back.assignIndex == 0x1C12);
 	CHECK(back.pdoCount == 1);
@@ -278,39 +280,39 @@ TEST_CASE("bus: PDO_CONFIG_SET / REQ / GET with the EST-584's RxPDO2, then CONFI
 	CHECK(back.complete());
 	REQUIRE(back.pdos.size() == 1);
 	CHECK(back.pdos[0] == c.pdos[0]);
-	CHECK(r.d().pdoConfigGet().pdos == back.pdos);
+	CHECK(r.d().bus().pdoConfigGet().pdos == back.pdos);
 
 	// the TxPDO side keeps the default 0x1A00 (6 entries)
-	const PdoConfig tx = r.d().pdoConfigRead(0, 0x1C13);
+	const PdoConfig tx = r.d().bus().pdoConfigRead(0, 0x1C13);
 	REQUIRE(tx.pdos.size() == 1);
 	CHECK(tx.pdos[0].index == 0x1A00);
 	CHECK(tx.pdos[0].entries.front() == PdoMapEntry{ 0x6041, 0, 16 });
 	CHECK(tx.pdos[0].entries.back() == PdoMapEntry{ 0x60FD, 0, 32 });
 
-	CHECK(r.d().slaveInfo(1).outputBytes == 12); // not yet applied
-	r.d().configMap();
-	CHECK(r.d().slaveInfo(1).outputBytes == 19);
-	CHECK(r.d().slaveInfo(0).outputBytes == 12);
-	r.d().stateSet(kAllSlaves, State::SafeOp);
-	r.d().stateSet(kAllSlaves, State::Op);
+	CHECK(r.d().bus().slaveInfo(1).outputBytes == 12); // not yet applied
+	r.d().bus().configMap();
+	CHECK(r.d().bus().slaveInfo(1).outputBytes == 19);
+	CHECK(r.d().bus().slaveInfo(0).outputBytes == 12);
+	r.d().bus().stateSet(kAllSlaves, State::SafeOp);
+	r.d().bus().stateSet(kAllSlaves, State::Op);
 
 	// RECONFIG_OP does the same; the header reads INIT until STATE_UPDATE
-	r.d().reconfigure();
+	r.d().bus().reconfigure();
 	CHECK(r.d().lastHeader().ecatState == 1);
-	r.d().stateUpdate();
-	CHECK(r.d().stateGet(kAllSlaves).state() == State::Op);
+	r.d().bus().stateUpdate();
+	CHECK(r.d().bus().stateGet(kAllSlaves).state() == State::Op);
 }
 
 TEST_CASE("bus: PDO configuration errors", "[bus][pdo][errors]")
 {
 	Rig r;
-	r.d().initNetwork();
-	r.d().stateSet(kAllSlaves, State::PreOp);
+	r.d().bus().initNetwork();
+	r.d().bus().stateSet(kAllSlaves, State::PreOp);
 	PdoConfig c;
 	c.slave = 0;
 	c.pdos.assign(4, PdoDef{ 0x1600, { { 0x6040, 0, 16 } } });
 	try {
-		r.d().pdoConfigSet(c);
+		r.d().bus().pdoConfigSet(c);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
@@ -319,7 +321,7 @@ TEST_CASE("bus: PDO configuration errors", "[bus][pdo][errors]")
 	}
 	c.pdos.assign(1, PdoDef{ 0x1600, std::vector<PdoMapEntry>(9, PdoMapEntry{ 0x6040, 0, 16 }) });
 	try {
-		r.d().pdoConfigSet(c);
+		r.d().bus().pdoConfigSet(c);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
@@ -329,7 +331,7 @@ TEST_CASE("bus: PDO configuration errors", "[bus][pdo][errors]")
 	// the device type is not mappable: the slave aborts
 	c.pdos.assign(1, PdoDef{ 0x1600, { { 0x6040, 0, 16 }, { 0x1000, 0, 32 } } });
 	try {
-		r.d().pdoConfigSet(c);
+		r.d().bus().pdoConfigSet(c);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x06040041u);
@@ -338,7 +340,7 @@ TEST_CASE("bus: PDO configuration errors", "[bus][pdo][errors]")
 	}
 	r.chip->faults().forcedSdoAbort = 0x08000000;
 	try {
-		(void)r.d().pdoConfigRead(0, 0x1C13);
+		(void)r.d().bus().pdoConfigRead(0, 0x1C13);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x08000000u);
@@ -349,16 +351,16 @@ TEST_CASE("bus: PDO configuration errors", "[bus][pdo][errors]")
 TEST_CASE("bus: a wrong SM2 length from CONFIG_SM gives AL status 0x001D at SAFE-OP", "[bus][errors]")
 {
 	Rig r;
-	r.d().initNetwork();
-	r.d().stateSet(kAllSlaves, State::PreOp);
+	r.d().bus().initNetwork();
+	r.d().bus().stateSet(kAllSlaves, State::PreOp);
 	ecmxf::SmConfig sm;
 	sm.startAddress = 0x1100; // SII: SM2 outputs at 0x1100
 	sm.length = 5;            // the mapping has 12 bytes
 	sm.control = 0x64;
 	sm.activate = 1;
-	r.d().configSm(1, 2, sm);
+	r.d().bus().configSm(1, 2, sm);
 	try {
-		r.d().stateSet(kAllSlaves, State::SafeOp);
+		r.d().bus().stateSet(kAllSlaves, State::SafeOp);
 		FAIL("no error");
 	} catch (const AlStatusError &e) {
 		CHECK(e.slave() == 1);
@@ -368,33 +370,35 @@ TEST_CASE("bus: a wrong SM2 length from CONFIG_SM gives AL status 0x001D at SAFE
 					    "PRE-OP, AL status 0x001D Invalid output configuration SM2 (Rx)"));
 	}
 	try {
-		r.d().configSm(1, 16, sm);
+		r.d().bus().configSm(1, 16, sm);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK_THAT(e.what(), Equals("ECAT_CONFIG_SM: sync manager 16 out of range (0..15)"));
 	}
 	try {
-		r.d().configSm(7, 2, sm);
+		r.d().bus().configSm(7, 2, sm);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
-		CHECK_THAT(e.what(), Equals("ECAT_CONFIG_SM 2 of slave 7 (is the slave on the bus?): the chip refused "
-					    "the command (error status bit 7: a parameter it does not accept)"));
+		CHECK_THAT(e.what(), Equals("ECAT_CONFIG_SM 2 of slave 7: the chip refused the command (error status bit "
+					    "7, command error: is the slave on the bus?); the command exists only in "
+					    "firmware of manual ver. 050"));
 	}
 	// obsolete CONFIG_FMMU: accepted and ignored for a slave on the bus
-	r.d().configFmmu(0, { 1, 2, 0, 0 });
-	CHECK_THROWS_WITH(r.d().configFmmu(9, { 1, 2, 0, 0 }),
-			  Contains("ECAT_CONFIG_FMMU of slave 9 (is the slave on the bus?): the chip refused"));
+	r.d().bus().configFmmu(0, { 1, 2, 0, 0 });
+	CHECK_THROWS_WITH(r.d().bus().configFmmu(9, { 1, 2, 0, 0 }),
+			  Contains("ECAT_CONFIG_FMMU of slave 9: the chip refused the command (error status bit 7, "
+				   "command error: is the slave on the bus?)"));
 }
 
 TEST_CASE("bus: a lost slave and a stuck chip are reported with what was awaited", "[bus][errors]")
 {
 	Rig r;
-	r.d().initNetwork();
-	r.d().stateSet(kAllSlaves, State::PreOp);
+	r.d().bus().initNetwork();
+	r.d().bus().stateSet(kAllSlaves, State::PreOp);
 	r.chip->faults().slaveDropped = 1;
 	try {
-		r.d().stateSet(kAllSlaves, State::SafeOp);
+		r.d().bus().stateSet(kAllSlaves, State::SafeOp);
 		FAIL("no error");
 	} catch (const AlStatusError &e) {
 		CHECK(e.slave() == 1);
@@ -408,7 +412,7 @@ TEST_CASE("bus: a lost slave and a stuck chip are reported with what was awaited
 
 	r.chip->faults().asyncStuckBusy = true;
 	try {
-		r.d().stateSet(kAllSlaves, State::PreOp);
+		r.d().bus().stateSet(kAllSlaves, State::PreOp);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == ETIMEDOUT);
@@ -417,32 +421,32 @@ TEST_CASE("bus: a lost slave and a stuck chip are reported with what was awaited
 	}
 	// the chip still runs the stuck command: the next async one is refused
 	try {
-		r.d().stateUpdate();
+		r.d().bus().stateUpdate();
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EBUSY);
-		CHECK_THAT(e.what(), Equals("ECAT_STATE_UPDATE: the chip refused the command (error status bit 7): "
-					    "another async command is still running on the chip"));
+		CHECK_THAT(e.what(), Equals("ECAT_STATE_UPDATE: the chip refused the command (error status bit 7, command "
+					    "error: another async command is still running on the chip)"));
 	}
 }
 
 TEST_CASE("bus: bad arguments name the argument and its range", "[bus][errors]")
 {
 	Rig r;
-	r.d().initNetwork();
-	CHECK_THROWS_WITH(r.d().stateSet(128, State::PreOp),
+	r.d().bus().initNetwork();
+	CHECK_THROWS_WITH(r.d().bus().stateSet(128, State::PreOp),
 			  Equals("ECAT_STATE_SET: slave 128 out of range (0..127, or 0xFF for all slaves)"));
-	CHECK_THROWS_WITH(r.d().stateSet(0, State::None),
+	CHECK_THROWS_WITH(r.d().bus().stateSet(0, State::None),
 			  Equals("ECAT_STATE_SET: state 0x00 is not one of INIT (1), PRE-OP (2), BOOT (3), SAFE-OP "
 				 "(4), OP (8)"));
-	CHECK_THROWS_WITH(r.d().stateSet(0, static_cast<State>(5)),
+	CHECK_THROWS_WITH(r.d().bus().stateSet(0, static_cast<State>(5)),
 			  Contains("state 0x05 is not one of INIT (1)"));
-	CHECK_THROWS_WITH(r.d().slaveInfo(200), Equals("ECAT_SLV_INFO_GET: slave 200 out of range (0..127)"));
-	CHECK_THROWS_WITH(r.d().stateSet(4, State::PreOp),
+	CHECK_THROWS_WITH(r.d().bus().slaveInfo(200), Equals("ECAT_SLV_INFO_GET: slave 200 out of range (0..127)"));
+	CHECK_THROWS_WITH(r.d().bus().stateSet(4, State::PreOp),
 			  Equals("ECAT_STATE_SET PRE-OP for slave 4: the chip refused the command (error status bit "
-				 "7): slave 4 is not on the bus (3 slaves found by ECAT_INIT_OP)"));
-	CHECK_THROWS_WITH(r.d().stateGet(4), Equals("ECAT_STATE_GET for slave 4: the chip refused the command (error "
-						    "status bit 7: a parameter it does not accept)"));
+				 "7, command error: slave 4 is not on the bus (3 slaves found by ECAT_INIT_OP))"));
+	CHECK_THROWS_WITH(r.d().bus().stateGet(4), Equals("ECAT_STATE_GET for slave 4: the chip refused the command (error "
+						    "status bit 7, command error)"));
 }
 
 TEST_CASE("bus: INIT_OP without link fails naming the link", "[bus][errors]")
@@ -450,7 +454,7 @@ TEST_CASE("bus: INIT_OP without link fails naming the link", "[bus][errors]")
 	Rig r;
 	r.chip->faults().linkLost = true;
 	try {
-		r.d().initNetwork();
+		r.d().bus().initNetwork();
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EREMOTEIO);

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/sim/chip.hpp>
@@ -95,7 +97,7 @@ TEST_CASE("master: est584x2-io.net to OP with its PDO mappings", "[master]")
 	CHECK(m.inputOffset(1) == 17);
 	CHECK(m.inputOffset(2) == 34);
 	CHECK_THROWS_WITH(m.outputOffset(3), Contains("slave 3 out of range"));
-	CHECK(r.d().stateGet(ecmxf::kAllSlaves).state() == State::Op);
+	CHECK(r.d().bus().stateGet(ecmxf::kAllSlaves).state() == State::Op);
 }
 
 TEST_CASE("master: servo-io.net to OP (DC SYNC0 1 ms)", "[master]")
@@ -190,8 +192,8 @@ TEST_CASE("master: PDO assignment through the 3x8 command and through SDO, start
 	CHECK(m.rxPdoSize() == 19 + 12 + 1);
 	CHECK(m.txPdoSize() == 17 + 6 + 1);
 
-	CHECK(r.d().sdoRead<std::uint16_t>(0, 0x2030, 0) == 2000);
-	CHECK(r.d().sdoRead<std::uint16_t>(1, 0x2001, 0) == 10000);
+	CHECK(r.d().sdo().sdoRead<std::uint16_t>(0, 0x2030, 0) == 2000);
+	CHECK(r.d().sdo().sdoRead<std::uint16_t>(1, 0x2001, 0) == 10000);
 }
 
 TEST_CASE("master: RECONFIG_OP instead of CONFIG_MAP, and stopping in SAFE-OP", "[master][pdo]")
@@ -207,7 +209,7 @@ TEST_CASE("master: RECONFIG_OP instead of CONFIG_MAP, and stopping in SAFE-OP", 
 	cfg.target = State::SafeOp;
 	cfg.enableFifo = false;
 	m.bringUp(cfg);
-	CHECK(r.d().stateGet(ecmxf::kAllSlaves).state() == State::SafeOp);
+	CHECK(r.d().bus().stateGet(ecmxf::kAllSlaves).state() == State::SafeOp);
 	CHECK(m.slaves()[1].inputBytes == 2);
 	CHECK((r.d().lastHeader().ecmStatus & 0x40) == 0);
 }

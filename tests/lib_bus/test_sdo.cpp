@@ -13,6 +13,8 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/bus/types_bus.hpp>
@@ -45,19 +47,19 @@ TEST_CASE("sdo: typed uploads from the EST-584 give its manual's values", "[sdo]
 	r.preOp();
 	auto &d = r.d();
 	// sim-slaves.rst identities; 0x2001 default 50000 (manual 3.5)
-	CHECK(d.sdoRead<std::uint32_t>(0, 0x1000, 0) == 0x00030192u);
-	CHECK(d.sdoRead<std::uint32_t>(1, 0x1018, 1) == 0x00000E5Cu);
-	CHECK(d.sdoRead<std::uint32_t>(1, 0x1018, 2) == 0x00000584u);
-	CHECK(d.sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);
-	CHECK(d.sdoRead<std::uint16_t>(0, 0x2030, 0) == 1000); // position following error (4.3.1)
+	CHECK(d.sdo().sdoRead<std::uint32_t>(0, 0x1000, 0) == 0x00030192u);
+	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1018, 1) == 0x00000E5Cu);
+	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1018, 2) == 0x00000584u);
+	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);
+	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2030, 0) == 1000); // position following error (4.3.1)
 	// 5.4.2: 0x1C12:00 / 0x1C13:00 one PDO each, 0x1600 / 0x1A00
-	CHECK(d.sdoRead<std::uint8_t>(0, 0x1C12, 0) == 1);
-	CHECK(d.sdoRead<std::uint16_t>(0, 0x1C12, 1) == 0x1600);
-	CHECK(d.sdoRead<std::uint16_t>(0, 0x1C13, 1) == 0x1A00);
+	CHECK(d.sdo().sdoRead<std::uint8_t>(0, 0x1C12, 0) == 1);
+	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x1C12, 1) == 0x1600);
+	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x1C13, 1) == 0x1A00);
 	// 5.4.1: RXPDO1 entry 2 = 0x607A0020
-	CHECK(d.sdoRead<std::uint32_t>(0, 0x1600, 2) == 0x607A0020u);
-	CHECK(d.sdoReadString(0, 0x1008, 0) == "EST-584");
-	const std::vector<std::uint8_t> raw = d.sdoUpload(0, 0x1000, 0);
+	CHECK(d.sdo().sdoRead<std::uint32_t>(0, 0x1600, 2) == 0x607A0020u);
+	CHECK(d.sdo().sdoReadString(0, 0x1008, 0) == "EST-584");
+	const std::vector<std::uint8_t> raw = d.sdo().sdoUpload(0, 0x1000, 0);
 	CHECK(raw == std::vector<std::uint8_t>{ 0x92, 0x01, 0x03, 0x00 });
 }
 
@@ -66,20 +68,20 @@ TEST_CASE("sdo: typed downloads to the EST-584 read back", "[sdo]")
 	Rig r;
 	r.preOp();
 	auto &d = r.d();
-	d.sdoWrite<std::uint16_t>(1, 0x2001, 0, 10000);
-	CHECK(d.sdoRead<std::uint16_t>(1, 0x2001, 0) == 10000);
-	CHECK(d.sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000); // the other drive untouched
-	d.sdoWrite<std::int8_t>(0, 0x6060, 0, 8);                // CSP
-	CHECK(d.sdoRead<std::int8_t>(0, 0x6060, 0) == 8);
-	d.sdoWrite<std::int32_t>(0, 0x607A, 0, -123456);
-	CHECK(d.sdoRead<std::int32_t>(0, 0x607A, 0) == -123456);
-	CHECK(d.sdoRead<std::uint32_t>(0, 0x607A, 0) == 0xFFFE1DC0u); // two's complement of 123456 = 0x1E240
+	d.sdo().sdoWrite<std::uint16_t>(1, 0x2001, 0, 10000);
+	CHECK(d.sdo().sdoRead<std::uint16_t>(1, 0x2001, 0) == 10000);
+	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000); // the other drive untouched
+	d.sdo().sdoWrite<std::int8_t>(0, 0x6060, 0, 8);                // CSP
+	CHECK(d.sdo().sdoRead<std::int8_t>(0, 0x6060, 0) == 8);
+	d.sdo().sdoWrite<std::int32_t>(0, 0x607A, 0, -123456);
+	CHECK(d.sdo().sdoRead<std::int32_t>(0, 0x607A, 0) == -123456);
+	CHECK(d.sdo().sdoRead<std::uint32_t>(0, 0x607A, 0) == 0xFFFE1DC0u); // two's complement of 123456 = 0x1E240
 	// a float is 4 bytes on the bus: 1.5f = 0x3FC00000 (IEEE 754)
-	d.sdoWrite<float>(0, 0x607A, 0, 1.5f);
-	CHECK(d.sdoRead<std::uint32_t>(0, 0x607A, 0) == 0x3FC00000u);
-	CHECK(d.sdoRead<float>(0, 0x607A, 0) == 1.5f);
-	d.sdoWrite<std::uint32_t>(0, 0x6081, 0, 200000);
-	CHECK(d.sdoRead<std::int32_t>(0, 0x6081, 0) == 200000);
+	d.sdo().sdoWrite<float>(0, 0x607A, 0, 1.5f);
+	CHECK(d.sdo().sdoRead<std::uint32_t>(0, 0x607A, 0) == 0x3FC00000u);
+	CHECK(d.sdo().sdoRead<float>(0, 0x607A, 0) == 1.5f);
+	d.sdo().sdoWrite<std::uint32_t>(0, 0x6081, 0, 200000);
+	CHECK(d.sdo().sdoRead<std::int32_t>(0, 0x6081, 0) == 200000);
 }
 
 TEST_CASE("sdo: 64-bit, double, octet strings and 256-byte objects (TestSlave)", "[sdo]")
@@ -89,35 +91,35 @@ TEST_CASE("sdo: 64-bit, double, octet strings and 256-byte objects (TestSlave)",
 	auto &d = r.d();
 	auto &s = r.test(1);
 
-	d.sdoWrite<std::uint64_t>(1, 0x3000, 0, 0x0102030405060708ull);
+	d.sdo().sdoWrite<std::uint64_t>(1, 0x3000, 0, 0x0102030405060708ull);
 	CHECK(s.od[{ 0x3000, 0 }] == std::vector<std::uint8_t>{ 8, 7, 6, 5, 4, 3, 2, 1 });
-	CHECK(d.sdoRead<std::uint64_t>(1, 0x3000, 0) == 0x0102030405060708ull);
-	d.sdoWrite<std::int64_t>(1, 0x3001, 0, -2);
+	CHECK(d.sdo().sdoRead<std::uint64_t>(1, 0x3000, 0) == 0x0102030405060708ull);
+	d.sdo().sdoWrite<std::int64_t>(1, 0x3001, 0, -2);
 	// -2 is FE FF .. FF little-endian
 	CHECK(s.od[{ 0x3001, 0 }] == std::vector<std::uint8_t>{ 0xFE, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF });
-	CHECK(d.sdoRead<std::int64_t>(1, 0x3001, 0) == -2);
+	CHECK(d.sdo().sdoRead<std::int64_t>(1, 0x3001, 0) == -2);
 	// 1.0 = 0x3FF0000000000000
-	d.sdoWrite<double>(1, 0x3002, 0, 1.0);
+	d.sdo().sdoWrite<double>(1, 0x3002, 0, 1.0);
 	CHECK(s.od[{ 0x3002, 0 }] == std::vector<std::uint8_t>{ 0, 0, 0, 0, 0, 0, 0xF0, 0x3F });
-	CHECK(d.sdoRead<double>(1, 0x3002, 0) == 1.0);
-	d.sdoWrite<std::int16_t>(1, 0x3003, 0, -300); // 0xFED4
+	CHECK(d.sdo().sdoRead<double>(1, 0x3002, 0) == 1.0);
+	d.sdo().sdoWrite<std::int16_t>(1, 0x3003, 0, -300); // 0xFED4
 	CHECK(s.od[{ 0x3003, 0 }] == std::vector<std::uint8_t>{ 0xD4, 0xFE });
-	CHECK(d.sdoRead<std::int16_t>(1, 0x3003, 0) == -300);
+	CHECK(d.sdo().sdoRead<std::int16_t>(1, 0x3003, 0) == -300);
 
 	const std::vector<std::uint8_t> octets{ 0xDE, 0xAD, 0x00, 0xBE, 0xEF };
-	d.sdoDownload(1, 0x3004, 0, octets);
+	d.sdo().sdoDownload(1, 0x3004, 0, octets);
 	CHECK(s.od[{ 0x3004, 0 }] == octets);
-	CHECK(d.sdoUpload(1, 0x3004, 0) == octets);
+	CHECK(d.sdo().sdoUpload(1, 0x3004, 0) == octets);
 
-	d.sdoWriteString(1, 0x3005, 0, "hello");
-	CHECK(d.sdoReadString(1, 0x3005, 0) == "hello");
+	d.sdo().sdoWriteString(1, 0x3005, 0, "hello");
+	CHECK(d.sdo().sdoReadString(1, 0x3005, 0) == "hello");
 	s.od[{ 0x3006, 0 }] = { 'a', 'b', 0, 0 }; // NUL padded visible string
-	CHECK(d.sdoReadString(1, 0x3006, 0) == "ab");
+	CHECK(d.sdo().sdoReadString(1, 0x3006, 0) == "ab");
 
 	// the TestSlave's 200-byte object 0x2001 does not fit the 112-byte
 	// data section: a clear error, not 112 silent bytes
 	try {
-		(void)d.sdoUpload(1, 0x2001, 0);
+		(void)d.sdo().sdoUpload(1, 0x2001, 0);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EMSGSIZE);
@@ -128,7 +130,7 @@ TEST_CASE("sdo: 64-bit, double, octet strings and 256-byte objects (TestSlave)",
 	// a download of 101 bytes needs a 113-byte data section
 	const std::vector<std::uint8_t> big(101, 0x5A);
 	try {
-		d.sdoDownload(1, 0x3007, 0, big);
+		d.sdo().sdoDownload(1, 0x3007, 0, big);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EMSGSIZE);
@@ -137,11 +139,11 @@ TEST_CASE("sdo: 64-bit, double, octet strings and 256-byte objects (TestSlave)",
 	}
 	// 100 bytes fit
 	const std::vector<std::uint8_t> fits(100, 0xA5);
-	d.sdoDownload(1, 0x3007, 0, fits);
+	d.sdo().sdoDownload(1, 0x3007, 0, fits);
 	CHECK(s.od[{ 0x3007, 0 }] == fits);
 	SdoOptions o;
 	o.length = 100;
-	CHECK(d.sdoUpload(1, 0x3007, 0, o) == fits);
+	CHECK(d.sdo().sdoUpload(1, 0x3007, 0, o) == fits);
 }
 
 TEST_CASE("sdo: more than 256 bytes is refused naming the chip's limit", "[sdo][errors]")
@@ -150,7 +152,7 @@ TEST_CASE("sdo: more than 256 bytes is refused naming the chip's limit", "[sdo][
 	r.preOp();
 	const std::vector<std::uint8_t> tooBig(257, 0);
 	try {
-		r.d().sdoDownload(0, 0x2000, 0, tooBig);
+		r.d().sdo().sdoDownload(0, 0x2000, 0, tooBig);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EMSGSIZE);
@@ -160,7 +162,7 @@ TEST_CASE("sdo: more than 256 bytes is refused naming the chip's limit", "[sdo][
 	SdoOptions o;
 	o.length = 300;
 	try {
-		(void)r.d().sdoUpload(0, 0x2000, 0, o);
+		(void)r.d().sdo().sdoUpload(0, 0x2000, 0, o);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EMSGSIZE);
@@ -173,7 +175,7 @@ TEST_CASE("sdo: a non-existent object aborts with 0x06020000 and its text", "[sd
 	Rig r;
 	r.preOp();
 	try {
-		(void)r.d().sdoRead<std::uint32_t>(1, 0x5FFF, 0);
+		(void)r.d().sdo().sdoRead<std::uint32_t>(1, 0x5FFF, 0);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x06020000u);
@@ -181,10 +183,10 @@ TEST_CASE("sdo: a non-existent object aborts with 0x06020000 and its text", "[sd
 		CHECK_THAT(e.what(), Equals("SDO upload 0x5FFF:00 from slave 1 aborted: 0x06020000 Object not existing"));
 	}
 	// the chip keeps the code for ECAT_SDO_ABORTCODE_GET
-	CHECK(r.d().sdoAbortCode() == 0x06020000u);
+	CHECK(r.d().bus().sdoAbortCode() == 0x06020000u);
 	// and the next transfer works (the engine cleared the async error)
-	CHECK(r.d().sdoRead<std::uint16_t>(1, 0x2001, 0) == 50000);
-	CHECK(r.d().sdoAbortCode() == 0u);
+	CHECK(r.d().sdo().sdoRead<std::uint16_t>(1, 0x2001, 0) == 50000);
+	CHECK(r.d().bus().sdoAbortCode() == 0u);
 }
 
 TEST_CASE("sdo: a write to a read-only object aborts with 0x06010002", "[sdo][errors]")
@@ -192,7 +194,7 @@ TEST_CASE("sdo: a write to a read-only object aborts with 0x06010002", "[sdo][er
 	Rig r;
 	r.preOp();
 	try {
-		r.d().sdoWrite<std::uint32_t>(0, 0x1000, 0, 1);
+		r.d().sdo().sdoWrite<std::uint32_t>(0, 0x1000, 0, 1);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x06010002u);
@@ -200,16 +202,16 @@ TEST_CASE("sdo: a write to a read-only object aborts with 0x06010002", "[sdo][er
 	}
 	// a value above the range (0x2001: 200..51200): the EST-584 clamps and aborts (manual 5.3.3)
 	try {
-		r.d().sdoWrite<std::uint16_t>(0, 0x2001, 0, 60000);
+		r.d().sdo().sdoWrite<std::uint16_t>(0, 0x2001, 0, 60000);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x06090031u);
 		CHECK_THAT(e.what(), Equals("SDO download 0x2001:00 to slave 0 aborted: 0x06090031 Value is too great"));
 	}
-	CHECK(r.d().sdoRead<std::uint16_t>(0, 0x2001, 0) == 51200);
+	CHECK(r.d().sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 51200);
 	// a wrong length: a 32-bit value to a 16-bit entry
 	try {
-		r.d().sdoWrite<std::uint32_t>(0, 0x2001, 0, 1000);
+		r.d().sdo().sdoWrite<std::uint32_t>(0, 0x2001, 0, 1000);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x06070010u);
@@ -217,7 +219,7 @@ TEST_CASE("sdo: a write to a read-only object aborts with 0x06010002", "[sdo][er
 	}
 	// the reading side: a 16-bit object read as 32 bits
 	try {
-		(void)r.d().sdoRead<std::uint32_t>(0, 0x2001, 0);
+		(void)r.d().sdo().sdoRead<std::uint32_t>(0, 0x2001, 0);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EPROTO);
@@ -229,17 +231,17 @@ TEST_CASE("sdo: a write to a read-only object aborts with 0x06010002", "[sdo][er
 TEST_CASE("sdo: in INIT the slave answers 0x08000022, the dio has no object dictionary", "[sdo][errors]")
 {
 	Rig r;
-	r.d().initNetwork();
+	r.d().bus().initNetwork();
 	try {
-		(void)r.d().sdoRead<std::uint32_t>(0, 0x1000, 0);
+		(void)r.d().sdo().sdoRead<std::uint32_t>(0, 0x1000, 0);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x08000022u);
 		CHECK_THAT(e.what(), Contains("0x08000022 Data can not be read or written in the current state"));
 	}
-	r.d().stateSet(ecmxf::kAllSlaves, State::PreOp);
+	r.d().bus().stateSet(ecmxf::kAllSlaves, State::PreOp);
 	try {
-		(void)r.d().sdoRead<std::uint32_t>(2, 0x1000, 0);
+		(void)r.d().sdo().sdoRead<std::uint32_t>(2, 0x1000, 0);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x08000023u);
@@ -254,7 +256,7 @@ TEST_CASE("sdo: FaultPlan forcedSdoAbort reaches the user with its text", "[sdo]
 	r.preOp();
 	r.chip->faults().forcedSdoAbort = 0x06060000;
 	try {
-		(void)r.d().sdoRead<std::uint16_t>(0, 0x2001, 0);
+		(void)r.d().sdo().sdoRead<std::uint16_t>(0, 0x2001, 0);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x06060000u);
@@ -262,7 +264,7 @@ TEST_CASE("sdo: FaultPlan forcedSdoAbort reaches the user with its text", "[sdo]
 	}
 	r.chip->faults().forcedSdoAbort = 0x0BADC0DE;
 	try {
-		r.d().sdoWrite<std::uint16_t>(0, 0x2001, 0, 1000);
+		r.d().sdo().sdoWrite<std::uint16_t>(0, 0x2001, 0, 1000);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x0BADC0DEu);
@@ -277,7 +279,7 @@ TEST_CASE("sdo: a slave slower than the SDO timeout gives 0x05040000", "[sdo][er
 	SdoOptions o;
 	o.timeout = 500us; // the EST-584 answers after 1 ms
 	try {
-		(void)r.d().sdoRead<std::uint16_t>(0, 0x2001, 0, o);
+		(void)r.d().sdo().sdoRead<std::uint16_t>(0, 0x2001, 0, o);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x05040000u);
@@ -293,7 +295,7 @@ TEST_CASE("sdo: a chip that stays busy times out naming the wait", "[sdo][errors
 	SdoOptions o;
 	o.timeout = 100ms; // the library waits 100 ms + 1 s
 	try {
-		(void)r.d().sdoRead<std::uint16_t>(0, 0x2001, 0, o);
+		(void)r.d().sdo().sdoRead<std::uint16_t>(0, 0x2001, 0, o);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == ETIMEDOUT);
@@ -309,7 +311,7 @@ TEST_CASE("sdo: complete access and bad arguments are refused before sending", "
 	SdoOptions ca;
 	ca.completeAccess = true;
 	try {
-		(void)r.d().sdoUpload(0, 0x1C12, 0, ca);
+		(void)r.d().sdo().sdoUpload(0, 0x1C12, 0, ca);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EOPNOTSUPP);
@@ -318,14 +320,14 @@ TEST_CASE("sdo: complete access and bad arguments are refused before sending", "
 					    "ver. 038 and 050); transfer the subindices one by one"));
 	}
 	try {
-		(void)r.d().sdoRead<std::uint16_t>(128, 0x2001, 0);
+		(void)r.d().sdo().sdoRead<std::uint16_t>(128, 0x2001, 0);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
 		CHECK_THAT(e.what(), Equals("SDO upload 0x2001:00 from slave 128: slave 128 out of range (0..127)"));
 	}
 	try {
-		r.d().sdoDownload(0, 0x2001, 0, std::span<const std::uint8_t>());
+		r.d().sdo().sdoDownload(0, 0x2001, 0, std::span<const std::uint8_t>());
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
@@ -334,13 +336,14 @@ TEST_CASE("sdo: complete access and bad arguments are refused before sending", "
 	// a slave position the bus does not have: the chip refuses, the
 	// library says why
 	try {
-		(void)r.d().sdoRead<std::uint16_t>(5, 0x2001, 0);
+		(void)r.d().sdo().sdoRead<std::uint16_t>(5, 0x2001, 0);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
-		CHECK_THAT(e.what(), Equals("SDO upload 0x2001:00 from slave 5: the chip refused the command (error "
-					    "status bit 7): slave 5 is not on the bus (3 slaves found by ECAT_INIT_OP)"));
+		CHECK_THAT(e.what(), Equals("SDO upload 0x2001:00 from slave 5: ECAT_SDO_REQ: the chip refused the command "
+					    "(error status bit 7, command error: slave 5 is not on the bus (3 slaves "
+					    "found by ECAT_INIT_OP))"));
 	}
 	// and the device works afterwards
-	CHECK(r.d().sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);
+	CHECK(r.d().sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);
 }

@@ -16,6 +16,8 @@
 #include <vector>
 
 #include <ecmxf/cia402/cia402_axis.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
 
 #include "bench.hpp"
@@ -102,7 +104,7 @@ TEST_CASE("axis: PP absolute move with the set-point handshake reaches the targe
 	CHECK(a.position() == 60000);
 	CHECK(b.drive(0).positionActual() == 60000);
 	// 0x6081 went by SDO (not mapped)
-	CHECK(b.dev->sdoRead<std::uint32_t>(0, 0x6081, 0) == 100000u);
+	CHECK(b.dev->sdo().sdoRead<std::uint32_t>(0, 0x6081, 0) == 100000u);
 	// the other drive did not move
 	CHECK(b.drive(1).positionActual() == 0);
 }
@@ -132,7 +134,7 @@ TEST_CASE("axis: PP on the default mapping sets the mode by SDO", "[axis][pp]")
 	Cia402Axis a(*b.dev, *b.image, 0);
 	CHECK_FALSE(a.modeByPdo());
 	modeAndEnable(b, { &a }, cia402::kModePp);
-	CHECK(b.dev->sdoRead<std::int8_t>(0, 0x6060, 0) == 1);
+	CHECK(b.dev->sdo().sdoRead<std::int8_t>(0, 0x6060, 0) == 1);
 	CHECK(a.modeDisplay() == 1); // 0x6061 is in the default TxPDO
 	a.moveTo(5000, {}, b.now());
 	std::vector<Cia402Axis *> v{ &a };
@@ -150,7 +152,7 @@ TEST_CASE("axis: PV reaches the target velocity", "[axis][pv]")
 	ecmxf::runUntilDone(*b.cyc, v, 2s, "velocity reached");
 	CHECK(a.velocity() == 40000);
 	CHECK(b.drive(0).velocityActual() == 40000);
-	CHECK(b.dev->sdoRead<std::uint32_t>(0, 0x6083, 0) == 400000u);
+	CHECK(b.dev->sdo().sdoRead<std::uint32_t>(0, 0x6083, 0) == 400000u);
 	// and back to 0
 	a.setVelocity(0, b.now());
 	ecmxf::runUntilDone(*b.cyc, v, 2s, "standstill");
@@ -171,7 +173,7 @@ TEST_CASE("axis: homing on the current position (method 37) attains homing at th
 	ecmxf::runUntilDone(*b.cyc, v, 2s, "homing attained");
 	CHECK(ecmxf::homingStatus(a.statusword()) == ecmxf::HomingStatus::Completed);
 	CHECK(a.position() == 0); // 0x607C = 0
-	CHECK(b.dev->sdoRead<std::int8_t>(0, 0x6098, 0) == 37);
+	CHECK(b.dev->sdo().sdoRead<std::int8_t>(0, 0x6098, 0) == 37);
 }
 
 TEST_CASE("axis: homing on the home switch (method 19) ends near the edge", "[axis][hm]")
@@ -341,7 +343,7 @@ TEST_CASE("axis: enable times out when the drive does not follow (slave in SAFE-
 	ecmxf::Cia402AxisConfig cfg;
 	cfg.state.timeout = 200ms;
 	Cia402Axis a(*b.dev, *b.image, 0, cfg);
-	b.dev->stateSet(0, ecmxf::State::SafeOp); // outputs are no longer applied
+	b.dev->bus().stateSet(0, ecmxf::State::SafeOp); // outputs are no longer applied
 	a.enable(b.now());
 	const auto t0 = b.now();
 	while (!a.failed() && b.now() - t0 < 1s) {
@@ -365,7 +367,7 @@ TEST_CASE("axis: runUntil names the slave that left OP", "[axis][timeout]")
 {
 	Bench b;
 	Cia402Axis a(*b.dev, *b.image, 0);
-	b.dev->stateSet(1, ecmxf::State::SafeOp);
+	b.dev->bus().stateSet(1, ecmxf::State::SafeOp);
 	a.enable(b.now());
 	std::vector<Cia402Axis *> v{ &a };
 	try {

@@ -14,6 +14,7 @@
 
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
+#include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 #include <ecmxf/sim/slaves.hpp>
@@ -277,7 +278,7 @@ TEST_CASE("Cyclic: of several queued frames the newest goes into the image", "[l
 	// queue a known set of frames: the FIFO off and drained, then on for
 	// the bus cycles up to the one after the inputs changed, then off
 	auto &chip = bus.chip();
-	bus.dev->fifoEnable(false);
+	bus.dev->pdo().fifoEnable(false);
 	REQUIRE(cyc.cycle().error == 0);
 	REQUIRE(bus.info().txFifoCnt == 0);
 	const auto b0 = chip.stats().busCycles;
@@ -285,11 +286,11 @@ TEST_CASE("Cyclic: of several queued frames the newest goes into the image", "[l
 		while (chip.stats().busCycles < b0 + n)
 			bus.run(10us);
 	};
-	bus.dev->fifoEnable(true);
+	bus.dev->pdo().fifoEnable(true);
 	waitFor(2);
 	dio.setInputs(std::vector<std::uint8_t>{ 0x5A });
 	waitFor(3);
-	bus.dev->fifoEnable(false);
+	bus.dev->pdo().fifoEnable(false);
 	const unsigned queued = bus.info().txFifoCnt;
 	REQUIRE(queued >= 2);
 	REQUIRE(queued <= 3); // one answer holds 3

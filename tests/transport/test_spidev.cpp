@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/chip/chip.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/spidev_channel.hpp>
 
@@ -238,8 +239,8 @@ TEST_CASE("a chip left in CRC-32 by another driver: assumeFormat() makes it reac
 {
 	test::SpidevRig r;
 	// another owner (e.g. ecmxf.ko at probe) switches the chip to CRC-32
-	r.dev->setCheckType(ecmxf::CheckType::Crc32);
-	CHECK(r.dev->firmwareVersion().version == 0x30);
+	r.dev->chip().setCheckType(ecmxf::CheckType::Crc32);
+	CHECK(r.dev->chip().firmwareVersion().version == 0x30);
 
 	// a new Device over the same chip assumes the power-on format (fixed
 	// check word): the chip rejects its packets, the retry bound runs out
@@ -249,7 +250,7 @@ TEST_CASE("a chip left in CRC-32 by another driver: assumeFormat() makes it reac
 		o.device = "/dev/spidev-fake";
 		ecmxf::Device fresh(std::make_unique<ecmxf::SpidevChannel>(std::move(fake), o));
 		CHECK(fresh.checkType() == ecmxf::CheckType::Fixed);
-		const ecmxf::Error e = thrown([&] { (void)fresh.firmwareVersion(); });
+		const ecmxf::Error e = thrown([&] { (void)fresh.chip().firmwareVersion(); });
 		CHECK((e.errnoValue() == EBADMSG || e.errnoValue() == EPROTO));
 	}
 	// told the format, it talks
@@ -260,8 +261,8 @@ TEST_CASE("a chip left in CRC-32 by another driver: assumeFormat() makes it reac
 	told.assumeFormat(112, ecmxf::CheckType::Crc32);
 	CHECK(told.checkType() == ecmxf::CheckType::Crc32);
 	CHECK(told.dataSize() == 112);
-	CHECK(told.firmwareVersion().version == 0x30);
-	CHECK(told.queryDataSize() == 112);
+	CHECK(told.chip().firmwareVersion().version == 0x30);
+	CHECK(told.chip().queryDataSize() == 112);
 
 	const ecmxf::Error bad = thrown([&] { told.assumeFormat(31, ecmxf::CheckType::Crc32); });
 	CHECK(bad.errnoValue() == EINVAL);

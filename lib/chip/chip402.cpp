@@ -1,36 +1,35 @@
 // SPDX-License-Identifier: MIT
 //
-// cia402_chip.cpp - typed calls for the ECM-XF's internal CiA-402 engine:
+// Chip402 (include/ecmxf/chip/chip402.hpp): the ECM-XF's internal CiA-402
+// engine:
 // 402_CONFIG_SET (26), 402_STATE_SET (27), 402_STATE_GET (28),
 // 402_CTL_SET (29), 402_CTL_GET (30), 402_GET_STATUSWORD (74), and a wait
 // for a state (Documentation/cia402.rst).
 
+#include <ecmxf/chip/chip402.hpp>
+
 #include <ecmxf/device.hpp>
 
 #include <cerrno>
-#include <cstdio>
 #include <string>
 
 #include <ecmxf/cia402/cia402.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/link.hpp>
 
+#include "device/lib_text.hpp"
+#include "device/runner.hpp"
 #include "ecmxf-proto.h"
 
 namespace ecmxf {
+
+using detail::hex8;
 
 namespace {
 
 constexpr unsigned kMotors = 128;   // 402_* command parameter: motor 0..127
 constexpr unsigned kSlaves = 128;   // the chip's slave positions 0..127
 constexpr std::uint8_t kCtlKey = 0x5A; // 402_CTL_SET data 1
-
-std::string hex8(unsigned v)
-{
-	char buf[8];
-	std::snprintf(buf, sizeof(buf), "0x%02X", v & 0xFFu);
-	return buf;
-}
 
 /// "402_STATE_SET (motor 3): "
 std::string prefix(const char *name, unsigned motor)
@@ -65,25 +64,16 @@ void checkMotor(const char *name, unsigned motor)
 
 Command command402(std::uint8_t code, unsigned motor)
 {
-	Command c;
-	c.code = code;
-	c.param = static_cast<std::uint8_t>(motor);
-	// clear the command-error bit first, so the answer's bit 7 is this
-	// command's own
-	c.control = ECMXF_CTL_CLR_CMD_ERR;
-	return c;
+	return detail::cmd(code, static_cast<std::uint8_t>(motor));
 }
 
-/// Runs @p c; a command error becomes an Error naming @p why.
+/// Runs @p c through the one command runner; a refusal (command error)
+/// throws EREMOTEIO naming the command, the motor and @p why.
 Response run(Device &dev, const Command &c, const char *name, unsigned motor, const std::string &why)
 {
-	Response r = dev.command(c);
-	if (r.header.errStatus & ECMXF_ERR_CMD) {
-		std::string m = prefix(name, motor);
-		m.append("the chip refused the command (command error): ").append(why);
-		throw Error(m, EREMOTEIO, r.header.errStatus);
-	}
-	return r;
+	std::string context = prefix(name, motor);
+	context.resize(context.size() - 2); // "402_STATE_SET (motor 3)"
+	return detail::immediate(dev, c, context, why, EREMOTEIO);
 }
 
 std::string notConfigured(unsigned motor)
@@ -95,7 +85,12 @@ std::string notConfigured(unsigned motor)
 
 } // namespace
 
-void Device::chip402Configure(unsigned motor, const Chip402Config &config)
+Chip402 Device::chip402() noexcept
+{
+	return Chip402(*this);
+}
+
+void Chip402::chip402Configure(unsigned motor, const Chip402Config &config) const
 {
 	const char *name = "402_CONFIG_SET";
 	checkMotor(name, motor);
@@ -113,10 +108,10 @@ void Device::chip402Configure(unsigned motor, const Chip402Config &config)
 		.append(") or statusword (offset ")
 		.append(std::to_string(config.statuswordOffset))
 		.append(") is not inside that slave's process data");
-	run(*this, c, name, motor, why);
+	run(*dev_, c, name, motor, why);
 }
 
-void Device::chip402RequestState(unsigned motor, Cia402State target)
+void Chip402::chip402RequestState(unsigned motor, Cia402State target) const
 {
 	const char *name = "402_STATE_SET";
 	checkMotor(name, motor);
@@ -131,21 +126,21 @@ void Device::chip402RequestState(unsigned motor, Cia402State target)
 	}
 	Command c = command402(ECMXF_CMD_402_STATE_SET, motor);
 	c.data[0] = cia402StateCode(target);
-	run(*this, c, name, motor, notConfigured(motor));
+	run(*dev_, c, name, motor, notConfigured(motor));
 }
 
-Chip402State Device::chip402State(unsigned motor)
+Chip402State Chip402::chip402State(unsigned motor) const
 {
 	const char *name = "402_STATE_GET";
 	checkMotor(name, motor);
-	const Response r = run(*this, command402(ECMXF_CMD_402_STATE_GET, motor), name, motor, notConfigured(motor));
+	const Response r = run(*dev_, command402(ECMXF_CMD_402_STATE_GET, motor), name, motor, notConfigured(motor));
 	Chip402State s;
 	s.code = r.ret;
 	s.state = cia402StateFromCode(r.ret);
 	return s;
 }
 
-void Device::chip402SetControl(unsigned motor, const Chip402Control &control)
+void Chip402::chip402SetControl(unsigned motor, const Chip402Control &control) const
 {
 	const char *name = "402_CTL_SET";
 	checkMotor(name, motor);
@@ -156,23 +151,23 @@ void Device::chip402SetControl(unsigned motor, const Chip402Control &control)
 		   static_cast<std::uint8_t>(control.slave) };
 	std::string why = notConfigured(motor);
 	why.append(", or slave ").append(std::to_string(control.slave)).append(" does not exist");
-	run(*this, c, name, motor, why);
+	run(*dev_, c, name, motor, why);
 }
 
-Chip402Flags Device::chip402Control(unsigned motor)
+Chip402Flags Chip402::chip402Control(unsigned motor) const
 {
 	const char *name = "402_CTL_GET";
 	checkMotor(name, motor);
-	const Response r = run(*this, command402(ECMXF_CMD_402_CTL_GET, motor), name, motor, notConfigured(motor));
+	const Response r = run(*dev_, command402(ECMXF_CMD_402_CTL_GET, motor), name, motor, notConfigured(motor));
 	return Chip402Flags::fromByte(r.ret);
 }
 
-std::uint16_t Device::chip402Statusword(unsigned motor)
+std::uint16_t Chip402::chip402Statusword(unsigned motor) const
 {
 	const char *name = "402_GET_STATUSWORD";
 	checkMotor(name, motor);
 	const Response r =
-		run(*this, command402(ECMXF_CMD_402_GET_STATUSWORD, motor), name, motor, notConfigured(motor));
+		run(*dev_, command402(ECMXF_CMD_402_GET_STATUSWORD, motor), name, motor, notConfigured(motor));
 	if (r.data.size() != 2) {
 		std::string m = prefix(name, motor);
 		m.append("the answer has ").append(std::to_string(r.data.size())).append(" data bytes, expected 2");
@@ -181,12 +176,12 @@ std::uint16_t Device::chip402Statusword(unsigned motor)
 	return static_cast<std::uint16_t>(r.data[0] | r.data[1] << 8);
 }
 
-Cia402State Device::chip402AwaitState(unsigned motor, Cia402State target, std::chrono::nanoseconds timeout,
-				      std::chrono::nanoseconds poll)
+Cia402State Chip402::chip402AwaitState(unsigned motor, Cia402State target, std::chrono::nanoseconds timeout,
+				      std::chrono::nanoseconds poll) const
 {
 	const char *name = "402_STATE_GET";
 	checkMotor(name, motor);
-	Link &t = link();
+	Link &t = dev_->link();
 	const auto start = t.now();
 	for (;;) {
 		const Chip402State s = chip402State(motor);

@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
-// The typed process-data and FIFO calls of Device (the "pdo" section of
-// include/ecmxf/device.hpp): ECAT_PDO_WC_GET, ECAT_PDO_DATA_FIFO_OP,
+// ProcessData (include/ecmxf/pdo/process_data.hpp), the typed process-data
+// and FIFO calls: ECAT_PDO_WC_GET, ECAT_PDO_DATA_FIFO_OP,
 // ECAT_PDO_DATA_OP, FIFO_ENABLE, FIFO_PACK_SIZE_GET, FIFO_CLR_OP,
 // FIFO_SET/GET_TX/RX_CNT, FIFO_INIT, ECAT_SET_FIFO_TH
-// (Documentation/process-data.rst).
+// (Documentation/process-data.rst). Every command runs through the one
+// command runner (lib/device/runner.hpp); a refusal is EREMOTEIO here.
+
+#include <ecmxf/pdo/process_data.hpp>
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
@@ -15,37 +18,18 @@
 #include <string_view>
 #include <utility>
 
+#include "device/runner.hpp"
 #include "ecmxf-proto.h"
 
 namespace ecmxf {
 
 namespace {
 
-/// A command with the command-error clear bit, so that the answer's error
-/// status bit 7 belongs to this command alone (the chip applies the clear
-/// before it runs the command).
-Command make(std::uint8_t code, std::uint8_t param = 0)
+/// Runs @p c through the one command runner; a refusal (error status bit
+/// 7) throws EREMOTEIO naming the command and @p hint.
+Response run(Device &d, const Command &c, std::string_view hint = {})
 {
-	Command c;
-	c.code = code;
-	c.param = param;
-	c.control = ECMXF_CTL_CLR_CMD_ERR;
-	return c;
-}
-
-/// Runs @p c; a command error (error status bit 7) throws EREMOTEIO with
-/// the command's name and @p hint.
-Response run(Device &d, const Command &c, std::string_view name, std::string_view hint = {})
-{
-	Response r = d.command(c);
-	if (r.header.errStatus & ECMXF_ERR_CMD) {
-		std::string msg(name);
-		msg.append(": the chip refused the command (error status bit 7, command error)");
-		if (!hint.empty())
-			msg.append("; ").append(hint);
-		throw Error(msg, EREMOTEIO, r.header.errStatus);
-	}
-	return r;
+	return detail::immediate(d, c, {}, std::string(hint), EREMOTEIO);
 }
 
 std::uint32_t le32(const Response &r, std::string_view name)
@@ -72,7 +56,7 @@ constexpr std::string_view kNoLayout = "no process image yet (ECAT_INIT_OP first
 std::uint32_t wcGet(Device &d, std::uint8_t param)
 {
 	constexpr std::string_view name = "ECAT_PDO_WC_GET";
-	return le32(run(d, make(ECMXF_CMD_ECAT_PDO_WC_GET, param), name), name);
+	return le32(run(d, detail::cmd(ECMXF_CMD_ECAT_PDO_WC_GET, param)), name);
 }
 
 /// "FIFO_SET_RX_CNT: 100 x 100-byte RxPDO frames + 64 x 100-byte TxPDO
@@ -109,20 +93,25 @@ bool fits(unsigned rx, unsigned rxSize, unsigned tx, unsigned txSize)
 
 } // namespace
 
-PdoSlaveCounts Device::pdoSlaveCounts()
+ProcessData Device::pdo() noexcept
+{
+	return ProcessData(*this);
+}
+
+PdoSlaveCounts ProcessData::pdoSlaveCounts() const
 {
 	PdoSlaveCounts c;
-	c.inputSlaves = wcGet(*this, 1);
-	c.outputSlaves = wcGet(*this, 2);
+	c.inputSlaves = wcGet(*dev_, 1);
+	c.outputSlaves = wcGet(*dev_, 2);
 	return c;
 }
 
-std::uint32_t Device::pdoWorkingCounter()
+std::uint32_t ProcessData::pdoWorkingCounter() const
 {
-	return wcGet(*this, 3);
+	return wcGet(*dev_, 3);
 }
 
-PdoFifoResult Device::pdoFifoExchange(std::span<const std::uint8_t> rxFrames, unsigned frames, bool read)
+PdoFifoResult ProcessData::pdoFifoExchange(std::span<const std::uint8_t> rxFrames, unsigned frames, bool read) const
 {
 	constexpr std::string_view name = "ECAT_PDO_DATA_FIFO_OP";
 	if (frames > 255)
@@ -133,11 +122,11 @@ PdoFifoResult Device::pdoFifoExchange(std::span<const std::uint8_t> rxFrames, un
 		throw Error(std::string(name) + ": " + std::to_string(rxFrames.size()) +
 				    " bytes do not divide into " + std::to_string(frames) + " RxPDO frames",
 			    EINVAL);
-	if (rxFrames.size() > pdoDataCapacity())
+	if (rxFrames.size() > dev_->pdoDataCapacity())
 		throw Error(std::string(name) + ": " + std::to_string(frames) + " RxPDO frames of " +
 				    std::to_string(frames ? rxFrames.size() / frames : 0) + " bytes (" +
 				    std::to_string(rxFrames.size()) + " bytes) do not fit the data section (" +
-				    std::to_string(pdoDataCapacity()) + " bytes)",
+				    std::to_string(dev_->pdoDataCapacity()) + " bytes)",
 			    EMSGSIZE);
 	// the chip takes frames x its RxPDO size from the data section
 	// whatever the bytes were meant to be: check them against it first
@@ -147,11 +136,11 @@ PdoFifoResult Device::pdoFifoExchange(std::span<const std::uint8_t> rxFrames, un
 				    " bytes given; the chip's RxPDO frame is " + std::to_string(s.rxPdoBytes) +
 				    " bytes (FIFO_PACK_SIZE_GET 0)",
 			    EINVAL);
-	Command c = make(ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP, static_cast<std::uint8_t>(frames));
+	Command c = detail::cmd(ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP, static_cast<std::uint8_t>(frames));
 	c.data[0] = static_cast<std::uint8_t>((frames ? 0x01 : 0x00) | (read ? 0x02 : 0x00));
-	c.control |= ECMXF_CTL_CLR_FIFO_ERR; // error status bit 5 of this write only
+	c.control = ECMXF_CTL_CLR_FIFO_ERR; // error status bit 5 of this write only
 	c.payload.assign(rxFrames.begin(), rxFrames.end());
-	const Response r = run(*this, c, name, kNoLayout);
+	const Response r = run(*dev_, c, kNoLayout);
 	PdoFifoResult res;
 	res.allWritten = (r.ret & 0x01) != 0;
 	res.inputs = r.data;
@@ -169,90 +158,92 @@ PdoFifoResult Device::pdoFifoExchange(std::span<const std::uint8_t> rxFrames, un
 	return res;
 }
 
-std::vector<std::uint8_t> Device::pdoRead()
+std::vector<std::uint8_t> ProcessData::pdoRead() const
 {
-	Command c = make(ECMXF_CMD_ECAT_PDO_DATA_OP);
+	Command c = detail::cmd(ECMXF_CMD_ECAT_PDO_DATA_OP);
 	c.data[0] = 0x06; // bits 0/1 valid, read
-	return run(*this, c, "ECAT_PDO_DATA_OP", kNoLayout).data;
+	return run(*dev_, c, kNoLayout).data;
 }
 
-void Device::pdoWrite(std::span<const std::uint8_t> outputs)
+void ProcessData::pdoWrite(std::span<const std::uint8_t> outputs) const
 {
 	if (outputs.empty())
 		throw Error("ECAT_PDO_DATA_OP: no output bytes to write", EINVAL);
-	Command c = make(ECMXF_CMD_ECAT_PDO_DATA_OP);
+	Command c = detail::cmd(ECMXF_CMD_ECAT_PDO_DATA_OP);
 	c.data[0] = 0x05; // bits 0/1 valid, write
 	c.payload.assign(outputs.begin(), outputs.end());
-	(void)run(*this, c, "ECAT_PDO_DATA_OP", kNoLayout);
+	(void)run(*dev_, c, kNoLayout);
 }
 
-std::vector<std::uint8_t> Device::pdoWriteRead(std::span<const std::uint8_t> outputs)
+std::vector<std::uint8_t> ProcessData::pdoWriteRead(std::span<const std::uint8_t> outputs) const
 {
 	if (outputs.empty())
 		throw Error("ECAT_PDO_DATA_OP: no output bytes to write", EINVAL);
-	Command c = make(ECMXF_CMD_ECAT_PDO_DATA_OP);
+	Command c = detail::cmd(ECMXF_CMD_ECAT_PDO_DATA_OP);
 	c.data[0] = 0x07; // bits 0/1 valid, write and read
 	c.payload.assign(outputs.begin(), outputs.end());
-	return run(*this, c, "ECAT_PDO_DATA_OP", kNoLayout).data;
+	return run(*dev_, c, kNoLayout).data;
 }
 
-void Device::fifoEnable(bool enable)
+void ProcessData::fifoEnable(bool enable) const
 {
-	(void)run(*this, make(ECMXF_CMD_FIFO_ENABLE, enable ? 1 : 0), "FIFO_ENABLE");
+	(void)run(*dev_, detail::cmd(ECMXF_CMD_FIFO_ENABLE, enable ? 1 : 0));
 }
 
-FifoPackSizes Device::fifoPackSizes()
+FifoPackSizes ProcessData::fifoPackSizes() const
 {
 	constexpr std::string_view name = "FIFO_PACK_SIZE_GET";
 	FifoPackSizes s;
-	s.rxPdoBytes = le16(run(*this, make(ECMXF_CMD_FIFO_PACK_SIZE_GET, 0), name), name);
-	s.txPdoBytes = le16(run(*this, make(ECMXF_CMD_FIFO_PACK_SIZE_GET, 1), name), name);
+	s.rxPdoBytes = le16(run(*dev_, detail::cmd(ECMXF_CMD_FIFO_PACK_SIZE_GET, 0)), name);
+	s.txPdoBytes = le16(run(*dev_, detail::cmd(ECMXF_CMD_FIFO_PACK_SIZE_GET, 1)), name);
 	return s;
 }
 
-void Device::fifoClear(FifoSelect which)
+void ProcessData::fifoClear(FifoSelect which) const
 {
 	const auto p = static_cast<unsigned>(which);
 	if (p > 2)
 		throw Error("FIFO_CLR_OP: FIFO selector " + std::to_string(p) +
 				    " out of range (0 both, 1 TxFIFO, 2 RxFIFO)",
 			    EINVAL);
-	(void)run(*this, make(ECMXF_CMD_FIFO_CLR_OP, static_cast<std::uint8_t>(p)), "FIFO_CLR_OP");
+	(void)run(*dev_, detail::cmd(ECMXF_CMD_FIFO_CLR_OP, static_cast<std::uint8_t>(p)));
 }
 
-unsigned Device::fifoTxCount()
+unsigned ProcessData::fifoTxCount() const
 {
-	return run(*this, make(ECMXF_CMD_FIFO_GET_TX_CNT), "FIFO_GET_TX_CNT").ret;
+	return run(*dev_, detail::cmd(ECMXF_CMD_FIFO_GET_TX_CNT)).ret;
 }
 
-unsigned Device::fifoRxCount()
+unsigned ProcessData::fifoRxCount() const
 {
-	return run(*this, make(ECMXF_CMD_FIFO_GET_RX_CNT), "FIFO_GET_RX_CNT").ret;
+	return run(*dev_, detail::cmd(ECMXF_CMD_FIFO_GET_RX_CNT)).ret;
 }
 
-void Device::fifoSetTxCount(unsigned count)
+void ProcessData::fifoSetTxCount(unsigned count) const
 {
-	constexpr std::string_view name = "FIFO_SET_TX_CNT";
-	checkDepth(name, "TxFIFO", count);
+	setDepth(true, count);
+}
+
+void ProcessData::fifoSetRxCount(unsigned count) const
+{
+	setDepth(false, count);
+}
+
+void ProcessData::setDepth(bool tx, unsigned count) const
+{
+	const std::string_view name = tx ? "FIFO_SET_TX_CNT" : "FIFO_SET_RX_CNT";
+	checkDepth(name, tx ? "TxFIFO" : "RxFIFO", count);
 	const FifoPackSizes s = fifoPackSizes();
-	const unsigned rx = fifoRxCount();
-	if (!fits(rx, s.rxPdoBytes, count, s.txPdoBytes))
-		overBudget(name, rx, s.rxPdoBytes, count, s.txPdoBytes);
-	(void)run(*this, make(ECMXF_CMD_FIFO_SET_TX_CNT, static_cast<std::uint8_t>(count)), name);
+	// the chip checks the new depth against the other FIFO's present one
+	const unsigned rx = tx ? fifoRxCount() : count;
+	const unsigned txc = tx ? count : fifoTxCount();
+	if (!fits(rx, s.rxPdoBytes, txc, s.txPdoBytes))
+		overBudget(name, rx, s.rxPdoBytes, txc, s.txPdoBytes);
+	(void)run(*dev_, detail::cmd(tx ? ECMXF_CMD_FIFO_SET_TX_CNT : ECMXF_CMD_FIFO_SET_RX_CNT,
+				     static_cast<std::uint8_t>(count)));
 }
 
-void Device::fifoSetRxCount(unsigned count)
-{
-	constexpr std::string_view name = "FIFO_SET_RX_CNT";
-	checkDepth(name, "RxFIFO", count);
-	const FifoPackSizes s = fifoPackSizes();
-	const unsigned tx = fifoTxCount();
-	if (!fits(count, s.rxPdoBytes, tx, s.txPdoBytes))
-		overBudget(name, count, s.rxPdoBytes, tx, s.txPdoBytes);
-	(void)run(*this, make(ECMXF_CMD_FIFO_SET_RX_CNT, static_cast<std::uint8_t>(count)), name);
-}
-
-void Device::fifoSetCounts(unsigned rxCount, unsigned txCount)
+void ProcessData::fifoSetCounts(unsigned rxCount, unsigned txCount) const
 {
 	checkDepth("FIFO_SET_RX_CNT", "RxFIFO", rxCount);
 	checkDepth("FIFO_SET_TX_CNT", "TxFIFO", txCount);
@@ -263,29 +254,29 @@ void Device::fifoSetCounts(unsigned rxCount, unsigned txCount)
 	// depth: change first the one that fits with it (one of the two orders
 	// always does when the new pair fits)
 	const unsigned txNow = fifoTxCount();
-	const auto setRx = make(ECMXF_CMD_FIFO_SET_RX_CNT, static_cast<std::uint8_t>(rxCount));
-	const auto setTx = make(ECMXF_CMD_FIFO_SET_TX_CNT, static_cast<std::uint8_t>(txCount));
+	const auto setRx = detail::cmd(ECMXF_CMD_FIFO_SET_RX_CNT, static_cast<std::uint8_t>(rxCount));
+	const auto setTx = detail::cmd(ECMXF_CMD_FIFO_SET_TX_CNT, static_cast<std::uint8_t>(txCount));
 	if (fits(rxCount, s.rxPdoBytes, txNow, s.txPdoBytes)) {
-		(void)run(*this, setRx, "FIFO_SET_RX_CNT");
-		(void)run(*this, setTx, "FIFO_SET_TX_CNT");
+		(void)run(*dev_, setRx);
+		(void)run(*dev_, setTx);
 	} else {
-		(void)run(*this, setTx, "FIFO_SET_TX_CNT");
-		(void)run(*this, setRx, "FIFO_SET_RX_CNT");
+		(void)run(*dev_, setTx);
+		(void)run(*dev_, setRx);
 	}
 }
 
-void Device::fifoInit()
+void ProcessData::fifoInit() const
 {
-	(void)run(*this, make(ECMXF_CMD_FIFO_INIT), "FIFO_INIT");
+	(void)run(*dev_, detail::cmd(ECMXF_CMD_FIFO_INIT));
 }
 
-void Device::fifoSetThresholds(const FifoThresholds &t)
+void ProcessData::fifoSetThresholds(const FifoThresholds &t) const
 {
-	Command c = make(ECMXF_CMD_ECAT_SET_FIFO_TH,
+	Command c = detail::cmd(ECMXF_CMD_ECAT_SET_FIFO_TH,
 			 static_cast<std::uint8_t>((t.txHighEnabled ? 0x01 : 0) | (t.rxLowEnabled ? 0x02 : 0)));
 	c.data[0] = t.txHigh;
 	c.data[1] = t.rxLow;
-	(void)run(*this, c, "ECAT_SET_FIFO_TH");
+	(void)run(*dev_, c);
 }
 
 } // namespace ecmxf

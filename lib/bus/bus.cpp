@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: MIT
-// The typed bus commands of Device (include/ecmxf/device.hpp, section
-// "bus"): INIT_OP, RECONFIG_OP, INIT_DC_OP, PDO_CONFIG_SET/REQ/GET,
+// Bus (include/ecmxf/bus/bus.hpp), the typed bus commands: INIT_OP, RECONFIG_OP, INIT_DC_OP, PDO_CONFIG_SET/REQ/GET,
 // STATE_SET/GET/CHECK/UPDATE, SLV_INFO_GET, SLV_CNT_GET, DCSYNC,
 // SDO_ABORTCODE_GET, CONFIG_SM/FMMU/MAP, ENABLE_LRW. Payload layouts after
 // manual ver. 050 and the decisions of the protocol digest
-// (Documentation/commands-bus.rst). SDO is in lib/bus/sdo.cpp.
+// (Documentation/commands-bus.rst). SDO is in lib/bus/sdo.cpp; every
+// command runs through the one command runner (lib/device/runner.hpp).
+
+#include <ecmxf/bus/bus.hpp>
 
 #include "bus/bus_internal.hpp"
+#include "device/runner.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -17,8 +20,15 @@
 
 namespace ecmxf {
 
-using bus::cmd;
-using bus::hex;
+using detail::cmd;
+using detail::hex;
+
+Bus Device::bus() noexcept
+{
+	return Bus(*this);
+}
+
+using bus::slaveLabel;
 
 namespace {
 
@@ -27,11 +37,6 @@ void dcPayload(std::vector<std::uint8_t> &d, const DcConfig &dc)
 	bus::put32(d, dc.sync0Ns);
 	bus::put32(d, dc.sync1Ns);
 	bus::put32(d, static_cast<std::uint32_t>(dc.shiftNs)); // at 0x0C (the table's 0x12 is a typo)
-}
-
-std::string slaveLabel(std::uint8_t slave)
-{
-	return slave == kAllSlaves ? std::string("all slaves") : "slave " + std::to_string(slave);
 }
 
 struct SlaveState {
@@ -43,7 +48,7 @@ struct SlaveState {
 
 /// After a failed STATE_SET/STATE_CHECK: which slaves did not get there,
 /// and why (their AL state and AL status code, read live).
-[[noreturn]] void stateFailure(Device &dev, const char *cmdName, std::uint8_t slave, State want, const Error &e)
+[[noreturn]] void stateFailure(const Bus &dev, const char *cmdName, std::uint8_t slave, State want, const Error &e)
 {
 	std::vector<std::uint8_t> positions;
 	if (slave == kAllSlaves) {
@@ -113,6 +118,25 @@ struct SlaveState {
 			    bad.front().state, bad.front().code, e.errorStatus());
 }
 
+/// ECAT_STATE_SET or ECAT_STATE_CHECK (@p code, named @p name): @p slave
+/// to @p state, waiting for it; a failure on the bus is explained by
+/// stateFailure().
+void requestState(const Bus &b, std::uint8_t code, const char *name, std::uint8_t slave, State state)
+{
+	bus::checkSlave(slave, name, true);
+	bus::checkState(state, name);
+	Command c = cmd(code, slave);
+	c.data[0] = static_cast<std::uint8_t>(state);
+	const std::string what = std::string(name) + " " + stateName(state) + " for " + slaveLabel(slave);
+	try {
+		detail::async(b.device(), c, what, {}, {}, slave);
+	} catch (const Error &e) {
+		if (e.errnoValue() != EREMOTEIO)
+			throw;
+		stateFailure(b, name, slave, state, e);
+	}
+}
+
 PdoConfig decodePdoConfig(const std::vector<std::uint8_t> &d)
 {
 	PdoConfig c;
@@ -138,7 +162,7 @@ PdoConfig decodePdoConfig(const std::vector<std::uint8_t> &d)
 
 } // namespace
 
-void Device::initNetwork(const InitConfig &config)
+void Bus::initNetwork(const InitConfig &config) const
 {
 	Command c = cmd(ECMXF_CMD_ECAT_INIT_OP, config.specialSlave ? 48 : 0);
 	c.payload = { 0xFF, 0x81 };
@@ -148,11 +172,11 @@ void Device::initNetwork(const InitConfig &config)
 						(config.busShift ? ECMXF_RSV_BUS_SHIFT : 0u));
 	c.timeout = config.timeout;
 	try {
-		bus::async(*this, c, "ECAT_INIT_OP");
+		detail::async(*dev_, c, "ECAT_INIT_OP");
 	} catch (const Error &e) {
 		if (e.errnoValue() != EREMOTEIO)
 			throw;
-		const ResponseHeader h = lastHeader();
+		const ResponseHeader h = dev_->lastHeader();
 		std::string why = "no slave answered";
 		if (!(h.errStatus & ECMXF_ERR_LINK_HW))
 			why = "no Ethernet link (error status bit 0 clear)";
@@ -162,17 +186,17 @@ void Device::initNetwork(const InitConfig &config)
 	}
 }
 
-void Device::reconfigure()
+void Bus::reconfigure() const
 {
-	bus::async(*this, cmd(ECMXF_CMD_ECAT_RECONFIG_OP), "ECAT_RECONFIG_OP");
+	detail::async(*dev_, cmd(ECMXF_CMD_ECAT_RECONFIG_OP), "ECAT_RECONFIG_OP");
 }
 
-void Device::initDc()
+void Bus::initDc() const
 {
-	bus::async(*this, cmd(ECMXF_CMD_ECAT_INIT_DC_OP), "ECAT_INIT_DC_OP");
+	detail::async(*dev_, cmd(ECMXF_CMD_ECAT_INIT_DC_OP), "ECAT_INIT_DC_OP");
 }
 
-void Device::pdoConfigSet(const PdoConfig &config)
+void Bus::pdoConfigSet(const PdoConfig &config) const
 {
 	const std::string what = "ECAT_PDO_CONFIG_SET " + hex(config.assignIndex, 4) + " of slave " +
 				 std::to_string(config.slave);
@@ -203,17 +227,13 @@ void Device::pdoConfigSet(const PdoConfig &config)
 		}
 	}
 	try {
-		bus::async(*this, c, what, config.slave);
+		detail::async(*dev_, c, what, {}, {}, config.slave);
 	} catch (const Error &e) {
-		if (e.errnoValue() != EREMOTEIO)
-			throw;
-		const std::uint32_t ab = sdoAbortCode();
-		throw SdoError(what + " aborted: " + hex(ab, 8) + " " + std::string(sdoAbortText(ab)), EREMOTEIO, ab,
-			       e.errorStatus());
+		bus::throwSdoAbort(*this, what, e);
 	}
 }
 
-PdoConfig Device::pdoConfigRead(std::uint8_t slave, std::uint16_t assignIndex)
+PdoConfig Bus::pdoConfigRead(std::uint8_t slave, std::uint16_t assignIndex) const
 {
 	bus::checkSlave(slave, "ECAT_PDO_CONFIG_REQ", false);
 	const std::string what = "ECAT_PDO_CONFIG_REQ " + hex(assignIndex, 4) + " of slave " + std::to_string(slave);
@@ -221,47 +241,32 @@ PdoConfig Device::pdoConfigRead(std::uint8_t slave, std::uint16_t assignIndex)
 	c.payload = { slave, 0 };
 	bus::put16(c.payload, assignIndex);
 	try {
-		bus::async(*this, c, what, slave);
+		detail::async(*dev_, c, what, {}, {}, slave);
 	} catch (const Error &e) {
-		if (e.errnoValue() != EREMOTEIO)
-			throw;
-		const std::uint32_t ab = sdoAbortCode();
-		throw SdoError(what + " aborted: " + hex(ab, 8) + " " + std::string(sdoAbortText(ab)), EREMOTEIO, ab,
-			       e.errorStatus());
+		bus::throwSdoAbort(*this, what, e);
 	}
 	return pdoConfigGet();
 }
 
-PdoConfig Device::pdoConfigGet()
+PdoConfig Bus::pdoConfigGet() const
 {
-	return decodePdoConfig(bus::immediate(*this, cmd(ECMXF_CMD_ECAT_PDO_CONFIG_GET), "ECAT_PDO_CONFIG_GET").data);
+	return decodePdoConfig(detail::immediate(*dev_, cmd(ECMXF_CMD_ECAT_PDO_CONFIG_GET), "ECAT_PDO_CONFIG_GET").data);
 }
 
-void Device::stateSet(std::uint8_t slave, State state)
+void Bus::stateSet(std::uint8_t slave, State state) const
 {
-	bus::checkSlave(slave, "ECAT_STATE_SET", true);
-	bus::checkState(state, "ECAT_STATE_SET");
-	Command c = cmd(ECMXF_CMD_ECAT_STATE_SET, slave);
-	c.data[0] = static_cast<std::uint8_t>(state);
-	const std::string what = "ECAT_STATE_SET " + stateName(state) + " for " + slaveLabel(slave);
-	try {
-		bus::async(*this, c, what, slave);
-	} catch (const Error &e) {
-		if (e.errnoValue() != EREMOTEIO)
-			throw;
-		stateFailure(*this, "ECAT_STATE_SET", slave, state, e);
-	}
+	requestState(*this, ECMXF_CMD_ECAT_STATE_SET, "ECAT_STATE_SET", slave, state);
 }
 
-StateReading Device::stateGet(std::uint8_t slave)
+StateReading Bus::stateGet(std::uint8_t slave) const
 {
 	bus::checkSlave(slave, "ECAT_STATE_GET", true);
-	const Response r = bus::immediate(*this, cmd(ECMXF_CMD_ECAT_STATE_GET, slave),
+	const Response r = detail::immediate(*dev_, cmd(ECMXF_CMD_ECAT_STATE_GET, slave),
 					  "ECAT_STATE_GET for " + slaveLabel(slave));
 	return StateReading{ r.ret };
 }
 
-std::vector<std::uint8_t> Device::slaveInfoRaw(std::uint8_t slave, SlaveInfoCode code)
+std::vector<std::uint8_t> Bus::slaveInfoRaw(std::uint8_t slave, SlaveInfoCode code) const
 {
 	bus::checkSlave(slave, "ECAT_SLV_INFO_GET", false);
 	const auto n = static_cast<unsigned>(code);
@@ -269,12 +274,12 @@ std::vector<std::uint8_t> Device::slaveInfoRaw(std::uint8_t slave, SlaveInfoCode
 		throw Error("ECAT_SLV_INFO_GET: information code " + std::to_string(n) + " out of range (0..9)", EINVAL);
 	Command c = cmd(ECMXF_CMD_ECAT_SLV_INFO_GET, slave);
 	c.data[0] = static_cast<std::uint8_t>(n);
-	return bus::immediate(*this, c,
+	return detail::immediate(*dev_, c,
 			      "ECAT_SLV_INFO_GET code " + std::to_string(n) + " of slave " + std::to_string(slave))
 		.data;
 }
 
-SlaveInfo Device::slaveInfo(std::uint8_t slave)
+SlaveInfo Bus::slaveInfo(std::uint8_t slave) const
 {
 	SlaveInfo s;
 	s.position = slave;
@@ -293,47 +298,36 @@ SlaveInfo Device::slaveInfo(std::uint8_t slave)
 	return s;
 }
 
-std::uint8_t Device::slaveCount()
+std::uint8_t Bus::slaveCount() const
 {
-	return bus::immediate(*this, cmd(ECMXF_CMD_ECAT_SLV_CNT_GET), "ECAT_SLV_CNT_GET").ret;
+	return detail::immediate(*dev_, cmd(ECMXF_CMD_ECAT_SLV_CNT_GET), "ECAT_SLV_CNT_GET").ret;
 }
 
-StateReading Device::stateCheck(std::uint8_t slave, State state)
+StateReading Bus::stateCheck(std::uint8_t slave, State state) const
 {
-	bus::checkSlave(slave, "ECAT_STATE_CHECK", true);
-	bus::checkState(state, "ECAT_STATE_CHECK");
-	Command c = cmd(ECMXF_CMD_ECAT_STATE_CHECK, slave);
-	c.data[0] = static_cast<std::uint8_t>(state);
-	const std::string what = "ECAT_STATE_CHECK " + stateName(state) + " for " + slaveLabel(slave);
-	try {
-		bus::async(*this, c, what, slave);
-	} catch (const Error &e) {
-		if (e.errnoValue() != EREMOTEIO)
-			throw;
-		stateFailure(*this, "ECAT_STATE_CHECK", slave, state, e);
-	}
+	requestState(*this, ECMXF_CMD_ECAT_STATE_CHECK, "ECAT_STATE_CHECK", slave, state);
 	return stateGet(slave);
 }
 
-void Device::dcSync(std::uint8_t slave, const DcConfig &dc)
+void Bus::dcSync(std::uint8_t slave, const DcConfig &dc) const
 {
 	bus::checkSlave(slave, "ECAT_DCSYNC", true);
 	Command c = cmd(ECMXF_CMD_ECAT_DCSYNC);
 	c.payload = { slave, 0 };
 	bus::put16(c.payload, dc.assignActivate);
 	dcPayload(c.payload, dc);
-	bus::async(*this, c, "ECAT_DCSYNC for " + slaveLabel(slave), slave);
+	detail::async(*dev_, c, "ECAT_DCSYNC for " + slaveLabel(slave), {}, {}, slave);
 }
 
-void Device::stateUpdate()
+void Bus::stateUpdate() const
 {
-	bus::async(*this, cmd(ECMXF_CMD_ECAT_STATE_UPDATE), "ECAT_STATE_UPDATE");
+	detail::async(*dev_, cmd(ECMXF_CMD_ECAT_STATE_UPDATE), "ECAT_STATE_UPDATE");
 }
 
-std::uint32_t Device::sdoAbortCode()
+std::uint32_t Bus::sdoAbortCode() const
 {
 	const Response r =
-		bus::immediate(*this, cmd(ECMXF_CMD_ECAT_SDO_ABORTCODE_GET), "ECAT_SDO_ABORTCODE_GET");
+		detail::immediate(*dev_, cmd(ECMXF_CMD_ECAT_SDO_ABORTCODE_GET), "ECAT_SDO_ABORTCODE_GET");
 	if (r.data.size() < 4)
 		throw Error("ECAT_SDO_ABORTCODE_GET: answer of " + std::to_string(r.data.size()) +
 				    " bytes, expected 4",
@@ -341,7 +335,7 @@ std::uint32_t Device::sdoAbortCode()
 	return bus::le32(r.data);
 }
 
-void Device::configSm(std::uint8_t slave, std::uint8_t sm, const SmConfig &config)
+void Bus::configSm(std::uint8_t slave, std::uint8_t sm, const SmConfig &config) const
 {
 	bus::checkSlave(slave, "ECAT_CONFIG_SM", false);
 	if (sm > 15)
@@ -352,27 +346,26 @@ void Device::configSm(std::uint8_t slave, std::uint8_t sm, const SmConfig &confi
 	bus::put16(c.payload, config.length);
 	c.payload.push_back(config.control);
 	c.payload.push_back(config.activate);
-	bus::immediate(*this, c,
-		       "ECAT_CONFIG_SM " + std::to_string(sm) + " of slave " + std::to_string(slave) +
-			       " (is the slave on the bus?)");
+	detail::immediate(*dev_, c, "ECAT_CONFIG_SM " + std::to_string(sm) + " of slave " + std::to_string(slave),
+			  "is the slave on the bus?");
 }
 
-void Device::configFmmu(std::uint8_t slave, const std::array<std::uint8_t, 4> &functions)
+void Bus::configFmmu(std::uint8_t slave, const std::array<std::uint8_t, 4> &functions) const
 {
 	bus::checkSlave(slave, "ECAT_CONFIG_FMMU", false);
 	Command c = cmd(ECMXF_CMD_ECAT_CONFIG_FMMU);
 	c.payload = { slave, functions[0], functions[1], functions[2], functions[3] };
-	bus::immediate(*this, c, "ECAT_CONFIG_FMMU of slave " + std::to_string(slave) + " (is the slave on the bus?)");
+	detail::immediate(*dev_, c, "ECAT_CONFIG_FMMU of slave " + std::to_string(slave), "is the slave on the bus?");
 }
 
-void Device::configMap()
+void Bus::configMap() const
 {
-	bus::async(*this, cmd(ECMXF_CMD_ECAT_CONFIG_MAP), "ECAT_CONFIG_MAP");
+	detail::async(*dev_, cmd(ECMXF_CMD_ECAT_CONFIG_MAP), "ECAT_CONFIG_MAP");
 }
 
-void Device::enableLrw(bool enable)
+void Bus::enableLrw(bool enable) const
 {
-	bus::immediate(*this, cmd(ECMXF_CMD_ENABLE_LRW, enable ? 1 : 0), "ENABLE_LRW");
+	detail::immediate(*dev_, cmd(ECMXF_CMD_ENABLE_LRW, enable ? 1 : 0), "ENABLE_LRW");
 }
 
 } // namespace ecmxf

@@ -1,0 +1,379 @@
+// SPDX-License-Identifier: GPL-2.0-only
+/*
+ * ecmxf-pump.c - NEXTW ECM-XF: the PDO pump
+ *
+ * The pump runs in the link worker (ecmxf-worker.c): while the chip
+ * reports its FIFO enabled it sends ECAT_PDO_DATA_FIFO_OP commands that
+ * move output frames from the output ring into the chip's RxFIFO and pop
+ * the TxFIFO into the input ring (the rings: ecmxf-ring.c); now and then
+ * it reads the working counter.  It is woken by INT1 (the FIFO threshold
+ * flags), by its own timer and by the work a previous command left.  Its
+ * commands take turns with the files' commands.
+ *
+ * What a command carries and what its answer means (the fill level, the
+ * skipped frames, the refusals and losses, the EPROTO rules) is the
+ * protocol core's pump (lib/core/ecmxf-pump.c), which the library's FIFO
+ * path runs too; this file does the kernel's part: when to send, the
+ * ring indices, the counters, the status block and the wake-ups.
+ *
+ * Locking: as ecmxf-ring.c.  The worker builds and submits the command
+ * without &ecmxf_dev.lock and finishes it with the lock held.
+ *
+ * Copyright (C) 2026 The ecmxf authors
+ */
+#include <linux/minmax.h>
+#include <linux/module.h>
+#include <linux/poll.h>
+
+#include "ecmxf.h"
+
+/*
+ * time allowed for each pump command (module parameter pump_timeout_ms,
+ * 10..60000): longer than the table's 100 ms, since a frame whose command
+ * failed is dropped, never sent again
+ */
+static unsigned int ecmxf_param_pump_timeout_ms = 500;
+module_param_named(pump_timeout_ms, ecmxf_param_pump_timeout_ms, uint, 0644);
+MODULE_PARM_DESC(pump_timeout_ms,
+		 "time allowed for each PDO pump command, ms (10..60000, default 500)");
+
+/**
+ * ecmxf_pump_take() - should the pump send a command now?
+ * @edev: the device, lock held
+ * @now: ktime_get_ns()
+ *
+ * Due when rings exist, the pump has not stopped, the chip's FIFO is on
+ * (ECM status bit 6 in the last header) and: its timer expired, INT1 fired
+ * (the FIFO threshold flags), the last command left work, or the working
+ * counter is due.
+ *
+ * Return: the rings with a reference for the command, or NULL.
+ */
+struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now)
+{
+	struct ecmxf_rings *r = edev->rings;
+
+	lockdep_assert_held(&edev->lock);
+	if (!r || r->stopped || edev->pump.busy)
+		return NULL;
+	if (!(edev->last.ecm_status & ECMXF_STS_FIFO_EN))
+		return NULL;
+	if (!r->again && now < r->next_tick_ns &&
+	    !atomic_read(&edev->int1_flag) &&
+	    !(r->wkc_ns && now >= r->next_wkc_ns))
+		return NULL;
+	/* this command is the exchange that INT1 asks for */
+	atomic_set(&edev->int1_flag, 0);
+	kref_get(&r->ref);
+	return r;
+}
+
+/**
+ * ecmxf_pump_deadline() - when the pump wants to run next by its timers
+ * @edev: the device, lock held
+ *
+ * Return: a ktime_get_ns() time, or 0 when the pump has no timer running.
+ */
+u64 ecmxf_pump_deadline(struct ecmxf_dev *edev)
+{
+	struct ecmxf_rings *r = edev->rings;
+	u64 t;
+
+	lockdep_assert_held(&edev->lock);
+	if (!r || r->stopped || !(edev->last.ecm_status & ECMXF_STS_FIFO_EN))
+		return 0;
+	t = r->next_tick_ns;
+	if (r->wkc_ns && r->next_wkc_ns < t)
+		t = r->next_wkc_ns;
+	return t ? t : 1;
+}
+
+/*
+ * Build the pump's next command in @edev->pump.x: the working counter
+ * when due, else the FIFO command the protocol core plans from what the
+ * output ring holds (up to the RxFIFO fill level and the data section),
+ * popping TxPDO frames.  Return: false when there is nothing to send.
+ */
+static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r,
+			       u64 now)
+{
+	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_pump_plan *pl = &p->plan;
+	struct ecmxf_xfer *x = &p->x;
+	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
+	bool after_wkc = p->wkc;
+	bool send;
+	int avail;
+
+	memset(x, 0, sizeof(*x));
+	memset(pl, 0, sizeof(*pl));
+	x->rx_buf = r->rx_buf;
+	x->rx_size = ECMXF_DATA_MAX;
+	x->tx_data = r->tx_buf;
+	x->status = -EINPROGRESS;
+	p->skipped = 0;
+	p->wkc = false;
+
+	/*
+	 * the working counter when due, but never twice in a row: on a slow
+	 * link (each command longer than wkc_us) it would starve the FIFOs
+	 */
+	if (r->wkc_ns && now >= r->next_wkc_ns && !after_wkc) {
+		ecmxf_pump_wkc_cmd(&x->hdr);
+		/*
+		 * every wkc_ns from the first read on, not from whenever the
+		 * worker woke: late wake-ups must not stretch the period
+		 * (a reader counting reads over N periods sees N / period);
+		 * after a gap of more than a period, one read, no burst
+		 */
+		r->next_wkc_ns += r->wkc_ns;
+		if (r->next_wkc_ns <= now)
+			r->next_wkc_ns = now + r->wkc_ns;
+		p->wkc = true;
+		return true;
+	}
+
+	avail = ecmxf_ring_out_avail(r);
+	if (avail < 0)
+		return false;	/* ecmxf_pump_submit() stops the rings */
+	r->pump.data_size = ecmxf_engine_data_size(&edev->e);
+	send = ecmxf_pump_next(&r->pump, ecmxf_pump_level(&r->pump, h),
+			       (u32)avail, ECMXF_PUMP_F_READ, pl);
+	/*
+	 * Fallen behind (the application produces faster than the chip
+	 * takes): the oldest frames are skipped.  Counted, never silent.
+	 */
+	if (pl->skip) {
+		ecmxf_ring_out_release(r, pl->skip, pl->skip);
+		p->skipped = pl->skip;
+	}
+	if (!send)
+		return false;
+	ecmxf_ring_out_copy(r, r->tx_buf, pl->push);
+	/* re-arm the threshold flags that woke us (INT1 is edge-triggered) */
+	x->tx_len = (u16)ecmxf_pump_fifo_cmd(&r->pump, pl, true, &x->hdr);
+	return true;
+}
+
+/**
+ * ecmxf_pump_submit() - hand the pump's next command to the engine
+ * @edev: the device; called by the worker without the lock
+ * @r: the rings, with the reference ecmxf_pump_take() took
+ * @now: ktime_get_ns()
+ *
+ * On success the reference travels with the command; otherwise it is
+ * dropped here.
+ *
+ * Return: 0 when a command is in the engine, else a negative errno.
+ */
+int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
+{
+	struct ecmxf_pump_slot *p = &edev->pump;
+	int ret;
+
+	r->again = false;
+	r->next_tick_ns = now + r->poll_ns;
+	if (!ecmxf_pump_prepare(edev, r, now)) {
+		ret = -ENODATA;
+		if (ecmxf_ring_out_avail(r) < 0)
+			ret = -EFAULT;
+		goto drop;
+	}
+	p->x.timeout_us = clamp(READ_ONCE(ecmxf_param_pump_timeout_ms),
+				10U, 60000U) * USEC_PER_MSEC;
+	if (!ecmxf_engine_can_submit(&edev->e, &p->x)) {
+		ret = -EBUSY;
+		goto drop;
+	}
+	ret = ecmxf_engine_submit(&edev->e, &p->x, now);
+	if (ret)
+		goto drop;
+	mutex_lock(&edev->lock);
+	p->rings = r;
+	p->busy = true;
+	p->turn = false;
+	mutex_unlock(&edev->lock);
+	return 0;
+drop:
+	mutex_lock(&edev->lock);
+	edev->out_ring_skipped += p->skipped;
+	p->skipped = 0;
+	if (ret == -EFAULT && edev->rings == r)
+		ecmxf_rings_stop(edev, -EFAULT);
+	mutex_unlock(&edev->lock);
+	ecmxf_rings_put(r);
+	return ret;
+}
+
+/* Publish the header and the counters in the status block; lock held. */
+static void ecmxf_status_update(struct ecmxf_rings *r,
+				const struct ecmxf_rsp_hdr *h, int err,
+				const u32 deltas[7])
+{
+	struct ecmxf_ring_status *st = &r->cur;
+
+	st->int_flags = h->int_flags;
+	st->crc_err_cnt = h->crc_err_cnt;
+	st->wkc_err_cnt = h->wkc_err_cnt;
+	st->tx_fifo_cnt = h->tx_fifo_cnt;
+	st->rx_fifo_cnt = h->rx_fifo_cnt;
+	st->ecat_state = h->ecat_state;
+	st->err_status = h->err_status;
+	st->ecm_status = h->ecm_status;
+	st->error = (u32)-err;
+	st->pump_ops += deltas[0];
+	st->rx_refusals += deltas[1];
+	st->tx_overflows += deltas[2];
+	st->rx_underruns += deltas[3];
+	st->out_underruns += deltas[4];
+	st->out_skipped += deltas[5];
+	st->pump_failures += deltas[6];
+	ecmxf_rings_publish(r);
+}
+
+/* The working counter arrived (a bad answer is not published); lock held. */
+static void ecmxf_pump_wkc_done(struct ecmxf_rings *r,
+				const struct ecmxf_xfer *x)
+{
+	u32 wkc;
+
+	if (ecmxf_pump_wkc_answer(&x->rsp, r->rx_buf, x->rx_len, &wkc))
+		return;
+	r->cur.wkc = wkc;
+	r->cur.wkc_reads++;
+	ecmxf_rings_publish(r);
+}
+
+/* The FIFO command answered: move the frames, count; lock held. */
+static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
+				 struct ecmxf_rings *r,
+				 const struct ecmxf_xfer *x)
+{
+	const struct ecmxf_rsp_hdr *h = &x->rsp;
+	u32 deltas[7] = { 1, 0, 0, 0, 0, edev->pump.skipped, 0 };
+	struct ecmxf_pump_result res;
+	__poll_t wake = 0;
+	u32 stored;
+	int avail, err;
+
+	err = ecmxf_pump_answer(&r->pump, &edev->pump.plan, h, x->rx_len,
+				&res);
+	if (err == -EREMOTEIO) {
+		/* nothing was taken: the frames stay in the ring */
+		ecmxf_status_update(r, h, err, deltas);
+		return;
+	}
+	if (res.taken) {
+		ecmxf_ring_out_release(r, res.taken, res.refused);
+		if (res.refused) {
+			/* the RxFIFO was full: some of them were refused */
+			edev->rx_fifo_overruns++;
+			deltas[1]++;
+		}
+		wake |= EPOLLOUT | EPOLLWRNORM;
+	}
+	if (err) {
+		/* -EPROTO: the input frames of the answer are lost */
+		ecmxf_status_update(r, h, err, deltas);
+		return;
+	}
+	if (res.popped) {
+		stored = ecmxf_ring_in_store(r, r->rx_buf, res.popped);
+		edev->in_ring_overruns += res.popped - stored;
+		wake |= EPOLLRDBAND;
+	}
+	if (res.tx_overrun) {
+		edev->tx_fifo_overruns++;
+		deltas[2]++;
+	}
+	avail = ecmxf_ring_out_avail(r);
+	if (res.rx_underrun) {
+		edev->rx_fifo_underruns++;
+		deltas[3]++;
+		if (!avail) {
+			edev->out_ring_underruns++;
+			deltas[4]++;
+		}
+	}
+	ecmxf_status_update(r, h, 0, deltas);
+	/* more queued either way: again at once (if this one moved any) */
+	if ((res.taken || res.popped) && (h->tx_fifo_cnt || avail > 0))
+		r->again = true;
+	if (wake)
+		ecmxf_rings_wake(edev, wake);
+}
+
+/*
+ * The command failed after it may have reached the chip (no answer, bad
+ * packets): its output frames are dropped and counted, never sent again,
+ * because a second copy would reach the bus after newer frames; the input
+ * frames its answer carried are lost.  Counted as a pump failure, not as
+ * a refusal (the chip may well have taken the frames); lock held.
+ */
+static void ecmxf_pump_failed(struct ecmxf_dev *edev, struct ecmxf_rings *r,
+			      const struct ecmxf_xfer *x)
+{
+	u32 deltas[7] = { 0, 0, 0, 0, 0, edev->pump.skipped, 1 };
+	u32 lost = ecmxf_pump_lost(&r->pump, &edev->pump.plan);
+
+	edev->pump_failures++;
+	if (lost) {
+		ecmxf_ring_out_release(r, lost, lost);
+		ecmxf_rings_wake(edev, EPOLLOUT | EPOLLWRNORM);
+	}
+	ecmxf_status_update(r, &x->rsp, x->status, deltas);
+}
+
+/**
+ * ecmxf_pump_collect() - the pump's command left the engine: finish it
+ * @edev: the device, lock held (called by ecmxf_collect())
+ *
+ * Return: the command's reference to the rings once it is finished, else
+ * NULL.  The caller drops it with ecmxf_rings_put() after unlocking.
+ */
+struct ecmxf_rings *ecmxf_pump_collect(struct ecmxf_dev *edev)
+{
+	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_rings *r = p->rings;
+	const struct ecmxf_xfer *x = &p->x;
+
+	lockdep_assert_held(&edev->lock);
+	if (!p->busy || x->status == -EINPROGRESS)
+		return NULL;
+	p->busy = false;
+	p->rings = NULL;
+	edev->out_ring_skipped += p->skipped;
+	if (r == edev->rings && !r->stopped) {
+		if (x->status == -ECONNRESET)
+			ecmxf_rings_stop(edev, x->status);
+		else if (x->status)
+			ecmxf_pump_failed(edev, r, x);
+		else if (p->wkc)
+			ecmxf_pump_wkc_done(r, x);
+		else
+			ecmxf_pump_fifo_done(edev, r, x);
+	}
+	return r;
+}
+
+/**
+ * ecmxf_pump_cancel() - the worker stops: withdraw the pump's command
+ * @edev: the device, lock held
+ *
+ * Return: the command's reference to the rings, or NULL when none was
+ * in the engine.  The caller drops it with ecmxf_rings_put() after
+ * unlocking.
+ */
+struct ecmxf_rings *ecmxf_pump_cancel(struct ecmxf_dev *edev)
+{
+	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_rings *r = p->rings;
+
+	lockdep_assert_held(&edev->lock);
+	if (!p->busy)
+		return NULL;
+	ecmxf_engine_cancel(&edev->e, &p->x);
+	p->busy = false;
+	p->rings = NULL;
+	return r;
+}

@@ -1,0 +1,152 @@
+/* SPDX-License-Identifier: GPL-2.0-only */
+/*
+ * ecmxf-ring.h - NEXTW ECM-XF: the PDO rings and the PDO pump
+ *
+ * The rings' memory (ecmxf-ring.c) and the pump that moves their frames
+ * to and from the chip's FIFOs (ecmxf-pump.c, with the protocol core's
+ * lib/core/ecmxf-pump.c).  &struct ecmxf_dev embeds the pump's command
+ * slot; the functions take the device.
+ *
+ * Copyright (C) 2026 The ecmxf authors
+ */
+#ifndef ECMXF_RING_H
+#define ECMXF_RING_H
+
+#include <linux/kref.h>
+#include <linux/poll.h>
+#include <linux/types.h>
+
+#include <linux/ecmxf.h>	/* kmod/uapi -> include/uapi */
+
+#include "ecmxf-proto.h"
+#include "ecmxf-pump.h"
+
+struct ecmxf_dev;
+struct vm_area_struct;
+
+/**
+ * struct ecmxf_ring - one mmap()ed ring (kernel view)
+ * @mem: vmalloc_user() memory, @size bytes, mapped by userspace
+ * @size: the mapping length (&struct ecmxf_ring_offsets.mmap_size)
+ * @off: the layout as reported to userspace
+ * @head: consumer index in @mem
+ * @tail: producer index in @mem
+ * @flags: %ECMXF_RING_S_* word in @mem
+ * @dropped: dropped-frames count in @mem
+ * @frames: slot 0 in @mem
+ * @entries: slots (a power of two)
+ * @frame_size: process data bytes per slot
+ * @stride: bytes from slot to slot
+ *
+ * The indices live in shared memory: the kernel reads the one userspace
+ * writes with smp_load_acquire() and never trusts it further than
+ * "at most @entries frames apart".
+ */
+struct ecmxf_ring {
+	void *mem;
+	size_t size;
+	struct ecmxf_ring_offsets off;
+	u32 *head;
+	u32 *tail;
+	u32 *flags;
+	u32 *dropped;
+	u8 *frames;
+	u32 entries;
+	u32 frame_size;
+	u32 stride;
+};
+
+/**
+ * struct ecmxf_rings - the two PDO rings of the claim holder
+ * @ref: held by &ecmxf_dev.rings, by every mapping and by the worker
+ *	while a pump command uses them; the memory is freed with the last,
+ *	never under &ecmxf_dev.lock (see there)
+ * @edev: the device (it outlives the rings: every holder keeps the file,
+ *	and so the device, alive)
+ * @out: output ring (RxPDO frames, application to chip)
+ * @in: input ring (TxPDO frames, chip to application)
+ * @status: the status block (&struct ecmxf_ring_status_block) in the
+ *	input ring's memory, written only through ecmxf_rings_publish()
+ * @cur: the status the kernel keeps; published into @status
+ * @status_seq: the latch count last written to @status
+ * @setup_flags: %ECMXF_RING_F_* of the setup
+ * @poll_ns: pump timer period
+ * @wkc_ns: working counter read period, 0 never
+ * @pump: the protocol core's pump: frame sizes, fill level, TxFIFO depth
+ *	and its bookkeeping of the frames pushed (worker only after setup)
+ * @tx_buf: data section of the pump's command (%ECMXF_DATA_MAX)
+ * @rx_buf: data section of its answer (%ECMXF_DATA_MAX)
+ * @stopped: the pump stopped for good (%ECMXF_RING_S_ERROR); under
+ *	&ecmxf_dev.lock
+ * @next_tick_ns: next timer-driven pump command (worker only)
+ * @next_wkc_ns: next working counter read (worker only)
+ * @again: the last command left work (frames queued either way): pump
+ *	again without waiting (worker only)
+ */
+struct ecmxf_rings {
+	struct kref ref;
+	struct ecmxf_dev *edev;
+	struct ecmxf_ring out;
+	struct ecmxf_ring in;
+	struct ecmxf_ring_status_block *status;
+	struct ecmxf_ring_status cur;
+	u32 status_seq;
+	u32 setup_flags;
+	u64 poll_ns;
+	u64 wkc_ns;
+	struct ecmxf_pump pump;
+	u8 *tx_buf;
+	u8 *rx_buf;
+	bool stopped;
+	u64 next_tick_ns;
+	u64 next_wkc_ns;
+	bool again;
+};
+
+/**
+ * struct ecmxf_pump_slot - the PDO pump's command in the engine (worker only)
+ * @x: the command (ECAT_PDO_DATA_FIFO_OP or ECAT_PDO_WC_GET)
+ * @plan: what @x pushes and pops (zero for the working counter)
+ * @rings: the rings it serves, a reference held while @busy
+ * @busy: @x is in the engine
+ * @turn: the pump goes before the files' commands when both are due
+ * @skipped: output frames skipped when @x was built (not yet counted in
+ *	&ecmxf_dev.out_ring_skipped)
+ * @wkc: @x reads the working counter
+ */
+struct ecmxf_pump_slot {
+	struct ecmxf_xfer x;
+	struct ecmxf_pump_plan plan;
+	struct ecmxf_rings *rings;
+	bool busy;
+	bool turn;
+	u32 skipped;
+	bool wkc;
+};
+
+/* ecmxf-ring.c: the ring memory */
+int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
+		       const u16 sizes[2], const u8 depths[2],
+		       struct ecmxf_rings **out);
+void ecmxf_rings_put(struct ecmxf_rings *r);
+bool ecmxf_ring_setup_valid(const struct ecmxf_ring_setup *rs);
+int ecmxf_rings_mmap(struct ecmxf_rings *r, struct vm_area_struct *vma);
+struct ecmxf_rings *ecmxf_rings_teardown(struct ecmxf_dev *edev);
+void ecmxf_rings_stop(struct ecmxf_dev *edev, int err);
+__poll_t ecmxf_rings_poll(struct ecmxf_dev *edev);
+void ecmxf_rings_wake(struct ecmxf_dev *edev, __poll_t mask);
+void ecmxf_rings_publish(struct ecmxf_rings *r);
+int ecmxf_ring_out_avail(struct ecmxf_rings *r);
+void ecmxf_ring_out_copy(struct ecmxf_rings *r, u8 *dst, u32 n);
+void ecmxf_ring_out_release(struct ecmxf_rings *r, u32 n, u32 dropped);
+u32 ecmxf_ring_in_store(struct ecmxf_rings *r, const u8 *src, u32 n);
+
+/* ecmxf-pump.c: the PDO pump */
+struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now);
+int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r,
+		      u64 now);
+struct ecmxf_rings *ecmxf_pump_collect(struct ecmxf_dev *edev);
+struct ecmxf_rings *ecmxf_pump_cancel(struct ecmxf_dev *edev);
+u64 ecmxf_pump_deadline(struct ecmxf_dev *edev);
+
+#endif /* ECMXF_RING_H */
