@@ -28,6 +28,7 @@
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sim/slaves.hpp>
 #include <ecmxf/link/sim_channel.hpp>
+#include "../common/thrown.hpp"
 
 using namespace std::chrono_literals;
 using Catch::Matchers::Equals;
@@ -160,17 +161,7 @@ std::string networkUri(const char *file)
 	return std::string("sim:") + ECMXF_TEST_NETWORK_DIR + "/" + file;
 }
 
-template <typename F>
-ecmxf::Error thrown(F &&f)
-{
-	try {
-		f();
-	} catch (const ecmxf::Error &e) {
-		return e;
-	}
-	FAIL("no ecmxf::Error was thrown");
-	return ecmxf::Error("unreachable", 0);
-}
+using ecmxftest::thrown;
 
 } // namespace
 

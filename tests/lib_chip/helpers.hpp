@@ -16,6 +16,7 @@
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/link/sim_channel.hpp>
+#include "../common/thrown.hpp"
 
 namespace chiptest {
 
@@ -97,17 +98,6 @@ struct SimDevice {
 	std::unique_ptr<ecmxf::Device> dev;
 };
 
-/// Runs @p f, which must throw ecmxf::Error, and returns the error.
-template <typename F>
-ecmxf::Error thrown(F &&f)
-{
-	try {
-		f();
-	} catch (const ecmxf::Error &e) {
-		return e;
-	}
-	FAIL("no ecmxf::Error was thrown");
-	return ecmxf::Error("unreachable", 0);
-}
+using ecmxftest::thrown;
 
 } // namespace chiptest

@@ -16,6 +16,7 @@
 #include <ecmxf/sim/slaves.hpp>
 
 #include "bus.hpp"
+#include "../common/thrown.hpp"
 
 using namespace std::chrono_literals;
 using Catch::Matchers::Contains;
@@ -24,17 +25,7 @@ using pdotest::Bus;
 
 namespace {
 
-template <class F>
-ecmxf::Error thrown(F &&f)
-{
-	try {
-		f();
-	} catch (const ecmxf::Error &e) {
-		return e;
-	}
-	FAIL("no ecmxf::Error was thrown");
-	return ecmxf::Error("unreachable", 0);
-}
+using ecmxftest::thrown;
 
 /// @p n RxPDO frames of the default network (25 bytes), frame i filled
 /// with i + 1 and its digital-output byte (offset 24) = 0x10 + i.

@@ -20,6 +20,7 @@
 #include <ecmxf/sim/slaves.hpp>
 
 #include "bus.hpp"
+#include "../common/thrown.hpp"
 
 using namespace std::chrono_literals;
 using Catch::Matchers::Equals;
@@ -27,17 +28,7 @@ using pdotest::Bus;
 
 namespace {
 
-template <class F>
-ecmxf::Error thrown(F &&f)
-{
-	try {
-		f();
-	} catch (const ecmxf::Error &e) {
-		return e;
-	}
-	FAIL("no ecmxf::Error was thrown");
-	return ecmxf::Error("unreachable", 0);
-}
+using ecmxftest::thrown;
 
 ecmxf::CyclicConfig config(unsigned rxFill = 0)
 {

@@ -12,23 +12,14 @@
 #include <ecmxf/pdo/process_image.hpp>
 
 #include "bus.hpp"
+#include "../common/thrown.hpp"
 
 using Catch::Matchers::Equals;
 using pdotest::entry;
 
 namespace {
 
-template <class F>
-ecmxf::Error thrown(F &&f)
-{
-	try {
-		f();
-	} catch (const ecmxf::Error &e) {
-		return e;
-	}
-	FAIL("no ecmxf::Error was thrown");
-	return ecmxf::Error("unreachable", 0);
-}
+using ecmxftest::thrown;
 
 using Bytes = std::vector<std::uint8_t>;
 

@@ -25,6 +25,7 @@
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/trace/trace.hpp>
+#include "../common/thrown.hpp"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
@@ -106,17 +107,7 @@ std::string decode(const std::string &trace, ecmxf::TraceSummary *summary = null
 	return out.str();
 }
 
-template <typename F>
-ecmxf::Error thrown(F &&f)
-{
-	try {
-		f();
-	} catch (const ecmxf::Error &e) {
-		return e;
-	}
-	FAIL("no ecmxf::Error was thrown");
-	return ecmxf::Error("unreachable", 0);
-}
+using ecmxftest::thrown;
 
 std::filesystem::path tempTrace(const char *tag)
 {

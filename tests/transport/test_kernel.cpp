@@ -26,23 +26,14 @@
 #include <ecmxf/trace/trace.hpp>
 
 #include "trace/trace_writer.hpp"
+#include "../common/thrown.hpp"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
 
 namespace {
 
-template <typename F>
-ecmxf::Error thrown(F &&f)
-{
-	try {
-		f();
-	} catch (const ecmxf::Error &e) {
-		return e;
-	}
-	FAIL("no ecmxf::Error was thrown");
-	return ecmxf::Error("unreachable", 0);
-}
+using ecmxftest::thrown;
 
 /// Plays the kernel: remembers the request, answers with @c answer,
 /// records request and response in the trace as KernelLink does.

@@ -20,6 +20,7 @@
 #include <ecmxf/link/spidev_channel.hpp>
 
 #include "fake_spidev.hpp"
+#include "../common/thrown.hpp"
 
 using namespace std::chrono_literals;
 using Catch::Matchers::Contains;
@@ -51,17 +52,7 @@ ecmxf::Command initOp()
 	return c;
 }
 
-template <typename F>
-ecmxf::Error thrown(F &&f)
-{
-	try {
-		f();
-	} catch (const ecmxf::Error &e) {
-		return e;
-	}
-	FAIL("no ecmxf::Error was thrown");
-	return ecmxf::Error("unreachable", 0);
-}
+using ecmxftest::thrown;
 
 } // namespace
 

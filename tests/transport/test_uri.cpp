@@ -16,6 +16,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/device_uri.hpp>
 #include <ecmxf/error.hpp>
+#include "../common/thrown.hpp"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
@@ -24,17 +25,7 @@ using Kind = ecmxf::DeviceUri::Kind;
 
 namespace {
 
-template <typename F>
-ecmxf::Error thrown(F &&f)
-{
-	try {
-		f();
-	} catch (const ecmxf::Error &e) {
-		return e;
-	}
-	FAIL("no ecmxf::Error was thrown");
-	return ecmxf::Error("unreachable", 0);
-}
+using ecmxftest::thrown;
 
 /// The message parseDeviceUri() gives for @p uri and @p what.
 std::string badUri(const std::string &uri, const std::string &what)

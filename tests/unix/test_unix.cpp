@@ -38,6 +38,7 @@
 #include <ecmxf/device_uri.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/unix_channel.hpp>
+#include "../common/thrown.hpp"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
@@ -46,17 +47,7 @@ using ecmxf::UnixChannel;
 
 namespace {
 
-template <typename F>
-ecmxf::Error thrown(F &&f)
-{
-	try {
-		f();
-	} catch (const ecmxf::Error &e) {
-		return e;
-	}
-	FAIL("no ecmxf::Error was thrown");
-	return ecmxf::Error("unreachable", 0);
-}
+using ecmxftest::thrown;
 
 /// A fresh directory under /tmp, removed with its contents at the end.
 struct TempDir {
