@@ -18,7 +18,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <memory>
 #include <sstream>
@@ -38,6 +37,7 @@
 #include <ecmxf/device_uri.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/unix_channel.hpp>
+#include "../cli/cli_run.hpp"
 #include "../common/thrown.hpp"
 
 using Catch::Matchers::Contains;
@@ -209,34 +209,6 @@ void answerHello(int c)
 	sendBytes(c, helloReply());
 }
 
-struct CliResult {
-	int status = -1;
-	std::string out, err;
-};
-
-/// ecmxf-util @p args (no shell metacharacters in them).
-CliResult runUtil(const TempDir &dir, const std::string &args)
-{
-	static int serial = 0;
-	const std::string errFile = dir.path + "/util-" + std::to_string(serial++) + ".err";
-	const std::string cmd = std::string(ECMXF_UTIL_PATH) + " " + args + " 2>" + errFile;
-	CliResult r;
-	std::FILE *p = popen(cmd.c_str(), "r");
-	REQUIRE(p != nullptr);
-	char buf[4096];
-	std::size_t n;
-	while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0)
-		r.out.append(buf, n);
-	const int st = pclose(p);
-	REQUIRE(WIFEXITED(st));
-	r.status = WEXITSTATUS(st);
-	std::ifstream f(errFile);
-	std::stringstream ss;
-	ss << f.rdbuf();
-	r.err = ss.str();
-	return r;
-}
-
 } // namespace
 
 // ------------------------------------------------------------ the channel
@@ -294,18 +266,18 @@ TEST_CASE("unix: ecmxf-util states PREOP persists to a later ecmxf-util slaves",
 	Server server(sock);
 	const std::string d = "-d unix:" + sock + " ";
 
-	auto r = runUtil(dir, d + "slaves");
+	auto r = clitest::run(d + "slaves");
 	REQUIRE(r.status == 0);
 	CHECK(r.err.empty());
 	CHECK_THAT(r.out, Contains("INIT"));
 	CHECK_THAT(r.out, !Contains("PREOP"));
 
-	r = runUtil(dir, d + "states PREOP");
+	r = clitest::run(d + "states PREOP");
 	REQUIRE(r.status == 0);
 	CHECK(r.out == "0    PREOP  +\n1    PREOP  +\n2    PREOP  +\n");
 
 	// a second program, a new connection: the slaves are still in PRE-OP
-	r = runUtil(dir, d + "slaves");
+	r = clitest::run(d + "slaves");
 	REQUIRE(r.status == 0);
 	CHECK(r.err.empty());
 	const auto lines = [](const std::string &s) {
@@ -324,7 +296,7 @@ TEST_CASE("unix: ecmxf-util names a missing server", "[unix][cli]")
 {
 	TempDir dir;
 	const std::string sock = dir.path + "/nope";
-	const auto r = runUtil(dir, "-d unix:" + sock + " slaves");
+	const auto r = clitest::run("-d unix:" + sock + " slaves");
 	CHECK(r.status != 0);
 	CHECK_THAT(r.err, Contains("unix:" + sock + ": no ecmxf-sim listening there (start one with `ecmxf-sim --socket " +
 				   sock + "`)"));
