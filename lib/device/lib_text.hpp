@@ -45,11 +45,12 @@ ResponseHeader headerFrom(const Wire &h) noexcept
 	return r;
 }
 
-/// @p h into the protocol core's struct ecmxf_rsp_hdr (or the uAPI's
-/// struct ecmxf_rsp_header): headerFrom() the other way round.
+/// @p h as the protocol core's struct ecmxf_rsp_hdr (or the uAPI's struct
+/// ecmxf_rsp_header): headerFrom() the other way round.
 template <typename Wire>
-void headerTo(const ResponseHeader &h, Wire &r) noexcept
+Wire wireHeader(const ResponseHeader &h) noexcept
 {
+	Wire r{};
 	r.crc_err_cnt = h.crcErrCnt;
 	r.wkc_err_cnt = h.wkcErrCnt;
 	r.tx_fifo_cnt = h.txFifoCnt;
@@ -66,6 +67,7 @@ void headerTo(const ResponseHeader &h, Wire &r) noexcept
 	r.gpio_int_flag[1] = h.gpioIntFlag[1];
 	r.gpio_in[0] = h.gpioIn[0];
 	r.gpio_in[1] = h.gpioIn[1];
+	return r;
 }
 
 /// The command header fields of @p req into the protocol core's struct

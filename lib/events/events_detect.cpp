@@ -42,13 +42,6 @@ Event fromCore(const ecmxf_det_event &d)
 	return e;
 }
 
-ecmxf_rsp_hdr toCore(const ResponseHeader &h) noexcept
-{
-	ecmxf_rsp_hdr r{};
-	detail::headerTo(h, r);
-	return r;
-}
-
 std::uint64_t ns(std::chrono::nanoseconds t)
 {
 	return t.count() < 0 ? 0 : static_cast<std::uint64_t>(t.count());
@@ -120,7 +113,7 @@ EventDetector &EventDetector::operator=(EventDetector &&) noexcept = default;
 std::vector<Event> EventDetector::feed(const ResponseHeader &header, std::chrono::nanoseconds now)
 {
 	ecmxf_det_event d[ECMXF_DET_MAX_EVENTS];
-	const ecmxf_rsp_hdr h = toCore(header);
+	const ecmxf_rsp_hdr h = detail::wireHeader<ecmxf_rsp_hdr>(header);
 	return convert(d, ecmxf_det_feed(&impl_->det, &h, ns(now), d));
 }
 

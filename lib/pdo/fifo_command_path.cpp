@@ -96,14 +96,6 @@ RawCommand rawCommand(const ecmxf_cmd_hdr &hdr, std::chrono::microseconds timeou
 	return c;
 }
 
-/// The answer's header as the protocol core reads it.
-ecmxf_rsp_hdr coreHeader(const ResponseHeader &h) noexcept
-{
-	ecmxf_rsp_hdr r{};
-	detail::headerTo(h, r);
-	return r;
-}
-
 /// The FIFO-command path: ECAT_PDO_DATA_FIFO_OP over Device::transact().
 class FifoCommandPath final : public CyclicPath
 {
@@ -184,7 +176,7 @@ bool FifoCommandPath::fifoOp(CycleResult &r, const ecmxf_pump_plan &pl, Response
 		cycleFail(r, err, fifoOpText(err));
 		return false;
 	}
-	const ecmxf_rsp_hdr rh = coreHeader(h);
+	const ecmxf_rsp_hdr rh = detail::wireHeader<ecmxf_rsp_hdr>(h);
 	proto = ecmxf_pump_answer(&pump_, &pl, &rh, h.len, &res);
 	if (proto == -EREMOTEIO) {
 		cycleFail(r, EREMOTEIO, fifoOpText(EREMOTEIO));
@@ -339,7 +331,7 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 			cycleFail(r, err, wcGetText(err));
 			return;
 		}
-		const ecmxf_rsp_hdr rh = coreHeader(h);
+		const ecmxf_rsp_hdr rh = detail::wireHeader<ecmxf_rsp_hdr>(h);
 		std::uint32_t wkc = 0;
 		const int werr = ecmxf_pump_wkc_answer(&rh, v.data(), h.len, &wkc);
 		if (werr) {
