@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -290,4 +291,21 @@ TEST_CASE("assumeFormat() over a Link that tracks the format itself is refused",
 	const ecmxf::Error bad = thrown([&] { sim.assumeFormat(31, ecmxf::CheckType::Fixed); });
 	CHECK(bad.errnoValue() == EINVAL);
 	CHECK_THAT(bad.what(), Contains("31"));
+}
+
+TEST_CASE("where events come from: the kernel device's minor, none for an engine link", "[transport][kernel]")
+{
+	// /dev/null is the character device 1:3 (Documentation/admin-guide/devices.txt)
+	CHECK(ecmxf::KernelLink::minorOf("/dev/null") == std::optional<std::uint32_t>(3u));
+	// not a character device, or not there: no minor
+	CHECK_FALSE(ecmxf::KernelLink::minorOf("/").has_value());
+	CHECK_FALSE(ecmxf::KernelLink::minorOf("/nonexistent/ecmxf0").has_value());
+	CHECK_FALSE(ecmxf::KernelLink::minorOf("").has_value());
+	// an engine link's events are found by polling headers
+	ecmxf::Device sim(std::make_unique<ecmxf::SimChannel>());
+	CHECK_FALSE(sim.link().kernelMinor().has_value());
+	CHECK(sim.link().simulator() != nullptr);
+	Rig r;
+	CHECK_FALSE(r.dev->link().kernelMinor().has_value()); // the Link default
+	CHECK(r.dev->link().simulator() == nullptr);
 }
