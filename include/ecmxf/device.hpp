@@ -122,6 +122,16 @@ public:
 	/// command fails; nothing is left in flight afterwards.
 	Response command(const Command &c);
 
+	/// Runs the async command @p c and its result fetch @p fetch (the
+	/// *_GET partner, an immediate command: ECAT_SDO_GET after
+	/// ECAT_SDO_REQ...) and returns the fetch's answer. Over an engine
+	/// link the fetch is the poll of the running command: the exchange
+	/// that sees the completion also brings the result (see
+	/// Documentation/protocol-core.rst, "Pipelining"); other links run
+	/// the two one after the other. Throws @p c's failure as command()
+	/// does (the fetch is then not sent), else the fetch's.
+	Response commandWithFetch(const Command &c, const Command &fetch);
+
 	/// The pause between two polls (INFO_UPDATE exchanges) of a running
 	/// async command. The default, zero, polls back to back, each poll
 	/// waiting only for INT0 "ready": no fixed sleeps, the completion is
@@ -166,6 +176,11 @@ public:
 	/// failure here: look at header.errStatus.
 	int transact(const RawCommand &c, std::span<const std::uint8_t> payload, std::span<std::uint8_t> rx,
 		     ResponseHeader &header) noexcept;
+	/// The link request transact() would run for @p c (its timeout raised
+	/// to minimumTimeout()), for callers that hand several to
+	/// Link::runBatch() (the cyclic path). Allocates nothing.
+	[[nodiscard]] RawRequest request(const RawCommand &c, std::span<const std::uint8_t> payload,
+					 std::span<std::uint8_t> rx) const noexcept;
 	/// The current data section size in bytes (112 at power-on): the most
 	/// one transact() carries each way.
 	[[nodiscard]] std::size_t pdoDataCapacity() const noexcept;

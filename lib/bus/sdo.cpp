@@ -144,12 +144,15 @@ void checkCommon(const std::string &what, std::uint8_t slave, const SdoOptions &
 			    EOPNOTSUPP);
 }
 
-/// Runs the SDO_REQ; a failure on the bus becomes an SdoError with the
+/// Runs the SDO_REQ (an upload: with its ECAT_SDO_GET as the fetch, whose
+/// answer is returned); a failure on the bus becomes an SdoError with the
 /// abort code and its text.
-void runSdo(const Sdo &sdo, const Command &c, const std::string &what, std::uint8_t slave)
+Response runSdo(const Sdo &sdo, const Command &c, const std::string &what, std::uint8_t slave, bool upload)
 {
 	try {
-		detail::async(sdo.device(), c, what, {}, {}, slave);
+		if (upload)
+			return detail::asyncWithFetch(sdo.device(), c, bus::cmd(ECMXF_CMD_ECAT_SDO_GET), what, slave);
+		return detail::async(sdo.device(), c, what, {}, {}, slave);
 	} catch (const Error &e) {
 		bus::throwSdoAbort(sdo.device().bus(), what, e);
 	}
@@ -166,8 +169,7 @@ std::vector<std::uint8_t> Sdo::sdoUpload(std::uint8_t slave, std::uint16_t index
 		throw Error(what + ": " + std::to_string(options.length) +
 				    " bytes requested, the chip moves at most 256 bytes per SDO request",
 			    EMSGSIZE);
-	runSdo(*this, sdoRequest(true, slave, index, sub, options.length, options), what, slave);
-	Response r = detail::immediate(*dev_, bus::cmd(ECMXF_CMD_ECAT_SDO_GET), what);
+	Response r = runSdo(*this, sdoRequest(true, slave, index, sub, options.length, options), what, slave, true);
 	// the answer is clipped to the data section: a full section may
 	// hide a longer object
 	if (r.data.size() >= ECMXF_DATA_MIN && r.data.size() != options.length) {
@@ -195,7 +197,7 @@ void Sdo::sdoDownload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
 			    EMSGSIZE);
 	Command c = sdoRequest(false, slave, index, sub, static_cast<std::uint16_t>(data.size()), options);
 	c.payload.insert(c.payload.end(), data.begin(), data.end()); // at 0x0C (the table's 0x12 is a typo)
-	runSdo(*this, c, what, slave);
+	runSdo(*this, c, what, slave, false);
 }
 
 std::string Sdo::sdoReadString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,

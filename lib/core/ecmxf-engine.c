@@ -56,6 +56,7 @@ void ecmxf_engine_init(struct ecmxf_engine *e, unsigned int data_size,
 	e->check = (u8)((unsigned int)check <= ECMXF_CHECK_CRC32 ?
 			check : ECMXF_CHECK_FIXED);
 	e->prev_check = e->check;
+	e->pipeline = true;
 	e->max_retries = ECMXF_ENGINE_DEFAULT_RETRIES;
 	e->last_fault = ECMXF_FAULT_NONE;
 }
@@ -115,37 +116,90 @@ static bool ecmxf_xfer_async(const struct ecmxf_xfer *x)
 	return ecmxf_cmd_is_async(x->hdr.code, x->hdr.param);
 }
 
+/* commands that change the next packet's format: nothing rides with them */
+static bool ecmxf_cmd_solo(unsigned int code)
+{
+	return code == ECMXF_CMD_SPI_RECONFIG_OP ||
+	       code == ECMXF_CMD_CRC_TYPE_SET || code == ECMXF_CMD_WARM_RESET;
+}
+
+/* an async command is accepted, running or about to be sent */
+static bool ecmxf_async_pending(const struct ecmxf_engine *e)
+{
+	const struct ecmxf_xfer *s[2] = { e->cur, e->nxt };
+	unsigned int i;
+
+	if (e->async)
+		return true;
+	for (i = 0; i < 2; i++)
+		if (s[i] && (ecmxf_xfer_async(s[i]) || s[i]->owner))
+			return true;
+	return false;
+}
+
+/**
+ * ecmxf_engine_set_pipeline() - let a second command ride
+ * @e: engine
+ * @on: true (the default): a second command is sent in the exchange that
+ *	fetches the first one's answer, and an async command's result fetch
+ *	is its poll; false: one command per two exchanges, INFO_UPDATE polls
+ *	and the fetch after completion (for comparison and for tests)
+ */
+void ecmxf_engine_set_pipeline(struct ecmxf_engine *e, bool on)
+{
+	e->pipeline = on;
+}
+
 /**
  * ecmxf_engine_can_submit() - may @x be submitted now
  * @e: engine
  * @x: the command
  *
- * Return: true when no command waits for its answer and, for an async
- * command, no async command is running.
+ * Return: true when a command slot is free: the first, or the second one
+ * behind a command that changes no packet format (pipelining on).  An
+ * async command also needs no other async command accepted, running or
+ * queued.
  */
 bool ecmxf_engine_can_submit(const struct ecmxf_engine *e,
 			     const struct ecmxf_xfer *x)
 {
-	if (e->cur)
-		return false;
-	return !(x && ecmxf_xfer_async(x) && e->async);
+	bool async = x && ecmxf_xfer_async(x);
+
+	if (e->cur) {
+		if (e->nxt || !e->pipeline || ecmxf_cmd_solo(e->cur->hdr.code))
+			return false;
+		if (x && ecmxf_cmd_solo(x->hdr.code))
+			return false;
+	}
+	return !(async && ecmxf_async_pending(e));
 }
 
-/**
- * ecmxf_engine_submit() - hand a command to the engine
- * @e: engine
- * @x: the command; it must stay valid until its status is final
- * @now_ns: current time
- *
- * Return: 0; -EBUSY when ecmxf_engine_can_submit() says no; -EINVAL for
- * a bad argument; -EMSGSIZE when @x->tx_len exceeds the data section.
- */
-int ecmxf_engine_submit(struct ecmxf_engine *e, struct ecmxf_xfer *x,
-			u64 now_ns)
+static u64 ecmxf_deadline_of(const struct ecmxf_xfer *x, u64 now_ns)
 {
-	const struct ecmxf_cmd_info *ci;
-	u64 timeout_ns;
+	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(x->hdr.code);
+	u64 timeout_ns = x->timeout_us ? (u64)x->timeout_us * 1000u :
+			 (u64)(ci ? ci->timeout_ms : 100u) * 1000000u;
 
+	return now_ns + timeout_ns;
+}
+
+static void ecmxf_xfer_start(struct ecmxf_xfer *x, u64 now_ns)
+{
+	x->async = ecmxf_xfer_async(x);
+	x->status = -EINPROGRESS;
+	x->fault = ECMXF_FAULT_NONE;
+	x->rx_len = 0;
+	memset(&x->rsp, 0, sizeof(x->rsp));
+	x->started_ns = now_ns;
+	x->deadline_ns = ecmxf_deadline_of(x, now_ns);
+	x->state = ECMXF_XS_QUEUED;
+	x->sent_seq = 0;
+	x->last_seq = 0;
+}
+
+static int ecmxf_xfer_check(const struct ecmxf_engine *e,
+			    const struct ecmxf_xfer *x)
+{
 	if (!x || (x->tx_len && !x->tx_data) || (x->rx_size && !x->rx_buf))
 		return -EINVAL;
 	if (x->tx_len > e->data_size)
@@ -162,31 +216,76 @@ int ecmxf_engine_submit(struct ecmxf_engine *e, struct ecmxf_xfer *x,
 	if (x->hdr.code == ECMXF_CMD_CRC_TYPE_SET &&
 	    x->hdr.param > ECMXF_CHECK_CRC32)
 		return -EINVAL;
+	return 0;
+}
+
+/* put @x in the first free slot */
+static void ecmxf_slot_add(struct ecmxf_engine *e, struct ecmxf_xfer *x)
+{
+	if (!e->cur)
+		e->cur = x;
+	else
+		e->nxt = x;
+}
+
+/* take @x out of its slot; the younger command moves up */
+static void ecmxf_slot_del(struct ecmxf_engine *e, struct ecmxf_xfer *x)
+{
+	if (e->cur == x) {
+		e->cur = e->nxt;
+		e->nxt = NULL;
+	} else if (e->nxt == x) {
+		e->nxt = NULL;
+	}
+}
+
+/**
+ * ecmxf_engine_submit() - hand a command to the engine
+ * @e: engine
+ * @x: the command; it must stay valid until its status is final (and
+ *	@x->fetch until its own is)
+ * @now_ns: current time
+ *
+ * Return: 0; -EBUSY when ecmxf_engine_can_submit() says no; -EINVAL for
+ * a bad argument (also a @x->fetch on a command that is not async, or a
+ * fetch that is async or has a fetch itself); -EMSGSIZE when a data
+ * length exceeds the data section.
+ */
+int ecmxf_engine_submit(struct ecmxf_engine *e, struct ecmxf_xfer *x,
+			u64 now_ns)
+{
+	struct ecmxf_xfer *f = x ? x->fetch : NULL;
+	int ret;
+
+	ret = ecmxf_xfer_check(e, x);
+	if (ret)
+		return ret;
+	if (f) {
+		ret = ecmxf_xfer_check(e, f);
+		if (ret)
+			return ret;
+		if (f == x || !ecmxf_xfer_async(x) || ecmxf_xfer_async(f) ||
+		    f->fetch || ecmxf_cmd_solo(f->hdr.code))
+			return -EINVAL;
+	}
 	if (!ecmxf_engine_can_submit(e, x))
 		return -EBUSY;
 
-	ci = ecmxf_cmd_lookup(x->hdr.code);
-	timeout_ns = x->timeout_us ? (u64)x->timeout_us * 1000u :
-		     (u64)(ci ? ci->timeout_ms : 100u) * 1000000u;
-
-	x->async = ecmxf_xfer_async(x);
-	x->status = -EINPROGRESS;
-	x->fault = ECMXF_FAULT_NONE;
-	x->rx_len = 0;
-	memset(&x->rsp, 0, sizeof(x->rsp));
-	x->started_ns = now_ns;
-	x->deadline_ns = now_ns + timeout_ns;
-	x->state = ECMXF_XS_QUEUED;
-	e->cur = x;
-	e->cur_sent = false;
+	ecmxf_xfer_start(x, now_ns);
+	x->owner = NULL;
+	if (f) {
+		ecmxf_xfer_start(f, now_ns);
+		f->state = ECMXF_XS_IDLE;	/* queued when @x is accepted */
+		f->owner = x;
+	}
 	/*
 	 * The retry bound is per command: bad packets that a command which
 	 * ended meanwhile (by its deadline) or an idle refresh saw must not
-	 * use up the budget of this one.  A running async command keeps
-	 * counting.
+	 * use up the budget of this one.  Commands in flight keep counting.
 	 */
-	if (!e->async)
+	if (!e->async && !e->cur)
 		e->bad_in_row = 0;
+	ecmxf_slot_add(e, x);
 	return 0;
 }
 
@@ -196,20 +295,55 @@ static void ecmxf_finish(struct ecmxf_xfer *x, int status)
 	x->state = ECMXF_XS_DONE;
 }
 
-/* Finish the current command; returns the event to report. */
-static unsigned int ecmxf_finish_cur(struct ecmxf_engine *e, int status)
+/* A fetch whose async command failed before the fetch was queued. */
+static unsigned int ecmxf_drop_fetch(struct ecmxf_xfer *x)
 {
-	ecmxf_finish(e->cur, status);
-	e->cur = NULL;
-	e->cur_sent = false;
+	struct ecmxf_xfer *f = x->fetch;
+
+	if (!f || f->owner != x || f->state != ECMXF_XS_IDLE)
+		return 0;
+	ecmxf_finish(f, -ECANCELED);
 	return ECMXF_EV_CMD_DONE;
+}
+
+/* Finish a command in a slot; returns the event to report. */
+static unsigned int ecmxf_finish_slot(struct ecmxf_engine *e,
+				      struct ecmxf_xfer *x, int status)
+{
+	unsigned int ev = ECMXF_EV_CMD_DONE;
+
+	ecmxf_slot_del(e, x);
+	ecmxf_finish(x, status);
+	if (status)
+		ev |= ecmxf_drop_fetch(x);
+	return ev;
 }
 
 static unsigned int ecmxf_finish_async(struct ecmxf_engine *e, int status)
 {
-	ecmxf_finish(e->async, status);
+	struct ecmxf_xfer *x = e->async;
+
+	ecmxf_finish(x, status);
 	e->async = NULL;
+	if (status)
+		return ECMXF_EV_ASYNC_DONE | ecmxf_drop_fetch(x);
 	return ECMXF_EV_ASYNC_DONE;
+}
+
+/* Queue the fetch of @x (accepted, or done at once) in a free slot. */
+static void ecmxf_queue_fetch(struct ecmxf_engine *e, struct ecmxf_xfer *x,
+			      u64 now_ns)
+{
+	struct ecmxf_xfer *f = x->fetch;
+	u64 d;
+
+	if (!f || f->owner != x || f->state != ECMXF_XS_IDLE)
+		return;
+	f->state = ECMXF_XS_QUEUED;
+	/* it polls until @x ends: it may take as long as @x */
+	d = ecmxf_deadline_of(f, now_ns);
+	f->deadline_ns = d > x->deadline_ns ? d : x->deadline_ns;
+	ecmxf_slot_add(e, f);
 }
 
 /**
@@ -217,22 +351,30 @@ static unsigned int ecmxf_finish_async(struct ecmxf_engine *e, int status)
  * @e: engine
  * @x: a command submitted to @e
  *
- * The command finishes with -ECANCELED.  An async command may still run
- * on the chip; its busy bit then delays the next async command.
+ * The command finishes with -ECANCELED, and so does its fetch if it has
+ * not finished yet.  An async command may still run on the chip; its
+ * busy bit then delays the next async command.
  *
  * Return: 0, or -ENOENT when @x is not in the engine.
  */
 int ecmxf_engine_cancel(struct ecmxf_engine *e, struct ecmxf_xfer *x)
 {
-	if (x && x == e->cur) {
-		ecmxf_finish_cur(e, -ECANCELED);
-		return 0;
-	}
-	if (x && x == e->async) {
+	struct ecmxf_xfer *f;
+
+	if (!x || (x != e->cur && x != e->nxt && x != e->async))
+		return -ENOENT;
+	f = x->fetch;
+	if (x == e->async) {
 		ecmxf_finish_async(e, -ECANCELED);
-		return 0;
+	} else {
+		ecmxf_slot_del(e, x);
+		ecmxf_finish(x, -ECANCELED);
 	}
-	return -ENOENT;
+	if (f && f->owner == x && f->status == -EINPROGRESS) {
+		ecmxf_slot_del(e, f);
+		ecmxf_finish(f, -ECANCELED);
+	}
+	return 0;
 }
 
 /**
@@ -296,6 +438,57 @@ static void ecmxf_power_on_format(struct ecmxf_engine *e, u64 now_ns)
 	e->not_before_ns = now_ns + ECMXF_RECONFIG_HOLDOFF_NS;
 }
 
+static bool ecmxf_sent(const struct ecmxf_xfer *x)
+{
+	return x && x->state == ECMXF_XS_SENT;
+}
+
+static unsigned int ecmxf_answer_lost(struct ecmxf_engine *e,
+				      struct ecmxf_xfer *x,
+				      const struct ecmxf_rsp_hdr *h,
+				      u8 new_err, u64 now_ns);
+
+/*
+ * What the next packet carries: a first send (*first set), a re-send of
+ * the newest command sent, or NULL for an INFO_UPDATE.  Only the packet
+ * sent last may be repeated: the chip runs a repeat of the previous
+ * packet as INFO_UPDATE, but anything older would run again.  A command
+ * whose answer is still due although a younger one went out after it and
+ * left unanswered (cancelled, timed out) can no longer be polled: its
+ * answer counts as lost.
+ */
+static struct ecmxf_xfer *ecmxf_pick(struct ecmxf_engine *e, bool *first,
+				     u64 now_ns)
+{
+	struct ecmxf_xfer *newest;
+
+	for (;;) {
+		*first = true;
+		if (e->cur && e->cur->state == ECMXF_XS_QUEUED)
+			return e->cur;
+		if (e->nxt && e->nxt->state == ECMXF_XS_QUEUED &&
+		    e->pipeline)
+			return e->nxt;
+		*first = false;
+		newest = NULL;
+		if (ecmxf_sent(e->cur))
+			newest = e->cur;
+		if (ecmxf_sent(e->nxt) &&
+		    (!newest || e->nxt->sent_seq > newest->sent_seq))
+			newest = e->nxt;
+		if (!newest || newest->last_seq == e->seq)
+			return newest;
+		if (newest->async) {
+			/* accepted or refused: nothing tells which any more */
+			e->stats.lost_answers++;
+			newest->fault = e->last_fault;
+			ecmxf_finish_slot(e, newest, -EPROTO);
+			continue;
+		}
+		ecmxf_answer_lost(e, newest, &e->last, 0, now_ns);
+	}
+}
+
 /**
  * ecmxf_engine_next() - the packet for the next exchange
  * @e: engine
@@ -303,9 +496,13 @@ static void ecmxf_power_on_format(struct ecmxf_engine *e, u64 now_ns)
  * @pkt: output buffer
  * @pkt_len: must equal ecmxf_engine_pkt_size()
  *
- * Always produces a packet: the current command (first send or a
- * re-send to poll for its answer), or an INFO_UPDATE that refreshes the
- * header and polls a running async command.
+ * Always produces a packet: a command's first send (the second command
+ * rides in the exchange that fetches the first one's answer), a re-send
+ * of the newest command to poll for its answer, or an INFO_UPDATE that
+ * refreshes the header and polls a running async command.  A command
+ * that can no longer be polled (see ecmxf_pick()) is finished here with
+ * -EPROTO unless it is safe to send again: owners look at the status of
+ * their commands after every exchange, not only at the events.
  *
  * Return: 0; -EINVAL for a wrong @pkt_len; -EAGAIN before
  * ecmxf_engine_not_before().
@@ -314,10 +511,11 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 		      u8 *pkt, size_t pkt_len)
 {
 	struct ecmxf_cmd_hdr h;
-	struct ecmxf_xfer *x = e->cur;
+	struct ecmxf_xfer *x = NULL;
 	enum ecmxf_check check = (enum ecmxf_check)e->check;
 	const void *data = NULL;
 	size_t data_len = 0;
+	bool first = false;
 	int ret;
 
 	if (!pkt || pkt_len != ecmxf_engine_pkt_size(e))
@@ -325,13 +523,17 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 	if (now_ns < e->not_before_ns)
 		return -EAGAIN;
 
-	if (!e->last_valid || !x ||
-	    (e->cur_sent && x->hdr.code == ECMXF_CMD_WARM_RESET)) {
-		/*
-		 * Sync packet, INFO_UPDATE poll / header refresh.  WARM_RESET
-		 * is never re-sent: a chip that has just restarted remembers
-		 * no previous packet and would run it again.
-		 */
+	if (e->last_valid)
+		x = ecmxf_pick(e, &first, now_ns);
+	/*
+	 * WARM_RESET is never re-sent: a chip that has just restarted
+	 * remembers no previous packet and would run it again.
+	 */
+	if (x && !first && x->hdr.code == ECMXF_CMD_WARM_RESET)
+		x = NULL;
+
+	if (!x) {
+		/* sync packet, INFO_UPDATE poll / header refresh */
 		memset(&h, 0, sizeof(h));
 		h.code = ECMXF_CMD_INFO_UPDATE_OP;
 		h.index = e->last_valid ? e->last_index : ecmxf_fresh_index(e);
@@ -340,7 +542,7 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 		h = x->hdr;
 		data = x->tx_data;
 		data_len = x->tx_len;
-		if (!e->cur_sent) {
+		if (first) {
 			h.index = ecmxf_fresh_index(e);
 			x->hdr.index = h.index;
 			ecmxf_take_pending(e, &h);
@@ -355,7 +557,7 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 			h.gpio_int_clear[0] = 0;
 			h.gpio_int_clear[1] = 0;
 		}
-		if (h.code == ECMXF_CMD_SPI_RECONFIG_OP && !e->cur_sent)
+		if (h.code == ECMXF_CMD_SPI_RECONFIG_OP && first)
 			check = ECMXF_CHECK_FIXED;	/* as the manual asks */
 	}
 
@@ -363,9 +565,17 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 	if (ret)
 		return ret;
 
-	if (x && e->last_valid && !e->cur_sent) {
-		e->cur_sent = true;
-		x->state = ECMXF_XS_SENT;
+	e->seq++;
+	if (x) {
+		x->last_seq = e->seq;
+		if (first) {
+			x->sent_seq = e->seq;
+			x->state = ECMXF_XS_SENT;
+			if (ecmxf_sent(x == e->cur ? e->nxt : e->cur))
+				e->stats.pipelined++;
+		}
+	}
+	if (x && first) {
 		switch (h.code) {
 		case ECMXF_CMD_SPI_RECONFIG_OP:
 			/* the next exchange is at the new size, 100 ms on */
@@ -395,9 +605,9 @@ static unsigned int ecmxf_exhausted(struct ecmxf_engine *e)
 	int err = ecmxf_fault_errno(e->last_fault);
 	unsigned int ev = 0;
 
-	if (e->cur) {
+	while (e->cur) {
 		e->cur->fault = e->last_fault;
-		ev |= ecmxf_finish_cur(e, err);
+		ev |= ecmxf_finish_slot(e, e->cur, err);
 		e->stats.exhausted++;
 	}
 	if (e->async) {
@@ -421,66 +631,78 @@ static int ecmxf_async_outcome(struct ecmxf_engine *e, struct ecmxf_xfer *x,
 	return -EREMOTEIO;
 }
 
-/* The answer to the current async command arrived (or was lost). */
+/* The answer to an async command @x in a slot arrived (or was lost). */
 static unsigned int ecmxf_async_answered(struct ecmxf_engine *e,
+					 struct ecmxf_xfer *x,
 					 const struct ecmxf_rsp_hdr *h,
-					 u8 new_err)
+					 u8 new_err, u64 now_ns)
 {
-	struct ecmxf_xfer *x = e->cur;
+	unsigned int ev;
 
 	if (new_err & ECMXF_ERR_CMD) {
 		/* refused: another async command is running on the chip */
 		e->stats.busy_rejects++;
 		if (!(x->flags & ECMXF_XF_NO_AUTO_CLEAR))
 			e->control_pending |= ECMXF_CTL_CLR_CMD_ERR;
-		return ecmxf_finish_cur(e, -EBUSY);
+		return ecmxf_finish_slot(e, x, -EBUSY);
 	}
 	if (h->ecm_status & ECMXF_STS_BUSY) {
+		ecmxf_slot_del(e, x);
 		e->async = x;
 		x->state = ECMXF_XS_RUNNING;
-		e->cur = NULL;
-		e->cur_sent = false;
+		/* with pipelining, the fetch is the poll */
+		if (e->pipeline)
+			ecmxf_queue_fetch(e, x, now_ns);
 		return 0;
 	}
-	return ecmxf_finish_cur(e, ecmxf_async_outcome(e, x, h));
+	ev = ecmxf_finish_slot(e, x, ecmxf_async_outcome(e, x, h));
+	if (!x->status)
+		ecmxf_queue_fetch(e, x, now_ns);
+	return ev;
 }
 
-static unsigned int ecmxf_match_cur(struct ecmxf_engine *e,
-				    const struct ecmxf_rsp_hdr *h,
-				    const u8 *data, u8 new_err)
+/*
+ * The answer of @x is gone: overwritten on the chip or lost on the wire.
+ * An idempotent command goes again; anything else may have run, so it
+ * fails rather than run twice.
+ */
+static unsigned int ecmxf_answer_lost(struct ecmxf_engine *e,
+				      struct ecmxf_xfer *x,
+				      const struct ecmxf_rsp_hdr *h,
+				      u8 new_err, u64 now_ns)
 {
-	struct ecmxf_xfer *x = e->cur;
-	const struct ecmxf_cmd_info *ci;
-	u16 n;
+	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(x->hdr.code);
 
-	if (h->index != x->hdr.index) {
-		e->stats.polls++;	/* not answered yet: re-send */
+	e->stats.lost_answers++;
+	x->rsp = *h;
+	if (x->async)
+		return ecmxf_async_answered(e, x, h, new_err, now_ns);
+	if (x->owner || (ci && (ci->flags & ECMXF_CMDF_IDEMPOTENT))) {
+		e->stats.retries++;
+		if (ecmxf_sent(x == e->cur ? e->nxt : e->cur))
+			e->stats.reordered++;	/* it goes after the younger */
+		x->state = ECMXF_XS_QUEUED;	/* again, with a fresh index */
 		return 0;
 	}
+	x->fault = e->last_fault;
+	return ecmxf_finish_slot(e, x, -EPROTO);
+}
 
-	if (h->code != x->hdr.code) {
-		/*
-		 * Our index with another code: the chip answered a re-send
-		 * as INFO_UPDATE, so the real answer was lost on the wire.
-		 * The command did run.
-		 */
-		e->stats.lost_answers++;
-		x->rsp = *h;
-		if (x->async)
-			return ecmxf_async_answered(e, h, new_err);
-		ci = ecmxf_cmd_lookup(x->hdr.code);
-		if (ci && (ci->flags & ECMXF_CMDF_IDEMPOTENT)) {
-			e->stats.retries++;
-			e->cur_sent = false;	/* again, with a fresh index */
-			x->state = ECMXF_XS_QUEUED;
-			return 0;
-		}
-		x->fault = e->last_fault;
-		return ecmxf_finish_cur(e, -EPROTO);
+/* @x's own answer arrived: copy it and decide. */
+static unsigned int ecmxf_answered(struct ecmxf_engine *e,
+				   struct ecmxf_xfer *x,
+				   const struct ecmxf_rsp_hdr *h,
+				   const u8 *data, u8 new_err, u64 now_ns)
+{
+	u16 n = h->len;			/* <= data section: decode checked it */
+
+	if (x->owner && (h->ecm_status & ECMXF_STS_BUSY)) {
+		/* a fetch that ran while the chip was busy: poll again */
+		e->stats.fetch_polls++;
+		x->state = ECMXF_XS_QUEUED;
+		return 0;
 	}
-
 	x->rsp = *h;
-	n = h->len;			/* <= data section: decode checked it */
 	if (x->rx_buf) {
 		if (n > x->rx_size)
 			n = x->rx_size;
@@ -488,22 +710,66 @@ static unsigned int ecmxf_match_cur(struct ecmxf_engine *e,
 		x->rx_len = n;
 	}
 	if (x->async)
-		return ecmxf_async_answered(e, h, new_err);
+		return ecmxf_async_answered(e, x, h, new_err, now_ns);
 	if (x->rx_buf && h->len > x->rx_size)
-		return ecmxf_finish_cur(e, -EMSGSIZE);
-	return ecmxf_finish_cur(e, 0);
+		return ecmxf_finish_slot(e, x, -EMSGSIZE);
+	return ecmxf_finish_slot(e, x, 0);
+}
+
+/* Match a valid response to the commands waiting for their answer. */
+static unsigned int ecmxf_match(struct ecmxf_engine *e,
+				const struct ecmxf_rsp_hdr *h,
+				const u8 *data, u8 new_err, u64 now_ns)
+{
+	struct ecmxf_xfer *x = NULL, *other;
+	unsigned int ev = 0;
+
+	if (ecmxf_sent(e->cur) && h->index == e->cur->hdr.index)
+		x = e->cur;
+	else if (ecmxf_sent(e->nxt) && h->index == e->nxt->hdr.index)
+		x = e->nxt;
+
+	if (!x) {
+		/*
+		 * Not answered yet (the chip is late, or rejected a packet):
+		 * the newest command is re-sent with its (index, code), which
+		 * the chip runs as INFO_UPDATE if it has it and as the command
+		 * if it has not.
+		 */
+		if (ecmxf_sent(e->cur) || ecmxf_sent(e->nxt))
+			e->stats.polls++;
+		return 0;
+	}
+
+	/* an older command still waiting lost its answer before this one */
+	other = x == e->cur ? e->nxt : e->cur;
+	if (ecmxf_sent(other) && other->sent_seq < x->sent_seq)
+		ev |= ecmxf_answer_lost(e, other, h, new_err, now_ns);
+
+	if (h->code != x->hdr.code)
+		/*
+		 * Our index with another code: the chip answered a re-send
+		 * as INFO_UPDATE, so the real answer was lost (on the wire
+		 * or overwritten after a rejected packet).  It did run.
+		 */
+		return ev | ecmxf_answer_lost(e, x, h, new_err, now_ns);
+	return ev | ecmxf_answered(e, x, h, data, new_err, now_ns);
 }
 
 static unsigned int ecmxf_chip_reset(struct ecmxf_engine *e)
 {
+	struct ecmxf_xfer *s[2] = { e->cur, e->nxt };
 	unsigned int ev = ECMXF_EV_CHIP_RESET;
+	unsigned int i;
 
 	e->stats.chip_resets++;
 	e->seen_valid = false;
 	e->err_seen = 0;
-	if (e->cur && e->cur_sent)
-		ev |= ecmxf_finish_cur(e, e->cur->hdr.code ==
-				       ECMXF_CMD_WARM_RESET ? 0 : -ECONNRESET);
+	for (i = 0; i < 2; i++)
+		if (ecmxf_sent(s[i]))
+			ev |= ecmxf_finish_slot(e, s[i], s[i]->hdr.code ==
+						ECMXF_CMD_WARM_RESET ?
+						0 : -ECONNRESET);
 	if (e->async)
 		ev |= ecmxf_finish_async(e, e->async->hdr.code ==
 					 ECMXF_CMD_WARM_RESET ? 0 : -ECONNRESET);
@@ -522,7 +788,7 @@ static unsigned int ecmxf_chip_reset(struct ecmxf_engine *e)
  * @pkt_len: their number: the size the exchange had
  *
  * Validates the packet, updates the header snapshot, matches it to the
- * command waiting for it, tracks the running async command and applies
+ * commands waiting for it, tracks the running async command and applies
  * the deadlines.
  *
  * Return: %ECMXF_EV_* bits.
@@ -552,7 +818,7 @@ unsigned int ecmxf_engine_input(struct ecmxf_engine *e, u64 now_ns,
 		e->stats.faults[fault]++;
 		e->last_fault = fault;
 		ev |= ECMXF_EV_BAD_PACKET;
-		if (e->cur_sent || e->async)
+		if (ecmxf_sent(e->cur) || ecmxf_sent(e->nxt) || e->async)
 			e->stats.retries++;
 		if (++e->bad_in_row > e->max_retries)
 			ev |= ecmxf_exhausted(e);
@@ -579,13 +845,17 @@ unsigned int ecmxf_engine_input(struct ecmxf_engine *e, u64 now_ns,
 	if (e->async) {
 		/* running async command: done when busy clears */
 		if (!(h.ecm_status & ECMXF_STS_BUSY)) {
-			e->async->rsp = h;
-			ev |= ecmxf_finish_async(e, ecmxf_async_outcome(e,
-							e->async, &h));
+			struct ecmxf_xfer *a = e->async;
+
+			a->rsp = h;
+			ev |= ecmxf_finish_async(e, ecmxf_async_outcome(e, a,
+									&h));
+			/* without pipelining the fetch follows the end */
+			if (!a->status)
+				ecmxf_queue_fetch(e, a, now_ns);
 		}
 	}
-	if (e->cur && e->cur_sent)
-		ev |= ecmxf_match_cur(e, &h, data, new_err);
+	ev |= ecmxf_match(e, &h, data, new_err, now_ns);
 
 	return ev | ecmxf_engine_poll_time(e, now_ns);
 }
@@ -603,12 +873,16 @@ unsigned int ecmxf_engine_input(struct ecmxf_engine *e, u64 now_ns,
  */
 unsigned int ecmxf_engine_poll_time(struct ecmxf_engine *e, u64 now_ns)
 {
+	struct ecmxf_xfer *s[2] = { e->cur, e->nxt };
 	unsigned int ev = 0;
+	unsigned int i;
 
-	if (e->cur && now_ns >= e->cur->deadline_ns) {
+	for (i = 0; i < 2; i++) {
+		if (!s[i] || now_ns < s[i]->deadline_ns)
+			continue;
 		e->stats.timeouts++;
-		e->cur->fault = e->last_fault;
-		ev |= ecmxf_finish_cur(e, -ETIMEDOUT);
+		s[i]->fault = e->last_fault;
+		ev |= ecmxf_finish_slot(e, s[i], -ETIMEDOUT);
 	}
 	if (e->async && now_ns >= e->async->deadline_ns) {
 		e->stats.timeouts++;
@@ -629,6 +903,8 @@ u64 ecmxf_engine_deadline(const struct ecmxf_engine *e)
 
 	if (e->cur)
 		d = e->cur->deadline_ns;
+	if (e->nxt && e->nxt->deadline_ns < d)
+		d = e->nxt->deadline_ns;
 	if (e->async && e->async->deadline_ns < d)
 		d = e->async->deadline_ns;
 	return d;
@@ -655,7 +931,7 @@ u64 ecmxf_engine_not_before(const struct ecmxf_engine *e)
  */
 bool ecmxf_engine_idle(const struct ecmxf_engine *e)
 {
-	return !e->cur && !e->async;
+	return !e->cur && !e->nxt && !e->async;
 }
 
 /**
@@ -669,7 +945,21 @@ bool ecmxf_engine_idle(const struct ecmxf_engine *e)
 bool ecmxf_engine_running(const struct ecmxf_engine *e,
 			  const struct ecmxf_xfer *x)
 {
-	return x && e->async == x && e->cur != x;
+	return x && e->async == x;
+}
+
+/**
+ * ecmxf_engine_sent() - has @x gone out and waits for its answer
+ * @e: engine
+ * @x: a command submitted to @e
+ *
+ * Return: true from @x's first packet until its answer (or until it is
+ * queued to go again); the next exchange on the link fetches the answer.
+ */
+bool ecmxf_engine_sent(const struct ecmxf_engine *e,
+		       const struct ecmxf_xfer *x)
+{
+	return x && (x == e->cur || x == e->nxt) && ecmxf_sent(x);
 }
 
 /**

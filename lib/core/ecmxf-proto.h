@@ -244,6 +244,12 @@ enum ecmxf_perm ecmxf_cmd_perm(unsigned int code, unsigned int param,
  * @timeout_us: time allowed from submission to completion (async: to
  *	the end of the chip's busy phase); 0 selects the table default
  * @flags: %ECMXF_XF_* bits
+ * @fetch: for an async command, its result fetch (the *_GET partner, an
+ *	immediate command) or NULL.  The engine sends @fetch as the poll of
+ *	the running command and finishes both when an answer to @fetch shows
+ *	the chip no longer busy: completion costs no extra exchange.  @fetch
+ *	must stay valid until its own status is final; it is finished with
+ *	-ECANCELED when the async command fails before it could be sent.
  * @rsp: the answering response header (valid once @status is final)
  * @rx_len: response data bytes copied to @rx_buf
  * @status: -EINPROGRESS until done, then 0 or a negative errno:
@@ -258,6 +264,9 @@ enum ecmxf_perm ecmxf_cmd_perm(unsigned int code, unsigned int param,
  * @started_ns: private: submission time
  * @deadline_ns: private: time at which the command times out
  * @state: private: where the command is in the engine
+ * @sent_seq: private: exchange of the first send
+ * @last_seq: private: exchange of the latest send (first or re-send)
+ * @owner: private: the async command this one is the fetch of
  */
 struct ecmxf_xfer {
 	struct ecmxf_cmd_hdr hdr;
@@ -267,6 +276,7 @@ struct ecmxf_xfer {
 	u16 rx_size;
 	u32 timeout_us;
 	u32 flags;
+	struct ecmxf_xfer *fetch;
 
 	struct ecmxf_rsp_hdr rsp;
 	u16 rx_len;
@@ -277,6 +287,9 @@ struct ecmxf_xfer {
 	u64 started_ns;
 	u64 deadline_ns;
 	u8 state;
+	u32 sent_seq;
+	u32 last_seq;
+	struct ecmxf_xfer *owner;
 };
 
 /**
@@ -291,6 +304,12 @@ struct ecmxf_xfer {
  * @busy_rejects: async commands the chip refused as busy
  * @lost_answers: answers overwritten by INFO_UPDATE (re-issued or failed)
  * @chip_resets: NOP responses after valid ones (the chip restarted)
+ * @pipelined: commands sent in the exchange that fetched the previous
+ *	command's answer
+ * @reordered: idempotent commands whose answer was lost and that went
+ *	again after the command riding behind them
+ * @fetch_polls: result fetches sent again because the answer showed the
+ *	async command still busy
  */
 struct ecmxf_engine_stats {
 	u64 exchanges;
@@ -303,6 +322,9 @@ struct ecmxf_engine_stats {
 	u64 busy_rejects;
 	u64 lost_answers;
 	u64 chip_resets;
+	u64 pipelined;
+	u64 reordered;
+	u64 fetch_polls;
 };
 
 /* events returned by ecmxf_engine_input() and ecmxf_engine_poll_time() */
@@ -331,7 +353,7 @@ struct ecmxf_engine {
 	u8 last_code;
 	bool last_valid;
 	bool seen_valid;	/* a non-NOP response has been seen */
-	bool cur_sent;
+	bool pipeline;		/* a second command may ride (default on) */
 	u8 bad_in_row;
 	enum ecmxf_fault last_fault;
 	u8 control_pending;	/* control bits for the next packet */
@@ -340,7 +362,9 @@ struct ecmxf_engine {
 	u64 not_before_ns;	/* next exchange not before (reconfig hold-off) */
 	u32 int_clear_pending;
 	u8 gpio_int_clear_pending[2];
-	struct ecmxf_xfer *cur;	/* sent or to be sent, awaiting its answer */
+	u32 seq;		/* exchanges built by ecmxf_engine_next() */
+	struct ecmxf_xfer *cur;	/* the older command awaiting its answer */
+	struct ecmxf_xfer *nxt;	/* the younger one, riding behind @cur */
 	struct ecmxf_xfer *async; /* accepted async command, chip busy */
 	struct ecmxf_rsp_hdr last;	/* last valid response header */
 	bool have_last;
@@ -355,6 +379,7 @@ void ecmxf_engine_init(struct ecmxf_engine *e, unsigned int data_size,
 int ecmxf_engine_set_format(struct ecmxf_engine *e, unsigned int data_size,
 			    enum ecmxf_check check);
 void ecmxf_engine_set_retries(struct ecmxf_engine *e, unsigned int max);
+void ecmxf_engine_set_pipeline(struct ecmxf_engine *e, bool on);
 size_t ecmxf_engine_pkt_size(const struct ecmxf_engine *e);
 bool ecmxf_engine_can_submit(const struct ecmxf_engine *e,
 			     const struct ecmxf_xfer *x);
@@ -374,6 +399,8 @@ u64 ecmxf_engine_not_before(const struct ecmxf_engine *e);
 bool ecmxf_engine_idle(const struct ecmxf_engine *e);
 bool ecmxf_engine_running(const struct ecmxf_engine *e,
 			  const struct ecmxf_xfer *x);
+bool ecmxf_engine_sent(const struct ecmxf_engine *e,
+		       const struct ecmxf_xfer *x);
 const struct ecmxf_rsp_hdr *
 ecmxf_engine_last_header(const struct ecmxf_engine *e);
 const struct ecmxf_engine_stats *

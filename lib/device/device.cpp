@@ -115,14 +115,10 @@ Device::Device(std::unique_ptr<ByteChannel> channel)
 
 Device::~Device() = default;
 
-Response Device::command(const Command &c)
+namespace {
+
+RawCommand rawOf(const Command &c)
 {
-	Link &l = *impl_->link;
-	const std::size_t room = std::min<std::size_t>(l.dataSize(), ECMXF_DATA_MAX);
-	if (c.payload.size() > room)
-		throw Error(detail::commandName(c.code) + ": payload of " + std::to_string(c.payload.size()) +
-				    " bytes does not fit the data section (" + std::to_string(room) + " bytes)",
-			    EMSGSIZE);
 	RawCommand rc;
 	rc.code = c.code;
 	rc.param = c.param;
@@ -131,7 +127,20 @@ Response Device::command(const Command &c)
 	rc.reserved = c.reserved;
 	rc.control = c.control;
 	rc.timeout = c.timeout;
-	const RawRequest req = impl_->request(rc, c.payload, impl_->rxData);
+	return rc;
+}
+
+} // namespace
+
+Response Device::command(const Command &c)
+{
+	Link &l = *impl_->link;
+	const std::size_t room = std::min<std::size_t>(l.dataSize(), ECMXF_DATA_MAX);
+	if (c.payload.size() > room)
+		throw Error(detail::commandName(c.code) + ": payload of " + std::to_string(c.payload.size()) +
+				    " bytes does not fit the data section (" + std::to_string(room) + " bytes)",
+			    EMSGSIZE);
+	const RawRequest req = impl_->request(rawOf(c), c.payload, impl_->rxData);
 	RawResult res;
 	l.run(req, res);
 	if (res.status != 0)
@@ -142,6 +151,37 @@ Response Device::command(const Command &c)
 			impl_->rxData.begin() + static_cast<std::ptrdiff_t>(std::min(res.rxLen, impl_->rxData.size())));
 	rsp.ret = res.header.ret;
 	return rsp;
+}
+
+Response Device::commandWithFetch(const Command &c, const Command &fetch)
+{
+	Link &l = *impl_->link;
+	const std::size_t room = std::min<std::size_t>(l.dataSize(), ECMXF_DATA_MAX);
+	for (const Command *k : { &c, &fetch })
+		if (k->payload.size() > room)
+			throw Error(detail::commandName(k->code) + ": payload of " + std::to_string(k->payload.size()) +
+					    " bytes does not fit the data section (" + std::to_string(room) + " bytes)",
+				    EMSGSIZE);
+	std::array<RawRequest, 2> req{ impl_->request(rawOf(c), c.payload, {}),
+				       impl_->request(rawOf(fetch), fetch.payload, impl_->rxData) };
+	req[1].fetchesPrevious = true;
+	std::array<RawResult, 2> res;
+	l.runBatch(req, res);
+	for (std::size_t i = 0; i < 2; i++)
+		if (res[i].status != 0)
+			detail::throwOutcome(l, req[i], res[i]);
+	Response rsp;
+	rsp.header = res[1].header;
+	rsp.data.assign(impl_->rxData.begin(),
+			impl_->rxData.begin() + static_cast<std::ptrdiff_t>(std::min(res[1].rxLen, impl_->rxData.size())));
+	rsp.ret = res[1].header.ret;
+	return rsp;
+}
+
+RawRequest Device::request(const RawCommand &c, std::span<const std::uint8_t> payload,
+			   std::span<std::uint8_t> rx) const noexcept
+{
+	return impl_->request(c, payload, rx);
 }
 
 int Device::transact(const RawCommand &c, std::span<const std::uint8_t> payload, std::span<std::uint8_t> rx,

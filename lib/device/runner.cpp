@@ -112,14 +112,17 @@ Response immediate(Device &dev, Command c, const std::string &context, const std
 	return r;
 }
 
-Response async(Device &dev, const Command &c, const std::string &context, const std::string &hint,
-	       const std::function<std::string()> &onFailure, int slave, int refusal)
+namespace {
+
+Response runAsync(Device &dev, const Command &c, const Command *fetch, const std::string &context,
+		  const std::string &hint, const std::function<std::string()> &onFailure, int slave, int refusal)
 {
 	// the engine sees a refusal only as a newly set bit 7
 	if (dev.lastHeader().errStatus & ECMXF_ERR_CMD)
 		clearCommandError(dev);
+	Response r;
 	try {
-		return dev.command(c);
+		r = fetch ? dev.commandWithFetch(c, *fetch) : dev.command(c);
 	} catch (const Error &e) {
 		if (e.errnoValue() == EREMOTEIO && onFailure)
 			throw Error(named(context, c.code) + "the async command failed: " + onFailure(),
@@ -147,6 +150,28 @@ Response async(Device &dev, const Command &c, const std::string &context, const 
 			why = "a parameter it does not accept, or the network is not initialised (ECAT_INIT_OP)";
 		throw Error(refusalText(context, c.code, why), refusal, e.errorStatus());
 	}
+	if (fetch && (r.header.errStatus & ECMXF_ERR_CMD)) {
+		clearCommandError(dev);
+		throw Error(refusalText(context, fetch->code, hint), refusal, r.header.errStatus);
+	}
+	return r;
+}
+
+} // namespace
+
+Response async(Device &dev, const Command &c, const std::string &context, const std::string &hint,
+	       const std::function<std::string()> &onFailure, int slave, int refusal)
+{
+	return runAsync(dev, c, nullptr, context, hint, onFailure, slave, refusal);
+}
+
+Response asyncWithFetch(Device &dev, const Command &c, Command fetch, const std::string &context, int slave,
+			int refusal)
+{
+	// the clear bit goes out with every poll, so bit 7 in the answer that
+	// brings the result is about the fetch alone
+	fetch.control = static_cast<std::uint8_t>(fetch.control | ECMXF_CTL_CLR_CMD_ERR);
+	return runAsync(dev, c, &fetch, context, {}, {}, slave, refusal);
 }
 
 void rethrowWithPrefix(const std::string &prefix)

@@ -58,6 +58,11 @@ Response immediate(Device &dev, Command c, const std::string &context = {}, cons
 /// a refusal without @p hint.
 Response async(Device &dev, const Command &c, const std::string &context = {}, const std::string &hint = {},
 	       const std::function<std::string()> &onFailure = {}, int slave = -1, int refusal = EINVAL);
+/// async() with the result fetch @p fetch (Device::commandWithFetch()):
+/// returns the fetch's answer; a refusal of the fetch (error status bit
+/// 7 in its answer) as immediate() reports it.
+Response asyncWithFetch(Device &dev, const Command &c, Command fetch, const std::string &context = {},
+			int slave = -1, int refusal = EINVAL);
 
 /// Rethrows the exception being handled (an ecmxf::Error or subclass) with
 /// @p prefix before its message, keeping its type and fields.

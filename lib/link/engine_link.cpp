@@ -42,15 +42,13 @@ public:
 		ecmxf_engine_init(&engine, ECMXF_DATA_DEFAULT, ECMXF_CHECK_FIXED);
 	}
 
-	void run(const RawRequest &req, RawResult &res) noexcept;
+	void runBatch(std::span<const RawRequest> reqs, std::span<RawResult> res, bool leaveLast) noexcept;
 
 	std::unique_ptr<ByteChannel> channel;
 	ecmxf_engine engine{};
 	// one packet each way at the largest size: exchanges allocate nothing
 	std::array<std::uint8_t, ECMXF_PKT_MAX> tx{};
 	std::array<std::uint8_t, ECMXF_PKT_MAX> rx{};
-	/// The current command was answered and ran on the chip (async).
-	bool ranAsync = false;
 	/// Pause between the polls of a running async command.
 	nanoseconds asyncPoll{ 0 };
 	/// The packet trace being recorded, or null.
@@ -59,12 +57,35 @@ public:
 	std::array<char, 256> failure{};
 
 private:
+	/// A command of a batch in the engine: its transfer and where its
+	/// outcome goes. The engine holds at most two commands, one running
+	/// async command and its fetch; a command left in flight by a batch
+	/// keeps its slot until a later exchange answers it.
+	struct Slot {
+		ecmxf_xfer x{};
+		RawResult *res = nullptr;
+		bool used = false;
+		bool ranAsync = false;
+		std::uint64_t exhaustedBefore = 0;
+	};
+	std::array<Slot, 6> slots_{};
+
 	[[nodiscard]] std::uint64_t nowNs() const
 	{
 		const auto t = channel->now().count();
 		return t > 0 ? static_cast<std::uint64_t>(t) : 0;
 	}
-	void step(ecmxf_xfer &x);
+	void step();
+	Slot *freeSlot() noexcept
+	{
+		for (Slot &s : slots_)
+			if (!s.used)
+				return &s;
+		return nullptr;
+	}
+	static void fill(Slot &s, ecmxf_engine &e);
+	void collect() noexcept;
+	void failAll(int status, const char *why) noexcept;
 	const char *keepFailure(const char *what) noexcept
 	{
 		std::snprintf(failure.data(), failure.size(), "%s", what);
@@ -73,14 +94,16 @@ private:
 };
 
 /// One turn of the owner loop of Documentation/protocol-core.rst.
-void EngineLink::Engine::step(ecmxf_xfer &x)
+void EngineLink::Engine::step()
 {
 	std::uint64_t now = nowNs();
 
-	// the command was answered and runs on the chip: poll it at the pace
-	// asked for (none by default: each poll waits for INT0 only, so the
-	// completion is seen one exchange after it happens)
-	if (asyncPoll > nanoseconds::zero() && ecmxf_engine_running(&engine, &x)) {
+	// the command was answered and runs on the chip, nothing else to
+	// send but its polls: poll it at the pace asked for (none by default:
+	// each poll waits for INT0 only, so the completion is seen one
+	// exchange after it happens)
+	const ecmxf_xfer *a = engine.async;
+	if (asyncPoll > nanoseconds::zero() && a && !engine.nxt && (!engine.cur || engine.cur->owner == a)) {
 		const std::uint64_t deadline = ecmxf_engine_deadline(&engine);
 		if (deadline > now)
 			channel->sleepFor(nanoseconds(static_cast<std::int64_t>(std::min<std::uint64_t>(
@@ -118,80 +141,191 @@ void EngineLink::Engine::step(ecmxf_xfer &x)
 		trace->packet(recvNs, '<', std::span<const std::uint8_t>(rx.data(), n));
 	}
 	ecmxf_engine_input(&engine, recvNs, rx.data(), n);
-	if (ecmxf_engine_running(&engine, &x))
-		ranAsync = true;
 }
 
-void EngineLink::Engine::run(const RawRequest &req, RawResult &res) noexcept
+/// The outcome of a finished transfer in its RawResult.
+void EngineLink::Engine::fill(Slot &s, ecmxf_engine &e)
 {
-	res = RawResult{};
-	if (req.tx.size() > ecmxf_engine_data_size(&engine)) {
-		res.status = -EMSGSIZE;
-		res.linkFailure = "the payload does not fit the data section";
-		return;
-	}
-	ecmxf_xfer x{};
-	detail::headerTo(req, x.hdr);
-	x.hdr.reserved = req.reserved;
-	x.tx_data = req.tx.empty() ? nullptr : req.tx.data();
-	x.tx_len = static_cast<std::uint16_t>(req.tx.size());
-	x.rx_buf = req.rx.empty() ? nullptr : req.rx.data();
-	x.rx_size = static_cast<std::uint16_t>(std::min<std::size_t>(req.rx.size(), UINT16_MAX));
-	x.timeout_us = req.timeoutUs;
-	x.flags = req.noAutoClear ? ECMXF_XF_NO_AUTO_CLEAR : 0u;
-
-	const std::uint64_t exhaustedBefore = ecmxf_engine_get_stats(&engine)->exhausted;
-	const int r = ecmxf_engine_submit(&engine, &x, nowNs());
-	switch (r) {
-	case 0:
-		break;
-	case -EBUSY:
-		res.status = r;
-		res.linkFailure = "another async command is still running on this device";
-		return;
-	case -EMSGSIZE:
-		res.status = r;
-		res.linkFailure = "the payload does not fit the data section";
-		return;
-	default:
-		res.status = r;
-		res.linkFailure = "invalid command (e.g. a data size outside 32..1408 or an unknown check type)";
-		return;
-	}
-	ranAsync = false;
-	try {
-		while (x.status == -EINPROGRESS)
-			step(x);
-	} catch (const Error &e) {
-		// the channel failed: nothing may keep pointing at x
-		ecmxf_engine_cancel(&engine, &x);
-		res.status = -(e.errnoValue() ? e.errnoValue() : EIO);
-		res.linkFailure = keepFailure(e.what());
-		return;
-	} catch (const std::exception &ex) {
-		ecmxf_engine_cancel(&engine, &x);
-		res.status = -EIO;
-		res.linkFailure = keepFailure(ex.what());
-		return;
-	} catch (...) {
-		ecmxf_engine_cancel(&engine, &x);
-		res.status = -EIO;
-		res.linkFailure = "the byte channel failed";
-		return;
-	}
+	const ecmxf_xfer &x = s.x;
+	RawResult &res = *s.res;
 	res.status = x.status;
 	res.header = detail::headerFrom(x.rsp);
 	res.rxLen = x.rx_len;
-	res.ranAsync = ranAsync;
-	res.waitedUs = static_cast<std::uint32_t>(
-		std::min<std::uint64_t>((x.deadline_ns - x.started_ns) / 1000u, UINT32_MAX));
+	res.ranAsync = s.ranAsync;
+	res.waitedUs =
+		static_cast<std::uint32_t>(std::min<std::uint64_t>((x.deadline_ns - x.started_ns) / 1000u, UINT32_MAX));
+	if (x.status == -ECANCELED && !res.linkFailure)
+		res.linkFailure = "not sent: the async command it fetches the result of failed";
 	if (x.status == -EBADMSG || x.status == -EPROTO || x.status == -EIO) {
-		if (ecmxf_engine_get_stats(&engine)->exhausted > exhaustedBefore)
-			res.badPackets = ecmxf_engine_retries(&engine) + 1u;
+		if (ecmxf_engine_get_stats(&e)->exhausted > s.exhaustedBefore)
+			res.badPackets = ecmxf_engine_retries(&e) + 1u;
 		else
 			res.answerLost = true;
 		res.fault = ecmxf_fault_name(x.fault);
 	}
+}
+
+/// Hands the outcome of every finished transfer to its RawResult.
+void EngineLink::Engine::collect() noexcept
+{
+	for (Slot &s : slots_) {
+		if (!s.used)
+			continue;
+		if (ecmxf_engine_running(&engine, &s.x))
+			s.ranAsync = true;
+		if (s.x.status == -EINPROGRESS)
+			continue;
+		fill(s, engine);
+		s.used = false;
+	}
+}
+
+/// The channel failed: nothing may keep pointing at the transfers.
+void EngineLink::Engine::failAll(int status, const char *why) noexcept
+{
+	for (Slot &s : slots_) {
+		if (!s.used)
+			continue;
+		if (s.x.status == -EINPROGRESS)
+			ecmxf_engine_cancel(&engine, &s.x);
+		fill(s, engine);
+		if (s.x.status == -ECANCELED) {
+			s.res->status = status;
+			s.res->linkFailure = why;
+		}
+		s.used = false;
+	}
+}
+
+void EngineLink::Engine::runBatch(std::span<const RawRequest> reqs, std::span<RawResult> res,
+				  bool leaveLast) noexcept
+{
+	const std::size_t n = std::min(reqs.size(), res.size());
+	for (std::size_t i = 0; i < n; i++)
+		res[i] = RawResult{};
+
+	// commands an earlier batch left in flight: their time starts now
+	for (Slot &s : slots_)
+		if (s.used && s.x.status == -EINPROGRESS && !ecmxf_engine_running(&engine, &s.x)) {
+			const std::uint64_t t = s.x.deadline_ns - s.x.started_ns;
+			s.x.started_ns = nowNs();
+			s.x.deadline_ns = s.x.started_ns + t;
+		}
+
+	std::size_t next = 0;  // the next request to submit
+	Slot *last = nullptr; // the slot of request n - 1
+	try {
+		for (;;) {
+			// hand the engine what it takes now, in order
+			while (next < n) {
+				const RawRequest &req = reqs[next];
+				const bool withFetch = next + 1 < n && reqs[next + 1].fetchesPrevious;
+				if (req.fetchesPrevious) {
+					// its async command failed before it was paired
+					res[next].status = -ECANCELED;
+					res[next].linkFailure = "not sent: the async command it fetches the result of failed";
+					next++;
+					continue;
+				}
+				Slot *s = freeSlot();
+				Slot *f = nullptr;
+				if (s) {
+					s->used = true;
+					f = withFetch ? freeSlot() : nullptr;
+					s->used = false;
+				}
+				if (!s || (withFetch && !f))
+					break;
+				ecmxf_xfer &x = s->x;
+				x = ecmxf_xfer{};
+				if (req.tx.size() > ecmxf_engine_data_size(&engine)) {
+					res[next].status = -EMSGSIZE;
+					res[next].linkFailure = "the payload does not fit the data section";
+					next++;
+					continue;
+				}
+				detail::headerTo(req, x.hdr);
+				x.hdr.reserved = req.reserved;
+				x.tx_data = req.tx.empty() ? nullptr : req.tx.data();
+				x.tx_len = static_cast<std::uint16_t>(req.tx.size());
+				x.rx_buf = req.rx.empty() ? nullptr : req.rx.data();
+				x.rx_size = static_cast<std::uint16_t>(std::min<std::size_t>(req.rx.size(), UINT16_MAX));
+				x.timeout_us = req.timeoutUs;
+				x.flags = req.noAutoClear ? ECMXF_XF_NO_AUTO_CLEAR : 0u;
+				if (withFetch) {
+					const RawRequest &fr = reqs[next + 1];
+					ecmxf_xfer &fx = f->x;
+					fx = ecmxf_xfer{};
+					detail::headerTo(fr, fx.hdr);
+					fx.hdr.reserved = fr.reserved;
+					fx.tx_data = fr.tx.empty() ? nullptr : fr.tx.data();
+					fx.tx_len = static_cast<std::uint16_t>(fr.tx.size());
+					fx.rx_buf = fr.rx.empty() ? nullptr : fr.rx.data();
+					fx.rx_size =
+						static_cast<std::uint16_t>(std::min<std::size_t>(fr.rx.size(), UINT16_MAX));
+					fx.timeout_us = fr.timeoutUs;
+					fx.flags = fr.noAutoClear ? ECMXF_XF_NO_AUTO_CLEAR : 0u;
+					x.fetch = &fx;
+				}
+				if (!ecmxf_engine_can_submit(&engine, &x) && !ecmxf_engine_idle(&engine))
+					break; // after the exchange that frees a slot
+				const std::uint64_t exhausted = ecmxf_engine_get_stats(&engine)->exhausted;
+				const int r = ecmxf_engine_submit(&engine, &x, nowNs());
+				if (r != 0) {
+					res[next].status = r;
+					res[next].linkFailure =
+						r == -EBUSY ? "another async command is still running on this device"
+						: r == -EMSGSIZE
+							? "the payload does not fit the data section"
+							: "invalid command (e.g. a data size outside 32..1408 or an unknown check type)";
+					if (withFetch) {
+						res[next + 1].status = -ECANCELED;
+						res[next + 1].linkFailure =
+							"not sent: the async command it fetches the result of failed";
+						next++;
+					}
+					next++;
+					continue;
+				}
+				s->used = true;
+				s->res = &res[next];
+				s->ranAsync = false;
+				s->exhaustedBefore = exhausted;
+				if (next == n - 1)
+					last = s;
+				if (withFetch) {
+					f->used = true;
+					f->res = &res[next + 1];
+					f->ranAsync = false;
+					f->exhaustedBefore = exhausted;
+					if (next + 1 == n - 1)
+						last = f;
+					next++;
+				}
+				next++;
+			}
+			collect();
+			bool waiting = false;
+			for (const Slot &s : slots_)
+				if (s.used && !(leaveLast && &s == last && ecmxf_engine_sent(&engine, &s.x)))
+					waiting = true;
+			if (!waiting && next >= n)
+				return;
+			step();
+		}
+	} catch (const Error &e) {
+		failAll(-(e.errnoValue() ? e.errnoValue() : EIO), keepFailure(e.what()));
+	} catch (const std::exception &ex) {
+		failAll(-EIO, keepFailure(ex.what()));
+	} catch (...) {
+		failAll(-EIO, "the byte channel failed");
+	}
+	// requests never handed over (the channel failed first)
+	for (std::size_t i = next; i < n; i++)
+		if (res[i].status == 0 && !res[i].linkFailure) {
+			res[i].status = -EIO;
+			res[i].linkFailure = failure.data();
+		}
 }
 
 EngineLink::EngineLink(std::unique_ptr<ByteChannel> channel) : e_(std::make_unique<Engine>(std::move(channel)))
@@ -202,7 +336,27 @@ EngineLink::~EngineLink() = default;
 
 void EngineLink::run(const RawRequest &req, RawResult &res) noexcept
 {
-	e_->run(req, res);
+	e_->runBatch(std::span<const RawRequest>(&req, 1), std::span<RawResult>(&res, 1), false);
+}
+
+void EngineLink::runBatch(std::span<const RawRequest> reqs, std::span<RawResult> res, bool leaveLast) noexcept
+{
+	e_->runBatch(reqs, res, leaveLast);
+}
+
+void EngineLink::settle() noexcept
+{
+	e_->runBatch({}, {}, false);
+}
+
+void EngineLink::setPipelining(bool on) noexcept
+{
+	ecmxf_engine_set_pipeline(&e_->engine, on);
+}
+
+bool EngineLink::pipelining() const noexcept
+{
+	return e_->engine.pipeline;
 }
 
 std::uint16_t EngineLink::dataSize() const noexcept

@@ -6,6 +6,7 @@
 #include <ecmxf/link/byte_channel.hpp>
 #include <ecmxf/link/link.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <thread>
 
@@ -54,6 +55,20 @@ std::chrono::nanoseconds Link::now() const
 void Link::sleepFor(std::chrono::nanoseconds duration)
 {
 	sleepSteady(duration);
+}
+
+void Link::runBatch(std::span<const RawRequest> reqs, std::span<RawResult> res, bool) noexcept
+{
+	const std::size_t n = std::min(reqs.size(), res.size());
+	for (std::size_t i = 0; i < n; i++) {
+		if (reqs[i].fetchesPrevious && i > 0 && res[i - 1].status != 0) {
+			res[i] = RawResult{};
+			res[i].status = -ECANCELED;
+			res[i].linkFailure = "not sent: the async command it fetches the result of failed";
+			continue;
+		}
+		run(reqs[i], res[i]);
+	}
 }
 
 void Link::reset(LinkReset kind, std::uint32_t param, std::uint32_t timeoutUs)

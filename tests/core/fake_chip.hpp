@@ -217,7 +217,8 @@ private:
 		// stale header now; the answer after answerLag more exchanges
 		lagged_.push_back(std::move(answer));
 		ecmxf_rsp_hdr h = header();
-		h.index = static_cast<std::uint8_t>(prevIndex_ - 1);
+		// an index no command in flight has (two may be: a pipelined pair)
+		h.index = static_cast<std::uint8_t>(prevIndex_ + 128);
 		h.code = 99;
 		pending_ = encode(h, {});
 		if (static_cast<int>(lagged_.size()) > answerLag) {

@@ -573,8 +573,12 @@ TEST_CASE("engine: submission checks its arguments", "[engine]")
 	CHECK(l.submit(x) == -EINVAL);
 	x.rx_size = 0;
 	CHECK(l.submit(x) == 0);
+	ecmxf_xfer a = command(ECMXF_CMD_ECAT_STATE_SET);
+	CHECK(l.submit(a) == -EBUSY); // one async command at a time
 	ecmxf_xfer y = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
-	CHECK(l.submit(y) == -EBUSY); // one command in the slot at a time
+	CHECK(l.submit(y) == 0); // rides behind the first
+	ecmxf_xfer z = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	CHECK(l.submit(z) == -EBUSY); // two command slots
 	std::vector<std::uint8_t> tx(ECMXF_PKT_SIZE(112) + 1);
 	CHECK(ecmxf_engine_next(&l.e, l.now, tx.data(), tx.size()) == -EINVAL);
 }
@@ -633,4 +637,269 @@ TEST_CASE("engine: data that would not fit the format a command switches to is r
 	w.tx_data = data;
 	w.tx_len = 113; // the power-on data section is 112 bytes
 	CHECK(l.submit(w) == -EMSGSIZE);
+}
+
+// ---------------------------------------------------------------------------
+// Pipelining: the second command rides in the exchange that fetches the
+// first one's answer; an async command's fetch is its poll.
+// ---------------------------------------------------------------------------
+
+namespace {
+
+// Exchanges until every command given is final.
+int runAll(Link &l, std::initializer_list<ecmxf_xfer *> xs, int max = 1000)
+{
+	int n = 0;
+	auto busy = [&] {
+		for (ecmxf_xfer *x : xs)
+			if (x->status == -EINPROGRESS)
+				return true;
+		return false;
+	};
+	while (busy() && n < max) {
+		l.exchange();
+		n++;
+	}
+	return n;
+}
+
+} // namespace
+
+TEST_CASE("pipelining: the second command rides in the exchange that fetches the first answer",
+	  "[engine][pipeline]")
+{
+	Link l;
+	l.exchange(); // sync
+	ecmxf_xfer a = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	ecmxf_xfer b = command(ECMXF_CMD_ECAT_STATE_GET, 0xFF);
+	REQUIRE(l.submit(a) == 0);
+	REQUIRE(l.submit(b) == 0);
+	CHECK(runAll(l, { &a, &b }) == 3); // a, b (fetches a), refresh (fetches b)
+	CHECK(a.status == 0);
+	CHECK(b.status == 0);
+	CHECK(a.rsp.ret == ECMXF_CMD_ECAT_SLV_CNT_GET + 1);
+	CHECK(b.rsp.ret == ECMXF_CMD_ECAT_STATE_GET + 1);
+	REQUIRE(l.chip.cmdLog.size() == 4);
+	CHECK(l.chip.cmdLog[1].code == ECMXF_CMD_ECAT_SLV_CNT_GET);
+	CHECK(l.chip.cmdLog[2].code == ECMXF_CMD_ECAT_STATE_GET);
+	// the last packet fetches b's answer: b's (index, code) again
+	CHECK(l.chip.cmdLog[3].code == ECMXF_CMD_ECAT_STATE_GET);
+	CHECK(l.chip.cmdLog[3].index == l.chip.cmdLog[2].index);
+	CHECK(l.chip.executed.size() == 2);
+	CHECK(ecmxf_engine_get_stats(&l.e)->pipelined == 1);
+	CHECK(ecmxf_engine_idle(&l.e));
+}
+
+TEST_CASE("pipelining: off, the second command waits for the first answer", "[engine][pipeline]")
+{
+	Link l;
+	ecmxf_engine_set_pipeline(&l.e, false);
+	l.exchange();
+	ecmxf_xfer a = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	ecmxf_xfer b = command(ECMXF_CMD_ECAT_STATE_GET, 0xFF);
+	REQUIRE(l.submit(a) == 0);
+	CHECK(l.submit(b) == -EBUSY);
+	CHECK(l.run(a) == 2);
+	REQUIRE(l.submit(b) == 0);
+	CHECK(l.run(b) == 2);
+	CHECK(ecmxf_engine_get_stats(&l.e)->pipelined == 0);
+}
+
+TEST_CASE("pipelining: commands that change the packet format travel alone", "[engine][pipeline]")
+{
+	Link l;
+	l.exchange();
+	ecmxf_xfer a = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	ecmxf_xfer crc = command(ECMXF_CMD_CRC_TYPE_SET, ECMXF_CHECK_CRC32);
+	REQUIRE(l.submit(a) == 0);
+	CHECK(l.submit(crc) == -EBUSY);
+	CHECK(!ecmxf_engine_can_submit(&l.e, &crc));
+	l.run(a);
+	REQUIRE(l.submit(crc) == 0);
+	ecmxf_xfer b = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	CHECK(l.submit(b) == -EBUSY);
+	l.run(crc);
+	CHECK(crc.status == 0);
+}
+
+TEST_CASE("pipelining: a lost answer of the first command, with the second in flight",
+	  "[engine][pipeline]")
+{
+	Link l;
+	l.exchange();
+	const bool idempotent = GENERATE(true, false);
+	// SLV_CNT_GET may run again; PDO_DATA_FIFO_OP (frames) must not
+	ecmxf_xfer a = command(idempotent ? ECMXF_CMD_ECAT_SLV_CNT_GET : ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP);
+	ecmxf_xfer b = command(ECMXF_CMD_ECAT_STATE_GET, 0xFF);
+	REQUIRE(l.submit(a) == 0);
+	REQUIRE(l.submit(b) == 0);
+	l.exchange(); // a goes out
+	l.chip.faults.push_back(fake::Fault::CheckWord);
+	l.exchange(); // b goes out; a's answer arrives broken
+	runAll(l, { &a, &b });
+	CHECK(b.status == 0);
+	CHECK(b.rsp.code == ECMXF_CMD_ECAT_STATE_GET);
+	int runsOfA = 0;
+	for (const ecmxf_cmd_hdr &h : l.chip.executed)
+		runsOfA += h.code == a.hdr.code;
+	if (idempotent) {
+		CHECK(a.status == 0);
+		CHECK(runsOfA == 2); // again, after b
+		CHECK(ecmxf_engine_get_stats(&l.e)->reordered == 1);
+	} else {
+		CHECK(a.status == -EPROTO); // may have run: never a second time
+		CHECK(runsOfA == 1);
+	}
+	CHECK(ecmxf_engine_get_stats(&l.e)->lost_answers == 1);
+	CHECK(ecmxf_engine_idle(&l.e));
+}
+
+TEST_CASE("pipelining: a not-ready answer leaves both commands to run exactly once",
+	  "[engine][pipeline]")
+{
+	Link l;
+	l.exchange();
+	ecmxf_xfer a = command(ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP);
+	ecmxf_xfer b = command(ECMXF_CMD_ECAT_STATE_GET, 0xFF);
+	REQUIRE(l.submit(a) == 0);
+	REQUIRE(l.submit(b) == 0);
+	l.exchange();
+	l.chip.faults.push_back(fake::Fault::NotReady);
+	l.exchange();
+	runAll(l, { &a, &b });
+	// the fake takes the packet in; the engine re-sends b (a repeat) and
+	// a's answer is lost: a fails, nothing runs twice
+	CHECK(a.status == -EPROTO);
+	CHECK(b.status == 0);
+	CHECK(l.chip.executed.size() == 2);
+	CHECK(ecmxf_engine_idle(&l.e));
+}
+
+TEST_CASE("pipelining: a late chip is polled by re-sending the newest command only",
+	  "[engine][pipeline]")
+{
+	Link l;
+	l.exchange();
+	l.chip.answerLag = 2;
+	ecmxf_xfer a = command(ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP);
+	ecmxf_xfer b = command(ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP);
+	REQUIRE(l.submit(a) == 0);
+	REQUIRE(l.submit(b) == 0);
+	runAll(l, { &a, &b });
+	CHECK(a.status == 0);
+	CHECK(b.status == 0);
+	// a went out once; every later packet was b (first send or repeat)
+	CHECK(l.chip.executed.size() == 2);
+	CHECK(ecmxf_engine_get_stats(&l.e)->polls > 0);
+}
+
+TEST_CASE("pipelining: an async command's fetch is its poll, and completes with it",
+	  "[engine][pipeline]")
+{
+	const bool pipeline = GENERATE(true, false);
+	Link l;
+	ecmxf_engine_set_pipeline(&l.e, pipeline);
+	l.chip.asyncBusyExchanges = 3;
+	l.chip.handler = [](const ecmxf_cmd_hdr &h, const std::uint8_t *) {
+		return fake::Answer{ static_cast<std::uint8_t>(h.code + 1), { 0x50, 0xC3, 0, 0 } };
+	};
+	l.exchange();
+	std::uint8_t buf[4] = {};
+	ecmxf_xfer req = command(ECMXF_CMD_ECAT_SDO_REQ);
+	ecmxf_xfer get = command(ECMXF_CMD_ECAT_SDO_GET);
+	get.rx_buf = buf;
+	get.rx_size = sizeof(buf);
+	req.fetch = &get;
+	REQUIRE(l.submit(req) == 0);
+	const int n = runAll(l, { &req, &get });
+	CHECK(req.status == 0);
+	CHECK(get.status == 0);
+	CHECK(get.rx_len == 4);
+	CHECK(buf[0] == 0x50);
+	CHECK((get.rsp.ecm_status & ECMXF_STS_BUSY) == 0);
+	int infos = 0;
+	for (std::size_t i = 1; i < l.chip.cmdLog.size(); i++)
+		infos += l.chip.cmdLog[i].code == ECMXF_CMD_INFO_UPDATE_OP;
+	int reqs = 0;
+	for (const ecmxf_cmd_hdr &h : l.chip.executed)
+		reqs += h.code == ECMXF_CMD_ECAT_SDO_REQ;
+	CHECK(reqs == 1);
+	if (pipeline) {
+		// REQ, then a fetch in every exchange until one runs after the
+		// busy phase, and the exchange that brings its answer
+		CHECK(infos == 0);
+		CHECK(n == 6);
+		CHECK(ecmxf_engine_get_stats(&l.e)->fetch_polls > 0);
+	} else {
+		CHECK(infos > 0);
+		CHECK(n > 6);
+	}
+}
+
+TEST_CASE("pipelining: the fetch of an async command the chip refuses is withdrawn",
+	  "[engine][pipeline]")
+{
+	Link l;
+	l.exchange();
+	l.chip.busyLeft = 50; // another async command runs
+	ecmxf_xfer req = command(ECMXF_CMD_ECAT_SDO_REQ);
+	ecmxf_xfer get = command(ECMXF_CMD_ECAT_SDO_GET);
+	req.fetch = &get;
+	REQUIRE(l.submit(req) == 0);
+	runAll(l, { &req, &get });
+	CHECK(req.status == -EBUSY);
+	CHECK(get.status == -ECANCELED);
+	CHECK(ecmxf_engine_idle(&l.e));
+}
+
+TEST_CASE("pipelining: an async command that fails reports it; its fetch still ran",
+	  "[engine][pipeline]")
+{
+	Link l;
+	l.chip.asyncFails = true;
+	l.exchange();
+	ecmxf_xfer req = command(ECMXF_CMD_ECAT_SDO_REQ);
+	ecmxf_xfer get = command(ECMXF_CMD_ECAT_SDO_GET);
+	req.fetch = &get;
+	REQUIRE(l.submit(req) == 0);
+	runAll(l, { &req, &get });
+	CHECK(req.status == -EREMOTEIO);
+	CHECK(get.status != -EINPROGRESS);
+	CHECK(ecmxf_engine_idle(&l.e));
+}
+
+TEST_CASE("pipelining: bad fetch pairs are refused", "[engine][pipeline]")
+{
+	Link l;
+	ecmxf_xfer imm = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	ecmxf_xfer get = command(ECMXF_CMD_ECAT_SDO_GET);
+	imm.fetch = &get; // not async
+	CHECK(l.submit(imm) == -EINVAL);
+	ecmxf_xfer req = command(ECMXF_CMD_ECAT_SDO_REQ);
+	ecmxf_xfer req2 = command(ECMXF_CMD_ECAT_SDO_REQ);
+	req.fetch = &req2; // an async fetch
+	CHECK(l.submit(req) == -EINVAL);
+	req.fetch = &req; // itself
+	CHECK(l.submit(req) == -EINVAL);
+	ecmxf_xfer warm = command(ECMXF_CMD_WARM_RESET);
+	req.fetch = &warm;
+	CHECK(l.submit(req) == -EINVAL);
+	CHECK(ecmxf_engine_idle(&l.e));
+}
+
+TEST_CASE("pipelining: cancelling an async command withdraws its fetch", "[engine][pipeline]")
+{
+	Link l;
+	l.exchange();
+	ecmxf_xfer req = command(ECMXF_CMD_ECAT_SDO_REQ);
+	ecmxf_xfer get = command(ECMXF_CMD_ECAT_SDO_GET);
+	req.fetch = &get;
+	REQUIRE(l.submit(req) == 0);
+	l.exchange();
+	l.exchange(); // accepted: the fetch polls
+	CHECK(ecmxf_engine_running(&l.e, &req));
+	CHECK(ecmxf_engine_cancel(&l.e, &req) == 0);
+	CHECK(req.status == -ECANCELED);
+	CHECK(get.status == -ECANCELED);
+	CHECK(ecmxf_engine_idle(&l.e));
 }

@@ -340,7 +340,7 @@ private:
 	void check_all();
 	bool holds(const ecmxf_xfer *x) const
 	{
-		return e_.cur == x || e_.async == x;
+		return e_.cur == x || e_.nxt == x || e_.async == x;
 	}
 	void exchange(u8 ctl, u8 aux);
 
@@ -470,7 +470,8 @@ void EngineFuzz::submit(u8 code, u8 param, u8 a, u8 b, u8 c, u16 len)
 			    (code == ECMXF_CMD_SPI_RECONFIG_OP && x.tx_len > len) ||
 			    (code == ECMXF_CMD_WARM_RESET && x.tx_len > ECMXF_DATA_DEFAULT));
 	if (r == 0) {
-		FUZZ_ASSERT(e_.cur == &x && x.status == -EINPROGRESS);
+		FUZZ_ASSERT((e_.cur == &x || e_.nxt == &x) &&
+			    x.status == -EINPROGRESS);
 		FUZZ_ASSERT(x.rx_len == 0);
 		FUZZ_ASSERT(x.async == ecmxf_cmd_is_async(code, param));
 		if (slots_.size() >= kKeepSlots) {
@@ -577,7 +578,10 @@ void EngineFuzz::run_op()
 void EngineFuzz::check_all()
 {
 	FUZZ_ASSERT(!(e_.cur && e_.cur == e_.async));
-	FUZZ_ASSERT(ecmxf_engine_idle(&e_) == (!e_.cur && !e_.async));
+	FUZZ_ASSERT(!(e_.nxt && (e_.nxt == e_.cur || e_.nxt == e_.async)));
+	FUZZ_ASSERT(!e_.nxt || e_.cur);	/* the younger moves up */
+	FUZZ_ASSERT(ecmxf_engine_idle(&e_) ==
+		    (!e_.cur && !e_.nxt && !e_.async));
 	FUZZ_ASSERT(ecmxf_data_size_valid(e_.data_size));
 	FUZZ_ASSERT(e_.check <= ECMXF_CHECK_CRC32 &&
 		    e_.prev_check <= ECMXF_CHECK_CRC32);
@@ -605,11 +609,15 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 	const size_t len = ecmxf_engine_pkt_size(&e_);
 	const size_t n = len - ECMXF_HDR_SIZE - ECMXF_TRAILER_SIZE;
 	std::vector<u8> tx(len), rsp(len);
-	ecmxf_xfer *x = e_.cur;
-	/* WARM_RESET is polled with INFO_UPDATE, never re-sent */
-	bool info = !e_.last_valid || !x ||
-		    (e_.cur_sent && x->hdr.code == ECMXF_CMD_WARM_RESET);
-	bool first = !info && !e_.cur_sent;
+	/*
+	 * Which command the packet carries is read back after
+	 * ecmxf_engine_next() (the engine may give up on one that can no
+	 * longer be polled); the rules are checked below: a first send never
+	 * repeats the previous (index, code), a re-send always does.
+	 */
+	ecmxf_xfer *x = nullptr;
+	bool first = false, info = false;
+	ecmxf_xfer *const cur0 = e_.cur, *const nxt0 = e_.nxt;
 	bool had_last = e_.last_valid;
 	u8 last_index = e_.last_index, last_code = e_.last_code;
 	ecmxf_check check = static_cast<ecmxf_check>(e_.check);
@@ -618,12 +626,6 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 	const u8 *data = nullptr;
 	int r;
 
-	if (first && x->hdr.code == ECMXF_CMD_SPI_RECONFIG_OP)
-		check = ECMXF_CHECK_FIXED;
-	for (auto &sp : slots_)
-		if (&sp->x == x)
-			slot = sp.get();
-	FUZZ_ASSERT(!x || slot);
 
 	/* a wrong size never builds a packet */
 	if (ctl & 0x80) {
@@ -639,7 +641,7 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 	r = ecmxf_engine_next(&e_, now_, tx.data(), len);
 	if (now_ < not_before) {
 		FUZZ_ASSERT(r == -EAGAIN);
-		FUZZ_ASSERT(e_.cur == x);
+		FUZZ_ASSERT(e_.cur == cur0 && e_.nxt == nxt0);
 		ecmxf_engine_poll_time(&e_, now_);
 		check_all();
 		return;
@@ -647,6 +649,19 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 	TRACE("t=%llu next(%zu B, check %u): %d\n",
 	      static_cast<unsigned long long>(now_), len, e_.check, r);
 	FUZZ_ASSERT(r == 0);
+
+	for (ecmxf_xfer *k : { e_.cur, e_.nxt })
+		if (k && k->last_seq == e_.seq)
+			x = k;
+	first = x && x->sent_seq == e_.seq;
+	/* WARM_RESET is polled with INFO_UPDATE, never re-sent */
+	info = !x;
+	if (first && x->hdr.code == ECMXF_CMD_SPI_RECONFIG_OP)
+		check = ECMXF_CHECK_FIXED;
+	for (auto &sp : slots_)
+		if (&sp->x == x)
+			slot = sp.get();
+	FUZZ_ASSERT(!x || slot);
 
 	/* the packet: right check type, right header, right data */
 	FUZZ_ASSERT(ecmxf_decode_cmd(tx.data(), len, check, &ch, &data) ==
@@ -660,8 +675,6 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 		if (had_last)
 			FUZZ_ASSERT(ch.index == last_index);
 		FUZZ_ASSERT(all_zero(data, n));
-		if (x && e_.cur_sent)
-			FUZZ_ASSERT(e_.cur == x);
 	} else {
 		const ecmxf_cmd_hdr &o = slot->orig;
 
@@ -689,7 +702,7 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 			FUZZ_ASSERT(std::memcmp(data, slot->tx.get(),
 						x->tx_len) == 0);
 		FUZZ_ASSERT(all_zero(data + x->tx_len, n - x->tx_len));
-		FUZZ_ASSERT(e_.cur == x && e_.cur_sent);
+		FUZZ_ASSERT(ecmxf_engine_sent(&e_, x));
 	}
 	sent_.push_back({ ch.index, ch.code });
 	check_all();
@@ -739,6 +752,8 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 	/* nothing outlives its deadline */
 	if (e_.cur)
 		FUZZ_ASSERT(e_.cur->deadline_ns > now_);
+	if (e_.nxt)
+		FUZZ_ASSERT(e_.nxt->deadline_ns > now_);
 	if (e_.async)
 		FUZZ_ASSERT(e_.async->deadline_ns > now_);
 	/* what landed in an rx buffer is this response's data section */

@@ -34,6 +34,11 @@ public:
 	~EngineLink() override;
 
 	void run(const RawRequest &req, RawResult &res) noexcept override;
+	void runBatch(std::span<const RawRequest> reqs, std::span<RawResult> res,
+		      bool leaveLast = false) noexcept override;
+	void settle() noexcept override;
+	void setPipelining(bool on) noexcept override;
+	[[nodiscard]] bool pipelining() const noexcept override;
 	[[nodiscard]] std::uint16_t dataSize() const noexcept override;
 	[[nodiscard]] CheckType checkType() const noexcept override;
 	[[nodiscard]] std::optional<ResponseHeader> lastHeader() const noexcept override;

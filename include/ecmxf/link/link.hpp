@@ -86,6 +86,12 @@ struct RawRequest {
 	/// Leave the chip's async / command error bits set after a failure
 	/// (ECMXF_CMD_F_NO_AUTO_CLEAR).
 	bool noAutoClear = false;
+	/// In a batch (Link::runBatch()): this request is the result fetch
+	/// (the *_GET partner) of the async request before it. A link that
+	/// pipelines sends it as the poll of the running command, so the
+	/// exchange that detects the completion also brings the result; it
+	/// is not sent (status -ECANCELED) when the async command fails.
+	bool fetchesPrevious = false;
 };
 
 /// The outcome of a RawRequest.
@@ -187,6 +193,20 @@ public:
 	/// cyclic path (no trace, no failure) allocates nothing.
 	virtual void run(const RawRequest &req, RawResult &res) noexcept = 0;
 
+	/// Runs @p reqs in order, results in @p res (the same length; reset
+	/// first): a link that pipelines (an engine link) sends each command in
+	/// the exchange that fetches the previous one's answer, and an async
+	/// command's fetch (RawRequest::fetchesPrevious) as its poll. With
+	/// @p leaveLast the last command's answer may stay in flight: it is
+	/// fetched by the next exchange on this link (the next run(),
+	/// runBatch() or settle()), which fills its RawResult; that result and
+	/// the request's rx buffer must live until then. The default runs the
+	/// requests one by one with run(). Never throws.
+	virtual void runBatch(std::span<const RawRequest> reqs, std::span<RawResult> res,
+			      bool leaveLast = false) noexcept;
+	/// Fetches every answer runBatch() left in flight. Never throws.
+	virtual void settle() noexcept {}
+
 	/// The data section size in force now (no exchange).
 	[[nodiscard]] virtual std::uint16_t dataSize() const noexcept = 0;
 	/// The check word type in force now (no exchange).
@@ -224,6 +244,13 @@ public:
 	/// poll themselves, the kernel, ignore it). Zero: back to back.
 	virtual void setAsyncPollInterval(std::chrono::nanoseconds interval) noexcept;
 	[[nodiscard]] virtual std::chrono::nanoseconds asyncPollInterval() const noexcept;
+
+	/// Whether a second command may ride in the exchange that fetches the
+	/// first one's answer (engine links; on by default). Off: one command
+	/// per two exchanges and INFO_UPDATE polls, as before pipelining (for
+	/// comparison). Links that cannot pipeline ignore it.
+	virtual void setPipelining(bool on) noexcept { (void)on; }
+	[[nodiscard]] virtual bool pipelining() const noexcept { return false; }
 
 	/// What the link counted. Throws ecmxf::Error when it cannot be read.
 	[[nodiscard]] virtual LinkCounters counters() const = 0;
