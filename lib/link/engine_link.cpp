@@ -309,8 +309,11 @@ void EngineLink::Engine::runBatch(std::span<const RawRequest> reqs, std::span<Ra
 			for (const Slot &s : slots_)
 				if (s.used && !(leaveLast && &s == last && ecmxf_engine_sent(&engine, &s.x)))
 					waiting = true;
-			if (!waiting && next >= n)
+			if (!waiting && next >= n) {
+				if (leaveLast && last && last->used)
+					last->res->status = -EINPROGRESS;
 				return;
+			}
 			step();
 		}
 	} catch (const Error &e) {

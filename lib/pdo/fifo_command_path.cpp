@@ -114,7 +114,9 @@ private:
 	/// the chip refuses the command. @p res and @p proto (0 or the pump's
 	/// -EPROTO) tell the rest of its answer.
 	bool fifoOp(CycleResult &r, const ecmxf_pump_plan &pl, ResponseHeader &h, ecmxf_pump_result &res,
-		    int &proto) noexcept;
+		    int &proto, bool withWkc = false) noexcept;
+	/// The working counter read of set @p set (fifoOp(withWkc)) into @p r.
+	void takeWkc(CycleResult &r, int set) noexcept;
 	/// Hands the @p n TxPDO frames of the last answer over; false (and @p r
 	/// failed) when the pump found the answer's data bad (@p proto).
 	bool takeFrames(CycleResult &r, const ResponseHeader &h, unsigned n, int proto) noexcept;
@@ -131,6 +133,22 @@ private:
 	unsigned maxReads_ = 0;
 	/// the protocol core's pump: the plans and the answers' meaning
 	ecmxf_pump pump_{};
+	/// The working counter read rides behind the cycle's first FIFO
+	/// command: over a link that pipelines, its answer is fetched by the
+	/// next exchange (the next cycle's first), so a cycle costs two
+	/// exchanges. Two sets of results and buffers, used in turn: the
+	/// engine fills the last cycle's while this cycle's batch runs.
+	std::array<std::array<RawResult, 2>, 2> batch_{};
+	std::array<std::array<std::uint8_t, 4>, 2> wkcBuf_{};
+	/// The set whose working counter read is not taken yet, or -1.
+	int wkcSet_ = -1;
+
+public:
+	~FifoCommandPath() override
+	{
+		// nothing may keep pointing at wkcRes_ / wkcBuf_
+		dev_.link().settle();
+	}
 };
 
 FifoCommandPath::FifoCommandPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg)
@@ -157,11 +175,13 @@ void FifoCommandPath::start()
 
 void FifoCommandPath::stop()
 {
+	dev_.link().settle();
+	wkcSet_ = -1;
 	dev_.pdo().fifoEnable(false);
 }
 
 bool FifoCommandPath::fifoOp(CycleResult &r, const ecmxf_pump_plan &pl, ResponseHeader &h, ecmxf_pump_result &res,
-			     int &proto) noexcept
+			     int &proto, bool withWkc) noexcept
 {
 	const std::size_t frameBytes = sizes.rxPdoBytes;
 	const std::span<const std::uint8_t> out = image_.outputs();
@@ -169,8 +189,37 @@ bool FifoCommandPath::fifoOp(CycleResult &r, const ecmxf_pump_plan &pl, Response
 		std::memcpy(txBuf_.data() + i * frameBytes, out.data(), frameBytes);
 	ecmxf_cmd_hdr hdr;
 	const u32 len = ecmxf_pump_fifo_cmd(&pump_, &pl, false, &hdr);
-	const int err = dev_.transact(rawCommand(hdr, cfg_.commandTimeout),
-				      std::span<const std::uint8_t>(txBuf_.data(), len), rxBuf_, h);
+	const std::span<const std::uint8_t> payload(txBuf_.data(), len);
+	int err = 0;
+	if (!withWkc) {
+		err = dev_.transact(rawCommand(hdr, cfg_.commandTimeout), payload, rxBuf_, h);
+	} else {
+		ecmxf_cmd_hdr wh;
+		ecmxf_pump_wkc_cmd(&wh);
+		const int prev = wkcSet_;
+		const int set = prev == 0 ? 1 : 0;
+		const std::array<RawRequest, 2> req{
+			dev_.request(rawCommand(hdr, cfg_.commandTimeout), payload, rxBuf_),
+			dev_.request(rawCommand(wh, cfg_.commandTimeout), {}, wkcBuf_[static_cast<std::size_t>(set)]),
+		};
+		std::array<RawResult, 2> &res2 = batch_[static_cast<std::size_t>(set)];
+		// the read rides in the exchange that fetches the FIFO command's
+		// answer; its own answer may be left to the next exchange
+		// (CyclicConfig::wkcAnswerNextCycle)
+		dev_.link().runBatch(req, res2, cfg_.wkcAnswerNextCycle);
+		wkcSet_ = set;
+		// a failed cycle reports the FIFO command's failure; the read's
+		// outcome, when it is in, is moot
+		if (res2[0].status && res2[1].status != -EINPROGRESS)
+			wkcSet_ = -1;
+		r.commands++;
+		err = -res2[0].status;
+		if (!res2[0].linkFailure)
+			h = res2[0].header;
+		// the last cycle's read was answered by this batch's first exchange
+		if (prev >= 0)
+			takeWkc(r, prev);
+	}
 	r.commands++;
 	if (err) {
 		cycleFail(r, err, fifoOpText(err));
@@ -237,6 +286,25 @@ int FifoCommandPath::waitInputs(nanoseconds timeout) noexcept
 	}
 }
 
+void FifoCommandPath::takeWkc(CycleResult &r, int set) noexcept
+{
+	const RawResult &res = batch_[static_cast<std::size_t>(set)][1];
+	if (res.status) {
+		cycleFail(r, -res.status, wcGetText(-res.status));
+		return;
+	}
+	const ecmxf_rsp_hdr rh = detail::wireHeader<ecmxf_rsp_hdr>(res.header);
+	std::uint32_t wkc = 0;
+	const int werr = ecmxf_pump_wkc_answer(&rh, wkcBuf_[static_cast<std::size_t>(set)].data(), res.header.len, &wkc);
+	if (werr) {
+		cycleFail(r, -werr, werr == -EREMOTEIO ? wcGetText(EREMOTEIO) : kShortWkc);
+		return;
+	}
+	r.wkcRead = true;
+	r.wkc = wkc;
+	r.wkcOk = r.wkc == r.expectedWkc;
+}
+
 void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 {
 	const bool haveOut = sizes.rxPdoBytes > 0;
@@ -259,6 +327,7 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 	// offers at least this cycle's outputs. The image is the only frame:
 	// as many copies as the plan wants.
 	bool first = true;
+	bool wkcCarried = false;
 	unsigned pushed = 0;
 	for (;;) {
 		ecmxf_pump_plan pl;
@@ -267,7 +336,9 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 			break;
 		ecmxf_pump_result res;
 		int proto = 0;
-		if (!fifoOp(r, pl, h, res, proto))
+		const bool withWkc = first && readWkc;
+		wkcCarried |= withWkc;
+		if (!fifoOp(r, pl, h, res, proto, withWkc))
 			return;
 		r.framesPushed += pl.push;
 		if (pl.push) {
@@ -321,26 +392,28 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 		}
 	}
 
-	if (readWkc) {
+	if (readWkc && !wkcCarried) {
+		// no FIFO command went out to carry it: on its own
 		ecmxf_cmd_hdr wh;
 		ecmxf_pump_wkc_cmd(&wh);
-		std::array<std::uint8_t, 4> v{};
-		const int err = dev_.transact(rawCommand(wh, cfg_.commandTimeout), {}, v, h);
+		const int set = wkcSet_ == 0 ? 1 : 0;
+		if (wkcSet_ >= 0)
+			dev_.link().settle();
+		std::array<RawResult, 2> &res2 = batch_[static_cast<std::size_t>(set)];
+		res2[1] = RawResult{};
+		dev_.link().run(dev_.request(rawCommand(wh, cfg_.commandTimeout), {}, wkcBuf_[static_cast<std::size_t>(set)]), res2[1]);
 		r.commands++;
-		if (err) {
-			cycleFail(r, err, wcGetText(err));
-			return;
-		}
-		const ecmxf_rsp_hdr rh = detail::wireHeader<ecmxf_rsp_hdr>(h);
-		std::uint32_t wkc = 0;
-		const int werr = ecmxf_pump_wkc_answer(&rh, v.data(), h.len, &wkc);
-		if (werr) {
-			cycleFail(r, -werr, werr == -EREMOTEIO ? wcGetText(EREMOTEIO) : kShortWkc);
-			return;
-		}
-		r.wkcRead = true;
-		r.wkc = wkc;
-		r.wkcOk = r.wkc == r.expectedWkc;
+		if (wkcSet_ >= 0)
+			takeWkc(r, wkcSet_);
+		wkcSet_ = set;
+		if (!res2[1].linkFailure)
+			h = res2[1].header;
+	}
+	// over a link that runs one command at a time, this cycle's read is
+	// in already
+	if (wkcSet_ >= 0 && batch_[static_cast<std::size_t>(wkcSet_)][1].status != -EINPROGRESS) {
+		takeWkc(r, wkcSet_);
+		wkcSet_ = -1;
 	}
 
 	r.rxFifoCount = h.rxFifoCnt;

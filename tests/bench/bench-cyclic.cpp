@@ -98,7 +98,7 @@ struct Row {
 	std::uint64_t failed = 0, wkcBad = 0;
 };
 
-Row run(const std::string &network)
+Row run(const std::string &network, bool pipeline, bool nextCycle = false)
 {
 	constexpr int kWarmup = 200;
 	constexpr int kCycles = 2000;
@@ -107,11 +107,13 @@ Row run(const std::string &network)
 	auto t = std::make_unique<ecmxf::SimChannel>(network, chip);
 	ecmxf::SimChannel &sim = *t;
 	ecmxf::Device dev(std::move(t));
+	dev.link().setPipelining(pipeline);
 	bringUp(dev);
 	ecmxf::ProcessImage image(sizes(dev));
 	ecmxf::CyclicConfig cfg;
 	cfg.period = 1ms;
 	cfg.busCycle = 1ms;
+	cfg.wkcAnswerNextCycle = nextCycle;
 	ecmxf::Cyclic cyc(dev, image, cfg);
 	cyc.start();
 	for (int i = 0; i < kWarmup; i++) {
@@ -157,13 +159,18 @@ int main()
 	std::printf("bench-cyclic: ecmxf::Cyclic through the simulator transport, 1 ms cycle, 1408-byte SPI data\n"
 		    "at 96 Mbit/s, "
 		    "2000 cycles after 200 of warm-up; CPU = this thread (library + simulated chip and slaves)\n\n");
-	std::printf("%7s %9s %9s %12s %12s %9s %10s %12s %7s %8s\n", "slaves", "out B", "in B", "cycles/s",
-		    "CPU us/cyc", "cmds/cyc", "xfers/cyc", "allocs/cyc", "failed", "WKC bad");
+	std::printf("engine: 'off' = one command per two exchanges (before pipelining), 'on' = pipelined,\n"
+		    "'next' = pipelined with CyclicConfig::wkcAnswerNextCycle (the WKC read's answer comes with\n"
+		    "the next cycle's first exchange); all in this run, on the same machine\n\n");
+	std::printf("%7s %6s %9s %9s %12s %12s %9s %10s %12s %7s %8s\n", "slaves", "engine", "out B", "in B",
+		    "cycles/s", "CPU us/cyc", "cmds/cyc", "xfers/cyc", "allocs/cyc", "failed", "WKC bad");
 	int rc = 0;
-	for (const std::string &n : nets) {
+	for (const std::string &n : nets)
+		for (const int mode : { 0, 1, 2 }) {
 		try {
-			const Row r = run(n);
-			std::printf("%7zu %9zu %9zu %12.0f %12.2f %9.2f %10.2f %12.3f %7llu %8llu\n", r.slaves,
+			const Row r = run(n, mode > 0, mode == 2);
+			std::printf("%7zu %6s %9zu %9zu %12.0f %12.2f %9.2f %10.2f %12.3f %7llu %8llu\n", r.slaves,
+				    mode == 0 ? "off" : mode == 1 ? "on" : "next",
 				    r.rxBytes, r.txBytes, r.cyclesPerSecond, r.cpuUsPerCycle, r.commandsPerCycle,
 				    r.exchangesPerCycle, r.allocsPerCycle, static_cast<unsigned long long>(r.failed),
 				    static_cast<unsigned long long>(r.wkcBad));

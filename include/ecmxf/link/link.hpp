@@ -199,8 +199,9 @@ public:
 	/// command's fetch (RawRequest::fetchesPrevious) as its poll. With
 	/// @p leaveLast the last command's answer may stay in flight: it is
 	/// fetched by the next exchange on this link (the next run(),
-	/// runBatch() or settle()), which fills its RawResult; that result and
-	/// the request's rx buffer must live until then. The default runs the
+	/// runBatch() or settle()), which fills its RawResult (status
+	/// -EINPROGRESS until then); that result and the request's rx buffer
+	/// must live until then. The default runs the
 	/// requests one by one with run(). Never throws.
 	virtual void runBatch(std::span<const RawRequest> reqs, std::span<RawResult> res,
 			      bool leaveLast = false) noexcept;

@@ -62,6 +62,15 @@ struct CyclicConfig {
 	/// Read the working counter (ECAT_PDO_WC_GET 3) every this many
 	/// cycles (one more command each time); 0: never.
 	unsigned wkcEvery = 1;
+	/// The working counter read rides in the exchange that fetches the
+	/// cycle's FIFO command answer (pipelining), and its own answer is
+	/// fetched within the cycle: 3 SPI exchanges per cycle with a read, 2
+	/// without. true: its answer is left to the next cycle's first
+	/// exchange, so a cycle with a read costs 2 exchanges, and
+	/// CycleResult::wkc / wkcOk report the read of the cycle before (the
+	/// first cycle reports none). Over the kernel module's link the read
+	/// is always answered within the cycle.
+	bool wkcAnswerNextCycle = false;
 	/// The bus cycle (ECAT_INIT_OP's SYNC0 cycle, or 1 ms free run): with
 	/// it, TxPDO frames lost to a TxFIFO overflow are estimated; zero: not
 	/// estimated (overflows are still detected and counted).
