@@ -818,7 +818,7 @@ static int ecmxf_worker_fn(void *data)
 	struct ecmxf_req *reset, *req;
 	struct ecmxf_rings *pump, *finished;
 	u64 now, int1_at;
-	bool slot_free;
+	bool slot_free, pump_ok;
 	int ret;
 
 	ecmxf_watch_start(edev);
@@ -833,7 +833,7 @@ static int ecmxf_worker_fn(void *data)
 		pump = NULL;
 
 		mutex_lock(&edev->lock);
-		/* the pump may hold the command slot; a reset needs it too */
+		/* a reset needs the engine to itself */
 		slot_free = !edev->cur_req && !edev->pump.busy;
 		if (slot_free) {
 			reset = list_first_entry_or_null(&edev->resets,
@@ -848,17 +848,26 @@ static int ecmxf_worker_fn(void *data)
 			ecmxf_expire_queued(edev, now);
 			edev->next_expire_ns = now + ECMXF_EXPIRE_PERIOD_NS;
 		}
-		if (!reset && slot_free) {
-			/* the pump and the files take turns */
-			if (edev->pump.turn)
+		/*
+		 * The pump and the files take turns.  One new command per
+		 * turn of the loop: while the one before waits for its answer
+		 * the engine sends it in the exchange that fetches that answer
+		 * (pipelining), so the pump and a file's request share
+		 * exchanges.
+		 */
+		pump_ok = ecmxf_engine_can_submit(&edev->e, NULL);
+		/* a waiting reset lets the engine drain first */
+		if (!reset && list_empty(&edev->resets) &&
+		    (pump_ok || !edev->cur_req)) {
+			if (edev->pump.turn && pump_ok)
 				pump = ecmxf_pump_take(edev, now);
-			if (!pump)
+			if (!pump && !edev->cur_req)
 				req = ecmxf_pick(edev);
 			if (req) {
 				req->state = ECMXF_RS_ACTIVE;
 				edev->cur_req = req;
 				edev->pump.turn = true;
-			} else if (!pump) {
+			} else if (!pump && pump_ok) {
 				pump = ecmxf_pump_take(edev, now);
 			}
 		}
