@@ -579,6 +579,7 @@ void EngineFuzz::check_all()
 	FUZZ_ASSERT(!(e_.cur && e_.cur == e_.async));
 	FUZZ_ASSERT(ecmxf_engine_idle(&e_) == (!e_.cur && !e_.async));
 	FUZZ_ASSERT(ecmxf_data_size_valid(e_.data_size));
+	FUZZ_ASSERT(e_.cover <= ECMXF_COVER_VALID);
 	FUZZ_ASSERT(e_.check <= ECMXF_CHECK_CRC32 &&
 		    e_.prev_check <= ECMXF_CHECK_CRC32);
 	FUZZ_ASSERT(ecmxf_engine_pkt_size(&e_) ==
@@ -606,13 +607,26 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 	const size_t n = len - ECMXF_HDR_SIZE - ECMXF_TRAILER_SIZE;
 	std::vector<u8> tx(len), rsp(len);
 	ecmxf_xfer *x = e_.cur;
-	/* WARM_RESET is polled with INFO_UPDATE, never re-sent */
+	/*
+	 * WARM_RESET is polled with INFO_UPDATE, never re-sent; while a CRC
+	 * is in force and its coverage unknown, a new command waits for
+	 * INFO_UPDATE probes (bounded), which carry the whole data section
+	 * as length (protocol-core.rst, "Firmware variants")
+	 */
+	const bool cover_unknown = e_.check != ECMXF_CHECK_FIXED &&
+				   e_.cover == ECMXF_COVER_UNKNOWN;
 	bool info = !e_.last_valid || !x ||
-		    (e_.cur_sent && x->hdr.code == ECMXF_CMD_WARM_RESET);
+		    (e_.cur_sent && x->hdr.code == ECMXF_CMD_WARM_RESET) ||
+		    (!e_.cur_sent && cover_unknown &&
+		     e_.cover_probes < ECMXF_COVER_MAX_PROBES);
 	bool first = !info && !e_.cur_sent;
 	bool had_last = e_.last_valid;
 	u8 last_index = e_.last_index, last_code = e_.last_code;
-	ecmxf_check check = static_cast<ecmxf_check>(e_.check);
+	unsigned ck = e_.check;
+	if (ck != ECMXF_CHECK_FIXED && e_.cover == ECMXF_COVER_VALID)
+		ck |= ECMXF_CHECK_COVER_VALID;
+	ecmxf_check check = static_cast<ecmxf_check>(ck);
+	const u16 info_len = cover_unknown ? static_cast<u16>(n) : 0;
 	Slot *slot = nullptr;
 	ecmxf_cmd_hdr ch;
 	const u8 *data = nullptr;
@@ -620,6 +634,14 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 
 	if (first && x->hdr.code == ECMXF_CMD_SPI_RECONFIG_OP)
 		check = ECMXF_CHECK_FIXED;
+	/* a CRC_TYPE_SET the chip did not take: every other try fixed */
+	if (first && x->hdr.code == ECMXF_CMD_CRC_TYPE_SET &&
+	    (e_.crcset_tries & 1))
+		check = ECMXF_CHECK_FIXED;
+	/* its re-sends carry the whole section while coverage is unknown */
+	const bool crcset_resend = !info && !first &&
+				   x->hdr.code == ECMXF_CMD_CRC_TYPE_SET &&
+				   cover_unknown;
 	for (auto &sp : slots_)
 		if (&sp->x == x)
 			slot = sp.get();
@@ -656,7 +678,8 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 		    e_.last_code == ch.code);
 	if (info) {
 		FUZZ_ASSERT(ch.code == ECMXF_CMD_INFO_UPDATE_OP);
-		FUZZ_ASSERT(ch.param == 0 && ch.len == 0 && ch.reserved == 0);
+		FUZZ_ASSERT(ch.param == 0 && ch.len == info_len &&
+			    ch.reserved == 0);
 		if (had_last)
 			FUZZ_ASSERT(ch.index == last_index);
 		FUZZ_ASSERT(all_zero(data, n));
@@ -666,7 +689,8 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 		const ecmxf_cmd_hdr &o = slot->orig;
 
 		FUZZ_ASSERT(ch.code == o.code && ch.param == o.param);
-		FUZZ_ASSERT(ch.len == o.len && ch.reserved == o.reserved);
+		FUZZ_ASSERT(ch.len == (crcset_resend ? n : o.len) &&
+			    ch.reserved == o.reserved);
 		FUZZ_ASSERT(std::memcmp(ch.data, o.data, 4) == 0);
 		FUZZ_ASSERT(std::memcmp(ch.gpio_out, o.gpio_out, 2) == 0);
 		FUZZ_ASSERT(ch.index == x->hdr.index);
