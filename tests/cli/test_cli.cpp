@@ -122,7 +122,7 @@ struct NetFile {
 
 } // namespace
 
-TEST_CASE("-d 'sim:?check=crc32' switches the chip to CRC-32 at open, under either CRC coverage",
+TEST_CASE("a sim: URI with check=crc32 switches the chip to CRC-32 at open, under either CRC coverage",
 	  "[cli][variants]")
 {
 	// 0x2001:0 of the EST-584: 50000 (sim-slaves.rst)

@@ -699,7 +699,7 @@ TEST_CASE("unix: an 'E' reply is an error with the server's message (EPROTO)", "
 
 // ---------------------------------------------------------------- the URI
 
-TEST_CASE("unix: URIs: the socket path, trace= and nothing else", "[unix][uri]")
+TEST_CASE("unix: URIs: the socket path, check=, trace= and nothing else", "[unix][uri]")
 {
 	auto u = ecmxf::parseDeviceUri("unix:/tmp/s");
 	CHECK(u.kind == ecmxf::DeviceUri::Kind::Unix);
