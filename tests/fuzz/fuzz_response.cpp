@@ -152,14 +152,14 @@ bool pkt_len_valid(size_t len)
 	return len >= ECMXF_PKT_SIZE(ECMXF_DATA_MIN) && len <= ECMXF_PKT_MAX;
 }
 
-/* Start word, check word of @check, end word. */
+/* Start word, check word of @check (and its coverage flag), end word. */
 void repair_frame(u8 *pkt, size_t len, ecmxf_check check)
 {
 	size_t n = len - ECMXF_HDR_SIZE - ECMXF_TRAILER_SIZE;
 
 	put_le32(pkt, ECMXF_START_WORD);
 	put_le32(pkt + ECMXF_HDR_SIZE + n,
-		 ecmxf_check_word(check, pkt, ECMXF_HDR_SIZE + n));
+		 ecmxf_check_word(check, pkt, ecmxf_check_span(pkt, len, check)));
 	put_le32(pkt + ECMXF_HDR_SIZE + n + 4, ECMXF_END_WORD);
 }
 
@@ -215,7 +215,10 @@ void check_valid_rsp(const u8 *pkt, size_t len, ecmxf_check check,
 	FUZZ_ASSERT(get_le32(pkt + len - 4) == ECMXF_END_WORD);
 	FUZZ_ASSERT(get_le32(pkt + len - 8) != ECMXF_NOT_READY_WORD);
 	FUZZ_ASSERT(get_le32(pkt + len - 8) ==
-		    ecmxf_check_word(check, pkt, len - 8));
+		    ecmxf_check_word(check, pkt,
+				     ecmxf_check_span(pkt, len, check)));
+	if (!(check & ECMXF_CHECK_COVER_VALID))
+		FUZZ_ASSERT(ecmxf_check_span(pkt, len, check) == len - 8);
 	FUZZ_ASSERT(h.crc_err_cnt == pkt[0x04] && h.wkc_err_cnt == pkt[0x05]);
 	FUZZ_ASSERT(h.tx_fifo_cnt == pkt[0x06] && h.rx_fifo_cnt == pkt[0x07]);
 	FUZZ_ASSERT(h.ecat_state == pkt[0x08] && h.err_status == pkt[0x09]);
@@ -305,6 +308,12 @@ void fuzz_codec(const u8 *in, size_t size)
 			decode_one(pkt.get(), len, check);
 			if (pkt_len_valid(len))
 				decode_repaired(pkt.get(), len, check);
+			/* the example host code's CRC coverage */
+			const auto valid = static_cast<ecmxf_check>(
+				check | ECMXF_CHECK_COVER_VALID);
+			decode_one(pkt.get(), len, valid);
+			if (pkt_len_valid(len))
+				decode_repaired(pkt.get(), len, valid);
 		}
 	}
 	for (ecmxf_check check : kChecks)
@@ -741,10 +750,15 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 		put_le16(rsp.data() + 0x0E,
 			 static_cast<u16>(get_le16(rsp.data() + 0x0E) % (n + 1)));
 	if (ctl & 0x04)
+		/* aux bit 6: the example host code's CRC coverage */
 		repair_frame(rsp.data(), len,
-			     static_cast<ecmxf_check>((ctl & 0x80) ?
-						      e_.prev_check :
-						      e_.check));
+			     static_cast<ecmxf_check>(((ctl & 0x80) ?
+						       e_.prev_check :
+						       e_.check) |
+						      ((aux & 0x40) ?
+						       unsigned{ ECMXF_CHECK_COVER_VALID } :
+						       0u)));
+	const u8 cover_before = e_.cover;
 
 	std::vector<u16> rx_before;
 	for (auto &sp : slots_)
@@ -759,6 +773,9 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 	FUZZ_ASSERT((ev & ~0x3Fu) == 0);
 	if (ev & ECMXF_EV_BAD_PACKET)
 		FUZZ_ASSERT(!(ev & ECMXF_EV_HEADER));
+	/* the CRC coverage is decided once and kept */
+	if (cover_before != ECMXF_COVER_UNKNOWN)
+		FUZZ_ASSERT(e_.cover == cover_before);
 	check_all();
 	/* nothing outlives its deadline */
 	if (e_.cur)
