@@ -7,6 +7,9 @@
  *   data_size      data section size of the packets, bytes (32..1408)
  *   packet_size    whole packet, bytes (data_size + 32)
  *   check_type     fixed, crc8, crc-ccitt or crc32
+ *   crc_coverage   which bytes the chip's CRC covers: frame (manual 050),
+ *                  valid (NEXTW's example code) or unknown (no answer in a
+ *                  CRC type told them apart yet)
  *   int0, int1     "wired" or "absent"
  *   open_count     open file descriptors
  *   claim_pid      process holding the cyclic claim (0: none), in the
@@ -97,6 +100,19 @@ static ssize_t check_type_show(struct device *dev,
 }
 static DEVICE_ATTR_RO(check_type);
 
+static ssize_t crc_coverage_show(struct device *dev,
+				 struct device_attribute *attr, char *buf)
+{
+	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
+	unsigned int v;
+
+	mutex_lock(&edev->lock);
+	v = edev->cover;
+	mutex_unlock(&edev->lock);
+	return sysfs_emit(buf, "%s\n", ecmxf_cover_name(v));
+}
+static DEVICE_ATTR_RO(crc_coverage);
+
 static ssize_t int0_show(struct device *dev, struct device_attribute *attr,
 			 char *buf)
 {
@@ -171,6 +187,7 @@ static struct attribute *ecmxf_attrs[] = {
 	&dev_attr_data_size.attr,
 	&dev_attr_packet_size.attr,
 	&dev_attr_check_type.attr,
+	&dev_attr_crc_coverage.attr,
 	&dev_attr_int0.attr,
 	&dev_attr_int1.attr,
 	&dev_attr_open_count.attr,

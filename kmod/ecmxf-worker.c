@@ -375,6 +375,7 @@ static void ecmxf_snapshot(struct ecmxf_dev *edev)
 	edev->data_size = (u16)ecmxf_engine_data_size(&edev->e);
 	/* no getter for the check type: read the field the engine keeps */
 	edev->check = edev->e.check;
+	edev->cover = ecmxf_engine_cover(&edev->e);
 	if (!h)
 		return;
 	edev->last = *h;

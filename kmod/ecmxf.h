@@ -230,6 +230,8 @@ struct ecmxf_client {
  * @claim_pid: the thread group that took @claim
  * @data_size: data section size in force (snapshot of the engine's)
  * @check: check type in force (snapshot of the engine's)
+ * @cover: &enum ecmxf_cover, the chip's CRC coverage found (snapshot of
+ *	the engine's)
  * @fw_valid: @fw_version and @fw_info were read
  * @fw_version: FW_VERSION_GET return value
  * @fw_info: FW_VERSION_GET data bytes
@@ -300,6 +302,7 @@ struct ecmxf_dev {
 	struct pid *claim_pid;
 	u16 data_size;
 	u8 check;
+	u8 cover;
 	bool fw_valid;
 	u8 fw_version;
 	u8 fw_info[20];

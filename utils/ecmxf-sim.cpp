@@ -45,6 +45,7 @@
 #include <ecmxf/link/unix_channel.hpp>
 #include <ecmxf/protocol.hpp>
 #include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
 
 namespace {
 
@@ -298,7 +299,7 @@ extern "C" void removeSocketAndExit(int)
 void usage(std::FILE *out)
 {
 	std::fprintf(out,
-		     "Usage: ecmxf-sim [--network FILE] [--paced] [--socket PATH]\n"
+		     "Usage: ecmxf-sim [--network FILE] [--chip KEY=VALUE]... [--paced] [--socket PATH]\n"
 		     "\n"
 		     "Serve a simulated ECM-XF over standard input/output, or over a Unix\n"
 		     "stream socket (one client at a time: another one is refused as busy; the\n"
@@ -307,6 +308,10 @@ void usage(std::FILE *out)
 		     "Documentation/sim-wire-protocol.rst.\n"
 		     "\n"
 		     "  -n, --network FILE  network description (default: 2x EST-584 + I/O)\n"
+		     "  -c, --chip KEY=VALUE  a chip option, over the network file's `chip`\n"
+		     "                      lines (may be repeated): crc32-coverage=frame|valid,\n"
+		     "                      crc-type-set-fixed=drop|accept (firmware variants,\n"
+		     "                      Documentation/simulator.rst)\n"
 		     "  -p, --paced         follow the wall clock instead of virtual time\n"
 		     "  -s, --socket PATH   listen on a Unix socket at PATH\n"
 		     "  -h, --help          show this help\n");
@@ -316,6 +321,7 @@ int run(int argc, char **argv)
 {
 	std::string network, socketPath;
 	ecmxf::sim::ChipConfig cfg;
+	std::vector<std::pair<std::string, std::string>> chipOptions;
 
 	for (int i = 1; i < argc; i++) {
 		const std::string_view a = argv[i];
@@ -329,6 +335,20 @@ int run(int argc, char **argv)
 			return 0;
 		} else if (a == "-n" || a == "--network") {
 			network = value("--network");
+		} else if (a == "-c" || a == "--chip") {
+			const std::string kv = value("--chip");
+			const auto eq = kv.find('=');
+			if (eq == std::string::npos || eq == 0)
+				throw std::invalid_argument("--chip '" + kv + "' is not KEY=VALUE (" +
+							    std::string(ecmxf::sim::kChipOptions) + ")");
+			chipOptions.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+			try {
+				ecmxf::sim::ChipConfig check;
+				ecmxf::sim::applyChipOption(check, chipOptions.back().first,
+							    chipOptions.back().second);
+			} catch (const std::invalid_argument &e) {
+				throw std::invalid_argument(std::string("--chip: ") + e.what());
+			}
 		} else if (a == "-p" || a == "--paced") {
 			cfg.timeMode = ecmxf::sim::TimeMode::Paced;
 		} else if (a == "-s" || a == "--socket") {
@@ -339,7 +359,11 @@ int run(int argc, char **argv)
 		}
 	}
 
-	ecmxf::sim::Chip chip(network, cfg);
+	ecmxf::sim::Network net =
+		network.empty() ? ecmxf::sim::Network::defaultNetwork() : ecmxf::sim::Network::fromFile(network);
+	for (const auto &[key, val] : chipOptions)
+		net.setChipOption(key, val); // over the file's chip lines
+	ecmxf::sim::Chip chip(std::move(net), cfg);
 
 	if (socketPath.empty()) {
 		Pipe p(STDIN_FILENO, STDOUT_FILENO);

@@ -22,7 +22,10 @@ const char *const kInfoHelp =
 	"\n"
 	"Show the chip's firmware (FW_VERSION_GET: version, extended version,\n"
 	"series, build id), the SPI data section size (SPI_PACK_SIZE_GET) and\n"
-	"packet size, the check type, the ECAT state, the error-status and\n"
+	"packet size, the check type and which bytes the chip's CRC covers (frame:\n"
+	"the whole data section, as manual 050; valid: the valid data length, as\n"
+	"NEXTW's example code; unknown until a CRC was in force), the ECAT state,\n"
+	"the error-status and\n"
 	"ECM-status bits by name, the SPI CRC and WKC error counts, the continuous\n"
 	"WKC error count and its limit (ECAT_WKC_CONTI_ERR_CNT_GET / _MAX_GET) and\n"
 	"the number of slaves found by the last ECAT_INIT_OP (SLV_CNT_GET).\n"
@@ -59,6 +62,7 @@ int cmdInfo(Globals &g, const Args &args)
 	const ecmxf::FirmwareVersion &fw = ci.firmware;
 	const std::string series = ecmxf::masterSeriesName(fw.seriesCode);
 	const std::string_view check = ecmxf::checkTypeName(ci.checkType);
+	const std::string_view coverage = ecmxf::crcCoverageName(ci.crcCoverage);
 	const auto errBits = ecmxf::errorStatusBits(h.errStatus);
 	const auto ecmBits = ecmxf::ecmStatusBits(h.ecmStatus);
 	const std::string wkcConti = ci.wkcContinuousErrors ? std::to_string(*ci.wkcContinuousErrors) : "";
@@ -76,6 +80,7 @@ int cmdInfo(Globals &g, const Args &args)
 			    "  \"data_size\": %u,\n"
 			    "  \"packet_size\": %zu,\n"
 			    "  \"check_type\": %s,\n"
+			    "  \"crc_coverage\": %s,\n"
 			    "  \"ecat_state\": %u,\n"
 			    "  \"ecat_state_name\": %s,\n"
 			    "  \"error_status\": %u,\n"
@@ -91,6 +96,7 @@ int cmdInfo(Globals &g, const Args &args)
 			    jsonString(g.device).c_str(), fw.version, fw.detailed ? "true" : "false",
 			    fw.extendedVersion, fw.seriesCode, jsonString(series).c_str(),
 			    jsonString(fw.buildId).c_str(), ci.dataSize, ci.packetSize, jsonString(check).c_str(),
+			    jsonString(coverage).c_str(),
 			    h.ecatState, jsonString(ecmxf::ecatStateName(h.ecatState)).c_str(), h.errStatus,
 			    joined(errBits, true).c_str(), h.ecmStatus, joined(ecmBits, true).c_str(), h.crcErrCnt,
 			    h.wkcErrCnt, wkcConti.empty() ? "null" : wkcConti.c_str(), ci.wkcErrorLimit, slaves);
@@ -108,6 +114,7 @@ int cmdInfo(Globals &g, const Args &args)
 	}
 	std::printf("data size:         %u (packet %zu bytes)\n", ci.dataSize, ci.packetSize);
 	std::printf("check type:        %.*s\n", static_cast<int>(check.size()), check.data());
+	std::printf("CRC coverage:      %.*s\n", static_cast<int>(coverage.size()), coverage.data());
 	std::printf("ECAT state:        %s (0x%02x)\n", ecmxf::ecatStateName(h.ecatState).c_str(), h.ecatState);
 	std::printf("error status:      0x%02x (%s)\n", h.errStatus,
 		    errBits.empty() ? "none" : joined(errBits, false).c_str());

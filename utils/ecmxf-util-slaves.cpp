@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
 #include <ecmxf/bus/slave_access.hpp>
 #include <ecmxf/error.hpp>
 
@@ -29,10 +30,13 @@ const char *const kSlavesHelp =
 	"Options:\n"
 	"  -p, --position N  only the slave at bus position N\n"
 	"  -v, --verbose  add revision, configured station address, AL status code,\n"
-	"                 output/input process data bytes and DC support (ESC\n"
-	"                 feature register 0x0008 bit 2, read with FPRD); a slave\n"
-	"                 whose AL status code is not 0 gets a second line with\n"
-	"                 the code's text; say on stderr when the bus is scanned\n"
+	"                 output/input process data bytes and the distributed\n"
+	"                 clock (SLV_INFO_GET codes 10..13): DC support, SYNC0\n"
+	"                 cycle and shift in ns, SYNC0 active (\"-\" where the\n"
+	"                 firmware refuses the codes; DC support then comes from\n"
+	"                 the ESC feature register 0x0008 bit 2, read with FPRD);\n"
+	"                 a slave whose AL status code is not 0 gets a second line\n"
+	"                 with the code's text; say on stderr when the bus is scanned\n"
 	"  --json         a JSON array of objects with every field\n"
 	"  -h, --help     show this help\n";
 
@@ -48,8 +52,19 @@ struct SlaveInfo {
 	std::uint32_t vendor = 0, product = 0, revision = 0;
 	std::string name;
 	std::uint16_t station = 0, alCode = 0, outBytes = 0, inBytes = 0;
-	std::optional<bool> dc; ///< ESC feature bit 2; unset when the read failed
+	std::optional<bool> dc; ///< SLV_INFO_GET 10 or ESC feature bit 2; unset when unknown
+	std::optional<ecmxf::SlaveDc> dcInfo; ///< SLV_INFO_GET 10..13; unset when refused
 };
+
+/// SLV_INFO_GET codes 10..13; nullopt when the firmware refuses them.
+std::optional<ecmxf::SlaveDc> readDcInfo(ecmxf::Device &dev, unsigned pos)
+{
+	try {
+		return dev.bus().slaveDc(static_cast<std::uint8_t>(pos));
+	} catch (const ecmxf::Error &) {
+		return std::nullopt;
+	}
+}
 
 /// DC support: ESC feature register 0x0008 bit 2 (ETG.1000.4), by FPRD.
 std::optional<bool> readDc(ecmxf::Device &dev, std::uint16_t station)
@@ -149,7 +164,8 @@ int cmdSlaves(Globals &g, const Args &args)
 		s.aliasBase = lastAlias;
 		s.relative = relative++;
 		if (only < 0 || pos == static_cast<unsigned>(only)) {
-			s.dc = readDc(*dev, s.station);
+			s.dcInfo = readDcInfo(*dev, pos);
+			s.dc = s.dcInfo ? std::optional<bool>(s.dcInfo->hasDc) : readDc(*dev, s.station);
 			slaves.push_back(std::move(s));
 		}
 	}
@@ -164,28 +180,39 @@ int cmdSlaves(Globals &g, const Args &args)
 				    "\"state\": %s, \"al_state\": %u, \"error\": %s, \"vendor_id\": %u, "
 				    "\"product_code\": %u, \"revision\": %u, \"name\": %s, "
 				    "\"station_address\": %u, \"al_status_code\": %u, "
-				    "\"al_status_text\": %s, \"output_bytes\": %u, \"input_bytes\": %u, \"dc\": %s}",
+				    "\"al_status_text\": %s, \"output_bytes\": %u, \"input_bytes\": %u, \"dc\": %s, "
+				    "\"dc_cycle_ns\": %s, \"dc_shift_ns\": %s, \"dc_active\": %s}",
 				    i ? "," : "", s.position, s.alias, s.relative,
 				    jsonString(stateName(s.state)).c_str(), s.state,
 				    s.error ? "true" : "false", s.vendor, s.product, s.revision,
 				    jsonString(s.name).c_str(), s.station, s.alCode,
 				    jsonString(ecmxf::alStatusText(s.alCode)).c_str(), s.outBytes, s.inBytes,
-				    s.dc ? (*s.dc ? "true" : "false") : "null");
+				    s.dc ? (*s.dc ? "true" : "false") : "null",
+				    s.dcInfo ? std::to_string(s.dcInfo->cycleNs).c_str() : "null",
+				    s.dcInfo ? std::to_string(s.dcInfo->shiftNs).c_str() : "null",
+				    s.dcInfo ? (s.dcInfo->active ? "true" : "false") : "null");
 		}
 		std::printf("%s]\n", slaves.empty() ? "" : "\n");
 		return 0;
 	}
 
 	if (verbose)
-		std::printf("%-3s  %-7s  %-8s  %-21s  %-10s  %-6s  %-7s  %4s  %4s  %-3s  %s\n", "POS", "ALIAS",
-			    "STATE", "VENDOR:PRODUCT", "REVISION", "ADDR", "AL CODE", "OUT", "IN", "DC", "NAME");
+		std::printf("%-3s  %-7s  %-8s  %-21s  %-10s  %-6s  %-7s  %4s  %4s  %-3s  %10s  %10s  %-3s  %s\n",
+			    "POS", "ALIAS", "STATE", "VENDOR:PRODUCT", "REVISION", "ADDR", "AL CODE", "OUT", "IN", "DC",
+			    "CYCLE NS", "SHIFT NS", "ACT", "NAME");
 	for (const SlaveInfo &s : slaves) {
 		const std::string alias = std::to_string(s.aliasBase) + ":" + std::to_string(s.relative);
 		std::printf("%-3u  %-7s  %-6s %c  0x%08x:0x%08x", s.position, alias.c_str(),
 			    stateName(s.state).c_str(), s.error ? 'E' : '+', s.vendor, s.product);
-		if (verbose)
+		if (verbose) {
 			std::printf("  0x%08x  0x%04x  0x%04x   %4u  %4u  %-3s", s.revision, s.station, s.alCode,
 				    s.outBytes, s.inBytes, s.dc ? (*s.dc ? "yes" : "no") : "?");
+			if (s.dcInfo)
+				std::printf("  %10d  %10d  %-3s", static_cast<int>(s.dcInfo->cycleNs),
+					    static_cast<int>(s.dcInfo->shiftNs), s.dcInfo->active ? "yes" : "no");
+			else
+				std::printf("  %10s  %10s  %-3s", "-", "-", "-");
+		}
 		std::printf("  %s\n", s.name.c_str());
 		if (verbose && s.alCode)
 			std::printf("     AL status 0x%04x: %.*s\n", s.alCode,

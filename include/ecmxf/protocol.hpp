@@ -31,6 +31,18 @@ enum class CheckType : std::uint8_t {
 	Crc32 = 3,  ///< CRC-32 (zlib/Ethernet)
 };
 
+/// Which bytes a CRC check word covers: firmware variants
+/// (Documentation/protocol-core.rst, "Firmware variants").
+enum class CrcCoverage : std::uint8_t {
+	Unknown = 0, ///< not found yet (no CRC in force, or no answer told the rules apart)
+	Frame = 1,   ///< header and the whole data section (manual ver. 050)
+	Valid = 2,   ///< header and the valid data length rounded up to 4 bytes (NEXTW's example host code)
+};
+
+/// "unknown", "frame", "valid" (the words of sysfs and of the simulator's
+/// crc32-coverage option).
+[[nodiscard]] ECMXF_EXPORT std::string_view crcCoverageName(CrcCoverage coverage) noexcept;
+
 inline constexpr std::size_t kHeaderSize = 24;
 inline constexpr std::size_t kTrailerSize = 8;
 inline constexpr std::size_t kDataMin = 32;

@@ -270,13 +270,32 @@ std::vector<std::uint8_t> Bus::slaveInfoRaw(std::uint8_t slave, SlaveInfoCode co
 {
 	bus::checkSlave(slave, "ECAT_SLV_INFO_GET", false);
 	const auto n = static_cast<unsigned>(code);
-	if (n > 9)
-		throw Error("ECAT_SLV_INFO_GET: information code " + std::to_string(n) + " out of range (0..9)", EINVAL);
+	if (n > 13)
+		throw Error("ECAT_SLV_INFO_GET: information code " + std::to_string(n) + " out of range (0..13)", EINVAL);
 	Command c = cmd(ECMXF_CMD_ECAT_SLV_INFO_GET, slave);
 	c.data[0] = static_cast<std::uint8_t>(n);
 	return detail::immediate(*dev_, c,
 			      "ECAT_SLV_INFO_GET code " + std::to_string(n) + " of slave " + std::to_string(slave))
 		.data;
+}
+
+SlaveDc Bus::slaveDc(std::uint8_t slave) const
+{
+	const auto get = [&](SlaveInfoCode code, std::size_t size, const char *what) {
+		std::vector<std::uint8_t> d = slaveInfoRaw(slave, code);
+		if (d.size() < size)
+			throw Error("ECAT_SLV_INFO_GET code " + std::to_string(static_cast<unsigned>(code)) + " (" +
+					    what + ") of slave " + std::to_string(slave) + ": " +
+					    std::to_string(d.size()) + " data bytes, expected " + std::to_string(size),
+				    EPROTO);
+		return d;
+	};
+	SlaveDc dc;
+	dc.hasDc = get(SlaveInfoCode::HasDc, 1, "has DC")[0] != 0;
+	dc.cycleNs = static_cast<std::int32_t>(bus::le32(get(SlaveInfoCode::DcCycle, 4, "DC cycle")));
+	dc.shiftNs = static_cast<std::int32_t>(bus::le32(get(SlaveInfoCode::DcShift, 4, "DC shift")));
+	dc.active = get(SlaveInfoCode::DcActive, 1, "DC active")[0] != 0;
+	return dc;
 }
 
 SlaveInfo Bus::slaveInfo(std::uint8_t slave) const

@@ -92,6 +92,7 @@ ChipInfo Chip::info() const
 			throw;
 	}
 	i.checkType = dev_->checkType();
+	i.crcCoverage = dev_->link().crcCoverage();
 	const ResponseHeader h = dev_->lastHeader();
 	i.ecatState = h.ecatState;
 	i.errorStatus = h.errStatus;

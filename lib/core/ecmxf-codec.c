@@ -24,7 +24,58 @@ bool ecmxf_data_size_valid(unsigned int data_size)
 
 static bool ecmxf_check_valid(enum ecmxf_check check)
 {
-	return (unsigned int)check <= ECMXF_CHECK_CRC32;
+	return !((unsigned int)check &
+		 ~(ECMXF_CHECK_TYPE_MASK | ECMXF_CHECK_COVER_VALID));
+}
+
+/**
+ * ecmxf_check_span() - how many bytes from the start the check word covers
+ * @pkt: a whole packet whose header is in place
+ * @pkt_len: its size, ECMXF_PKT_SIZE(N) with N in 32..1408
+ * @check: check type, with %ECMXF_CHECK_COVER_VALID for the example host
+ *	code's coverage
+ *
+ * Manual ver. 050: every byte before the check word (header and the whole
+ * data section).  With %ECMXF_CHECK_COVER_VALID: the header plus the data
+ * length field (0x0E) rounded up to a multiple of 4, at most the data
+ * section, so a length field of N or more gives the same span as the
+ * manual's rule.
+ *
+ * Return: the number of bytes, or 0 for a @pkt_len out of range.
+ */
+size_t ecmxf_check_span(const u8 *pkt, size_t pkt_len, enum ecmxf_check check)
+{
+	size_t n, len;
+
+	if (!pkt || pkt_len < ECMXF_PKT_SIZE(ECMXF_DATA_MIN) ||
+	    pkt_len > ECMXF_PKT_MAX)
+		return 0;
+	n = pkt_len - ECMXF_HDR_SIZE - ECMXF_TRAILER_SIZE;
+	if (!((unsigned int)check & ECMXF_CHECK_COVER_VALID))
+		return ECMXF_HDR_SIZE + n;
+	len = get_unaligned_le16(pkt + 0x0E);
+	len = (len + 3) & ~(size_t)3;
+	return ECMXF_HDR_SIZE + (len < n ? len : n);
+}
+
+/**
+ * ecmxf_cover_name() - a short text for a CRC coverage
+ * @cover: the coverage
+ *
+ * Return: "frame", "valid" or "unknown" (the words of the simulator's
+ * crc32-coverage option and of sysfs).
+ */
+const char *ecmxf_cover_name(enum ecmxf_cover cover)
+{
+	switch (cover) {
+	case ECMXF_COVER_FRAME:
+		return "frame";
+	case ECMXF_COVER_VALID:
+		return "valid";
+	case ECMXF_COVER_UNKNOWN:
+	default:
+		return "unknown";
+	}
 }
 
 /* Fill in start word, data section, check word and end word. */
@@ -44,7 +95,8 @@ static int ecmxf_frame(u8 *pkt, size_t pkt_len, enum ecmxf_check check,
 	if (data_len)
 		memcpy(pkt + ECMXF_HDR_SIZE, data, data_len);
 	memset(pkt + ECMXF_HDR_SIZE + data_len, 0, n - data_len);
-	put_unaligned_le32(ecmxf_check_word(check, pkt, ECMXF_HDR_SIZE + n),
+	put_unaligned_le32(ecmxf_check_word(check, pkt,
+					    ecmxf_check_span(pkt, pkt_len, check)),
 			   pkt + ECMXF_HDR_SIZE + n);
 	put_unaligned_le32(ECMXF_END_WORD, pkt + ECMXF_HDR_SIZE + n + 4);
 	return 0;
@@ -68,7 +120,8 @@ static enum ecmxf_fault ecmxf_unframe(const u8 *pkt, size_t pkt_len,
 		return ECMXF_FAULT_START;
 	if (get_unaligned_le32(pkt + ECMXF_HDR_SIZE + *n + 4) != ECMXF_END_WORD)
 		return ECMXF_FAULT_END;
-	if (word != ecmxf_check_word(check, pkt, ECMXF_HDR_SIZE + *n))
+	if (word != ecmxf_check_word(check, pkt,
+				     ecmxf_check_span(pkt, pkt_len, check)))
 		return ECMXF_FAULT_CHECK;
 	return ECMXF_FAULT_NONE;
 }
@@ -77,7 +130,8 @@ static enum ecmxf_fault ecmxf_unframe(const u8 *pkt, size_t pkt_len,
  * ecmxf_encode_cmd() - build a command packet
  * @pkt: output buffer of exactly one packet
  * @pkt_len: packet size, ECMXF_PKT_SIZE(N) with N in 32..1408
- * @check: check word type
+ * @check: check word type (%ECMXF_CHECK_COVER_VALID: the example host
+ *	code's CRC coverage)
  * @hdr: header fields
  * @data: bytes for the data section (the rest is zero-filled)
  * @data_len: number of bytes at @data, at most N
@@ -116,7 +170,8 @@ int ecmxf_encode_cmd(u8 *pkt, size_t pkt_len, enum ecmxf_check check,
  * ecmxf_decode_rsp() - validate a response packet and read its header
  * @pkt: the received packet
  * @pkt_len: its size, ECMXF_PKT_SIZE(N)
- * @check: the check type in force
+ * @check: the check type in force (with %ECMXF_CHECK_COVER_VALID: the
+ *	example host code's CRC coverage)
  * @hdr: filled in when the packet is valid
  * @data: set to the data section when the packet is valid (may be NULL)
  *

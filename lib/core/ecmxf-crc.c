@@ -103,15 +103,16 @@ u32 ecmxf_crc32(const void *buf, size_t len)
 
 /**
  * ecmxf_check_word() - the check word for a packet's covered bytes
- * @check: check type
- * @buf: header and data section
+ * @check: check type (%ECMXF_CHECK_COVER_VALID is ignored: @len is the
+ *	covered length, see ecmxf_check_span())
+ * @buf: the covered bytes: header and data section
  * @len: their length
  *
  * Return: the 32-bit check word (CRC-8 and CRC-CCITT zero-extended).
  */
 u32 ecmxf_check_word(enum ecmxf_check check, const void *buf, size_t len)
 {
-	switch (check) {
+	switch ((unsigned int)check & ECMXF_CHECK_TYPE_MASK) {
 	case ECMXF_CHECK_CRC8:
 		return ecmxf_crc8(buf, len);
 	case ECMXF_CHECK_CCITT:

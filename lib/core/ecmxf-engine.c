@@ -435,7 +435,77 @@ static void ecmxf_power_on_format(struct ecmxf_engine *e, u64 now_ns)
 	e->data_size = ECMXF_DATA_DEFAULT;
 	e->prev_check = e->check;
 	e->check = ECMXF_CHECK_FIXED;
+	e->switch_age = 0;
 	e->not_before_ns = now_ns + ECMXF_RECONFIG_HOLDOFF_NS;
+}
+
+/*
+ * Firmware variants (Documentation/protocol-core.rst, "Firmware
+ * variants"): which bytes the chip's CRC covers, found from its answers,
+ * and a CRC_TYPE_SET the chip did not take.
+ */
+
+/* The codec's check argument: @check with the coverage found. */
+static enum ecmxf_check ecmxf_with_cover(const struct ecmxf_engine *e,
+					 unsigned int check)
+{
+	if (check != ECMXF_CHECK_FIXED && e->cover == ECMXF_COVER_VALID)
+		check |= ECMXF_CHECK_COVER_VALID;
+	return (enum ecmxf_check)check;
+}
+
+/* A CRC is in force and no answer told the two coverages apart yet. */
+static bool ecmxf_cover_unknown(const struct ecmxf_engine *e)
+{
+	return e->check != ECMXF_CHECK_FIXED &&
+	       e->cover == ECMXF_COVER_UNKNOWN;
+}
+
+/*
+ * While the coverage is unknown a new command waits and INFO_UPDATE
+ * probes go out instead (at most ECMXF_COVER_MAX_PROBES; then commands go
+ * out with the manual's coverage).
+ */
+static bool ecmxf_cover_probe(const struct ecmxf_engine *e)
+{
+	return ecmxf_cover_unknown(e) &&
+	       e->cover_probes < ECMXF_COVER_MAX_PROBES;
+}
+
+/*
+ * Data length field of an INFO_UPDATE the engine sends: while the
+ * coverage is unknown the whole data section, so that both rules cover
+ * the same bytes and any chip takes the packet; 0 otherwise.
+ */
+static u16 ecmxf_probe_len(struct ecmxf_engine *e)
+{
+	if (!ecmxf_cover_unknown(e))
+		return 0;
+	if (e->cover_probes < 255)
+		e->cover_probes++;
+	return e->data_size;
+}
+
+/*
+ * CRC_TYPE_SET goes out in the check type in force; after a send the chip
+ * did not take (ecmxf_chip_kept_check()) the next one carries the fixed
+ * word, as NEXTW's example host code sends it, the one after that the
+ * type in force again, and so on.  Its re-sends, which the chip runs as
+ * INFO_UPDATE, are in the new type: while that type's coverage is unknown
+ * they carry the whole data section as length (see ecmxf_probe_len()).
+ */
+static enum ecmxf_check ecmxf_crcset_format(struct ecmxf_engine *e,
+					    struct ecmxf_cmd_hdr *h,
+					    enum ecmxf_check check, bool first)
+{
+	if (!first) {
+		if (ecmxf_cover_unknown(e))
+			h->len = e->data_size;
+		return check;
+	}
+	e->cover_probes = 0;
+	e->switch_age = 0;
+	return (e->crcset_tries & 1) ? ECMXF_CHECK_FIXED : check;
 }
 
 static bool ecmxf_sent(const struct ecmxf_xfer *x)
@@ -463,19 +533,24 @@ static struct ecmxf_xfer *ecmxf_pick(struct ecmxf_engine *e, bool *first,
 	struct ecmxf_xfer *newest;
 
 	for (;;) {
-		*first = true;
-		if (e->cur && e->cur->state == ECMXF_XS_QUEUED)
-			return e->cur;
-		if (e->nxt && e->nxt->state == ECMXF_XS_QUEUED &&
-		    e->pipeline)
-			return e->nxt;
-		*first = false;
+		/* no first send while the CRC coverage is being found */
+		bool hold = ecmxf_cover_probe(e);
+
 		newest = NULL;
 		if (ecmxf_sent(e->cur))
 			newest = e->cur;
 		if (ecmxf_sent(e->nxt) &&
 		    (!newest || e->nxt->sent_seq > newest->sent_seq))
 			newest = e->nxt;
+		*first = true;
+		/* held with nothing in flight: ecmxf_engine_next() probes */
+		if (e->cur && e->cur->state == ECMXF_XS_QUEUED &&
+		    (!hold || !newest))
+			return e->cur;
+		if (e->nxt && e->nxt->state == ECMXF_XS_QUEUED &&
+		    e->pipeline && !hold)
+			return e->nxt;
+		*first = false;
 		if (!newest || newest->last_seq == e->seq)
 			return newest;
 		if (newest->async) {
@@ -512,7 +587,7 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 {
 	struct ecmxf_cmd_hdr h;
 	struct ecmxf_xfer *x = NULL;
-	enum ecmxf_check check = (enum ecmxf_check)e->check;
+	enum ecmxf_check check = ecmxf_with_cover(e, e->check);
 	const void *data = NULL;
 	size_t data_len = 0;
 	bool first = false;
@@ -525,6 +600,9 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 
 	if (e->last_valid)
 		x = ecmxf_pick(e, &first, now_ns);
+	/* a new command waits for the CRC coverage to be found */
+	if (x && first && ecmxf_cover_probe(e))
+		x = NULL;
 	/*
 	 * WARM_RESET is never re-sent: a chip that has just restarted
 	 * remembers no previous packet and would run it again.
@@ -533,10 +611,11 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 		x = NULL;
 
 	if (!x) {
-		/* sync packet, INFO_UPDATE poll / header refresh */
+		/* sync packet, INFO_UPDATE poll / probe / header refresh */
 		memset(&h, 0, sizeof(h));
 		h.code = ECMXF_CMD_INFO_UPDATE_OP;
 		h.index = e->last_valid ? e->last_index : ecmxf_fresh_index(e);
+		h.len = ecmxf_probe_len(e);
 		ecmxf_take_pending(e, &h);
 	} else {
 		h = x->hdr;
@@ -559,6 +638,8 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 		}
 		if (h.code == ECMXF_CMD_SPI_RECONFIG_OP && first)
 			check = ECMXF_CHECK_FIXED;	/* as the manual asks */
+		else if (h.code == ECMXF_CMD_CRC_TYPE_SET)
+			check = ecmxf_crcset_format(e, &h, check, first);
 	}
 
 	ret = ecmxf_encode_cmd(pkt, pkt_len, check, &h, data, data_len);
@@ -780,6 +861,95 @@ static unsigned int ecmxf_chip_reset(struct ecmxf_engine *e)
 	return ev;
 }
 
+/* Decode under @check with the coverage found, or find it. */
+static enum ecmxf_fault ecmxf_decode_cover(struct ecmxf_engine *e,
+					   unsigned int check,
+					   const u8 *pkt, size_t pkt_len,
+					   struct ecmxf_rsp_hdr *h,
+					   const u8 **data)
+{
+	enum ecmxf_fault frame, valid;
+
+	if (check == ECMXF_CHECK_FIXED || e->cover != ECMXF_COVER_UNKNOWN)
+		return ecmxf_decode_rsp(pkt, pkt_len, ecmxf_with_cover(e, check),
+					h, data);
+	frame = ecmxf_decode_rsp(pkt, pkt_len, (enum ecmxf_check)check,
+				 h, data);
+	if (frame != ECMXF_FAULT_NONE && frame != ECMXF_FAULT_CHECK)
+		return frame;
+	valid = ecmxf_decode_rsp(pkt, pkt_len, (enum ecmxf_check)
+				 (check | ECMXF_CHECK_COVER_VALID), h, data);
+	/* both verify when the rules cover the same bytes: decide later */
+	if (frame == ECMXF_FAULT_NONE && valid != ECMXF_FAULT_NONE)
+		e->cover = ECMXF_COVER_FRAME;
+	else if (frame != ECMXF_FAULT_NONE && valid == ECMXF_FAULT_NONE)
+		e->cover = ECMXF_COVER_VALID;
+	return frame == ECMXF_FAULT_NONE ? frame : valid;
+}
+
+/*
+ * A response in the previous check type.  The first one after the switch
+ * answers the packet before it, the second one may be CRC_TYPE_SET's own
+ * answer: both are old by right.  Any other means the chip did not switch
+ * (it dropped the command, or refused the type): speak its type again; an
+ * unanswered CRC_TYPE_SET goes out anew with a fresh index
+ * (ecmxf_crcset_format() picks its check word).
+ */
+static void ecmxf_chip_kept_check(struct ecmxf_engine *e,
+				  const struct ecmxf_rsp_hdr *h)
+{
+	struct ecmxf_xfer *x = e->cur;
+
+	if (e->switch_age < 2 || h->code == ECMXF_CMD_CRC_TYPE_SET)
+		return;
+	e->check = e->prev_check;
+	if (ecmxf_sent(x) && x->hdr.code == ECMXF_CMD_CRC_TYPE_SET &&
+	    h->index != x->hdr.index) {
+		x->state = ECMXF_XS_QUEUED;
+		/* not the index the chip saw last: that would be a repeat */
+		if (e->next_index == h->index)
+			e->next_index++;
+		if (e->crcset_tries < 255)
+			e->crcset_tries++;
+		e->stats.retries++;
+	}
+}
+
+/*
+ * Validate a response: in the check type in force or, until a response
+ * proves the switch, the previous one (answers prepared before a
+ * CRC_TYPE_SET took effect, or a chip that did not switch).
+ */
+static enum ecmxf_fault ecmxf_decode_checked(struct ecmxf_engine *e,
+					     const u8 *pkt, size_t pkt_len,
+					     struct ecmxf_rsp_hdr *h,
+					     const u8 **data)
+{
+	enum ecmxf_fault fault;
+	bool kept = false;
+
+	if (e->switch_age < 255)
+		e->switch_age++;
+	fault = ecmxf_decode_cover(e, e->check, pkt, pkt_len, h, data);
+	if (fault == ECMXF_FAULT_NONE) {
+		/* the chip speaks the new check type: forget the old one */
+		e->prev_check = e->check;
+	} else if (fault == ECMXF_FAULT_CHECK && e->prev_check != e->check) {
+		fault = ecmxf_decode_cover(e, e->prev_check, pkt, pkt_len,
+					   h, data);
+		kept = fault == ECMXF_FAULT_NONE;
+	}
+	if (fault != ECMXF_FAULT_NONE)
+		return fault;
+	/* CRC_TYPE_SET answered, or none waits: its fallback starts over */
+	if (h->code == ECMXF_CMD_CRC_TYPE_SET || !e->cur ||
+	    e->cur->hdr.code != ECMXF_CMD_CRC_TYPE_SET)
+		e->crcset_tries = 0;
+	if (kept)
+		ecmxf_chip_kept_check(e, h);
+	return fault;
+}
+
 /**
  * ecmxf_engine_input() - feed the packet received in an exchange
  * @e: engine
@@ -803,17 +973,7 @@ unsigned int ecmxf_engine_input(struct ecmxf_engine *e, u64 now_ns,
 	u8 new_err;
 
 	e->stats.exchanges++;
-	fault = ecmxf_decode_rsp(pkt, pkt_len, (enum ecmxf_check)e->check,
-				 &h, &data);
-	if (fault == ECMXF_FAULT_NONE) {
-		/* the chip speaks the new check type: forget the old one */
-		e->prev_check = e->check;
-	} else if (fault == ECMXF_FAULT_CHECK && e->prev_check != e->check) {
-		/* answers prepared before a CRC_TYPE_SET took effect */
-		fault = ecmxf_decode_rsp(pkt, pkt_len,
-					 (enum ecmxf_check)e->prev_check,
-					 &h, &data);
-	}
+	fault = ecmxf_decode_checked(e, pkt, pkt_len, &h, &data);
 	if (fault != ECMXF_FAULT_NONE) {
 		e->stats.faults[fault]++;
 		e->last_fault = fault;
@@ -1006,4 +1166,31 @@ unsigned int ecmxf_engine_data_size(const struct ecmxf_engine *e)
 unsigned int ecmxf_engine_retries(const struct ecmxf_engine *e)
 {
 	return e->max_retries;
+}
+
+/**
+ * ecmxf_engine_check() - the check type of the next exchange
+ * @e: engine
+ *
+ * Return: %ECMXF_CHECK_FIXED .. %ECMXF_CHECK_CRC32 (without the coverage
+ * flag; see ecmxf_engine_cover()).
+ */
+enum ecmxf_check ecmxf_engine_check(const struct ecmxf_engine *e)
+{
+	return (enum ecmxf_check)e->check;
+}
+
+/**
+ * ecmxf_engine_cover() - which bytes the chip's CRC covers
+ * @e: engine
+ *
+ * Found from the first answer in a CRC type that verifies under one rule
+ * only, and kept for the life of the engine (a firmware property).
+ *
+ * Return: %ECMXF_COVER_UNKNOWN until then, %ECMXF_COVER_FRAME (manual
+ * ver. 050) or %ECMXF_COVER_VALID (NEXTW's example host code).
+ */
+enum ecmxf_cover ecmxf_engine_cover(const struct ecmxf_engine *e)
+{
+	return (enum ecmxf_cover)e->cover;
 }

@@ -44,15 +44,39 @@ extern "C" {
  * @ECMXF_CHECK_CRC8: CRC-8, poly 0x07, init 0 (ver. 038 only)
  * @ECMXF_CHECK_CCITT: CRC-CCITT-FALSE, poly 0x1021, init 0xFFFF (038 only)
  * @ECMXF_CHECK_CRC32: CRC-32 (zlib/Ethernet)
+ * @ECMXF_CHECK_COVER_VALID: a flag OR-ed into a check type passed to the
+ *	codec: the CRC covers the header plus the valid data length (header
+ *	field 0x0E) rounded up to 4 bytes, at most the data section, as
+ *	NEXTW's example host code computes it; without the flag it covers
+ *	every byte before the check word (manual ver. 050)
  *
  * CRC values are stored zero-extended in the 32-bit little-endian check
- * word and cover every byte before it (header and data section).
+ * word and cover every byte before it (header and data section), or with
+ * %ECMXF_CHECK_COVER_VALID the header and the valid data only.  The fixed
+ * word ignores the flag.
  */
 enum ecmxf_check {
 	ECMXF_CHECK_FIXED = 0,
 	ECMXF_CHECK_CRC8 = 1,
 	ECMXF_CHECK_CCITT = 2,
 	ECMXF_CHECK_CRC32 = 3,
+	ECMXF_CHECK_COVER_VALID = 0x10,
+};
+
+#define ECMXF_CHECK_TYPE_MASK	0x03u
+
+/**
+ * enum ecmxf_cover - which bytes a chip's CRC check word covers
+ * @ECMXF_COVER_UNKNOWN: not known yet (no CRC in force, or no response
+ *	that tells the two rules apart)
+ * @ECMXF_COVER_FRAME: header and the whole data section (manual ver. 050)
+ * @ECMXF_COVER_VALID: header and the valid data length rounded up to 4
+ *	bytes (NEXTW's example host code)
+ */
+enum ecmxf_cover {
+	ECMXF_COVER_UNKNOWN = 0,
+	ECMXF_COVER_FRAME = 1,
+	ECMXF_COVER_VALID = 2,
 };
 
 /*
@@ -152,6 +176,8 @@ u8 ecmxf_crc8(const void *buf, size_t len);
 u16 ecmxf_crc_ccitt(const void *buf, size_t len);
 u32 ecmxf_crc32(const void *buf, size_t len);
 u32 ecmxf_check_word(enum ecmxf_check check, const void *buf, size_t len);
+size_t ecmxf_check_span(const u8 *pkt, size_t pkt_len, enum ecmxf_check check);
+const char *ecmxf_cover_name(enum ecmxf_cover cover);
 
 /* ---------------------------------------------------------------------- */
 /* Codec                                                                  */
@@ -369,9 +395,15 @@ struct ecmxf_engine {
 	struct ecmxf_rsp_hdr last;	/* last valid response header */
 	bool have_last;
 	struct ecmxf_engine_stats stats;
+	/* firmware variants (Documentation/protocol-core.rst) */
+	u8 cover;		/* enum ecmxf_cover: the chip's CRC coverage */
+	u8 cover_probes;	/* INFO_UPDATE probes sent while unknown */
+	u8 crcset_tries;	/* CRC_TYPE_SET sends the chip did not take */
+	u8 switch_age;		/* responses since a check type switch went out */
 };
 
 #define ECMXF_ENGINE_DEFAULT_RETRIES	8u
+#define ECMXF_COVER_MAX_PROBES		4u
 #define ECMXF_RECONFIG_HOLDOFF_NS	100000000ull	/* 100 ms */
 
 void ecmxf_engine_init(struct ecmxf_engine *e, unsigned int data_size,
@@ -407,6 +439,8 @@ const struct ecmxf_engine_stats *
 ecmxf_engine_get_stats(const struct ecmxf_engine *e);
 unsigned int ecmxf_engine_data_size(const struct ecmxf_engine *e);
 unsigned int ecmxf_engine_retries(const struct ecmxf_engine *e);
+enum ecmxf_check ecmxf_engine_check(const struct ecmxf_engine *e);
+enum ecmxf_cover ecmxf_engine_cover(const struct ecmxf_engine *e);
 
 #ifdef __cplusplus
 }

@@ -4,6 +4,8 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/device_uri.hpp>
+#include <ecmxf/bus/status.hpp>
+#include <ecmxf/chip/chip.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/engine_link.hpp>
 #include <ecmxf/link/kernel_link.hpp>
@@ -70,6 +72,38 @@ GpioLineSpec gpioLine(std::string_view uri, std::string_view key, std::string_vi
 	return GpioLineSpec{ std::string(chip), static_cast<unsigned>(*line) };
 }
 
+/// check= of sim: and unix: URIs: CRC_TYPE_SET, as a production setup
+/// switches the chip after power-on. A unix: server's chip keeps its state:
+/// when it does not answer in the power-on format, it may speak another
+/// check type (an earlier client set it): CRC_TYPE_SET is then sent in
+/// each other type in turn.
+void switchCheck(Device &dev, CheckType want, std::string_view uri, bool unix)
+{
+	std::string m = "cannot open ";
+	m.append(quoted(uri)).append(": switching the chip to the ").append(checkTypeName(want));
+	m.append(" check word: ");
+	try {
+		dev.chip().setCheckType(want);
+		return;
+	} catch (const Error &e) {
+		if (!unix)
+			throw Error(m + e.what(), e.errnoValue());
+		for (const CheckType t : { want, CheckType::Crc32, CheckType::Crc8, CheckType::Ccitt }) {
+			if (t == CheckType::Fixed)
+				continue; // tried first
+			try {
+				dev.assumeFormat(dev.dataSize(), t);
+				dev.chip().setCheckType(want);
+				return;
+			} catch (const Error &) {
+				// not this one either
+			}
+		}
+		dev.assumeFormat(dev.dataSize(), CheckType::Fixed);
+		throw Error(m + e.what(), e.errnoValue());
+	}
+}
+
 } // namespace
 
 DeviceUri parseDeviceUri(std::string_view uri)
@@ -110,6 +144,7 @@ DeviceUri parseDeviceUri(std::string_view uri)
 	if (q == std::string_view::npos)
 		return u;
 	const bool spidev = u.kind == DeviceUri::Kind::Spidev;
+	const bool kernel = u.kind == DeviceUri::Kind::Kernel;
 	std::vector<std::string_view> seen;
 	std::size_t pos = 0;
 	for (;;) {
@@ -128,17 +163,17 @@ DeviceUri parseDeviceUri(std::string_view uri)
 		seen.push_back(key);
 
 		const bool spidevKey = key == "int0" || key == "int1" || key == "speed" || key == "mode" ||
-				       key == "ready" || key == "size" || key == "check";
+				       key == "ready" || key == "size" || (key == "check" && kernel);
 		if (key == "trace") {
 			if (value.empty())
 				bad(uri, "option \"trace\" needs a file name (trace=<file>)");
 			u.trace = std::string(value);
 		} else if (spidevKey && !spidev) {
 			bad(uri, "option " + quoted(key) + " applies to spidev: URIs only (" +
-					 (u.kind == DeviceUri::Kind::Sim    ? "sim:"
-					  : u.kind == DeviceUri::Kind::Unix ? "unix:"
-									    : "the kernel device") +
-					 " takes only trace=<file>)");
+					 (u.kind == DeviceUri::Kind::Sim    ? "sim: takes check=<type> and trace=<file>"
+					  : u.kind == DeviceUri::Kind::Unix ? "unix: takes check=<type> and trace=<file>"
+									    : "the kernel device takes only trace=<file>") +
+					 ")");
 		} else if (key == "int0") {
 			u.spidev.int0 = gpioLine(uri, key, value);
 		} else if (key == "int1") {
@@ -175,12 +210,15 @@ DeviceUri parseDeviceUri(std::string_view uri)
 			else if (value == "crc32")
 				u.checkType = CheckType::Crc32;
 			else
-				bad(uri, "bad check value " + quoted(value) +
-						 ": expected fixed, crc8, ccitt or crc32 (the check word the chip uses now)");
+				bad(uri, "bad check value " + quoted(value) + ": expected fixed, crc8, ccitt or crc32 (" +
+						 (spidev ? "the check word the chip uses now"
+							 : "the check word to switch the chip to") +
+						 ")");
 		} else {
 			bad(uri, "unknown option " + quoted(key) +
-					 (spidev ? " (spidev: takes int0, int1, speed, mode, ready, size, check, trace)"
-						 : " (only trace=<file> is accepted here)"));
+					 (spidev	    ? " (spidev: takes int0, int1, speed, mode, ready, size, check, trace)"
+					  : kernel ? " (only trace=<file> is accepted here)"
+						   : " (check=<type> and trace=<file> are accepted here)"));
 		}
 		if (amp == std::string_view::npos)
 			break;
@@ -216,11 +254,13 @@ std::unique_ptr<Device> Device::open(std::string_view uri)
 		break;
 	}
 	auto dev = std::make_unique<Device>(std::move(link));
-	if (u.dataSize || u.checkType)
+	if (u.kind == DeviceUri::Kind::Spidev && (u.dataSize || u.checkType))
 		dev->assumeFormat(u.dataSize.value_or(static_cast<std::uint16_t>(kDataDefault)),
 				  u.checkType.value_or(CheckType::Fixed));
 	if (!u.trace.empty())
 		dev->startTrace(u.trace);
+	if (u.kind != DeviceUri::Kind::Spidev && u.checkType)
+		switchCheck(*dev, *u.checkType, uri, u.kind == DeviceUri::Kind::Unix);
 	return dev;
 }
 

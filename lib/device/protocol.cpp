@@ -32,6 +32,11 @@ ECMXF_EXPORT std::string_view version() noexcept
 	return ECMXF_VERSION_STRING;
 }
 
+ECMXF_EXPORT std::string_view crcCoverageName(CrcCoverage coverage) noexcept
+{
+	return ecmxf_cover_name(static_cast<ecmxf_cover>(coverage));
+}
+
 ECMXF_EXPORT std::uint8_t crc8(std::span<const std::uint8_t> bytes) noexcept
 {
 	return ecmxf_crc8(bytes.data(), bytes.size());

@@ -455,4 +455,9 @@ ByteChannel &EngineLink::channel() noexcept
 	return *e_->channel;
 }
 
+CrcCoverage EngineLink::crcCoverage() const noexcept
+{
+	return static_cast<CrcCoverage>(ecmxf_engine_cover(&e_->engine));
+}
+
 } // namespace ecmxf

@@ -22,6 +22,7 @@
 #include <cstring>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "ecmxf-proto.h"
 #include "device/lib_text.hpp"
@@ -352,4 +353,25 @@ int PdoRings::wait(std::chrono::nanoseconds timeout) noexcept
 }
 
 } // namespace detail
+CrcCoverage KernelLink::crcCoverage() const noexcept
+{
+	const std::optional<std::uint32_t> n = minorOf(s_->path);
+	if (!n)
+		return CrcCoverage::Unknown;
+	char path[64];
+	std::snprintf(path, sizeof(path), "/sys/class/ecmxf/ecmxf%u/crc_coverage", static_cast<unsigned>(*n));
+	std::FILE *f = std::fopen(path, "re");
+	if (!f)
+		return CrcCoverage::Unknown;
+	char word[16] = {};
+	const bool got = std::fgets(word, sizeof(word), f) != nullptr;
+	std::fclose(f);
+	const std::string_view w = got ? std::string_view(word) : std::string_view();
+	if (w == "frame\n")
+		return CrcCoverage::Frame;
+	if (w == "valid\n")
+		return CrcCoverage::Valid;
+	return CrcCoverage::Unknown;
+}
+
 } // namespace ecmxf

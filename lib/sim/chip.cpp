@@ -30,6 +30,32 @@ Network loadNetwork(const std::string &file)
 
 } // namespace
 
+void applyChipOption(ChipConfig &config, std::string_view key, std::string_view value)
+{
+	const auto bad = [&](std::string_view expected) {
+		throw std::invalid_argument("chip option " + std::string(key) + ": bad value '" +
+					    std::string(value) + "' (expected " + std::string(expected) + ")");
+	};
+	if (key == "crc32-coverage") {
+		if (value == "frame")
+			config.crcCoverage = ChipConfig::CrcCoverage::Frame;
+		else if (value == "valid")
+			config.crcCoverage = ChipConfig::CrcCoverage::Valid;
+		else
+			bad("frame or valid");
+	} else if (key == "crc-type-set-fixed") {
+		if (value == "drop")
+			config.crcTypeSetFixed = false;
+		else if (value == "accept")
+			config.crcTypeSetFixed = true;
+		else
+			bad("drop or accept");
+	} else {
+		throw std::invalid_argument("unknown chip option '" + std::string(key) + "' (known: " +
+					    std::string(kChipOptions) + ")");
+	}
+}
+
 // ======================================================================
 // FrameFifo
 // ======================================================================
@@ -169,6 +195,8 @@ const ChipStats &Chip::stats() const
 Chip::Impl::Impl(Network net, ChipConfig cfg)
 	: net_(std::move(net)), cfg_(std::move(cfg)), epoch_(std::chrono::steady_clock::now())
 {
+	for (const auto &[key, value] : net_.chipOptions())
+		applyChipOption(cfg_, key, value);
 	if (cfg_.spiClockHz == 0)
 		throw std::invalid_argument("ChipConfig: spiClockHz must not be 0");
 	if (cfg_.processingTime.count() < 0)
@@ -440,12 +468,14 @@ void Chip::Impl::process(std::span<const std::uint8_t> mosi)
 
 	ecmxf_cmd_hdr h{};
 	const std::uint8_t *data = nullptr;
-	ecmxf_fault f = ecmxf_decode_cmd(rx, n, check_, &h, &data);
+	ecmxf_fault f = ecmxf_decode_cmd(rx, n, codecCheck(check_), &h, &data);
 	bool fixedOnly = false;
-	if (f == ECMXF_FAULT_CHECK && check_ != ECMXF_CHECK_FIXED &&
-	    rx[0x0C] == ECMXF_CMD_SPI_RECONFIG_OP &&
+	// the manual asks hosts to send SPI_RECONFIG_OP with the fixed word;
+	// NEXTW's example host code sends CRC_TYPE_SET so too
+	const bool fixedTaken = rx[0x0C] == ECMXF_CMD_SPI_RECONFIG_OP ||
+				(cfg_.crcTypeSetFixed && rx[0x0C] == ECMXF_CMD_CRC_TYPE_SET);
+	if (f == ECMXF_FAULT_CHECK && check_ != ECMXF_CHECK_FIXED && fixedTaken &&
 	    ecmxf_decode_cmd(rx, n, ECMXF_CHECK_FIXED, &h, &data) == ECMXF_FAULT_NONE) {
-		// the manual asks hosts to send SPI_RECONFIG_OP with the fixed word
 		f = ECMXF_FAULT_NONE;
 		fixedOnly = true;
 	}
@@ -511,7 +541,7 @@ void Chip::Impl::execute(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t> d
 			return;
 		}
 		bool ok = false;
-		if (!job_.active)
+		if (!job_.active && h.len <= dataSize_)
 			ok = startAsync(h, data);
 		if (!ok)
 			errStatus_ |= ECMXF_ERR_CMD;
@@ -519,7 +549,14 @@ void Chip::Impl::execute(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t> d
 		return;
 	}
 
-	Result r = immediate(h, data, std::span<std::uint8_t>(pending_.data.data(), dataSize_));
+	Result r{};
+	if (h.len > dataSize_ && h.code != ECMXF_CMD_SPI_RECONFIG_OP) {
+		// a data length beyond the data section is a bad parameter:
+		// nothing runs (Documentation/simulator.rst, the project's decision)
+		r.cmdError = true;
+	} else {
+		r = immediate(h, data, std::span<std::uint8_t>(pending_.data.data(), dataSize_));
+	}
 	if (r.cmdError) {
 		errStatus_ |= ECMXF_ERR_CMD;
 		r.len = 0;
@@ -593,7 +630,14 @@ void Chip::Impl::encodePending(std::uint8_t *pkt, std::size_t n) const
 		h.len = static_cast<std::uint16_t>(dn);
 	h.ecm_status = static_cast<std::uint8_t>((h.ecm_status & ~ECMXF_STS_CHECK_MASK) |
 						 static_cast<unsigned>(pending_.check));
-	ecmxf_encode_rsp(pkt, n, pending_.check, &h, pending_.data.data(), len);
+	ecmxf_encode_rsp(pkt, n, codecCheck(pending_.check), &h, pending_.data.data(), len);
+}
+
+ecmxf_check Chip::Impl::codecCheck(ecmxf_check check) const
+{
+	if (check == ECMXF_CHECK_FIXED || cfg_.crcCoverage != ChipConfig::CrcCoverage::Valid)
+		return check;
+	return static_cast<ecmxf_check>(static_cast<unsigned>(check) | ECMXF_CHECK_COVER_VALID);
 }
 
 // ======================================================================

@@ -131,6 +131,26 @@ Chip::Impl::Result Chip::Impl::immediate(const ecmxf_cmd_hdr &h, std::span<const
 		case 9:
 			put16(out.data(), static_cast<std::uint16_t>(s.inLen));
 			return bytes(2);
+		// DC, as the model's ESC registers and the master's configuration
+		// have it (Documentation/commands-bus.rst, "Slave information")
+		case 10: // has DC: ESC feature register 0x0008 bit 2
+			out[0] = (s.slave->escRead8(0x0008) & 0x04) ? 1 : 0;
+			return bytes(1);
+		case 11: { // DC cycle: SYNC0 cycle time (0x09A0), ns, for a DC slave
+			std::uint32_t cycle = 0;
+			for (unsigned b = 0; b < 4; b++)
+				cycle |= static_cast<std::uint32_t>(s.slave->escRead8(
+						 static_cast<std::uint16_t>(0x09A0 + b)))
+					 << (8 * b);
+			put32(out.data(), s.dcAssign ? cycle : 0);
+			return bytes(4);
+		}
+		case 12: // DC shift: the shift time configured, ns (signed)
+			put32(out.data(), s.dcAssign ? static_cast<std::uint32_t>(s.dcShift) : 0);
+			return bytes(4);
+		case 13: // DC active: SYNC0 on (0x0981 bits 0 and 1)
+			out[0] = (s.slave->escRead8(0x0981) & 0x03) == 0x03 ? 1 : 0;
+			return bytes(1);
 		default:
 			return error();
 		}

@@ -199,6 +199,8 @@ public:
 	void prepare(std::uint8_t index, std::uint8_t code, std::uint8_t ret, std::size_t len);
 	void fillHeader(ecmxf_rsp_hdr &r) const;
 	void encodePending(std::uint8_t *pkt, std::size_t len) const;
+	/// The codec's check argument for @p check with the configured coverage.
+	ecmxf_check codecCheck(ecmxf_check check) const;
 	std::uint8_t ecatStateByte() const;
 	bool int1Asserted() const;
 

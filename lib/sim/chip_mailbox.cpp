@@ -101,7 +101,11 @@ bool Chip::Impl::startSdo(std::span<const std::uint8_t> in)
 		wdata.assign(in.begin() + 12, in.begin() + 12 + static_cast<long>(len));
 	}
 	abortCode_ = 0;
-	sdoData_.clear();
+	// SDO_GET returns what the last read brought back (both manuals): a
+	// read clears it (empty while it runs and after it failed), a write
+	// leaves it alone
+	if (op == 1)
+		sdoData_.clear();
 	const std::uint32_t forced = faults_.forcedSdoAbort;
 	faults_.forcedSdoAbort = 0;
 	// a read's size is the length field (0: one mailbox round trip)

@@ -7,12 +7,15 @@
 //   slave EST-584 alias=1
 //   slave EST-584
 //   slave dio count=126
+//   chip crc32-coverage=valid
 //
-// One "slave" line per slave (or per "count" equal slaves), in bus order.
+// One "slave" line per slave (or per "count" equal slaves), in bus order;
+// "chip" lines set options of the simulated chip (ChipConfig).
 // Options are key=value words; values may be double-quoted. The format is
 // documented in Documentation/simulator.rst.
 
 #include <ecmxf/sim/network.hpp>
+#include <ecmxf/sim/chip.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -111,9 +114,31 @@ Network Network::fromText(const std::string &text, const std::string &origin)
 			net.setName(name);
 			continue;
 		}
+		if (kw == "chip") {
+			if (w.size() < 2)
+				throw std::invalid_argument(where + ": 'chip' needs KEY=VALUE options (" +
+							    std::string(kChipOptions) + ")");
+			for (std::size_t i = 1; i < w.size(); i++) {
+				const auto eq = w[i].find('=');
+				if (eq == std::string::npos || eq == 0)
+					throw std::invalid_argument(where + ": chip option '" + w[i] +
+								    "' is not KEY=VALUE");
+				const std::string key = lower(w[i].substr(0, eq));
+				for (const auto &kv : net.chipOptions())
+					if (kv.first == key)
+						throw std::invalid_argument(where + ": chip option '" + key +
+									    "' given twice");
+				try {
+					net.setChipOption(key, w[i].substr(eq + 1));
+				} catch (const std::invalid_argument &e) {
+					throw std::invalid_argument(where + ": " + e.what());
+				}
+			}
+			continue;
+		}
 		if (kw != "slave")
 			throw std::invalid_argument(where + ": unknown keyword '" + w[0] +
-						    "' (expected 'slave' or 'name')");
+						    "' (expected 'slave', 'chip' or 'name')");
 		if (w.size() < 2)
 			throw std::invalid_argument(where + ": 'slave' needs a type");
 		std::map<std::string, std::string> opts;
@@ -196,6 +221,19 @@ void Network::add(std::unique_ptr<Slave> slave)
 	if (slaves_.size() >= kMaxSlaves)
 		throw std::invalid_argument("Network::add: more than 128 slaves");
 	slaves_.push_back(std::move(slave));
+}
+
+void Network::setChipOption(const std::string &key, const std::string &value)
+{
+	ChipConfig check;
+	applyChipOption(check, key, value); // throws for a bad key or value
+	for (auto &kv : chipOptions_) {
+		if (kv.first == key) {
+			kv.second = value;
+			return;
+		}
+	}
+	chipOptions_.emplace_back(key, value);
 }
 
 const std::string &Network::name() const

@@ -64,6 +64,8 @@ TEST_CASE("info reports the simulator's power-on firmware, format, status and co
 	// ECAT_WKC_CONTI_ERR_CNT_GET 0; limit 255 = none (power-on)
 	CHECK_THAT(r.out, Contains("WKC continuous:    0 (limit none)\n"));
 	CHECK_THAT(r.out, Contains("check type:        fixed\n"));
+	// no CRC was ever in force: nothing to tell the coverages apart
+	CHECK_THAT(r.out, Contains("CRC coverage:      unknown\n"));
 	// before INIT_OP: no network; link present (bit 0); FIFO enabled at power-on
 	CHECK_THAT(r.out, Contains("ECAT state:        NONE (0x00)\n"));
 	CHECK_THAT(r.out, Contains("error status:      0x01 (link)\n"));
@@ -86,6 +88,7 @@ TEST_CASE("info --json (and the global --json) is one JSON object with the same 
 		CHECK(j["build_id"].str == "ecmxf-simulator");
 		CHECK(j["data_size"].num == 112);
 		CHECK(j["check_type"].str == "fixed");
+		CHECK(j["crc_coverage"].str == "unknown");
 		CHECK(j["ecat_state"].num == 0);
 		CHECK(j["error_status"].num == 1);
 		REQUIRE(j["error_bits"].arr.size() == 1);
@@ -96,6 +99,80 @@ TEST_CASE("info --json (and the global --json) is one JSON object with the same 
 		CHECK(j["slaves"].num == 0);
 		CHECK(j["device"].str == "sim:");
 	}
+}
+
+namespace {
+
+/// The default network with chip lines, in a file removed at the end.
+struct NetFile {
+	std::string path;
+	explicit NetFile(const std::string &chipLines)
+	{
+		static int serial = 0;
+		path = (std::filesystem::temp_directory_path() /
+			("ecmxf-test-cli-" + std::to_string(getpid()) + "-" + std::to_string(serial++) + ".net"))
+			       .string();
+		std::ofstream f(path);
+		f << "slave EST-584\nslave EST-584\nslave dio\n" << chipLines;
+	}
+	~NetFile() { std::filesystem::remove(path); }
+	NetFile(const NetFile &) = delete;
+	NetFile &operator=(const NetFile &) = delete;
+};
+
+} // namespace
+
+TEST_CASE("a sim: URI with check=crc32 switches the chip to CRC-32 at open, under either CRC coverage",
+	  "[cli][variants]")
+{
+	// 0x2001:0 of the EST-584: 50000 (sim-slaves.rst)
+	Result r = run("-d 'sim:?check=crc32' upload -p 0 0x2001:0");
+	REQUIRE(r.status == 0);
+	CHECK(r.err.empty());
+	CHECK_THAT(r.out, Contains(" 50000\n"));
+	r = run("-d 'sim:?check=crc32' info");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("check type:        CRC-32\n"));
+	CHECK_THAT(r.out, Contains("CRC coverage:      frame\n"));
+	CHECK_THAT(r.out, Contains("SPI CRC errors:    0\n"));
+
+	for (const char *variant : { "chip crc32-coverage=valid\n",
+				     "chip crc32-coverage=valid crc-type-set-fixed=accept\n",
+				     "chip crc32-coverage=frame crc-type-set-fixed=accept\n" }) {
+		INFO(variant);
+		const NetFile net(variant);
+		const bool valid = std::string(variant).find("=valid") != std::string::npos;
+		r = run("-d 'sim:" + net.path + "?check=crc32' upload -p 0 0x2001:0");
+		REQUIRE(r.status == 0);
+		CHECK_THAT(r.out, Contains(" 50000\n"));
+		r = run("--json -d 'sim:" + net.path + "?check=crc32' info");
+		REQUIRE(r.status == 0);
+		const Json j = parseJson(r.out);
+		CHECK(j["check_type"].str == "CRC-32");
+		CHECK(j["crc_coverage"].str == (valid ? "valid" : "frame"));
+		CHECK(j["spi_crc_errors"].num == 0);
+	}
+	// the other check words of the codec
+	for (const char *type : { "fixed", "crc8", "ccitt" }) {
+		r = run(std::string("-d 'sim:?check=") + type + "' upload -p 1 0x2001:0");
+		REQUIRE(r.status == 0);
+		CHECK_THAT(r.out, Contains(" 50000\n"));
+	}
+}
+
+TEST_CASE("a bad check= value or chip line is an error naming the value", "[cli][variants]")
+{
+	Result r = run("-d 'sim:?check=crc64' info");
+	CHECK(r.status != 0);
+	CHECK(r.out.empty());
+	CHECK_THAT(r.err, Contains("bad check value \"crc64\": expected fixed, crc8, ccitt or crc32"));
+	const NetFile net("chip crc32-coverage=half\n");
+	r = run("-d 'sim:" + net.path + "?check=crc32' info");
+	CHECK(r.status != 0);
+	CHECK_THAT(r.err, Contains(net.path + ":4: chip option crc32-coverage: bad value 'half' (expected frame or valid)"));
+	r = run("-d '/dev/ecmxf0?check=crc32' info");
+	CHECK(r.status != 0);
+	CHECK_THAT(r.err, Contains("option \"check\" applies to spidev: URIs only"));
 }
 
 TEST_CASE("slaves scans the default network and lists 3 slaves in INIT in bus order",
@@ -124,9 +201,12 @@ TEST_CASE("slaves -v adds revision, station address, AL status code and process 
 	CHECK_THAT(l[0], Contains("REVISION"));
 	// stations 0x1001 + position; EST-584 12/17 bytes, dio 1/1; ESC
 	// features 0x000C (DC) for the drives, 0 for the dio (sim-slaves.rst)
-	CHECK(l[1] == "0    0:0      INIT   +  0x00000e5c:0x00000584  0x00010000  0x1001  0x0000     12    17  yes  EST-584");
-	CHECK(l[2] == "1    0:1      INIT   +  0x00000e5c:0x00000584  0x00010000  0x1002  0x0000     12    17  yes  EST-584");
-	CHECK(l[3] == "2    0:2      INIT   +  0x00000e5c:0x00001088  0x00010000  0x1003  0x0000      1     1  no   Digital I/O 8 out / 8 in");
+	// (SLV_INFO_GET 10); the scan ran without DC: SYNC0 cycle and shift 0,
+	// not active (SLV_INFO_GET 11..13, commands-bus.rst)
+	CHECK_THAT(l[0], Contains("  DC     CYCLE NS    SHIFT NS  ACT  NAME"));
+	CHECK(l[1] == "0    0:0      INIT   +  0x00000e5c:0x00000584  0x00010000  0x1001  0x0000     12    17  yes           0           0  no   EST-584");
+	CHECK(l[2] == "1    0:1      INIT   +  0x00000e5c:0x00000584  0x00010000  0x1002  0x0000     12    17  yes           0           0  no   EST-584");
+	CHECK(l[3] == "2    0:2      INIT   +  0x00000e5c:0x00001088  0x00010000  0x1003  0x0000      1     1  no            0           0  no   Digital I/O 8 out / 8 in");
 }
 
 TEST_CASE("slaves --json is an array of 3 objects with the models' identities", "[cli][slaves][json]")

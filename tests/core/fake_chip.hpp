@@ -63,7 +63,28 @@ public:
 
 	bool resetPending = false;	// next response is a NOP (chip restarted)
 
+	// Firmware variants: the CRC covers the header and the valid data only
+	// (NEXTW's example host code); the fixed word is taken in while a CRC
+	// is in force for every command (false: SPI_RECONFIG_OP only, and
+	// CRC_TYPE_SET when crcSetFixed); check types the chip refuses
+	// (bit per type: command error, no switch); valid packets dropped as if
+	// their check word were bad.
+	bool validCover = false;
+	bool fixedForAll = true;
+	bool crcSetFixed = false;
+	unsigned refuseTypes = 0;
+	std::function<bool(const ecmxf_cmd_hdr &)> dropCmd;
+
 	std::size_t pktSize() const { return ECMXF_PKT_SIZE(dataSize); }
+
+	// The codec's check argument for the chip's type and coverage.
+	ecmxf_check codecCheck() const
+	{
+		unsigned c = check;
+		if (validCover && check != ECMXF_CHECK_FIXED)
+			c |= ECMXF_CHECK_COVER_VALID;
+		return static_cast<ecmxf_check>(c);
+	}
 
 	// One full-duplex exchange.
 	std::vector<std::uint8_t> exchange(const std::vector<std::uint8_t> &mosi)
@@ -86,7 +107,7 @@ public:
 		std::vector<std::uint8_t> p(pktSize());
 		h.ecm_status = static_cast<std::uint8_t>((h.ecm_status & ~ECMXF_STS_CHECK_MASK) |
 						  static_cast<unsigned>(check));
-		ecmxf_encode_rsp(p.data(), p.size(), check, &h, data.data(), data.size());
+		ecmxf_encode_rsp(p.data(), p.size(), codecCheck(), &h, data.data(), data.size());
 		return p;
 	}
 
@@ -120,9 +141,16 @@ private:
 		ecmxf_cmd_hdr c{};
 		const std::uint8_t *data = nullptr;
 		// SPI_RECONFIG_OP is sent with the fixed check word
-		ecmxf_fault f = ecmxf_decode_cmd(mosi.data(), mosi.size(), check, &c, &data);
-		if (f == ECMXF_FAULT_CHECK)
+		ecmxf_fault f = ecmxf_decode_cmd(mosi.data(), mosi.size(), codecCheck(), &c, &data);
+		if (f == ECMXF_FAULT_CHECK) {
 			f = ecmxf_decode_cmd(mosi.data(), mosi.size(), ECMXF_CHECK_FIXED, &c, &data);
+			const bool taken = fixedForAll || c.code == ECMXF_CMD_SPI_RECONFIG_OP ||
+					   (crcSetFixed && c.code == ECMXF_CMD_CRC_TYPE_SET);
+			if (f == ECMXF_FAULT_NONE && !taken)
+				f = ECMXF_FAULT_CHECK;
+		}
+		if (f == ECMXF_FAULT_NONE && dropCmd && dropCmd(c))
+			f = ECMXF_FAULT_CHECK;
 
 		ecmxf_rsp_hdr h = header();
 		std::vector<std::uint8_t> out;
@@ -196,8 +224,12 @@ private:
 			queue(encode(h, a.data));
 		}
 		// the chip's own format changes take effect after answering
-		if (c.code == ECMXF_CMD_CRC_TYPE_SET)
-			check = static_cast<ecmxf_check>(c.param);
+		if (c.code == ECMXF_CMD_CRC_TYPE_SET) {
+			if (c.param > ECMXF_CHECK_CRC32 || (refuseTypes & (1u << c.param)))
+				errStatus |= ECMXF_ERR_CMD;
+			else
+				check = static_cast<ecmxf_check>(c.param);
+		}
 	}
 
 	void queue(std::vector<std::uint8_t> answer)

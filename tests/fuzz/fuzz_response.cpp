@@ -152,14 +152,14 @@ bool pkt_len_valid(size_t len)
 	return len >= ECMXF_PKT_SIZE(ECMXF_DATA_MIN) && len <= ECMXF_PKT_MAX;
 }
 
-/* Start word, check word of @check, end word. */
+/* Start word, check word of @check (and its coverage flag), end word. */
 void repair_frame(u8 *pkt, size_t len, ecmxf_check check)
 {
 	size_t n = len - ECMXF_HDR_SIZE - ECMXF_TRAILER_SIZE;
 
 	put_le32(pkt, ECMXF_START_WORD);
 	put_le32(pkt + ECMXF_HDR_SIZE + n,
-		 ecmxf_check_word(check, pkt, ECMXF_HDR_SIZE + n));
+		 ecmxf_check_word(check, pkt, ecmxf_check_span(pkt, len, check)));
 	put_le32(pkt + ECMXF_HDR_SIZE + n + 4, ECMXF_END_WORD);
 }
 
@@ -215,7 +215,10 @@ void check_valid_rsp(const u8 *pkt, size_t len, ecmxf_check check,
 	FUZZ_ASSERT(get_le32(pkt + len - 4) == ECMXF_END_WORD);
 	FUZZ_ASSERT(get_le32(pkt + len - 8) != ECMXF_NOT_READY_WORD);
 	FUZZ_ASSERT(get_le32(pkt + len - 8) ==
-		    ecmxf_check_word(check, pkt, len - 8));
+		    ecmxf_check_word(check, pkt,
+				     ecmxf_check_span(pkt, len, check)));
+	if (!(check & ECMXF_CHECK_COVER_VALID))
+		FUZZ_ASSERT(ecmxf_check_span(pkt, len, check) == len - 8);
 	FUZZ_ASSERT(h.crc_err_cnt == pkt[0x04] && h.wkc_err_cnt == pkt[0x05]);
 	FUZZ_ASSERT(h.tx_fifo_cnt == pkt[0x06] && h.rx_fifo_cnt == pkt[0x07]);
 	FUZZ_ASSERT(h.ecat_state == pkt[0x08] && h.err_status == pkt[0x09]);
@@ -305,6 +308,12 @@ void fuzz_codec(const u8 *in, size_t size)
 			decode_one(pkt.get(), len, check);
 			if (pkt_len_valid(len))
 				decode_repaired(pkt.get(), len, check);
+			/* the example host code's CRC coverage */
+			const auto valid = static_cast<ecmxf_check>(
+				check | ECMXF_CHECK_COVER_VALID);
+			decode_one(pkt.get(), len, valid);
+			if (pkt_len_valid(len))
+				decode_repaired(pkt.get(), len, valid);
 		}
 	}
 	for (ecmxf_check check : kChecks)
@@ -583,6 +592,7 @@ void EngineFuzz::check_all()
 	FUZZ_ASSERT(ecmxf_engine_idle(&e_) ==
 		    (!e_.cur && !e_.nxt && !e_.async));
 	FUZZ_ASSERT(ecmxf_data_size_valid(e_.data_size));
+	FUZZ_ASSERT(e_.cover <= ECMXF_COVER_VALID);
 	FUZZ_ASSERT(e_.check <= ECMXF_CHECK_CRC32 &&
 		    e_.prev_check <= ECMXF_CHECK_CRC32);
 	FUZZ_ASSERT(ecmxf_engine_pkt_size(&e_) ==
@@ -618,9 +628,21 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 	ecmxf_xfer *x = nullptr;
 	bool first = false, info = false;
 	ecmxf_xfer *const cur0 = e_.cur, *const nxt0 = e_.nxt;
+	/*
+	 * While a CRC is in force and its coverage unknown, a new command
+	 * waits for INFO_UPDATE probes (bounded), which carry the whole data
+	 * section as length (protocol-core.rst, "Firmware variants")
+	 */
+	const bool cover_unknown = e_.check != ECMXF_CHECK_FIXED &&
+				   e_.cover == ECMXF_COVER_UNKNOWN;
+	const unsigned crcset_tries = e_.crcset_tries;
 	bool had_last = e_.last_valid;
 	u8 last_index = e_.last_index, last_code = e_.last_code;
-	ecmxf_check check = static_cast<ecmxf_check>(e_.check);
+	unsigned ck = e_.check;
+	if (ck != ECMXF_CHECK_FIXED && e_.cover == ECMXF_COVER_VALID)
+		ck |= ECMXF_CHECK_COVER_VALID;
+	ecmxf_check check = static_cast<ecmxf_check>(ck);
+	const u16 info_len = cover_unknown ? static_cast<u16>(n) : 0;
 	Slot *slot = nullptr;
 	ecmxf_cmd_hdr ch;
 	const u8 *data = nullptr;
@@ -658,6 +680,14 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 	info = !x;
 	if (first && x->hdr.code == ECMXF_CMD_SPI_RECONFIG_OP)
 		check = ECMXF_CHECK_FIXED;
+	/* a CRC_TYPE_SET the chip did not take: every other try fixed */
+	if (first && x->hdr.code == ECMXF_CMD_CRC_TYPE_SET &&
+	    (crcset_tries & 1))
+		check = ECMXF_CHECK_FIXED;
+	/* its re-sends carry the whole section while coverage is unknown */
+	const bool crcset_resend = !info && !first &&
+				   x->hdr.code == ECMXF_CMD_CRC_TYPE_SET &&
+				   cover_unknown;
 	for (auto &sp : slots_)
 		if (&sp->x == x)
 			slot = sp.get();
@@ -671,7 +701,8 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 		    e_.last_code == ch.code);
 	if (info) {
 		FUZZ_ASSERT(ch.code == ECMXF_CMD_INFO_UPDATE_OP);
-		FUZZ_ASSERT(ch.param == 0 && ch.len == 0 && ch.reserved == 0);
+		FUZZ_ASSERT(ch.param == 0 && ch.len == info_len &&
+			    ch.reserved == 0);
 		if (had_last)
 			FUZZ_ASSERT(ch.index == last_index);
 		FUZZ_ASSERT(all_zero(data, n));
@@ -679,7 +710,8 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 		const ecmxf_cmd_hdr &o = slot->orig;
 
 		FUZZ_ASSERT(ch.code == o.code && ch.param == o.param);
-		FUZZ_ASSERT(ch.len == o.len && ch.reserved == o.reserved);
+		FUZZ_ASSERT(ch.len == (crcset_resend ? n : o.len) &&
+			    ch.reserved == o.reserved);
 		FUZZ_ASSERT(std::memcmp(ch.data, o.data, 4) == 0);
 		FUZZ_ASSERT(std::memcmp(ch.gpio_out, o.gpio_out, 2) == 0);
 		FUZZ_ASSERT(ch.index == x->hdr.index);
@@ -730,10 +762,15 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 		put_le16(rsp.data() + 0x0E,
 			 static_cast<u16>(get_le16(rsp.data() + 0x0E) % (n + 1)));
 	if (ctl & 0x04)
+		/* aux bit 6: the example host code's CRC coverage */
 		repair_frame(rsp.data(), len,
-			     static_cast<ecmxf_check>((ctl & 0x80) ?
-						      e_.prev_check :
-						      e_.check));
+			     static_cast<ecmxf_check>(((ctl & 0x80) ?
+						       e_.prev_check :
+						       e_.check) |
+						      ((aux & 0x40) ?
+						       unsigned{ ECMXF_CHECK_COVER_VALID } :
+						       0u)));
+	const u8 cover_before = e_.cover;
 
 	std::vector<u16> rx_before;
 	for (auto &sp : slots_)
@@ -748,6 +785,9 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 	FUZZ_ASSERT((ev & ~0x3Fu) == 0);
 	if (ev & ECMXF_EV_BAD_PACKET)
 		FUZZ_ASSERT(!(ev & ECMXF_EV_HEADER));
+	/* the CRC coverage is decided once and kept */
+	if (cover_before != ECMXF_COVER_UNKNOWN)
+		FUZZ_ASSERT(e_.cover == cover_before);
 	check_all();
 	/* nothing outlives its deadline */
 	if (e_.cur)

@@ -148,6 +148,11 @@ int main(int argc, char **argv)
 		check("data section size", info.dataSize, 112u);
 		check("check type is CRC-32", static_cast<unsigned>(info.checkType),
 		      static_cast<unsigned>(ecmxf::CheckType::Crc32));
+		// the bridge's chip covers the whole data section (manual 050,
+		// crc32-coverage=frame): the driver found it at probe and reports
+		// it through sysfs (crc_coverage), which KernelLink reads
+		check("CRC coverage is frame", static_cast<unsigned>(info.crcCoverage),
+		      static_cast<unsigned>(ecmxf::CrcCoverage::Frame));
 
 		auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->link());
 		if (!kt) {

@@ -96,11 +96,45 @@ TEST_CASE("bus: INIT_OP, SLV_CNT_GET and SLV_INFO_GET of every slave", "[bus]")
 					    "status bit 7, command error)"));
 	}
 	try {
-		(void)d.bus().slaveInfoRaw(0, static_cast<ecmxf::SlaveInfoCode>(10));
+		(void)d.bus().slaveInfoRaw(0, static_cast<ecmxf::SlaveInfoCode>(14));
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
-		CHECK_THAT(e.what(), Equals("ECAT_SLV_INFO_GET: information code 10 out of range (0..9)"));
+		CHECK_THAT(e.what(), Equals("ECAT_SLV_INFO_GET: information code 14 out of range (0..13)"));
+	}
+}
+
+TEST_CASE("bus: slaveDc reads the DC information codes 10..13", "[bus]")
+{
+	Rig r("servo-io.net");
+	auto &d = r.d();
+	ecmxf::InitConfig cfg;
+	cfg.dc.sync0Ns = 250'000;
+	cfg.dc.shiftNs = -12'500;
+	d.bus().initNetwork(cfg);
+	const ecmxf::SlaveDc servo = d.bus().slaveDc(0);
+	CHECK(servo.hasDc);
+	CHECK(servo.cycleNs == 250'000);
+	CHECK(servo.shiftNs == -12'500);
+	CHECK(servo.active);
+	const ecmxf::SlaveDc io = d.bus().slaveDc(2);
+	CHECK_FALSE(io.hasDc);
+	CHECK(io.cycleNs == 0);
+	CHECK_FALSE(io.active);
+	CHECK(d.bus().slaveInfoRaw(0, ecmxf::SlaveInfoCode::DcCycle) == std::vector<std::uint8_t>{ 0x90, 0xD0, 0x03, 0 });
+	// DC off on the bus: the servo keeps its ESC feature, nothing runs
+	cfg.dc.assignActivate = 0;
+	d.bus().initNetwork(cfg);
+	const ecmxf::SlaveDc off = d.bus().slaveDc(1);
+	CHECK(off.hasDc);
+	CHECK(off.cycleNs == 0);
+	CHECK_FALSE(off.active);
+	try {
+		(void)d.bus().slaveDc(3);
+		FAIL("no error");
+	} catch (const Error &e) {
+		CHECK(e.errnoValue() == EINVAL);
+		CHECK_THAT(e.what(), Contains("code 10 of slave 3"));
 	}
 }
 

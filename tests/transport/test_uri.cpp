@@ -144,7 +144,8 @@ TEST_CASE("bad URIs throw EINVAL naming the bad part and the accepted forms", "[
 	checkBad("spidev:/dev/spidev0.0?mode=0&", "empty option (options are key=value, separated by '&')");
 	checkBad("spidev:/dev/spidev0.0?cs=1",
 		 "unknown option \"cs\" (spidev: takes int0, int1, speed, mode, ready, size, check, trace)");
-	checkBad("sim:?speed=1", "option \"speed\" applies to spidev: URIs only (sim: takes only trace=<file>)");
+	checkBad("sim:?speed=1",
+		 "option \"speed\" applies to spidev: URIs only (sim: takes check=<type> and trace=<file>)");
 	checkBad("/dev/ecmxf0?int0=gpiochip0:1",
 		 "option \"int0\" applies to spidev: URIs only (the kernel device takes only trace=<file>)");
 	checkBad("/dev/ecmxf0?foo=1", "unknown option \"foo\" (only trace=<file> is accepted here)");
@@ -155,9 +156,32 @@ TEST_CASE("bad URIs throw EINVAL naming the bad part and the accepted forms", "[
 		 "bad size value \"1409\": expected 32..1408 (the data section the chip uses now, in bytes)");
 	checkBad("spidev:/dev/spidev0.0?check=crc16",
 		 "bad check value \"crc16\": expected fixed, crc8, ccitt or crc32 (the check word the chip uses now)");
-	checkBad("sim:?check=crc32", "option \"check\" applies to spidev: URIs only (sim: takes only trace=<file>)");
+	checkBad("sim:?check=crc16", "bad check value \"crc16\": expected fixed, crc8, ccitt or crc32 (the check "
+				     "word to switch the chip to)");
+	checkBad("sim:?check=", "bad check value \"\": expected fixed, crc8, ccitt or crc32 (the check word to "
+				"switch the chip to)");
+	checkBad("sim:?check=CRC32", "bad check value \"CRC32\": expected fixed, crc8, ccitt or crc32 (the check "
+				     "word to switch the chip to)");
+	checkBad("sim:?check=crc32&check=fixed", "option \"check\" given twice");
+	checkBad("sim:?foo=1", "unknown option \"foo\" (check=<type> and trace=<file> are accepted here)");
+	checkBad("/dev/ecmxf0?check=crc32",
+		 "option \"check\" applies to spidev: URIs only (the kernel device takes only trace=<file>)");
 	checkBad("/dev/ecmxf0?size=112",
 		 "option \"size\" applies to spidev: URIs only (the kernel device takes only trace=<file>)");
+}
+
+TEST_CASE("sim and unix URIs: check= names the check word to switch the chip to", "[transport][uri]")
+{
+	auto u = ecmxf::parseDeviceUri("sim:?check=crc32");
+	CHECK(u.kind == ecmxf::DeviceUri::Kind::Sim);
+	CHECK(u.path.empty());
+	CHECK(u.checkType == std::optional<ecmxf::CheckType>(ecmxf::CheckType::Crc32));
+	u = ecmxf::parseDeviceUri("sim:/tmp/n.net?trace=/tmp/t&check=ccitt");
+	CHECK(u.path == "/tmp/n.net");
+	CHECK(u.checkType == std::optional<ecmxf::CheckType>(ecmxf::CheckType::Ccitt));
+	CHECK(ecmxf::parseDeviceUri("unix:/tmp/s?check=fixed").checkType == ecmxf::CheckType::Fixed);
+	CHECK(ecmxf::parseDeviceUri("unix:/tmp/s?check=crc8").checkType == ecmxf::CheckType::Crc8);
+	CHECK_FALSE(ecmxf::parseDeviceUri("sim:").checkType);
 }
 
 TEST_CASE("spidev URIs: size= and check= give the format the chip speaks now", "[transport][uri]")

@@ -69,13 +69,19 @@ struct TempDir {
 class Server
 {
 public:
-	explicit Server(const std::string &socket) : socket_(socket)
+	/// @p extra: more ecmxf-sim options (e.g. --chip KEY=VALUE).
+	explicit Server(const std::string &socket, const std::vector<std::string> &extra = {}) : socket_(socket)
 	{
+		std::vector<std::string> args{ ECMXF_SIM_BINARY, "--socket", socket };
+		args.insert(args.end(), extra.begin(), extra.end());
+		std::vector<char *> argv;
+		for (std::string &a : args)
+			argv.push_back(a.data());
+		argv.push_back(nullptr);
 		pid_ = fork();
 		REQUIRE(pid_ >= 0);
 		if (pid_ == 0) {
-			execl(ECMXF_SIM_BINARY, ECMXF_SIM_BINARY, "--socket", socket.c_str(),
-			      static_cast<char *>(nullptr));
+			execv(ECMXF_SIM_BINARY, argv.data());
 			_exit(127);
 		}
 		waitUntilServing();
@@ -290,6 +296,108 @@ TEST_CASE("unix: ecmxf-util states PREOP persists to a later ecmxf-util slaves",
 	REQUIRE(lines.size() == 3);
 	for (const auto &l : lines)
 		CHECK_THAT(l, Contains(" PREOP "));
+}
+
+TEST_CASE("unix: ecmxf-sim --chip selects the CRC coverage; check=crc32 switches the chip at open",
+	  "[unix][cli][variants]")
+{
+	for (const std::string coverage : { "frame", "valid" }) {
+		INFO("crc32-coverage=" << coverage);
+		TempDir dir;
+		const std::string sock = dir.path + "/s";
+		Server server(sock, { "--chip", "crc32-coverage=" + coverage });
+		const std::string d = "-d 'unix:" + sock + "?check=crc32' ";
+
+		auto r = clitest::run(d + "upload -p 0 0x2001:0");
+		REQUIRE(r.status == 0);
+		CHECK_THAT(r.out, Contains(" 50000\n"));
+		// a second program: the chip speaks CRC-32 already
+		r = clitest::run(d + "info");
+		REQUIRE(r.status == 0);
+		CHECK_THAT(r.out, Contains("check type:        CRC-32\n"));
+		CHECK_THAT(r.out, Contains("CRC coverage:      " + coverage + "\n"));
+		// and back to the fixed word, from a chip in CRC-32
+		r = clitest::run("-d 'unix:" + sock + "?check=fixed' upload -p 1 0x2001:0");
+		REQUIRE(r.status == 0);
+		CHECK_THAT(r.out, Contains(" 50000\n"));
+		r = clitest::run("-d unix:" + sock + " info");
+		REQUIRE(r.status == 0);
+		CHECK_THAT(r.out, Contains("check type:        fixed\n"));
+	}
+}
+
+TEST_CASE("unix: ecmxf-sim --chip refuses what is not a chip option, naming key and value",
+	  "[unix][cli][variants]")
+{
+	TempDir dir;
+	const auto sim = [&](const std::string &args) {
+		clitest::Result r;
+		const std::string cmd = std::string(ECMXF_SIM_BINARY) + " " + args + " --socket " + dir.path +
+					"/s 2>&1";
+		std::FILE *p = popen(cmd.c_str(), "r");
+		REQUIRE(p != nullptr);
+		char buf[1024];
+		std::size_t n;
+		while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0)
+			r.out.append(buf, n);
+		const int st = pclose(p);
+		REQUIRE(WIFEXITED(st));
+		r.status = WEXITSTATUS(st);
+		return r;
+	};
+	auto r = sim("--chip crc32-coverage=maybe");
+	CHECK(r.status == 1);
+	CHECK(r.out == "ecmxf-sim: --chip: chip option crc32-coverage: bad value 'maybe' (expected frame or valid)\n");
+	r = sim("-c crc-type-set-fixed=1");
+	CHECK(r.status == 1);
+	CHECK(r.out == "ecmxf-sim: --chip: chip option crc-type-set-fixed: bad value '1' (expected drop or accept)\n");
+	r = sim("--chip speed=fast");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.out, StartsWith("ecmxf-sim: --chip: unknown chip option 'speed' (known: crc32-coverage"));
+	r = sim("--chip crc32-coverage");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.out, StartsWith("ecmxf-sim: --chip 'crc32-coverage' is not KEY=VALUE"));
+	r = sim("--chip =valid");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.out, StartsWith("ecmxf-sim: --chip '=valid' is not KEY=VALUE"));
+	CHECK_FALSE(std::filesystem::exists(dir.path + "/s"));
+	// the last word without its value
+	clitest::Result last;
+	{
+		const std::string cmd = std::string(ECMXF_SIM_BINARY) + " --chip 2>&1";
+		std::FILE *p = popen(cmd.c_str(), "r");
+		REQUIRE(p != nullptr);
+		char buf[256];
+		std::size_t n;
+		while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0)
+			last.out.append(buf, n);
+		last.status = WEXITSTATUS(pclose(p));
+	}
+	CHECK(last.status == 1);
+	CHECK(last.out == "ecmxf-sim: --chip needs a value\n");
+}
+
+TEST_CASE("unix: slaves -v shows the DC information codes 10..13 after states brought up DC",
+	  "[unix][cli][variants]")
+{
+	TempDir dir;
+	const std::string sock = dir.path + "/s";
+	Server server(sock, { "--network", std::string(ECMXF_TEST_NETWORK_DIR) + "/servo-io.net" });
+	const std::string d = "-d unix:" + sock + " ";
+	auto r = clitest::run(d + "states SAFEOP");
+	REQUIRE(r.status == 0);
+	r = clitest::run(d + "slaves -v");
+	REQUIRE(r.status == 0);
+	const auto lines = clitest::lines(r.out);
+	REQUIRE(lines.size() == 4);
+	CHECK_THAT(lines[0], Contains("  DC     CYCLE NS    SHIFT NS  ACT  NAME"));
+	// the servos take part in DC (SYNC0 1 ms, shift 0), the I/O has none
+	CHECK_THAT(lines[1], Contains("  yes     1000000           0  yes  "));
+	CHECK_THAT(lines[2], Contains("  yes     1000000           0  yes  "));
+	CHECK_THAT(lines[3], Contains("  no            0           0  no   "));
+	r = clitest::run(d + "--json slaves -p 0");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("\"dc\": true, \"dc_cycle_ns\": 1000000, \"dc_shift_ns\": 0, \"dc_active\": true}"));
 }
 
 TEST_CASE("unix: ecmxf-util names a missing server", "[unix][cli]")
@@ -591,7 +699,7 @@ TEST_CASE("unix: an 'E' reply is an error with the server's message (EPROTO)", "
 
 // ---------------------------------------------------------------- the URI
 
-TEST_CASE("unix: URIs: the socket path, trace= and nothing else", "[unix][uri]")
+TEST_CASE("unix: URIs: the socket path, check=, trace= and nothing else", "[unix][uri]")
 {
 	auto u = ecmxf::parseDeviceUri("unix:/tmp/s");
 	CHECK(u.kind == ecmxf::DeviceUri::Kind::Unix);
@@ -614,9 +722,11 @@ TEST_CASE("unix: URIs: the socket path, trace= and nothing else", "[unix][uri]")
 		     "`ecmxf-sim --socket /tmp/ecmxf-sim.sock`)");
 	bad("unix:?trace=/tmp/t", "no socket path after \"unix:\" (e.g. unix:/tmp/ecmxf-sim.sock, served by "
 				  "`ecmxf-sim --socket /tmp/ecmxf-sim.sock`)");
-	bad("unix:/tmp/s?speed=1", "option \"speed\" applies to spidev: URIs only (unix: takes only trace=<file>)");
-	bad("unix:/tmp/s?check=crc32", "option \"check\" applies to spidev: URIs only (unix: takes only trace=<file>)");
-	bad("unix:/tmp/s?foo=1", "unknown option \"foo\" (only trace=<file> is accepted here)");
+	bad("unix:/tmp/s?speed=1",
+	    "option \"speed\" applies to spidev: URIs only (unix: takes check=<type> and trace=<file>)");
+	bad("unix:/tmp/s?check=crc-32",
+	    "bad check value \"crc-32\": expected fixed, crc8, ccitt or crc32 (the check word to switch the chip to)");
+	bad("unix:/tmp/s?foo=1", "unknown option \"foo\" (check=<type> and trace=<file> are accepted here)");
 	bad("unix:/tmp/s?trace=", "option \"trace\" needs a file name (trace=<file>)");
 }
 

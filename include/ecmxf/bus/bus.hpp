@@ -61,8 +61,13 @@ public:
 	[[nodiscard]] StateReading stateGet(std::uint8_t slave) const;
 	/// ECAT_SLV_INFO_GET (15), every code (0..9).
 	[[nodiscard]] SlaveInfo slaveInfo(std::uint8_t slave) const;
-	/// ECAT_SLV_INFO_GET (15), one code; the bytes the chip returned.
+	/// ECAT_SLV_INFO_GET (15), one code (0..13); the bytes the chip returned.
 	[[nodiscard]] std::vector<std::uint8_t> slaveInfoRaw(std::uint8_t slave, SlaveInfoCode code) const;
+	/// ECAT_SLV_INFO_GET (15), codes 10..13: the slave's distributed
+	/// clock. Throws ecmxf::Error (EINVAL, command error) when the firmware
+	/// does not know the codes, EPROTO for an answer shorter than the
+	/// code's value.
+	[[nodiscard]] SlaveDc slaveDc(std::uint8_t slave) const;
 	/// ECAT_SLV_CNT_GET (16): slaves found by the last INIT_OP.
 	[[nodiscard]] std::uint8_t slaveCount() const;
 	/// ECAT_STATE_CHECK (41): STATE_SET + STATE_UPDATE + STATE_GET; the

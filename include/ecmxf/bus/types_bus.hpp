@@ -150,10 +150,27 @@ enum class SlaveInfoCode : std::uint8_t {
 	AlStatusCode = 7,
 	OutputBytes = 8,
 	InputBytes = 9,
+	/// Codes 10..13: the slave's distributed clock; named in NEXTW's
+	/// EcmDriver.h and referred to by manual ver. 050, value formats as
+	/// Documentation/commands-bus.rst decides (see SlaveDc).
+	HasDc = 10,
+	DcCycle = 11,
+	DcShift = 12,
+	DcActive = 13,
 };
 
-/// Everything ECAT_SLV_INFO_GET tells about one slave. The chip has no
-/// code for DC support (see Documentation/commands-bus.rst).
+/// ECAT_SLV_INFO_GET codes 10..13: a slave's distributed clock
+/// (Documentation/commands-bus.rst, "Slave information"). Firmware of
+/// manual ver. 038 may refuse these codes (a command error).
+struct SlaveDc {
+	bool hasDc = false;       ///< code 10 (1 byte): the slave's ESC supports DC
+	std::int32_t cycleNs = 0; ///< code 11 (4 bytes): SYNC0 cycle time in ns; 0 when the slave takes no part in DC
+	std::int32_t shiftNs = 0; ///< code 12 (4 bytes, signed): SYNC0 shift time in ns
+	bool active = false;      ///< code 13 (1 byte): SYNC0 is active on the slave
+};
+
+/// What ECAT_SLV_INFO_GET codes 0..9 tell about one slave (the DC codes
+/// 10..13: SlaveDc, Bus::slaveDc()).
 struct SlaveInfo {
 	std::uint8_t position = 0;       ///< bus position (0-based, as the chip numbers)
 	std::uint32_t vendorId = 0;      ///< code 0

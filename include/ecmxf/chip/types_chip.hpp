@@ -69,6 +69,10 @@ struct ChipInfo {
 	/// Check word type in use (the library's engine, which follows
 	/// CRC_TYPE_SET; the ECM status bits 1-0 of every response agree).
 	CheckType checkType = CheckType::Fixed;
+	/// Which bytes the chip's CRC covers, as found from its answers once a
+	/// CRC was in force (Link::crcCoverage(); Documentation/protocol-core.rst,
+	/// "Firmware variants"); Unknown before.
+	CrcCoverage crcCoverage = CrcCoverage::Unknown;
 	/// Response header bytes of the last exchange: EtherCAT state (0x08),
 	/// error status (0x09), ECM status (0x0A), interrupt flags (0x10).
 	std::uint8_t ecatState = 0;

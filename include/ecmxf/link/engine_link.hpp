@@ -42,6 +42,8 @@ public:
 	[[nodiscard]] std::uint16_t dataSize() const noexcept override;
 	[[nodiscard]] CheckType checkType() const noexcept override;
 	[[nodiscard]] std::optional<ResponseHeader> lastHeader() const noexcept override;
+	/// The protocol core's finding (ecmxf_engine_cover()).
+	[[nodiscard]] CrcCoverage crcCoverage() const noexcept override;
 	[[nodiscard]] std::string name() const override;
 	[[nodiscard]] std::chrono::nanoseconds now() const override;
 	void sleepFor(std::chrono::nanoseconds duration) override;

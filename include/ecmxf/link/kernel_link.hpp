@@ -72,6 +72,9 @@ public:
 	/// last answer (which lag one command behind CRC_TYPE_SET).
 	[[nodiscard]] CheckType checkType() const noexcept override;
 	[[nodiscard]] std::optional<ResponseHeader> lastHeader() const noexcept override;
+	/// The driver's finding: /sys/class/ecmxf/ecmxfN/crc_coverage
+	/// (Documentation/driver.rst); Unknown when it cannot be read.
+	[[nodiscard]] CrcCoverage crcCoverage() const noexcept override;
 	/// The path it opened.
 	[[nodiscard]] std::string name() const override;
 	/// ECMXF_IOC_RESET (the kernel sends ASYNCCMD_RESET and WARM_RESET only

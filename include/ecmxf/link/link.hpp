@@ -214,6 +214,9 @@ public:
 	[[nodiscard]] virtual CheckType checkType() const noexcept = 0;
 	/// The latest header the chip sent, if any.
 	[[nodiscard]] virtual std::optional<ResponseHeader> lastHeader() const noexcept = 0;
+	/// Which bytes the chip's CRC covers, as the link found it from the
+	/// chip's answers (Unknown by default, and until a CRC was in force).
+	[[nodiscard]] virtual CrcCoverage crcCoverage() const noexcept { return CrcCoverage::Unknown; }
 	/// How messages name the link: its device URI ("sim:", "/dev/ecmxf0",
 	/// "unix:/tmp/s", "spidev:/dev/spidev0.0").
 	[[nodiscard]] virtual std::string name() const = 0;

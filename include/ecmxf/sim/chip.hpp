@@ -65,7 +65,31 @@ struct ChipConfig {
 	/// (bring-up, SDOs, states). Not a feature of the real chip: for tests
 	/// on slow hosts (Documentation/simulator.rst, "Lock-step bus").
 	bool lockstep = false;
+
+	// ---- firmware variants (Documentation/simulator.rst, "Chip options")
+
+	/// Which bytes the chip's CRC check word covers (every CRC type).
+	enum class CrcCoverage {
+		Frame, ///< header and the whole data section (manual ver. 050)
+		Valid, ///< header and the valid data length rounded up to 4 bytes (NEXTW's example host code)
+	};
+	CrcCoverage crcCoverage = CrcCoverage::Frame;
+	/// CRC_TYPE_SET sent with the fixed word while a CRC is in force:
+	/// true, taken in (as NEXTW's example host code sends it, and as every
+	/// chip takes SPI_RECONFIG_OP); false, dropped and counted as a CRC
+	/// error like any packet with a wrong check word (manual ver. 050).
+	bool crcTypeSetFixed = false;
 };
+
+/// The chip options of a network file's `chip KEY=VALUE` lines and of
+/// `ecmxf-sim --chip KEY=VALUE`, as "key", "value | value" pairs.
+inline constexpr std::string_view kChipOptions =
+	"crc32-coverage=frame|valid, crc-type-set-fixed=drop|accept";
+
+/// Sets the ChipConfig field named by @p key (kChipOptions) to @p value.
+/// Throws std::invalid_argument naming the key, or the value and what the
+/// key accepts.
+ECMXF_EXPORT void applyChipOption(ChipConfig &config, std::string_view key, std::string_view value);
 
 /// Faults a test can inject. Counts are "the next N".
 struct FaultPlan {

@@ -18,6 +18,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <ecmxf/export.hpp>
@@ -232,9 +233,22 @@ public:
 	[[nodiscard]] const Slave &at(std::size_t position) const;
 	void add(std::unique_ptr<Slave> slave);
 
+	/// Chip options (the file's `chip KEY=VALUE` lines; see
+	/// sim::kChipOptions in <ecmxf/sim/chip.hpp>), applied by the Chip
+	/// built on this network over the ChipConfig it is given. Sets @p key
+	/// to @p value, replacing an earlier value of the key. Throws
+	/// std::invalid_argument for an unknown key or a bad value.
+	void setChipOption(const std::string &key, const std::string &value);
+	/// The chip options in the order they were first set.
+	[[nodiscard]] const std::vector<std::pair<std::string, std::string>> &chipOptions() const noexcept
+	{
+		return chipOptions_;
+	}
+
 private:
 	std::string name_;
 	std::vector<std::unique_ptr<Slave>> slaves_;
+	std::vector<std::pair<std::string, std::string>> chipOptions_;
 };
 
 } // namespace ecmxf::sim
