@@ -21,7 +21,7 @@ KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
 
 DEPS := scripts/install-deps.sh
 
-.PHONY: all deps configure check check-user check-stress check-debug-kernel check-asan fuzz demo bench kmod kmod-deps \
+.PHONY: all deps configure check check-user check-stress check-debug-kernel check-asan fuzz fuzz-long soak demo bench kmod kmod-deps \
 	kmod-check kmod-check-all kmod-check-kernels checkpatch dt-check kernel-lint check-kernel check-kernels \
 	kmod-clean install install-udev clean help
 
@@ -49,6 +49,19 @@ check-user: all
 STRESS_ROUNDS ?= 20
 check-stress: all
 	scripts/check-stress.sh $(BUILD) $(STRESS_ROUNDS)
+
+# The soak (tests/soak/soak.cpp, Documentation/building.rst "Soak"):
+# ecmxf::Cyclic over the simulator with a seeded fault schedule and
+# per-cycle invariants, SOAK_CYCLES on the default network at 8 kHz, then
+# SOAK_CYCLES_128 on the 128-slave network.  The seed is printed; replay a
+# run with SOAK_SEED=.  Not in CI (make check runs 10^5 cycles).
+SOAK_CYCLES ?= 10000000
+SOAK_CYCLES_128 ?= $(shell expr $(SOAK_CYCLES) / 10)
+SOAK_SEED ?= $(shell date +%s)
+soak: configure
+	cmake --build $(BUILD) -j $(JOBS) --target ecmxf-soak
+	$(BUILD)/tests/soak/ecmxf-soak --cycles $(SOAK_CYCLES) --seed $(SOAK_SEED) --network default
+	$(BUILD)/tests/soak/ecmxf-soak --cycles $(SOAK_CYCLES_128) --seed $(SOAK_SEED) --network 128
 
 # The same tests with AddressSanitizer + UndefinedBehaviorSanitizer.
 check-asan: deps
@@ -189,6 +202,9 @@ help:
 	@echo "make check     build and run every test: ctest, then check-kernel"
 	@echo "make check-user    the userspace tests only (ctest)"
 	@echo "make check-stress  the userspace tests STRESS_ROUNDS (20) times each under load, then on one core"
+	@echo "make soak      the cyclic exchange under a seeded fault schedule, 10^7 cycles at 8 kHz"
+	@echo "               (SOAK_CYCLES=, SOAK_SEED= replays a run)"
+	@echo "make fuzz      every libFuzzer target for FUZZ_SECONDS (CI); make fuzz-long: FUZZ_LONG_SECONDS each"
 	@echo "make demo      ecmxf-demo: a tour of the stack on the simulator (DEMO_ARGS=--fast)"
 	@echo "make bench     build and run the benchmarks (also in the QEMU guest: KBENCH_FLAVOURS=)"
 	@echo "make kmod      build kmod/ecmxf.ko (KDIR=/path/to/headers)"
