@@ -61,19 +61,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	if (size < 27)
 		return 0;
-	const auto u16 = [](const std::uint8_t *p) { return static_cast<std::uint16_t>(p[0] | unsigned{ p[1] } << 8); };
-	const unsigned ds = ECMXF_DATA_MIN + u16(data) % (ECMXF_DATA_MAX - ECMXF_DATA_MIN + 1);
+	const auto le16 = [](const std::uint8_t *p) { return static_cast<std::uint16_t>(p[0] | unsigned{ p[1] } << 8); };
+	const unsigned ds = ECMXF_DATA_MIN + le16(data) % (ECMXF_DATA_MAX - ECMXF_DATA_MIN + 1);
 	const auto check = static_cast<ecmxf_check>(data[2] & 3);
 	ecmxf_cmd_hdr h{};
 	const std::uint8_t *f = data + 3;
 	std::memcpy(h.data, f, 4);
-	h.reserved = u16(f + 4);
+	h.reserved = le16(f + 4);
 	h.control = f[6];
 	h.index = f[7];
 	h.code = f[8];
 	h.param = f[9];
-	h.len = u16(f + 10);
-	h.int_clear = u16(f + 12) | static_cast<std::uint32_t>(u16(f + 14)) << 16;
+	h.len = le16(f + 10);
+	h.int_clear = le16(f + 12) | static_cast<std::uint32_t>(le16(f + 14)) << 16;
 	h.gpio_int_clear[0] = f[16];
 	h.gpio_int_clear[1] = f[17];
 	h.gpio_out[0] = f[18];
