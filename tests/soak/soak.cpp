@@ -98,13 +98,25 @@ struct Rng {
 // ---------------------------------------------------------------------------
 
 struct Failures {
-	std::map<std::string, std::uint64_t> count;
+	/// what failed and how often: a fixed table, so that a failure found
+	/// inside cycle() (the checks run there) allocates nothing
+	struct Entry {
+		const char *what = nullptr;
+		std::uint64_t n = 0;
+	};
+	std::array<Entry, 32> count{};
 	unsigned printed = 0;
 	std::uint64_t cycle = 0; ///< the application cycle being run
 	/// @p a and @p b: the values involved (printed as "[a b]").
 	void fail(const char *what, std::uint64_t a = 0, std::uint64_t b = 0)
 	{
-		count[what]++;
+		for (Entry &e : count) {
+			if (!e.what || e.what == what || std::strcmp(e.what, what) == 0) {
+				e.what = what;
+				e.n++;
+				break;
+			}
+		}
 		if (printed < 20) {
 			printed++;
 			std::printf("FAIL cycle %" PRIu64 ": %s [%" PRIu64 " %" PRIu64 "]\n", cycle, what, a, b);
@@ -113,13 +125,20 @@ struct Failures {
 	[[nodiscard]] std::uint64_t total() const
 	{
 		std::uint64_t n = 0;
-		for (const auto &[k, v] : count)
-			n += v;
+		for (const Entry &e : count)
+			n += e.n;
 		return n;
 	}
 };
 
 Failures g_fail;
+
+/// --inject-bug K: a defect planted on purpose, to show that the checks
+/// catch it (the ctest soak-catches-* expect the run to fail):
+/// 1 an input frame handed over twice, 2 an input frame lost without an
+/// error, 3 an old output frame applied again, 4 an allocation in cycle().
+unsigned g_bug = 0;
+constexpr std::uint64_t kBugCycle = 5000;
 
 // ---------------------------------------------------------------------------
 // the tagged slave: a dio model behind a decorator that checks and stamps
@@ -195,7 +214,12 @@ public:
 			t.notApplied++; // not in OP: the outputs were not written
 		if (popped && outputs.size() >= kTagOut && wkc >= 2) {
 			// this bus cycle applied a frame taken from the RxFIFO
-			const std::uint32_t seq = le32(outputs.data());
+			std::uint32_t seq = le32(outputs.data());
+			if (g_bug == 3 && seq > kBugCycle && seq > 1) {
+				g_bug = 0;
+				seq -= 2; // planted: an older frame applied again
+				t.applied[seq % kWindow]++;
+			}
 			if (seq != 0) {
 				if (seq < t.lastApplied)
 					g_fail.fail("output frame out of order", seq,
@@ -484,6 +508,16 @@ int run(const Options &o)
 	cfg.onInputFrame = [](void *ctx, std::span<const std::uint8_t> f) noexcept {
 		auto &s = *static_cast<InState *>(ctx);
 		const std::uint32_t stamp = le32(f.data() + s.off);
+		if (g_bug == 2 && g_fail.cycle == kBugCycle && s.cycleFrames == 0) {
+			g_bug = 0;
+			return; // planted: the frame vanishes, no error
+		}
+		if (g_bug == 1 && g_fail.cycle == kBugCycle) {
+			g_bug = 0;
+			s.lastStamp = stamp; // planted: the same frame once more below
+			s.delivered++;
+			s.cycleFrames++;
+		}
 		if (stamp <= s.lastStamp)
 			g_fail.fail("input frame delivered twice or out of order", stamp,
 				    s.lastStamp);
@@ -631,6 +665,8 @@ int run(const Options &o)
 		in.cycleFrames = 0;
 		const std::uint64_t a0 = ecmxf_test::allocations();
 		const ecmxf::CycleResult &r = cyc.cycle();
+		if (g_bug == 4 && c == kBugCycle)
+			delete new std::uint64_t(c); // planted: an allocation on the cyclic path
 		const int w = cyc.waitNextCycle();
 		const std::uint64_t da = ecmxf_test::allocations() - a0;
 		if (da) {
@@ -866,8 +902,9 @@ int run(const Options &o)
 		std::printf("ecmxf-soak: PASS (seed %" PRIu64 ")\n", o.seed);
 		return 0;
 	}
-	for (const auto &[what, n] : g_fail.count)
-		std::printf("  %" PRIu64 " x %s\n", n, what.c_str());
+	for (const auto &e : g_fail.count)
+		if (e.what)
+			std::printf("  %" PRIu64 " x %s\n", e.n, e.what);
 	std::printf("ecmxf-soak: FAIL (seed %" PRIu64 ", replay with SOAK_SEED=%" PRIu64 ")\n", o.seed, o.seed);
 	return 1;
 }
@@ -899,6 +936,8 @@ int main(int argc, char **argv)
 				o.period = std::chrono::microseconds(std::stoull(value()));
 			else if (a == "--processing-us")
 				o.processing = std::chrono::microseconds(std::stoull(value()));
+			else if (a == "--inject-bug")
+				g_bug = static_cast<unsigned>(std::stoul(value()));
 			else if (a == "--verbose")
 				o.verbose = true;
 			else if (a == "--quiet")
@@ -906,7 +945,7 @@ int main(int argc, char **argv)
 			else {
 				std::fprintf(stderr,
 					     "usage: ecmxf-soak [--cycles N] [--seed S] [--network default|128] "
-					     "[--bit-error-rate P] [--period-us US] [--processing-us US] [--verbose] [--quiet]\n");
+					     "[--bit-error-rate P] [--period-us US] [--processing-us US] [--verbose] [--quiet] [--inject-bug 1..4]\n");
 				return 2;
 			}
 		} catch (const std::exception &) {
