@@ -542,9 +542,9 @@ void Chip::Impl::busCycle()
 		if (rxFifo_.pop(outImage_.data())) {
 			stats_.rxPopped++;
 			rxPopped(before);
-		}
-		else
+		} else {
 			stats_.rxUnderruns++;
+		}
 	}
 	if (exchange)
 		apply402();
