@@ -13,7 +13,9 @@ PREFIX     ?= /usr/local
 JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 WERROR     ?= ON
 CMAKE_ARGS ?=
-FUZZ_SECONDS ?= 60
+FUZZ_SECONDS ?= 12
+FUZZ_LONG_SECONDS ?= 600
+FUZZ_LONG_CORPUS ?= /var/tmp/ecmxf-fuzz-corpus
 # Kernel headers: the running kernel's if installed, else the newest
 # Debian headers under /lib/modules.
 KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
@@ -21,7 +23,7 @@ KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
 
 DEPS := scripts/install-deps.sh
 
-.PHONY: all deps configure check check-user check-stress check-debug-kernel check-asan fuzz demo bench kmod kmod-deps \
+.PHONY: all deps configure check check-user check-stress check-debug-kernel check-asan fuzz fuzz-long fuzz-build soak demo bench kmod kmod-deps \
 	kmod-check kmod-check-all kmod-check-kernels checkpatch dt-check kernel-lint check-kernel check-kernels \
 	kmod-clean install install-udev clean help
 
@@ -50,6 +52,19 @@ STRESS_ROUNDS ?= 20
 check-stress: all
 	scripts/check-stress.sh $(BUILD) $(STRESS_ROUNDS)
 
+# The soak (tests/soak/soak.cpp, Documentation/building.rst "Soak"):
+# ecmxf::Cyclic over the simulator with a seeded fault schedule and
+# per-cycle invariants, SOAK_CYCLES on the default network at 8 kHz, then
+# SOAK_CYCLES_128 on the 128-slave network.  The seed is printed; replay a
+# run with SOAK_SEED=.  Not in CI (make check runs 10^5 cycles).
+SOAK_CYCLES ?= 10000000
+SOAK_CYCLES_128 ?= $(shell expr $(SOAK_CYCLES) / 10)
+SOAK_SEED ?= $(shell date +%s)
+soak: configure
+	cmake --build $(BUILD) -j $(JOBS) --target ecmxf-soak
+	$(BUILD)/tests/soak/ecmxf-soak --cycles $(SOAK_CYCLES) --seed $(SOAK_SEED) --network default
+	$(BUILD)/tests/soak/ecmxf-soak --cycles $(SOAK_CYCLES_128) --seed $(SOAK_SEED) --network 128
+
 # The same tests with AddressSanitizer + UndefinedBehaviorSanitizer.
 check-asan: deps
 	cmake -S . -B $(ASAN_BUILD) -DECMXF_WERROR=$(WERROR) -DECMXF_SANITIZE=address,undefined \
@@ -57,13 +72,23 @@ check-asan: deps
 	cmake --build $(ASAN_BUILD) -j $(JOBS)
 	ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS)
 
-# libFuzzer targets (clang), each run for FUZZ_SECONDS.
-fuzz:
+# libFuzzer targets (clang), each run for FUZZ_SECONDS (CI: bounded,
+# about 3.5 minutes with the build for the eleven targets).
+fuzz: fuzz-build
+	tests/fuzz/run-fuzzers.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
+
+# The same for FUZZ_LONG_SECONDS each (default 10 min: 11 targets, about
+# 2 hours), at nice 19, one fuzzer at a time, the corpora kept in
+# FUZZ_LONG_CORPUS between runs.  Not in CI; prints execs/s per target and
+# the total (Documentation/building.rst, "Fuzzing").
+fuzz-long: fuzz-build
+	nice -n 19 tests/fuzz/run-fuzzers.sh $(FUZZ_BUILD) $(FUZZ_LONG_SECONDS) $(FUZZ_LONG_CORPUS)
+
+fuzz-build:
 	@$(DEPS) --ci
 	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DECMXF_BUILD_FUZZ=ON \
 		-DECMXF_BUILD_TESTS=OFF -DECMXF_WERROR=$(WERROR) -DCMAKE_BUILD_TYPE=RelWithDebInfo
 	cmake --build $(FUZZ_BUILD) -j $(JOBS)
-	tests/fuzz/run-fuzzers.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
 
 # make bench ends with the in-guest round trip /dev/ecmxf0 vs spidev under
 # QEMU (Documentation/kernel-testing.rst, "Benchmarks"); KBENCH_FLAVOURS=
@@ -189,6 +214,9 @@ help:
 	@echo "make check     build and run every test: ctest, then check-kernel"
 	@echo "make check-user    the userspace tests only (ctest)"
 	@echo "make check-stress  the userspace tests STRESS_ROUNDS (20) times each under load, then on one core"
+	@echo "make soak      the cyclic exchange under a seeded fault schedule, 10^7 cycles at 8 kHz"
+	@echo "               (SOAK_CYCLES=, SOAK_SEED= replays a run)"
+	@echo "make fuzz      every libFuzzer target for FUZZ_SECONDS (CI); make fuzz-long: FUZZ_LONG_SECONDS each"
 	@echo "make demo      ecmxf-demo: a tour of the stack on the simulator (DEMO_ARGS=--fast)"
 	@echo "make bench     build and run the benchmarks (also in the QEMU guest: KBENCH_FLAVOURS=)"
 	@echo "make kmod      build kmod/ecmxf.ko (KDIR=/path/to/headers)"

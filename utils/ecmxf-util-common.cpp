@@ -262,8 +262,11 @@ std::string hexString(std::uint64_t v, int digits)
 
 std::string objectName(ObjectAddress a)
 {
-	char buf[16];
-	std::snprintf(buf, sizeof(buf), "0x%04x:%02x", a.index, a.sub);
+	// the form parseObjectAddress() reads back: subindexes 0..9 read the
+	// same in decimal and hex, larger ones get their 0x ("0x6064:10"
+	// would be subindex 10, not 0x10)
+	char buf[20];
+	std::snprintf(buf, sizeof(buf), a.sub < 10 ? "0x%04x:%02x" : "0x%04x:0x%02x", a.index, a.sub);
 	return buf;
 }
 

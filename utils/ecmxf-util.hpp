@@ -113,7 +113,7 @@ struct ObjectAddress {
 	std::uint8_t sub = 0;
 };
 ObjectAddress parseObjectAddress(std::string_view cmd, std::string_view text);
-/// "0x6064:00"
+/// "0x6064:00", "0x1A00:0x0a": parseObjectAddress() reads it back.
 std::string objectName(ObjectAddress a);
 
 /// "0x%0*x"

@@ -203,7 +203,6 @@ Chip::Impl::Impl(Network net, ChipConfig cfg)
 		throw std::invalid_argument("ChipConfig: processingTime must not be negative");
 	if (cfg_.fwVersionData.size() > 20)
 		throw std::invalid_argument("ChipConfig: fwVersionData has more than 20 bytes");
-	flash_.assign(0x40000, 0xFF);
 	emcyLog_.resize(64);
 	sdoData_.reserve(256);
 	stations_.assign(net_.size(), 0);

@@ -210,10 +210,14 @@ Chip::Impl::Result Chip::Impl::immediate(const ecmxf_cmd_hdr &h, std::span<const
 	case ECMXF_CMD_FIFO_CLR_OP:
 		if (h.param > 2)
 			return error();
-		if (h.param != 2)
+		if (h.param != 2) {
+			stats_.txCleared += txFifo_.count();
 			txFifo_.clear();
-		if (h.param != 1)
+		}
+		if (h.param != 1) {
+			stats_.rxCleared += rxFifo_.count();
 			rxFifo_.clear();
+		}
 		return ret(0);
 	case ECMXF_CMD_FIFO_SET_TX_CNT:
 		if (h.param == 0 || !fifoBudgetOk(rxDepth_, h.param))

@@ -70,6 +70,7 @@ Chip::Impl::Result Chip::Impl::fifoDataOp(const ecmxf_cmd_hdr &h, std::span<cons
 				all = false;
 				break;
 			}
+			stats_.rxAccepted++;
 		}
 		if (all)
 			r.ret |= 0x01;
@@ -79,6 +80,7 @@ Chip::Impl::Result Chip::Impl::fifoDataOp(const ecmxf_cmd_hdr &h, std::span<cons
 		if (txSize_ > 0) {
 			while ((k + 1) * txSize_ <= out.size() && txFifo_.pop(out.data() + k * txSize_))
 				k++;
+			stats_.txRead += k;
 		}
 		r.len = k * txSize_;
 		if (k)

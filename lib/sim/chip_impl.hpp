@@ -360,7 +360,7 @@ public:
 	std::uint8_t eepromRet_ = 0;
 	std::vector<std::uint8_t> eepromData_;
 	std::vector<std::uint8_t> rawResult_;
-	std::vector<std::uint8_t> flash_;	///< FoE staging flash (256 KiB)
+	std::vector<std::uint8_t> flash_;	///< FoE staging flash (256 KiB, made at the first FOE_FUNC_REQ)
 	std::vector<std::uint8_t> foeResult_;
 	std::vector<std::uint8_t> mbxRead_;
 	std::vector<EmergencyLog> emcyLog_;	///< ring, newest at emcyHead_-1

@@ -415,6 +415,10 @@ bool Chip::Impl::startFoe(std::span<const std::uint8_t> in, std::size_t cmdLen)
 	if (addr >= kFlashSize)
 		return false;
 	foeResult_.clear();
+	// the staging flash, erased (0xFF), made at its first use: most chips
+	// never use it (a fuzzer or a test makes thousands)
+	if (flash_.empty())
+		flash_.assign(kFlashSize, 0xFF);
 	switch (op) {
 	case 1: // upload: slave file -> flash
 	case 2: { // download: flash -> slave file

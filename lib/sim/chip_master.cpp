@@ -539,10 +539,12 @@ void Chip::Impl::busCycle()
 	// outputs of this cycle: the next RxFIFO frame, or the last outputs
 	if (exchange && fifoEnabled_) {
 		const std::size_t before = rxFifo_.count();
-		if (rxFifo_.pop(outImage_.data()))
+		if (rxFifo_.pop(outImage_.data())) {
+			stats_.rxPopped++;
 			rxPopped(before);
-		else
+		} else {
 			stats_.rxUnderruns++;
+		}
 	}
 	if (exchange)
 		apply402();
@@ -596,6 +598,7 @@ void Chip::Impl::busCycle()
 
 	if (exchange && fifoEnabled_ && link) {
 		const std::size_t before = txFifo_.count();
+		stats_.txPushed++;
 		if (txFifo_.pushDropOldest(inImage_.data()))
 			stats_.txDropped++;
 		txPushed(before);

@@ -21,6 +21,15 @@ TEST_CASE("util: INDEX[:SUB] parts are decimal or 0x hex each", "[cli][units]")
 	a = parseObjectAddress("upload", "4096");
 	CHECK(a.index == 0x1000);
 	CHECK(objectName(a) == "0x1000:00");
+	// printed so that it parses back (fuzz-cli found "0x6064:100" printed
+	// as "0x6064:64", which reads as subindex 64)
+	CHECK(objectName({ 0x1A00, 10 }) == "0x1a00:0x0a");
+	for (unsigned sub : { 0u, 9u, 10u, 16u, 100u, 255u }) {
+		const ObjectAddress o{ 0x6064, static_cast<std::uint8_t>(sub) };
+		const ObjectAddress back = parseObjectAddress("upload", objectName(o));
+		CHECK(back.index == 0x6064);
+		CHECK(back.sub == sub);
+	}
 	CHECK_THROWS_WITH(parseObjectAddress("upload", "0x10000"), "upload: INDEX: 0x10000 is out of range 0..65535");
 	CHECK_THROWS_WITH(parseObjectAddress("upload", "0x6064:256"), "upload: SUB: 256 is out of range 0..255");
 	CHECK_THROWS_WITH(parseObjectAddress("upload", "0x6064:0a"),

@@ -3,7 +3,7 @@
 #
 # Run every libFuzzer binary of a build for a while.
 #
-#   tests/fuzz/run-fuzzers.sh BUILD_DIR SECONDS
+#   tests/fuzz/run-fuzzers.sh BUILD_DIR SECONDS [CORPUS_DIR]
 #
 # Each BUILD_DIR/tests/fuzz/fuzz-* runs for SECONDS on a scratch copy of
 # its seed corpus (tests/fuzz/corpus/<name>/ if it exists, else
@@ -11,14 +11,19 @@
 # tree.  A crash, leak, timeout or out-of-memory makes libFuzzer exit
 # non-zero; the reproducer is kept under the scratch directory, whose path
 # is printed, and this script exits 1.  Exit 0 when all fuzzers ran clean.
+# With CORPUS_DIR (make fuzz-long) each fuzzer's corpus lives on in
+# CORPUS_DIR/<name>/ between runs (seeded from the source tree), so that
+# long runs build on each other.  One fuzzer runs at a time; the summary
+# gives execs/s per target and the total of execs.
 set -u
 
-if [ $# -ne 2 ]; then
-	echo "usage: $0 BUILD_DIR SECONDS" >&2
+if [ $# -ne 2 ] && [ $# -ne 3 ]; then
+	echo "usage: $0 BUILD_DIR SECONDS [CORPUS_DIR]" >&2
 	exit 2
 fi
 build=$1
 seconds=$2
+keep=${3:-}
 case "$seconds" in
 ''|*[!0-9]*) echo "run-fuzzers.sh: SECONDS must be a number" >&2; exit 2 ;;
 esac
@@ -34,6 +39,7 @@ fi
 scratch=$(mktemp -d "${TMPDIR:-/tmp}/ecmxf-fuzz.XXXXXX")
 failed=0
 summary=""
+total=0
 
 for bin in $fuzzers; do
 	name=$(basename "$bin")
@@ -41,10 +47,16 @@ for bin in $fuzzers; do
 	seeds="$srcdir/corpus/$short"
 	[ -d "$seeds" ] || seeds="$srcdir/corpus"
 	work="$scratch/$name"
-	mkdir -p "$work/corpus" "$work/artifacts"
+	mkdir -p "$work/artifacts"
+	if [ -n "$keep" ]; then
+		mkdir -p "$keep/$name"
+		ln -s "$(cd "$keep/$name" && pwd)" "$work/corpus"
+	else
+		mkdir -p "$work/corpus"
+	fi
 	# seed files only (not the subdirectories of other targets)
 	find "$seeds" -maxdepth 1 -type f -exec cp {} "$work/corpus/" \;
-	nseeds=$(find "$work/corpus" -type f | wc -l)
+	nseeds=$(find "$work/corpus/" -type f | wc -l)
 
 	echo "==> $name: $seconds s, $nseeds seeds, log $work/log"
 	"$bin" -max_total_time="$seconds" -print_final_stats=1 -timeout=10 \
@@ -57,7 +69,8 @@ for bin in $fuzzers; do
 	rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$work/log" | tail -n 1)
 	cov=$(grep -o 'cov: [0-9]*' "$work/log" | tail -n 1 | sed 's/cov: //')
 	ft=$(grep -o 'ft: [0-9]*' "$work/log" | tail -n 1 | sed 's/ft: //')
-	corp=$(find "$work/corpus" -type f | wc -l)
+	corp=$(find "$work/corpus/" -type f | wc -l)
+	total=$((total + ${execs:-0}))
 	stats="execs ${execs:-?} (${rate:-?}/s), cov ${cov:-?}, ft ${ft:-?}, corpus $nseeds -> $corp"
 
 	if [ "$rc" -eq 0 ]; then
@@ -78,6 +91,7 @@ done
 
 echo "==== fuzz summary (${seconds}s each)"
 printf '%s' "$summary"
+echo "total: $total execs"
 if [ "$failed" -ne 0 ]; then
 	echo "run-fuzzers.sh: FAILED; logs and reproducers kept in $scratch"
 	exit 1

@@ -116,6 +116,16 @@ struct ChipStats {
 	std::uint64_t rxRefused = 0;   ///< RxPDO frames refused because the RxFIFO was full
 	std::uint64_t txDropped = 0;   ///< TxPDO frames dropped because the TxFIFO was full
 	std::uint64_t busWaits = 0;    ///< lock-step: times a due bus cycle waited for the FIFOs
+	/// Frame accounting of the PDO FIFOs (the soak's ground truth,
+	/// tests/soak): RxPDO frames taken in by ECAT_PDO_DATA_FIFO_OP and
+	/// popped by bus cycles; TxPDO frames pushed by bus cycles and read
+	/// out by ECAT_PDO_DATA_FIFO_OP; frames FIFO_CLR_OP discarded.
+	std::uint64_t rxAccepted = 0;
+	std::uint64_t rxPopped = 0;
+	std::uint64_t txPushed = 0;
+	std::uint64_t txRead = 0;
+	std::uint64_t rxCleared = 0;
+	std::uint64_t txCleared = 0;
 };
 
 /// The simulated chip.
