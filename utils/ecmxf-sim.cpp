@@ -46,6 +46,8 @@
 #include <ecmxf/protocol.hpp>
 #include <ecmxf/sim/chip.hpp>
 
+#include "ecmxf-sim-sk.hpp"
+
 namespace {
 
 // Fault identifiers of the 'F' request.
@@ -309,6 +311,7 @@ void usage(std::FILE *out)
 		     "  -n, --network FILE  network description (default: 2x EST-584 + I/O)\n"
 		     "  -p, --paced         follow the wall clock instead of virtual time\n"
 		     "  -s, --socket PATH   listen on a Unix socket at PATH\n"
+		     "  -b, --board BOARD   ecm-xf (default) or ecm-sk (--board ecm-sk --help)\n"
 		     "  -h, --help          show this help\n");
 }
 
@@ -333,6 +336,9 @@ int run(int argc, char **argv)
 			cfg.timeMode = ecmxf::sim::TimeMode::Paced;
 		} else if (a == "-s" || a == "--socket") {
 			socketPath = value("--socket");
+		} else if (a == "-b" || a == "--board") {
+			if (value("--board") != "ecm-xf") // ecm-sk: ecmxfSimSkMain()
+				throw std::invalid_argument("--board: ecm-xf or ecm-sk");
 		} else {
 			throw std::invalid_argument("unknown option '" + std::string(a) +
 						    "' (try --help)");
@@ -420,6 +426,8 @@ int main(int argc, char **argv)
 {
 	std::signal(SIGPIPE, SIG_IGN);
 	try {
+		if (ecmxfSimWantsSk(argc, argv)) // --board ecm-sk: utils/ecmxf-sim-sk.cpp
+			return ecmxfSimSkMain(argc, argv);
 		return run(argc, argv);
 	} catch (const std::exception &e) {
 		std::fprintf(stderr, "ecmxf-sim: %s\n", e.what());
