@@ -326,6 +326,46 @@ unsigned Board::slaveCount()
 	return setAxes({});
 }
 
+std::vector<SlaveType> Board::detectAxes()
+{
+	const unsigned count = slaveCount();
+	if (state() != State::PreOp)
+		throw Error("detecting the slave types needs PRE-OP; the ECM-SK is in " +
+				    std::string(stateName(state())),
+			    EPERM);
+	static constexpr SlaveType kOrder[] = { SlaveType::Drive, SlaveType::Step, SlaveType::Hsp, SlaveType::Io };
+	std::vector<SlaveType> types(count, SlaveType::Drive);
+	std::vector<unsigned> tried(count, 0);
+	for (unsigned g = 0; g * 8 < count; g++) {
+		for (;;) {
+			std::vector<std::uint8_t> t(types.size());
+			for (std::size_t i = 0; i < t.size(); i++)
+				t[i] = static_cast<std::uint8_t>(types[i]);
+			std::uint32_t topo = 0;
+			ecmsk_axis_topology(t.data(), static_cast<unsigned>(t.size()), g, &topo);
+			ecmsk_ecm_cmd c{ ECMSK_CMD_SET_AXIS, static_cast<std::uint8_t>(g), topo, 0, 0 };
+			ecmsk_put_ecm(&link_->l.g, link_->mosi.data(), &c);
+			transact();
+			if (!ecmsk_link_answered(&link_->l, 0, link_->miso.data()))
+				refused("SET_AXIS group " + std::to_string(g), "not allowed now");
+			const std::uint32_t bad = link_->res.ecm.data2;
+			if (!bad)
+				break;
+			for (unsigned i = 0; i < 8; i++) {
+				if (!(bad & (1u << i)))
+					continue;
+				const unsigned n = g * 8 + i;
+				if (n >= count || ++tried[n] >= 4)
+					throw Error("SET_AXIS: slave " + std::to_string(n + 1) +
+							    " is none of Drive, STEP, HSP, IO",
+						    EPROTO);
+				types[n] = kOrder[tried[n]];
+			}
+		}
+	}
+	return types;
+}
+
 void Board::setCycleTime(std::uint32_t us)
 {
 	if (!ecmsk_dc_cycle_valid(us))

@@ -277,3 +277,13 @@ TEST_CASE("sk lib: 16-byte slots and CRCs both ways after SET_EX and a power cyc
 	CHECK(crc.simulator()->lioOutputs() == 5u);
 	CHECK(crc.status().crcErrors == 0);
 }
+
+TEST_CASE("sk lib: detectAxes finds each slave's type through SET_AXIS")
+{
+	auto b = Board::open("sk-sim:");
+	CHECK(errnoOf([&] { (void)b->detectAxes(); }) == EPERM); // INIT
+	b->setState(State::PreOp);
+	const auto t = b->detectAxes();
+	CHECK(t == kTypes);
+	CHECK(b->simulator()->slaveType(2) == static_cast<std::uint8_t>(SlaveType::Step));
+}

@@ -128,6 +128,11 @@ public:
 	unsigned setAxes(std::span<const SlaveType> types);
 	/// The slaves detected (SET_AXIS of group 0 with no types: in PRE-OP).
 	unsigned slaveCount();
+	/// In PRE-OP: finds each slave's type by SET_AXIS itself (the board
+	/// checks types against the slaves and names those that do not
+	/// match: each is tried as Drive, STEP, HSP, IO in turn), leaves the
+	/// types set and returns them (one per slave detected).
+	std::vector<SlaveType> detectAxes();
 	/// SET_DC: 250 * 2^n us. EINVAL for other values.
 	void setCycleTime(std::uint32_t microseconds);
 	/// SET_EX (effective from the next power-on of the board).
