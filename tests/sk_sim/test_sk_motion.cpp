@@ -239,3 +239,41 @@ TEST_CASE("sk motion: GO_HOME needs 0x6060 = 6 and 0x6098 by SDO; bits 10 and 12
 	h.slave(2, ECMSK_CMD_GO_HOME, 10);
 	CHECK(h.slaveRsp(h.answer(), 2).cmd == 0);
 }
+
+TEST_CASE("sk motion: a 1-channel HSP is typed HSP, runs CSV, and answers its inputs instead of torque")
+{
+	Host h("slave servo\nslave hsp\nslave dio\n");
+	REQUIRE(h.setState(ECMSK_STATE_PREOP));
+	std::uint32_t topo = 0;
+	const std::uint8_t wrong[3] = { ECMSK_AXIS_DRIVE, ECMSK_AXIS_STEP, ECMSK_AXIS_IO };
+	REQUIRE(ecmsk_axis_topology(wrong, 3, 0, &topo) == 0);
+	h.ecm(ECMSK_CMD_SET_AXIS, topo, 0);
+	CHECK(h.ecmRsp(h.answer()).data2 == 0x2u);
+	const std::vector<std::uint8_t> types = { ECMSK_AXIS_DRIVE, ECMSK_AXIS_HSP, ECMSK_AXIS_IO };
+	REQUIRE(ecmsk_axis_topology(types.data(), 3, 0, &topo) == 0);
+	h.ecm(ECMSK_CMD_SET_AXIS, topo, 0);
+	CHECK(h.ecmRsp(h.answer()).data2 == 0u);
+	h.slave(2, ECMSK_CMD_DRIVE_MODE, 1, ECMSK_MODE_CST, ECMSK_SYNC_DCSYNC); // HSP: no CST
+	CHECK(h.slaveRsp(h.answer(), 2).cmd == 0);
+	h.slave(2, ECMSK_CMD_DRIVE_MODE, 1, ECMSK_MODE_CSV, ECMSK_SYNC_DCSYNC);
+	CHECK(h.slaveRsp(h.answer(), 2).cmd == ECMSK_CMD_DRIVE_MODE);
+	h.toOp(types);
+	h.slave(2, ECMSK_CMD_SV_ON, 1);
+	h.answer();
+	h.b.advance(20ms);
+	auto r = h.xfer();
+	REQUIRE((h.slaveRsp(r, 2).statusword & 0x6F) == 0x27);
+	const auto p0 = static_cast<std::int32_t>(h.slaveRsp(r, 2).position);
+	h.slave(2, ECMSK_CMD_CSV, 2, 20000);
+	h.answer();
+	h.b.advance(500ms);
+	r = h.xfer();
+	CHECK(static_cast<std::int32_t>(h.slaveRsp(r, 2).position) - p0 > 5000);
+	CHECK(h.slaveRsp(r, 2).error_code == 0); // HSP: no ALM code
+}
+
+TEST_CASE("sk motion: a 2-channel HSP is refused by the slave model (not modelled)")
+{
+	CHECK_THROWS_WITH(net("slave hsp channels=2\n"), Catch::Matchers::Contains("not modelled"));
+	CHECK_THROWS(net("slave hsp channels=3\n"));
+}
