@@ -166,3 +166,19 @@ TEST_CASE("sk cli: the board behind sk-unix: keeps its state between runs")
 	std::error_code ec;
 	std::filesystem::remove_all(dir, ec);
 }
+
+TEST_CASE("sk cli: ecmxf-demo --board ecm-sk --fast runs every step")
+{
+	std::FILE *p = popen(ECMXF_DEMO_BINARY " --board ecm-sk --fast 2>&1", "r");
+	REQUIRE(p != nullptr);
+	std::string out;
+	char buf[4096];
+	std::size_t n;
+	while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0)
+		out.append(buf, n);
+	const int st = pclose(p);
+	CHECK(WIFEXITED(st));
+	CHECK(WEXITSTATUS(st) == 0);
+	CHECK_THAT(out, Contains("all steps worked"));
+	CHECK_THAT(out, Contains("end: drive 20000 (target 20000), step 50000 (target 50000); 0 dropped"));
+}
