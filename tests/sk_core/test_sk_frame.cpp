@@ -378,3 +378,17 @@ TEST_CASE("sk commands: SET_DC cycle times are 250 * 2^n us; states are the four
 	for (std::uint32_t st : { 0u, 3u, 5u, 6u, 7u, 9u, 0x10u, 0x108u })
 		CHECK_FALSE(ecmsk_state_valid(st));
 }
+
+TEST_CASE("sk crc8: eight bytes per step agrees with the bitwise definition at every length")
+{
+	std::uint32_t x = 12345;
+	for (std::size_t len = 0; len <= 600; len++) {
+		std::vector<std::uint8_t> f(len);
+		for (auto &b : f) {
+			x = x * 1103515245u + 12345u;
+			b = static_cast<std::uint8_t>(x >> 16);
+		}
+		INFO("length " << len);
+		CHECK(ecmsk_crc8(f.data(), f.size()) == crcBitwise(f));
+	}
+}
