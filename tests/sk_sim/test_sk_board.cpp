@@ -411,3 +411,17 @@ TEST_CASE("sk board: IO_WR and IO_RD on an IO slave in OP; refused on a drive")
 	h.slave(1, ECMSK_CMD_IO_WR, 0x13, 1);
 	CHECK(h.slaveRsp(h.answer(), 1).cmd == 0);
 }
+
+TEST_CASE("sk board settings: fifo= is the depth FIFO remaining reports; spi_hz= the wire time; lio= the inputs")
+{
+	BoardConfig c = BoardConfig::parse("fifo=300&spi_hz=6000000&lio=0x21&slot=16");
+	Host h("slave dio\n", c);
+	CHECK(h.b.wireTime() == 682666ns); // 512 bytes at 6 MHz
+	const auto t0 = h.b.now();
+	h.xfer();
+	CHECK(h.b.now() - t0 == h.b.wireTime());
+	h.ecm(ECMSK_CMD_LIO_RD);
+	CHECK(h.ecmRsp(h.answer()).data1 == 0x21u);
+	h.toOp({ ECMSK_AXIS_IO });
+	CHECK(h.ecmRsp(h.xfer()).fifo_remaining == 300);
+}
