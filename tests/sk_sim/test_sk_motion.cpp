@@ -277,3 +277,40 @@ TEST_CASE("sk motion: a 2-channel HSP is refused by the slave model (not modelle
 	CHECK_THROWS_WITH(net("slave hsp channels=2\n"), Catch::Matchers::Contains("not modelled"));
 	CHECK_THROWS(net("slave hsp channels=3\n"));
 }
+
+TEST_CASE("sk motion: one GO_HOME at a time on the bus; ABORT_HOME stops it and returns to CSP")
+{
+	Host h("slave EST-584\nslave EST-584\nslave dio\n");
+	h.toOp({ ECMSK_AXIS_STEP, ECMSK_AXIS_STEP, ECMSK_AXIS_IO });
+	for (unsigned s : { 1u, 2u }) {
+		h.slave(s, ECMSK_CMD_SV_ON, 1);
+		h.answer();
+	}
+	h.b.advance(30ms);
+	for (int si : { 1, 2 }) {
+		const auto s = static_cast<std::uint8_t>(si);
+		REQUIRE(h.sdoRun(ECMSK_CMD_SDO_WR, s, 0x6060, 0, 1, 6).status == ECMSK_SDO_DONE);
+		REQUIRE(h.sdoRun(ECMSK_CMD_SDO_WR, s, 0x6098, 0, 1, 19).status == ECMSK_SDO_DONE); // switch search
+	}
+	h.slave(1, ECMSK_CMD_GO_HOME, 1);
+	CHECK(h.slaveRsp(h.answer(), 1).cmd == ECMSK_CMD_GO_HOME);
+	h.b.advance(50ms);
+	h.slave(2, ECMSK_CMD_GO_HOME, 2); // while slave 1 homes
+	CHECK(h.slaveRsp(h.answer(), 2).cmd == 0);
+	auto *d1 = dynamic_cast<ecmxf::sim::Cia402Model *>(&h.b.network().at(0));
+	REQUIRE(d1 != nullptr);
+	CHECK(d1->modeDisplay() == 6);
+	const auto moving = d1->positionActual();
+	h.b.advance(50ms);
+	CHECK(d1->positionActual() != moving); // searching for the switch
+	h.slave(2, ECMSK_CMD_ABORT_HOME, 3); // from any drive slot: every slave
+	CHECK(h.slaveRsp(h.answer(), 2).cmd == ECMSK_CMD_ABORT_HOME);
+	h.b.advance(300ms);
+	CHECK(d1->modeDisplay() == 8);
+	const auto stopped = d1->positionActual();
+	h.b.advance(50ms);
+	CHECK(d1->positionActual() == stopped); // the search is over
+	// now slave 2 may home (its 0x6060 = 6 was written and is kept)
+	h.slave(2, ECMSK_CMD_GO_HOME, 4);
+	CHECK(h.slaveRsp(h.answer(), 2).cmd == ECMSK_CMD_GO_HOME);
+}
