@@ -401,6 +401,27 @@ int ecmsk_put_hsp2(const struct ecmsk_geom *g, u8 *frame, unsigned int slave,
 	return 0;
 }
 
+/**
+ * ecmsk_put_hsp2_rsp() - encode a 2-channel HSP slot of a response
+ * @g: the geometry (16-byte slots)
+ * @frame: the response frame
+ * @slave: slave position
+ * @r: the response, statusword included
+ *
+ * Return: 0, -ERANGE for a slave outside the frame, -EINVAL with 12-byte
+ * slots.
+ */
+int ecmsk_put_hsp2_rsp(const struct ecmsk_geom *g, u8 *frame,
+		       unsigned int slave, const struct ecmsk_hsp2 *r)
+{
+	if (g->slot_size != ECMSK_SLOT16)
+		return -EINVAL;
+	if (!slave_ok(g, slave))
+		return -ERANGE;
+	hsp2_put(slot_ptr(g, frame, slave), r, true);
+	return 0;
+}
+
 static void sdo_put(u8 *s, const struct ecmsk_sdo *c, bool rsp)
 {
 	s[0] = c->cmd;

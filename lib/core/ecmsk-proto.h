@@ -295,6 +295,8 @@ int ecmsk_put_ecm_rsp(const struct ecmsk_geom *g, u8 *frame,
 		      const struct ecmsk_ecm_rsp *r);
 int ecmsk_put_slave_rsp(const struct ecmsk_geom *g, u8 *frame,
 			unsigned int slave, const struct ecmsk_slave_rsp *r);
+int ecmsk_put_hsp2_rsp(const struct ecmsk_geom *g, u8 *frame,
+		       unsigned int slave, const struct ecmsk_hsp2 *r);
 int ecmsk_put_sdo_rsp(const struct ecmsk_geom *g, u8 *frame,
 		      const struct ecmsk_sdo *r);
 

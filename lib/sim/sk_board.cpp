@@ -155,17 +155,21 @@ struct FifoEntry {
 	std::uint32_t target;
 	std::uint32_t value;
 	std::uint64_t cycle; // enqueued in
+	bool two = false;    // a 2-channel HSP command: target2 too
+	std::uint32_t target2 = 0;
 };
 
 struct SlaveCtx {
 	sim::Slave *s = nullptr;
 	std::uint8_t actual = ECMSK_AXIS_NONE;
+	bool hsp2 = false; // a 2-channel HSP (channel 2 at index + 0x800)
 	std::uint8_t type = ECMSK_AXIS_IO; // SET_AXIS's default topology 0x1
 	std::uint8_t mode = ECMSK_MODE_CSP;
 	std::uint8_t sync = ECMSK_SYNC_DCSYNC;
 	// process data offsets (bytes; -1: not mapped)
 	int oCw = -1, oPos = -1, oVel = -1, oTrq = -1, oMode = -1;
 	int iSw = -1, iPos = -1, iTrq = -1, iErr = -1, iMode = -1, iDin = -1;
+	int oCw2 = -1, oPos2 = -1, oVel2 = -1, oMode2 = -1, iSw2 = -1, iPos2 = -1, iDin2 = -1;
 	std::vector<std::uint8_t> out, in;
 	// firmware side
 	bool enable = false;
@@ -177,6 +181,8 @@ struct SlaveCtx {
 	std::int32_t tPos = 0, tVel = 0;
 	std::int16_t tTrq = 0;
 	std::uint32_t ioOut = 0;
+	std::uint16_t cw2 = 0;
+	std::int32_t tPos2 = 0, tVel2 = 0;
 	// inputs
 	std::uint16_t sw = 0;
 	std::int32_t pos = 0;
@@ -184,6 +190,9 @@ struct SlaveCtx {
 	std::uint16_t err = 0;
 	std::int8_t modeDisp = 0;
 	std::uint32_t din = 0;
+	std::uint16_t sw2 = 0;
+	std::int32_t pos2 = 0;
+	std::uint32_t din2 = 0;
 	// the slot's answer to the last command
 	std::uint8_t ansCmd = 0, ansIdx = 0;
 	std::uint32_t ansData = 0;
@@ -303,6 +312,8 @@ struct SimBoard::Impl {
 				net.at(i).reset();
 			sl[i].s = &net.at(i);
 			sl[i].actual = actualType(net.at(i));
+			sl[i].hsp2 = sl[i].actual == ECMSK_AXIS_HSP &&
+				     findEntry(net.at(i).rxPdos(), 0x6840) >= 0;
 			sl[i].s->alControl(static_cast<std::uint8_t>(sim::AlState::Init));
 		}
 		state = target = ECMSK_STATE_INIT;
@@ -445,6 +456,13 @@ struct SimBoard::Impl {
 		c.iErr = findEntry(tx, 0x603F);
 		c.iMode = findEntry(tx, 0x6061);
 		c.iDin = findEntry(tx, 0x60FD);
+		c.oCw2 = findEntry(rx, 0x6840);
+		c.oPos2 = findEntry(rx, 0x687A);
+		c.oVel2 = findEntry(rx, 0x68FF);
+		c.oMode2 = findEntry(rx, 0x6860);
+		c.iSw2 = findEntry(tx, 0x6841);
+		c.iPos2 = findEntry(tx, 0x6864);
+		c.iDin2 = findEntry(tx, 0x68FD);
 	}
 
 	bool toSafeOp()
@@ -460,7 +478,8 @@ struct SimBoard::Impl {
 				c.s->configureDc(0, 0, 0, 0);
 				continue;
 			}
-			mapPdos(c);
+			if (c.actual != ECMSK_AXIS_HSP) // an HSP's own mapping has both channels
+				mapPdos(c);
 			if (!sdoWrite(c, 0x6060, 0, c.mode, 1))
 				return fail(c.s->typeName() + " refused mode of operation " +
 					    std::to_string(c.mode));
@@ -602,6 +621,12 @@ struct SimBoard::Impl {
 
 	void apply(SlaveCtx &c, const FifoEntry &e)
 	{
+		if (e.two) {
+			if (e.cmd == ECMSK_CMD_CSP)
+				c.tPos2 = static_cast<std::int32_t>(e.target2);
+			else
+				c.tVel2 = static_cast<std::int32_t>(e.target2);
+		}
 		switch (e.cmd) {
 		case ECMSK_CMD_CSP: c.tPos = static_cast<std::int32_t>(e.target); break;
 		case ECMSK_CMD_CSV: c.tVel = static_cast<std::int32_t>(e.target); break;
@@ -642,12 +667,34 @@ struct SimBoard::Impl {
 			c.tTrq = 0;
 		}
 		c.cw = cw;
+		if (c.hsp2)
+			compose2(c);
 		const int mode = c.homing ? 6 : c.modeOverride >= 0 ? c.modeOverride : c.mode;
 		putAt<std::uint16_t>(c.out, c.oCw, cw);
 		putAt<std::int32_t>(c.out, c.oPos, c.tPos);
 		putAt<std::int32_t>(c.out, c.oVel, c.tVel);
 		putAt<std::int16_t>(c.out, c.oTrq, c.tTrq);
 		putAt<std::int8_t>(c.out, c.oMode, static_cast<std::int8_t>(mode));
+	}
+
+	// channel 2 of a 2-channel HSP: the same enable sequence, its own targets
+	static void compose2(SlaveCtx &c)
+	{
+		const Cia cs = ciaState(c.sw2);
+		std::uint16_t cw = 0x06;
+		if (c.enable)
+			cw = cs == Cia::Disabled ? 0x06 : cs == Cia::Ready ? 0x07 : 0x0F;
+		else if (cs == Cia::Disabled || cs == Cia::NotReady)
+			cw = 0x00;
+		if (cs != Cia::Enabled) {
+			c.tPos2 = c.pos2;
+			c.tVel2 = 0;
+		}
+		c.cw2 = cw;
+		putAt<std::uint16_t>(c.out, c.oCw2, cw);
+		putAt<std::int32_t>(c.out, c.oPos2, c.tPos2);
+		putAt<std::int32_t>(c.out, c.oVel2, c.tVel2);
+		putAt<std::int8_t>(c.out, c.oMode2, static_cast<std::int8_t>(c.mode == ECMSK_MODE_CSV ? 9 : 8));
 	}
 
 	void parse(SlaveCtx &c)
@@ -665,6 +712,9 @@ struct SimBoard::Impl {
 		getAt(c.in, c.iErr, c.err);
 		getAt(c.in, c.iMode, c.modeDisp);
 		getAt(c.in, c.iDin, c.din);
+		getAt(c.in, c.iSw2, c.sw2);
+		getAt(c.in, c.iPos2, c.pos2);
+		getAt(c.in, c.iDin2, c.din2);
 		if (c.homing) {
 			const bool done = (c.sw & ECMSK_SW_HOMED) == ECMSK_SW_HOMED && c.modeDisp == 6;
 			if ((c.sw & ECMSK_SW_HOMING_ERROR) || done)
@@ -887,6 +937,13 @@ struct SimBoard::Impl {
 				st.fifoDropped++;
 				return; // answered, but dropped and counted (2.1.15)
 			}
+			if (s.hsp2 && g.slot_size == ECMSK_SLOT16 && c.cmd != ECMSK_CMD_CST) {
+				ecmsk_hsp2 h{};
+				ecmsk_get_hsp2(&g, frameIn, n, &h);
+				fifo.push_back({ static_cast<std::uint8_t>(n), c.cmd, h.pos1, h.io1, st.cycles, true,
+						 h.pos2 });
+				return;
+			}
 			fifo.push_back({ static_cast<std::uint8_t>(n), c.cmd, c.target, c.value, st.cycles });
 			return;
 		case ECMSK_CMD_GO_HOME:
@@ -907,6 +964,8 @@ struct SimBoard::Impl {
 		}
 	}
 
+	const std::uint8_t *frameIn = nullptr; // the frame being processed
+
 	void process(std::span<const std::uint8_t> mosi)
 	{
 		st.frames++;
@@ -923,6 +982,7 @@ struct SimBoard::Impl {
 			return;
 		}
 		ecmCommand(e);
+		frameIn = mosi.data();
 		for (unsigned n = 1; n <= sl.size(); n++) {
 			ecmsk_slave_cmd c{};
 			ecmsk_get_slave_cmd(&g, mosi.data(), n, &c);
@@ -970,6 +1030,16 @@ struct SimBoard::Impl {
 			}
 			if (c.ansData1)
 				s.position = c.ansData;
+			if (c.hsp2 && g.slot_size == ECMSK_SLOT16) {
+				// tables 2.16/2.18: two positions, two input words
+				ecmsk_hsp2 h{ s.cmd, s.index, s.statusword, s.position,
+					      static_cast<std::uint16_t>(c.din), static_cast<std::uint32_t>(c.pos2),
+					      static_cast<std::uint16_t>(c.din2) };
+				if (state != ECMSK_STATE_OP && state != ECMSK_STATE_SAFEOP)
+					h = { s.cmd, s.index, 0, 0, 0, 0, 0 };
+				ecmsk_put_hsp2_rsp(&g, miso.data(), n, &h);
+				continue;
+			}
 			ecmsk_put_slave_rsp(&g, miso.data(), n, &s);
 		}
 		ecmsk_put_sdo_rsp(&g, miso.data(), &sdoAns);

@@ -626,6 +626,43 @@ bool Board::stage(unsigned slave, Mode mode, std::int32_t target, std::uint32_t 
 	return true;
 }
 
+bool Board::stage2(unsigned slave, Mode mode, std::int32_t target1, std::int32_t target2, std::uint16_t output1,
+		   std::uint16_t output2) noexcept
+{
+	Link &k = *link_;
+	if (k.l.g.slot_size != ECMSK_SLOT16 || mode == Mode::Cst)
+		return false;
+	if (slave < 1 || slave > k.l.g.max_slaves || k.staged[slave] || k.l.state != ECMSK_STATE_OP)
+		return false;
+	if (k.stagedCount + k.inFlight >= k.res.ecm.fifo_remaining)
+		return false;
+	const auto cmd = static_cast<std::uint8_t>(mode == Mode::Csp ? ECMSK_CMD_CSP : ECMSK_CMD_CSV);
+	ecmsk_hsp2 c{ cmd, ++k.nextIndex, 0, static_cast<std::uint32_t>(target1), output1,
+		      static_cast<std::uint32_t>(target2), output2 };
+	if (ecmsk_put_hsp2(&k.l.g, k.mosi.data(), slave, &c))
+		return false;
+	k.staged[slave] = true;
+	k.stagedCount++;
+	return true;
+}
+
+Hsp2Status Board::hsp2(unsigned slave) const
+{
+	checkSlave(slave, "hsp2");
+	ecmsk_hsp2 r{};
+	if (ecmsk_get_hsp2(&link_->l.g, link_->miso.data(), slave, &r))
+		throw Error("a 2-channel HSP needs 16-byte slots (the board's CONFIG2 high, slot=16)", EINVAL);
+	Hsp2Status h;
+	h.cmd = r.cmd;
+	h.index = r.index;
+	h.statusword = r.statusword;
+	h.position1 = static_cast<std::int32_t>(r.pos1);
+	h.inputs1 = r.io1;
+	h.position2 = static_cast<std::int32_t>(r.pos2);
+	h.inputs2 = r.io2;
+	return h;
+}
+
 CycleResult Board::cycle() noexcept
 {
 	Link &k = *link_;

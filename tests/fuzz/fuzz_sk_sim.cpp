@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /*
  * fuzz_sk_sim.cpp - libFuzzer target: arbitrary frames into the simulated
- * ECM-SK (ecmxf::sk::SimBoard) with a servo, an EST-584, an HSP and a
+ * ECM-SK (ecmxf::sk::SimBoard) with a servo, an EST-584, a 2-channel HSP and a
  * digital I/O terminal on its bus.
  *
  *   [0]   bit 0: 16-byte slots; bit 1: test mode; bit 2: FIFO abandon
@@ -54,7 +54,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	cfg.testMode = data[0] & 2;
 	cfg.fifoAbandon = !(data[0] & 4);
 	cfg.extensions = (data[0] >> 4) & 3;
-	ecmxf::sk::SimBoard b(ecmxf::sim::Network::fromText("slave servo\nslave EST-584\nslave hsp\nslave dio\n",
+	ecmxf::sk::SimBoard b(ecmxf::sim::Network::fromText("slave servo\nslave EST-584\nslave hsp channels=2\nslave dio\n",
 							    "fuzz"),
 			      cfg);
 	const std::size_t n = b.frameSize();

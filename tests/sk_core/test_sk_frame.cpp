@@ -392,3 +392,27 @@ TEST_CASE("sk crc8: eight bytes per step agrees with the bitwise definition at e
 		CHECK(ecmsk_crc8(f.data(), f.size()) == crcBitwise(f));
 	}
 }
+
+TEST_CASE("sk encode: a 2-channel HSP response carries the statusword; 12-byte slots refuse it")
+{
+	auto g = geom(16);
+	std::vector<std::uint8_t> f(512, 0);
+	ecmsk_hsp2 r{ ECMSK_CMD_CSP, 4, 0x1237, 1000, 0x0003, static_cast<std::uint32_t>(-2000), 0x0100 };
+	REQUIRE(ecmsk_put_hsp2_rsp(&g, f.data(), 2, &r) == 0);
+	// slot 2 = bytes 32..47, tables 2.16/2.18
+	CHECK(f[32] == 0x15);
+	CHECK(f[33] == 4);
+	CHECK(f[34] == 0x37);
+	CHECK(f[35] == 0x12);
+	CHECK(f[36] == 0xE8);
+	CHECK(f[37] == 0x03);
+	CHECK(f[40] == 0x03);
+	CHECK(f[42] == 0x30);
+	CHECK(f[43] == 0xF8);
+	CHECK(f[44] == 0xFF);
+	CHECK(f[45] == 0xFF);
+	CHECK(f[47] == 0x01);
+	auto g12 = geom(12);
+	CHECK(ecmsk_put_hsp2_rsp(&g12, f.data(), 2, &r) == -EINVAL);
+	CHECK(ecmsk_put_hsp2_rsp(&g, f.data(), 31, &r) == -ERANGE);
+}

@@ -6,7 +6,9 @@
 #include <catch2/catch.hpp>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
+#include <unistd.h>
 #include <string>
 #include <vector>
 
@@ -286,4 +288,37 @@ TEST_CASE("sk lib: detectAxes finds each slave's type through SET_AXIS")
 	const auto t = b->detectAxes();
 	CHECK(t == kTypes);
 	CHECK(b->simulator()->slaveType(2) == static_cast<std::uint8_t>(SlaveType::Step));
+}
+
+TEST_CASE("sk lib: stage2() drives both channels of a 2-channel HSP; 12-byte slots refuse it")
+{
+	const std::string path = "/tmp/ecmxf-test-sk-hsp2-" + std::to_string(::getpid()) + ".net";
+	{
+		std::FILE *f = std::fopen(path.c_str(), "w");
+		REQUIRE(f != nullptr);
+		std::fputs("slave hsp channels=2\nslave dio\n", f);
+		std::fclose(f);
+	}
+	auto b = Board::open("sk-sim:" + path + "?slot=16");
+	auto b12 = Board::open("sk-sim:" + path);
+	std::remove(path.c_str());
+	b->setState(State::PreOp);
+	CHECK(b->detectAxes() == std::vector<SlaveType>{ SlaveType::Hsp, SlaveType::Io });
+	b->setState(State::Op);
+	b->servoOn(1);
+	b->waitEnabled(1);
+	for (int i = 1; i <= 50; i++) {
+		REQUIRE(b->stage2(1, Mode::Csp, 20 * i, -30 * i));
+		CHECK_FALSE(b->stage2(1, Mode::Csp, 0, 0)); // once per exchange
+		REQUIRE(b->cycle().status == CycleStatus::Ok);
+		b->channel().sleepFor(1ms);
+	}
+	b->channel().sleepFor(20ms);
+	b->status();
+	const auto h = b->hsp2(1);
+	CHECK(h.position1 == 1000);
+	CHECK(h.position2 == -1500);
+	CHECK_FALSE(b->stage2(1, Mode::Cst, 0, 0));
+	CHECK(errnoOf([&] { (void)b12->hsp2(1); }) == EINVAL);
+	CHECK_FALSE(b12->stage2(1, Mode::Csp, 0, 0));
 }

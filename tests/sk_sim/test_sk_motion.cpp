@@ -272,10 +272,54 @@ TEST_CASE("sk motion: a 1-channel HSP is typed HSP, runs CSV, and answers its in
 	CHECK(h.slaveRsp(r, 2).error_code == 0); // HSP: no ALM code
 }
 
-TEST_CASE("sk motion: a 2-channel HSP is refused by the slave model (not modelled)")
+TEST_CASE("sk motion: a 2-channel HSP with 16-byte slots moves both channels (tables 2.16/2.18)")
 {
-	CHECK_THROWS_WITH(net("slave hsp channels=2\n"), Catch::Matchers::Contains("not modelled"));
+	BoardConfig c;
+	c.slotSize = 16;
+	Host h("slave hsp channels=2\nslave dio\n", c);
+	h.toOp({ ECMSK_AXIS_HSP, ECMSK_AXIS_IO });
+	h.slave(1, ECMSK_CMD_SV_ON, 1);
+	h.answer();
+	h.b.advance(20ms);
+	auto r = h.xfer();
+	ecmsk_hsp2 a{};
+	REQUIRE(ecmsk_get_hsp2(&h.g, r.data(), 1, &a) == 0);
+	REQUIRE((a.statusword & 0x6F) == 0x27);
+	for (int i = 1; i <= 100; i++) {
+		ecmsk_hsp2 cmd{ ECMSK_CMD_CSP, static_cast<std::uint8_t>(i), 0, static_cast<std::uint32_t>(10 * i), 0,
+				static_cast<std::uint32_t>(-20 * i), 0 };
+		REQUIRE(ecmsk_put_hsp2(&h.g, h.cmd.data(), 1, &cmd) == 0);
+		h.xfer();
+		h.b.advance(1ms);
+	}
+	h.b.advance(20ms);
+	r = h.xfer();
+	REQUIRE(ecmsk_get_hsp2(&h.g, r.data(), 1, &a) == 0);
+	CHECK(static_cast<std::int32_t>(a.pos1) == 1000);
+	CHECK(static_cast<std::int32_t>(a.pos2) == -2000);
+	auto *hsp = &h.b.network().at(0);
+	std::vector<std::uint8_t> v;
+	REQUIRE(hsp->sdoUpload(0x6864, 0, false, v) == 0);
+	CHECK(static_cast<std::int32_t>(v[0] | v[1] << 8 | v[2] << 16 | v[3] << 24) == -2000);
+}
+
+TEST_CASE("sk motion: with 12-byte slots a 2-channel HSP drives channel 1 only; channels=3 is refused")
+{
+	Host h("slave hsp channels=2\nslave dio\n");
+	h.toOp({ ECMSK_AXIS_HSP, ECMSK_AXIS_IO });
+	h.slave(1, ECMSK_CMD_SV_ON, 1);
+	h.answer();
+	h.b.advance(20ms);
+	const auto p0 = static_cast<std::int32_t>(h.slaveRsp(h.xfer(), 1).position);
+	h.slave(1, ECMSK_CMD_CSP, 2, static_cast<std::uint32_t>(p0 + 300));
+	h.answer();
+	h.b.advance(20ms);
+	CHECK(static_cast<std::int32_t>(h.slaveRsp(h.xfer(), 1).position) == p0 + 300);
+	std::vector<std::uint8_t> v;
+	REQUIRE(h.b.network().at(0).sdoUpload(0x6864, 0, false, v) == 0);
+	CHECK((v[0] | v[1] | v[2] | v[3]) == 0);
 	CHECK_THROWS(net("slave hsp channels=3\n"));
+	CHECK_THROWS(net("slave hsp channels=0\n"));
 }
 
 TEST_CASE("sk motion: one GO_HOME at a time on the bus; ABORT_HOME stops it and returns to CSP")

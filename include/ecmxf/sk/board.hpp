@@ -71,6 +71,18 @@ struct AxisStatus {
 	std::uint16_t errorCode = 0;	///< 0x603F
 };
 
+/// A 2-channel HSP's slot of the last response (16-byte slots, tables
+/// 2.16 and 2.18).
+struct Hsp2Status {
+	std::uint8_t cmd = 0;
+	std::uint8_t index = 0;
+	std::uint16_t statusword = 0; ///< channel 1's
+	std::int32_t position1 = 0;
+	std::uint16_t inputs1 = 0;
+	std::int32_t position2 = 0;
+	std::uint16_t inputs2 = 0;
+};
+
 /// The outcome of one cyclic exchange (Board::cycle()).
 enum class CycleStatus : std::uint8_t {
 	Ok,
@@ -190,6 +202,14 @@ public:
 	/// already staged, or when the FIFO's remaining space (as last
 	/// reported) has no room for it: back-pressure the caller sees.
 	bool stage(unsigned slave, Mode mode, std::int32_t target, std::uint32_t output = 0) noexcept;
+	/// Like stage(), for both channels of a 2-channel HSP (16-byte slots;
+	/// CSP or CSV): one command, one FIFO entry. False also with 12-byte
+	/// slots or CST.
+	bool stage2(unsigned slave, Mode mode, std::int32_t target1, std::int32_t target2,
+		    std::uint16_t output1 = 0, std::uint16_t output2 = 0) noexcept;
+	/// A 2-channel HSP's slot of the last response. Throws EINVAL with
+	/// 12-byte slots or a slave out of range.
+	[[nodiscard]] Hsp2Status hsp2(unsigned slave) const;
 	/// Waits for Busy to fall, exchanges one frame with the staged
 	/// commands, and reports the FIFO.
 	CycleResult cycle() noexcept;
