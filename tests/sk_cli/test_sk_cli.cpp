@@ -109,6 +109,20 @@ TEST_CASE("sk cli: cia402 enable, move, status; io; lio; states; reset")
 	CHECK_THAT(r.out, Contains("\"state\": \"INIT\""));
 }
 
+TEST_CASE("sk cli: bad values of io, cia402 and -p are usage errors")
+{
+	for (const char *args : { "io -p 2 0x100000000", "io -p 2 -1", "io -p 2 five", "io -p 2 1 2",
+				  "cia402 -p 1 move 2147483648", "cia402 -p 1 move", "cia402 -p 1 home 200",
+				  "cia402 -p 1 home", "cia402", "upload -p 128 0x1000", "upload -p x 0x1000",
+				  "upload -p 0 0x10000", "upload -p 0", "lio 1 2", "states", "reset now",
+				  "info extra" }) {
+		INFO(args);
+		const auto r = run(std::string("-d sk-sim: ") + args);
+		CHECK(r.status == 2);
+		CHECK_FALSE(r.err.empty());
+	}
+}
+
 TEST_CASE("sk cli: what the ECM-SK cannot do is refused with why; bad URIs are named")
 {
 	for (const char *cmd : { "eeprom", "pdos", "foe_read", "gpio", "raw", "monitor", "sii_read", "emergency" }) {
