@@ -103,6 +103,7 @@ bench:
 	$(BENCH_BUILD)/tests/bench/bench-sim
 	$(BENCH_BUILD)/tests/bench/bench-sdo
 	$(BENCH_BUILD)/tests/bench/bench-cyclic
+	$(BENCH_BUILD)/tests/bench/bench-sk
 	BUILD=$(BENCH_BUILD) tests/kernel/run-qemu.sh --bench $(KBENCH_FLAVOURS)
 
 # The tour of the stack on the simulator (utils/ecmxf-demo.cpp), paced in

@@ -43,12 +43,14 @@
 #include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/bus/types_bus.hpp>
 
+#include "ecmxf-demo-sk.hpp"
+
 namespace {
 
 using namespace std::chrono_literals;
 using std::chrono::nanoseconds;
 
-const char *const kHelp = "Usage: ecmxf-demo [--fast] [--help]\n"
+const char *const kHelp = "Usage: ecmxf-demo [--fast] [--board ecm-xf|ecm-sk] [--help]\n"
 			  "\n"
 			  "A tour of the ecmxf stack on the in-process ECM-XF simulator (2 x EST-584\n"
 			  "stepper drive + digital I/O): bring-up to OP, the slaves, SDO access with a\n"
@@ -56,6 +58,7 @@ const char *const kHelp = "Usage: ecmxf-demo [--fast] [--help]\n"
 			  "positions, and a summary. Exit code 0 when everything worked.\n"
 			  "\n"
 			  "  --fast   do not pace the move in real time\n"
+			  "  --board ecm-sk  the tour on the simulated ECM-SK starter kit\n"
 			  "  --help   show this help\n";
 
 constexpr std::uint32_t kEst584Vendor = 0x00000E5C;
@@ -89,6 +92,7 @@ std::string lights(std::uint8_t v)
 
 struct Demo {
 	bool fast = false;
+	bool sk = false; // --board ecm-sk
 	ecmxf::SimChannel *sim = nullptr;
 	std::unique_ptr<ecmxf::Device> dev;
 	unsigned sdoCount = 0;
@@ -324,6 +328,13 @@ int main(int argc, char **argv)
 		const std::string_view a = argv[i];
 		if (a == "--fast") {
 			d.fast = true;
+		} else if (a == "--board" && i + 1 < argc) {
+			const std::string_view board = argv[++i];
+			if (board != "ecm-xf" && board != "ecm-sk") {
+				std::fprintf(stderr, "ecmxf-demo: --board %s: ecm-xf or ecm-sk\n", argv[i]);
+				return 2;
+			}
+			d.sk = board == "ecm-sk";
 		} else if (a == "-h" || a == "--help") {
 			std::fputs(kHelp, stdout);
 			return 0;
@@ -333,6 +344,8 @@ int main(int argc, char **argv)
 		}
 	}
 	try {
+		if (d.sk) // utils/ecmxf-demo-sk.cpp
+			return ecmxfDemoSk(d.fast);
 		return run(d);
 	} catch (const std::exception &e) {
 		std::fflush(stdout);

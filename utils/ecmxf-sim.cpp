@@ -47,6 +47,8 @@
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
 
+#include "ecmxf-sim-sk.hpp"
+
 namespace {
 
 // Fault identifiers of the 'F' request.
@@ -314,6 +316,7 @@ void usage(std::FILE *out)
 		     "                      Documentation/simulator.rst)\n"
 		     "  -p, --paced         follow the wall clock instead of virtual time\n"
 		     "  -s, --socket PATH   listen on a Unix socket at PATH\n"
+		     "  -b, --board BOARD   ecm-xf (default) or ecm-sk (--board ecm-sk --help)\n"
 		     "  -h, --help          show this help\n");
 }
 
@@ -353,6 +356,9 @@ int run(int argc, char **argv)
 			cfg.timeMode = ecmxf::sim::TimeMode::Paced;
 		} else if (a == "-s" || a == "--socket") {
 			socketPath = value("--socket");
+		} else if (a == "-b" || a == "--board") {
+			if (value("--board") != "ecm-xf") // ecm-sk: ecmxfSimSkMain()
+				throw std::invalid_argument("--board: ecm-xf or ecm-sk");
 		} else {
 			throw std::invalid_argument("unknown option '" + std::string(a) +
 						    "' (try --help)");
@@ -444,6 +450,8 @@ int main(int argc, char **argv)
 {
 	std::signal(SIGPIPE, SIG_IGN);
 	try {
+		if (ecmxfSimWantsSk(argc, argv)) // --board ecm-sk: utils/ecmxf-sim-sk.cpp
+			return ecmxfSimSkMain(argc, argv);
 		return run(argc, argv);
 	} catch (const std::exception &e) {
 		std::fprintf(stderr, "ecmxf-sim: %s\n", e.what());

@@ -22,6 +22,7 @@
 #include <ecmxf/protocol.hpp>
 
 #include "ecmxf-util.hpp"
+#include "ecmxf-util-sk.hpp"
 
 using namespace ecmxf_util;
 
@@ -148,6 +149,8 @@ void usage(std::FILE *out)
 		     "                    (an ecmxf-sim --socket server; its chip keeps its state\n"
 		     "                    between runs) or \"spidev:/dev/spidevB.C\n"
 		     "                    [?int0=<chip>:<line>&int1=<chip>:<line>&speed=<Hz>&mode=0..3]\"\n"
+		     "                    ECM-SK: \"sk-sim:\", \"sk-unix:PATH\", \"sk-spidev:/dev/spidevB.C\n"
+		     "                    ?busy=<chip>:<line>\" (ecmxf-util -d sk-sim: help)\n"
 		     "  --trace FILE      record every exchange with the chip to FILE\n"
 		     "                    (ecmxf-util decode FILE shows it)\n"
 		     "  --json            JSON output for scripts\n"
@@ -218,6 +221,11 @@ int run(int argc, char **argv)
 	if (i >= argc) {
 		usage(stderr);
 		return 2;
+	}
+	if (skDevice(g)) { // an ECM-SK: utils/ecmxf-util-sk.cpp
+		const int rc = skRun(g, argv[i], Args(argv + i + 1, argv + argc));
+		if (rc >= 0)
+			return rc;
 	}
 	if (std::string_view(argv[i]) == "help") {
 		if (i + 1 < argc) {

@@ -87,8 +87,10 @@ std::unique_ptr<Slave> Network::makeSlave(const std::string &type, unsigned posi
 		return makeServo(position, options);
 	if (t == "dio" || t == "io")
 		return makeDio(position, options);
+	if (t == "hsp") // NEXTW HSP, for the ECM-SK (lib/sim/slaves/hsp.cpp)
+		return makeHsp(position, options);
 	throw std::invalid_argument("unknown slave type '" + type +
-				    "' (known: EST-584, servo, dio)");
+				    "' (known: EST-584, servo, dio, hsp)");
 }
 
 Network Network::fromText(const std::string &text, const std::string &origin)

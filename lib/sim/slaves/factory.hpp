@@ -22,5 +22,6 @@ using SlaveOptions = std::map<std::string, std::string>;
 std::unique_ptr<Slave> makeEst584(unsigned position, const SlaveOptions &opts);
 std::unique_ptr<Slave> makeServo(unsigned position, const SlaveOptions &opts);
 std::unique_ptr<Slave> makeDio(unsigned position, const SlaveOptions &opts);
+std::unique_ptr<Slave> makeHsp(unsigned position, const SlaveOptions &opts);
 
 } // namespace ecmxf::sim

@@ -1,0 +1,198 @@
+// SPDX-License-Identifier: MIT
+// ecmxf-util -d sk-...: each command the ECM-SK offers, --json, the
+// commands it cannot do (with why), bad values; and the board's state kept
+// between runs through an ecmxf-sim --board ecm-sk server.
+
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <string>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <ecmxf/error.hpp>
+#include <ecmxf/link/unix_channel.hpp>
+
+#include "cli/cli_run.hpp"
+
+using Catch::Matchers::Contains;
+using clitest::run;
+
+TEST_CASE("sk cli: info and slaves on a fresh sk-sim:, as text and JSON")
+{
+	auto r = run("-d sk-sim: info");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("504 bytes, 42 slots of 12 bytes, up to 40 slaves"));
+	CHECK_THAT(r.out, Contains("State:         INIT"));
+	r = run("-d sk-sim:?slot=16 --json info");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("\"frame_size\": 512"));
+	CHECK_THAT(r.out, Contains("\"state\": \"INIT\""));
+	r = run("-d sk-sim: slaves");
+	REQUIRE(r.status == 0);
+	const auto l = clitest::lines(r.out);
+	REQUIRE(l.size() == 3);
+	CHECK_THAT(l[0], Contains("Drive"));
+	CHECK_THAT(l[0], Contains("0x00000e5c:0x0000a2d2"));
+	CHECK_THAT(l[1], Contains("STEP"));
+	CHECK_THAT(l[2], Contains("IO"));
+	r = run("-d sk-sim: --json slaves");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("{\"position\": 1, \"state\": \"PREOP\", \"type\": \"STEP\""));
+}
+
+TEST_CASE("sk cli: upload and download through the SDO slot")
+{
+	auto r = run("-d sk-sim: upload -p 1 -t uint32 0x1018:2");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("1412")); // 0x584
+	r = run("-d sk-sim: --json upload -p 0 0x1018:1");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("\"size\": 4"));
+	r = run("-d sk-sim: download -p 1 -t int8 0x6098 37");
+	CHECK(r.status == 0);
+	r = run("-d sk-sim: upload -p 0 0x5FFF");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("0x06020000"));
+	r = run("-d sk-sim: upload -p 0 -t uint64 0x1018:1");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("1, 2 or 4 bytes"));
+	r = run("-d sk-sim: upload -p 3 0x1000");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("out of range"));
+	r = run("-d sk-sim: download -p 1 0x6098 37");
+	CHECK(r.status == 2);
+	CHECK_THAT(r.err, Contains("-t TYPE is required"));
+	r = run("-d sk-sim: download -p 1 -t int8 0x6098 300");
+	CHECK(r.status == 2);
+}
+
+TEST_CASE("sk cli: cia402 enable, move, status; io; lio; states; reset")
+{
+	auto r = run("-d sk-sim: -q cia402 -p 1 move 4000");
+	REQUIRE(r.status == 0);
+	r = run("-d sk-sim: --json cia402 -p 1 move -2500");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("\"actual_position\": -2500"));
+	r = run("-d sk-sim: cia402 -p 0 enable");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("statusword 0x"));
+	r = run("-d sk-sim: cia402 -p 1 home 37");
+	CHECK(r.status == 0);
+	r = run("-d sk-sim: cia402 -p 2 enable");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("refused SV_ON for slave 3"));
+	r = run("-d sk-sim: cia402 -p 1 dance");
+	CHECK(r.status == 2);
+	r = run("-d sk-sim: io -p 2 0x5");
+	CHECK(r.status == 0);
+	r = run("-d sk-sim: --json io -p 2");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("\"inputs\": "));
+	r = run("-d sk-sim:?lio=9 lio");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("0x09"));
+	r = run("-d sk-sim: lio 64");
+	CHECK(r.status == 2);
+	r = run("-d sk-sim: states OP");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("OP"));
+	r = run("-d sk-sim: states SAFEOP");
+	CHECK(r.status == 0);
+	r = run("-d sk-sim: states BOOT");
+	CHECK(r.status == 2);
+	r = run("-d sk-sim: --json reset");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("\"state\": \"INIT\""));
+}
+
+TEST_CASE("sk cli: bad values of io, cia402 and -p are usage errors")
+{
+	for (const char *args : { "io -p 2 0x100000000", "io -p 2 -1", "io -p 2 five", "io -p 2 1 2",
+				  "cia402 -p 1 move 2147483648", "cia402 -p 1 move", "cia402 -p 1 home 200",
+				  "cia402 -p 1 home", "cia402", "upload -p 128 0x1000", "upload -p x 0x1000",
+				  "upload -p 0 0x10000", "upload -p 0", "lio 1 2", "states", "reset now",
+				  "info extra" }) {
+		INFO(args);
+		const auto r = run(std::string("-d sk-sim: ") + args);
+		CHECK(r.status == 2);
+		CHECK_FALSE(r.err.empty());
+	}
+}
+
+TEST_CASE("sk cli: what the ECM-SK cannot do is refused with why; bad URIs are named")
+{
+	for (const char *cmd : { "eeprom", "pdos", "foe_read", "gpio", "raw", "monitor", "sii_read", "emergency" }) {
+		INFO(cmd);
+		const auto r = run(std::string("-d sk-sim: ") + cmd);
+		CHECK(r.status == 1);
+		CHECK_THAT(r.err, Contains("not on the ECM-SK"));
+	}
+	auto r = run("-d sk-sim: frobnicate");
+	CHECK(r.status == 2);
+	r = run("-d sk-sim:?slot=14 info");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("slot=14"));
+	r = run("-d sk-spidev:/dev/spidev0.0 info");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("busy=<chip>:<line> is required"));
+	r = run("-d sk-sim: --trace /tmp/x info");
+	CHECK(r.status == 2);
+	r = run("-d sk-sim: help");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("LIO_RD"));
+}
+
+TEST_CASE("sk cli: the board behind sk-unix: keeps its state between runs")
+{
+	char t[] = "/tmp/ecmxf-skcli-XXXXXX";
+	REQUIRE(mkdtemp(t) != nullptr);
+	const std::string dir = t, sock = dir + "/sk.sock";
+	const pid_t pid = fork();
+	REQUIRE(pid >= 0);
+	if (pid == 0) {
+		execl(ECMXF_SIM_BINARY, ECMXF_SIM_BINARY, "--board", "ecm-sk", "--socket", sock.c_str(),
+		      static_cast<char *>(nullptr));
+		_exit(127);
+	}
+	const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+	for (;;) {
+		try {
+			ecmxf::UnixChannel probe(sock);
+			break;
+		} catch (const ecmxf::Error &) {
+			REQUIRE(std::chrono::steady_clock::now() < deadline);
+			usleep(10000);
+		}
+	}
+	auto r = run("-d sk-unix:" + sock + " states OP");
+	CHECK(r.status == 0);
+	r = run("-d sk-unix:" + sock + " --json info");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("\"state\": \"OP\""));
+	r = run("-d sk-unix:" + sock + " lio 5");
+	CHECK(r.status == 0);
+	kill(pid, SIGKILL);
+	waitpid(pid, nullptr, 0);
+	std::error_code ec;
+	std::filesystem::remove_all(dir, ec);
+}
+
+TEST_CASE("sk cli: ecmxf-demo --board ecm-sk --fast runs every step")
+{
+	std::FILE *p = popen(ECMXF_DEMO_BINARY " --board ecm-sk --fast 2>&1", "r");
+	REQUIRE(p != nullptr);
+	std::string out;
+	char buf[4096];
+	std::size_t n;
+	while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0)
+		out.append(buf, n);
+	const int st = pclose(p);
+	CHECK(WIFEXITED(st));
+	CHECK(WEXITSTATUS(st) == 0);
+	CHECK_THAT(out, Contains("all steps worked"));
+	CHECK_THAT(out, Contains("end: drive 20000 (target 20000), step 50000 (target 50000); 0 dropped"));
+}

@@ -1,0 +1,506 @@
+// SPDX-License-Identifier: MIT
+/*
+ * ecmxf-util with an ECM-SK device (-d sk-sim:, sk-unix:, sk-spidev:):
+ * the commands the starter kit's slot protocol can carry (info, slaves,
+ * states, upload, download, cia402, io, lio, reset) on ecmxf::sk::Board,
+ * and for every other command the reason the board cannot do it.
+ * Documentation/ecm-sk.rst, "ecmxf-util".
+ */
+#include "ecmxf-util.hpp"
+#include "ecmxf-util-sk.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/sk/board.hpp>
+#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sk/uri.hpp>
+
+namespace ecmxf_util {
+
+namespace {
+
+using ecmxf::sk::Board;
+using ecmxf::sk::Mode;
+using ecmxf::sk::SlaveType;
+using ecmxf::sk::State;
+
+const char *const kSkHelp =
+	"With an ECM-SK device (-d sk-sim:..., sk-unix:PATH, sk-spidev:...) ecmxf-util\n"
+	"speaks the starter kit's slot protocol. Commands:\n"
+	"\n"
+	"  info                        frame, state, CRC errors, FIFO, slaves\n"
+	"  slaves                      the slaves and their types (found by SET_AXIS)\n"
+	"  states STATE                INIT, PREOP, SAFEOP or OP (types found first)\n"
+	"  upload -p N [-t TYPE] INDEX[:SUB]          SDO_RD through the SDO slot\n"
+	"  download -p N [-t TYPE] INDEX[:SUB] VALUE  SDO_WR through the SDO slot\n"
+	"  cia402 -p N status|enable|disable|fault-reset|move TARGET|home METHOD\n"
+	"  io -p N [VALUE]             IO_RD, or IO_WR VALUE (IO slaves, in OP)\n"
+	"  lio [VALUE]                 LIO_RD, or LIO_WR VALUE: the ECM IC's I/O 0..5\n"
+	"  reset                       SW_RESET\n"
+	"\n"
+	"Positions (-p) count from 0 as on the ECM-XF: -p 0 is the first slave\n"
+	"(slot 1 of the frame). Types are 1, 2 or 4 bytes: the SDO slot carries at\n"
+	"most 4. --json works with every command. A fresh board (sk-sim: starts in\n"
+	"INIT at every run) is brought as far up as the command needs.\n";
+
+struct Cmd {
+	const char *name;
+	int (*run)(Globals &, Board &, const std::vector<std::string> &, const std::optional<std::string> &,
+		   const std::optional<std::string> &);
+};
+
+std::string stateText(State s)
+{
+	switch (s) {
+	case State::Init: return "INIT";
+	case State::PreOp: return "PREOP";
+	case State::SafeOp: return "SAFEOP";
+	case State::Op: return "OP";
+	}
+	return "?";
+}
+
+// INIT -> PRE-OP if needed
+void preop(Board &b, bool quiet)
+{
+	if (b.status().state == State::Init) {
+		if (!quiet)
+			std::fprintf(stderr, "ecmxf-util: bringing the ECM-SK to PRE-OP\n");
+		b.setState(State::PreOp);
+	}
+}
+
+// up to OP: types found, DRIVE_MODE CSP for drives
+void toOp(Board &b, bool quiet)
+{
+	if (b.status().state == State::Op)
+		return;
+	preop(b, quiet);
+	if (b.state() == State::PreOp) {
+		const auto types = b.detectAxes();
+		for (std::size_t i = 0; i < types.size(); i++)
+			if (types[i] != SlaveType::Io)
+				b.driveMode(static_cast<unsigned>(i + 1), Mode::Csp);
+	}
+	if (!quiet)
+		std::fprintf(stderr, "ecmxf-util: bringing the ECM-SK to OP\n");
+	b.setState(State::Op);
+}
+
+unsigned slot(Board &b, const std::optional<std::string> &posText, const char *cmd, unsigned count)
+{
+	const std::uint8_t p = parsePosition(cmd, posText);
+	if (p >= count)
+		throw ecmxf::Error("slave position " + std::to_string(p) + " out of range: the bus has " +
+					   std::to_string(count) + " slaves (0.." + std::to_string(count ? count - 1 : 0) +
+					   ")",
+				   EINVAL);
+	(void)b;
+	return p + 1u;
+}
+
+int info(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &,
+	 const std::optional<std::string> &)
+{
+	if (!args.empty())
+		throw UsageError("info: no arguments");
+	const auto s = b.status();
+	unsigned slaves = 0;
+	if (s.state == State::PreOp)
+		slaves = b.slaveCount();
+	auto *sim = b.simulator();
+	if (g.json) {
+		std::printf("{\"device\": %s, \"board\": \"ECM-SK\", \"slot_size\": %u, \"frame_size\": %zu, "
+			    "\"max_slaves\": %u, \"state\": %s, \"crc_errors\": %u, \"fifo_remaining\": %s, "
+			    "\"fifo_full\": %s, \"slaves\": %s, \"simulated\": %s}\n",
+			    jsonString(g.device).c_str(), b.slotSize(), b.frameSize(), b.maxSlaves(),
+			    jsonString(stateText(s.state)).c_str(), s.crcErrors,
+			    s.state == State::Op ? std::to_string(s.fifoRemaining).c_str() : "null",
+			    s.state == State::Op ? std::to_string(s.fifoFull).c_str() : "null",
+			    s.state == State::PreOp ? std::to_string(slaves).c_str() : "null",
+			    sim ? "true" : "false");
+		return 0;
+	}
+	std::printf("Device:        %s (NEXTW ECM-SK, slot protocol)\n", g.device.c_str());
+	std::printf("Frame:         %zu bytes, %u slots of %u bytes, up to %u slaves\n", b.frameSize(),
+		    b.maxSlaves() + 2, b.slotSize(), b.maxSlaves());
+	std::printf("State:         %s\n", stateText(s.state).c_str());
+	std::printf("CRC errors:    %u (frames the board refused)\n", s.crcErrors);
+	if (s.state == State::Op)
+		std::printf("FIFO:          %u free, %u dropped (full)\n", s.fifoRemaining, s.fifoFull);
+	if (s.state == State::PreOp)
+		std::printf("Slaves:        %u\n", slaves);
+	if (sim)
+		std::printf("Simulator:     cycle %u us, SET_EX in force 0x%X, saved 0x%X\n", sim->cycleUs(),
+			    sim->extensionsInForce(), sim->extensionsSaved());
+	return 0;
+}
+
+int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &,
+	   const std::optional<std::string> &)
+{
+	if (!args.empty())
+		throw UsageError("slaves: no arguments");
+	preop(b, g.quiet || g.json);
+	if (b.state() != State::PreOp)
+		throw ecmxf::Error("slaves: the types are found in PRE-OP; the ECM-SK is in " +
+					   stateText(b.state()) + " (ecmxf-util states PREOP)",
+				   EPERM);
+	const auto types = b.detectAxes();
+	std::vector<std::string> idents;
+	for (std::size_t i = 0; i < types.size(); i++) {
+		std::string id = "-";
+		try {
+			const auto v = b.sdoRead(static_cast<unsigned>(i + 1), 0x1018, 1);
+			const auto p = b.sdoRead(static_cast<unsigned>(i + 1), 0x1018, 2);
+			id = hexString(v, 8) + ":" + hexString(p, 8);
+		} catch (const ecmxf::Error &) {
+			// no CoE: no identity to show
+		}
+		idents.push_back(id);
+	}
+	if (g.json) {
+		std::printf("[");
+		for (std::size_t i = 0; i < types.size(); i++)
+			std::printf("%s\n  {\"position\": %zu, \"state\": %s, \"type\": %s, \"identity\": %s}",
+				    i ? "," : "", i, jsonString(stateText(b.state())).c_str(),
+				    jsonString(ecmxf::sk::slaveTypeName(types[i])).c_str(),
+				    idents[i] == "-" ? "null" : jsonString(idents[i]).c_str());
+		std::printf("\n]\n");
+		return 0;
+	}
+	for (std::size_t i = 0; i < types.size(); i++)
+		std::printf("%-3zu %-6s %-6s %s\n", i, stateText(b.state()).c_str(),
+			    std::string(ecmxf::sk::slaveTypeName(types[i])).c_str(), idents[i].c_str());
+	return 0;
+}
+
+int states(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &,
+	   const std::optional<std::string> &)
+{
+	if (args.size() != 1)
+		throw UsageError("states: which state? (INIT, PREOP, SAFEOP, OP)");
+	std::string want = args[0];
+	for (auto &c : want)
+		c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+	State target;
+	if (want == "INIT")
+		target = State::Init;
+	else if (want == "PREOP" || want == "PRE-OP")
+		target = State::PreOp;
+	else if (want == "SAFEOP" || want == "SAFE-OP")
+		target = State::SafeOp;
+	else if (want == "OP")
+		target = State::Op;
+	else
+		throw UsageError("states: unknown state '" + args[0] + "' (INIT, PREOP, SAFEOP, OP)");
+	if (target == State::Op) {
+		toOp(b, g.quiet || g.json);
+	} else if (target == State::SafeOp) {
+		preop(b, true);
+		if (b.state() == State::PreOp)
+			(void)b.detectAxes();
+		b.setState(target);
+	} else {
+		b.setState(target);
+	}
+	if (g.json)
+		std::printf("{\"state\": %s}\n", jsonString(stateText(b.state())).c_str());
+	else if (!g.quiet)
+		std::printf("%s\n", stateText(b.state()).c_str());
+	return 0;
+}
+
+unsigned checkType(const char *cmd, const std::optional<std::string> &typeText, std::optional<DataType> &type)
+{
+	if (!typeText)
+		return 0;
+	type = parseType(cmd, *typeText);
+	const auto n = typeSize(*type);
+	if (n != 1 && n != 2 && n != 4)
+		throw ecmxf::Error(std::string(cmd) + ": type " + std::string(typeName(*type)) +
+					   ": the ECM-SK's SDO slot carries objects of 1, 2 or 4 bytes",
+				   EOPNOTSUPP);
+	return static_cast<unsigned>(n);
+}
+
+ObjectAddress object(const char *cmd, const std::vector<std::string> &args, std::size_t n)
+{
+	if (args.size() != n)
+		throw UsageError(std::string(cmd) + (n == 1 ? ": which object? (upload -p N INDEX[:SUB])"
+							  : ": INDEX[:SUB] VALUE (download -p N INDEX[:SUB] VALUE)"));
+	return parseObjectAddress(cmd, args[0]);
+}
+
+int upload(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
+	   const std::optional<std::string> &typeText)
+{
+	const ObjectAddress obj = object("upload", args, 1);
+	std::optional<DataType> type;
+	const unsigned want = checkType("upload", typeText, type);
+	if (b.status().state == State::Init)
+		preop(b, g.quiet || g.json);
+	const unsigned s = slot(b, pos, "upload", b.slaveCount() ? b.slaveCount() : b.maxSlaves());
+	unsigned size = 0;
+	const std::uint32_t v = b.sdoRead(s, obj.index, obj.sub, &size);
+	if (want && size != want)
+		throw ecmxf::Error("slave " + std::to_string(s - 1) + " " + objectName(obj) + " has " +
+					   std::to_string(size) + " bytes, type " + std::string(typeName(*type)) +
+					   " has " + std::to_string(want),
+				   EPROTO);
+	std::vector<std::uint8_t> bytes(size);
+	for (unsigned i = 0; i < size; i++)
+		bytes[i] = static_cast<std::uint8_t>(v >> (8 * i));
+	if (g.json) {
+		std::printf("{\"position\": %u, \"index\": %u, \"sub\": %u, \"type\": %s, \"size\": %u, "
+			    "\"value\": %s, \"hex\": %s}\n",
+			    s - 1, obj.index, obj.sub, type ? jsonString(typeName(*type)).c_str() : "null", size,
+			    jsonValue(type, bytes).c_str(), jsonString(hexBytes(bytes, "")).c_str());
+		return 0;
+	}
+	std::printf("%s\n", formatValue(type, bytes).c_str());
+	return 0;
+}
+
+int download(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
+	     const std::optional<std::string> &typeText)
+{
+	const ObjectAddress obj = object("download", args, 2);
+	std::optional<DataType> type;
+	if (!checkType("download", typeText, type))
+		throw UsageError("download: -t TYPE is required (the ECM-SK cannot tell an object's size)");
+	const auto bytes = encodeValue("download", *type, args[1]);
+	std::uint32_t v = 0;
+	for (std::size_t i = 0; i < bytes.size(); i++)
+		v |= static_cast<std::uint32_t>(bytes[i]) << (8 * i);
+	if (b.status().state == State::Init)
+		preop(b, g.quiet || g.json);
+	const unsigned s = slot(b, pos, "download", b.slaveCount() ? b.slaveCount() : b.maxSlaves());
+	b.sdoWrite(s, obj.index, obj.sub, v, static_cast<unsigned>(bytes.size()));
+	if (g.json)
+		std::printf("{\"position\": %u, \"index\": %u, \"sub\": %u, \"size\": %zu}\n", s - 1, obj.index,
+			    obj.sub, bytes.size());
+	return 0;
+}
+
+unsigned opSlot(Globals &g, Board &b, const std::optional<std::string> &pos, const char *cmd)
+{
+	if (b.status().state == State::Init)
+		preop(b, g.quiet || g.json);
+	unsigned count = b.maxSlaves();
+	if (b.state() == State::PreOp)
+		count = b.slaveCount();
+	const unsigned s = slot(b, pos, cmd, count);
+	toOp(b, g.quiet || g.json);
+	return s;
+}
+
+int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
+	   const std::optional<std::string> &)
+{
+	if (args.empty())
+		throw UsageError("cia402: status, enable, disable, fault-reset, move TARGET or home METHOD");
+	const std::string &what = args[0];
+	const unsigned s = opSlot(g, b, pos, "cia402");
+	if (what == "enable") {
+		b.servoOn(s);
+		b.waitEnabled(s);
+	} else if (what == "disable") {
+		b.servoOff(s);
+	} else if (what == "fault-reset") {
+		b.alarmClear(s);
+	} else if (what == "move") {
+		if (args.size() != 2)
+			throw UsageError("cia402 move TARGET");
+		const auto target = static_cast<std::int32_t>(parseSigned("cia402", "TARGET", args[1], INT32_MIN, INT32_MAX));
+		b.servoOn(s);
+		b.waitEnabled(s);
+		b.status();
+		const std::int32_t from = b.axis(s).position;
+		// a ramp of at most 1000 units per exchange (the board applies
+		// one per cycle); the FIFO's back-pressure paces it
+		const std::int64_t dist = static_cast<std::int64_t>(target) - from;
+		const std::int64_t steps = std::max<std::int64_t>(1, (std::llabs(dist) + 999) / 1000);
+		for (std::int64_t i = 1; i <= steps;) {
+			if (b.stage(s, Mode::Csp, static_cast<std::int32_t>(from + dist * i / steps)))
+				i++;
+			const auto r = b.cycle();
+			if (r.status == ecmxf::sk::CycleStatus::Link)
+				throw ecmxf::Error("cia402 move: " + b.lastError(), EIO);
+			if (r.status == ecmxf::sk::CycleStatus::FifoOverflow)
+				throw ecmxf::Error("cia402 move: the ECM-SK dropped " + std::to_string(r.dropped) +
+							   " targets (FIFO full)",
+						   ENOBUFS);
+		}
+		for (int i = 0; i < 2000 && std::llabs(static_cast<std::int64_t>(b.axis(s).position) - target) > 0; i++) {
+			b.channel().sleepFor(std::chrono::milliseconds(1));
+			(void)b.cycle();
+		}
+	} else if (what == "home") {
+		if (args.size() != 2)
+			throw UsageError("cia402 home METHOD");
+		const auto method = static_cast<std::int8_t>(parseSigned("cia402", "METHOD", args[1], -128, 127));
+		b.servoOn(s);
+		b.waitEnabled(s);
+		b.home(s, method);
+	} else if (what != "status") {
+		throw UsageError("cia402: unknown action '" + what + "'");
+	}
+	b.status();
+	const auto a = b.axis(s);
+	if (g.json) {
+		std::printf("{\"position\": %u, \"statusword\": %u, \"actual_position\": %d, \"torque\": %d, "
+			    "\"error_code\": %u}\n",
+			    s - 1, a.statusword, a.position, a.torque, a.errorCode);
+		return 0;
+	}
+	if (!g.quiet || what == "status")
+		std::printf("slave %u: statusword %s, position %d, torque %d, error code %s\n", s - 1,
+			    hexString(a.statusword, 4).c_str(), a.position, a.torque, hexString(a.errorCode, 4).c_str());
+	return 0;
+}
+
+int io(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
+       const std::optional<std::string> &)
+{
+	if (args.size() > 1)
+		throw UsageError("io -p N [VALUE]");
+	const unsigned s = opSlot(g, b, pos, "io");
+	if (args.size() == 1) {
+		const auto v = static_cast<std::uint32_t>(parseUnsigned("io", "VALUE", args[0], 0xFFFFFFFFu));
+		b.ioWrite(s, v);
+		if (g.json)
+			std::printf("{\"position\": %u, \"outputs\": %u}\n", s - 1, v);
+		return 0;
+	}
+	const std::uint32_t v = b.ioRead(s);
+	if (g.json)
+		std::printf("{\"position\": %u, \"inputs\": %u}\n", s - 1, v);
+	else
+		std::printf("%s\n", hexString(v, 8).c_str());
+	return 0;
+}
+
+int lio(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &,
+	const std::optional<std::string> &)
+{
+	if (args.size() > 1)
+		throw UsageError("lio [VALUE]");
+	if (args.size() == 1) {
+		const auto v = static_cast<std::uint32_t>(parseUnsigned("lio", "VALUE", args[0], 0x3F));
+		b.lioWrite(v);
+		if (g.json)
+			std::printf("{\"outputs\": %u}\n", v);
+		return 0;
+	}
+	const std::uint32_t v = b.lioRead();
+	if (g.json)
+		std::printf("{\"inputs\": %u}\n", v);
+	else
+		std::printf("%s\n", hexString(v, 2).c_str());
+	return 0;
+}
+
+int reset(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &,
+	  const std::optional<std::string> &)
+{
+	if (!args.empty())
+		throw UsageError("reset: no arguments");
+	b.reset();
+	if (g.json)
+		std::printf("{\"state\": %s}\n", jsonString(stateText(b.state())).c_str());
+	else if (!g.quiet)
+		std::printf("ECM-SK reset: %s\n", stateText(b.state()).c_str());
+	return 0;
+}
+
+const Cmd kSkCommands[] = {
+	{ "cia402", cia402 }, { "download", download }, { "info", info },     { "io", io },
+	{ "lio", lio },	      { "reset", reset },	{ "slaves", slaves }, { "states", states },
+	{ "upload", upload },
+};
+
+// what the ECM-XF side has and the ECM-SK cannot do, and why
+struct Unsupported {
+	const char *name;
+	const char *why;
+};
+const Unsupported kNot[] = {
+	{ "adc", "the ECM-SK has no analog inputs (its own I/O is 'lio')" },
+	{ "commands", "lists ECM-XF command codes; the ECM-SK's are in Documentation/ecm-sk.rst" },
+	{ "dac", "the ECM-SK has no analog output" },
+	{ "decode", "traces are recorded for ECM-XF packets only" },
+	{ "eeprom", "the slot protocol has no access to the slaves' SII EEPROM" },
+	{ "emergency", "the slot protocol does not pass CoE emergencies on" },
+	{ "foe_read", "the slot protocol has no FoE" },
+	{ "foe_write", "the slot protocol has no FoE" },
+	{ "gpio", "the ECM-SK's I/O lines are 'lio' (LIO_RD/LIO_WR)" },
+	{ "monitor", "the ECM-SK reports no events; poll 'info' instead" },
+	{ "pdos", "the ECM-SK maps the process data itself (by slave type)" },
+	{ "qei", "the ECM-SK has no encoder input" },
+	{ "raw", "ECM-XF command packets only" },
+	{ "sii_read", "the slot protocol has no access to the slaves' SII EEPROM" },
+};
+
+} // namespace
+
+bool skDevice(const Globals &g)
+{
+	return Board::isSkUri(g.device);
+}
+
+int skRun(Globals &g, std::string_view name, const Args &rawArgs)
+{
+	if (name == "help" || name == "--help") {
+		std::fputs(kSkHelp, stdout);
+		return 0;
+	}
+	if (name == "version")
+		return -1; // the common one
+	const Cmd *cmd = nullptr;
+	std::vector<const Cmd *> prefix;
+	for (const Cmd &c : kSkCommands) {
+		if (name == c.name) {
+			cmd = &c;
+			break;
+		}
+		if (std::string_view(c.name).starts_with(name))
+			prefix.push_back(&c);
+	}
+	if (!cmd && prefix.size() == 1)
+		cmd = prefix.front();
+	if (!cmd) {
+		for (const Unsupported &u : kNot)
+			if (name == u.name)
+				throw ecmxf::Error(std::string(name) + ": not on the ECM-SK: " + u.why, EOPNOTSUPP);
+		throw UsageError("unknown command '" + std::string(name) + "' for an ECM-SK (try 'help')");
+	}
+	std::optional<std::string> posText, typeText;
+	static const std::string help = std::string(kSkHelp);
+	const auto args = parseArgs(cmd->name, rawArgs, g, help.c_str(),
+				    { { "-p", "--position", nullptr, &posText }, { "-t", "--type", nullptr, &typeText } });
+	if (!args)
+		return 0;
+	if (!g.trace.empty())
+		throw UsageError("--trace: traces are recorded for ECM-XF packets only");
+	const auto board = Board::open(g.device);
+	try {
+		return cmd->run(g, *board, *args, posText, typeText);
+	} catch (const UsageError &) {
+		throw;
+	} catch (const std::exception &e) {
+		const std::string prefixText = std::string(cmd->name) + ": ";
+		if (std::string_view(e.what()).starts_with(prefixText))
+			throw;
+		throw std::runtime_error(prefixText + e.what());
+	}
+}
+
+} // namespace ecmxf_util
