@@ -188,6 +188,11 @@ const ChipStats &Chip::stats() const
 	return impl_->stats();
 }
 
+Chip::FifoLevels Chip::fifoLevels() const
+{
+	return impl_->fifoLevels();
+}
+
 // ======================================================================
 // Impl: construction, time
 // ======================================================================

@@ -185,6 +185,7 @@ public:
 	[[nodiscard]] std::size_t dataSize() const { return dataSize_; }
 	[[nodiscard]] std::size_t packetSize() const { return ECMXF_PKT_SIZE(dataSize_); }
 	const ChipStats &stats() { return stats_; }
+	Chip::FifoLevels fifoLevels() const { return { rxFifo_.count(), txFifo_.count() }; }
 
 	// ---- time (chip.cpp) ----
 	void syncPaced();

@@ -815,13 +815,17 @@ int run(const Options &o)
 	const long rssEnd = maxRssKb();
 
 	// ---- the end: drain nothing, count what is left ----
-	const ecmxf::ResponseHeader h = dev.chip().infoUpdate();
+	// What is left in the FIFOs, read from the chip at the instant of its
+	// counters: a response header's counts are those of when the chip built
+	// it, and a bus cycle may run before the exchange that brings it ends.
+	(void)dev.chip().infoUpdate();
 	const ecmxf::sim::ChipStats &s = chip.stats();
+	const ecmxf::sim::Chip::FifoLevels left = chip.fifoLevels();
 	const std::uint64_t txPushed = s.txPushed - txBase, txDropped = s.txDropped - txDropBase;
 	const std::uint64_t txCleared = s.txCleared - txClrBase, txRead = s.txRead - txReadBase;
-	const std::uint64_t txLeft = h.txFifoCnt;
+	const std::uint64_t txLeft = left.tx;
 	const std::uint64_t rxAccepted = s.rxAccepted - rxAccBase, rxCleared = s.rxCleared - rxClrBase;
-	const std::uint64_t rxLeft = h.rxFifoCnt;
+	const std::uint64_t rxLeft = left.rx;
 	const std::uint64_t consumed = g_tag.consumed - consumedBase;
 	const std::uint64_t unreached = g_tag.poppedUnreached - unreachedBase;
 	const std::uint64_t notApplied = g_tag.notApplied - notAppliedBase;

@@ -183,6 +183,12 @@ public:
 
 	/// Counters (see ChipStats).
 	[[nodiscard]] const ChipStats &stats() const;
+	/// Frames in the RxFIFO and the TxFIFO now (a response header's counts
+	/// are those of when the chip built it), for inspection.
+	struct FifoLevels {
+		std::size_t rx = 0, tx = 0;
+	};
+	[[nodiscard]] FifoLevels fifoLevels() const;
 
 private:
 	class Impl;
