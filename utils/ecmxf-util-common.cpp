@@ -153,6 +153,14 @@ std::optional<std::vector<std::string>> parseArgs(std::string_view cmd, const Ar
 				name = a.substr(0, eq);
 				inlineValue = a.substr(eq + 1);
 			}
+		} else if (a.size() > 2) {
+			// -p0, -tfloat: a short option glued to its value (getopt's
+			// form, as IgH's ethercat takes it)
+			for (const Option &o : opts)
+				if (o.value && !o.shortName.empty() && a.starts_with(o.shortName)) {
+					name = o.shortName;
+					inlineValue = a.substr(o.shortName.size());
+				}
 		}
 		const Option *found = nullptr;
 		for (const Option &o : opts)
@@ -250,6 +258,17 @@ ObjectAddress parseObjectAddress(std::string_view cmd, std::string_view text)
 	a.index = static_cast<std::uint16_t>(parseUnsigned(cmd, "INDEX", idx, 0xFFFF));
 	if (colon != std::string_view::npos)
 		a.sub = static_cast<std::uint8_t>(parseUnsigned(cmd, "SUB", text.substr(colon + 1), 0xFF));
+	return a;
+}
+
+ObjectAddress parseObjectAddress(std::string_view cmd, std::string_view index, std::string_view sub)
+{
+	if (index.find(':') != std::string_view::npos)
+		throw UsageError(std::string(cmd).append(": INDEX:SUB '").append(index).append(
+			"' and a SUB argument: give the subindex once"));
+	ObjectAddress a;
+	a.index = static_cast<std::uint16_t>(parseUnsigned(cmd, "INDEX", index, 0xFFFF));
+	a.sub = static_cast<std::uint8_t>(parseUnsigned(cmd, "SUB", sub, 0xFF));
 	return a;
 }
 

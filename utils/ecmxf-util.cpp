@@ -10,6 +10,7 @@
  * go to stderr as "ecmxf-util: <reason>": exit code 1 for failures, 2 for
  * bad usage.
  */
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -251,15 +252,32 @@ int run(int argc, char **argv)
 
 } // namespace
 
+namespace {
+
+/// Output that did not reach standard output (a full disk, a closed pipe
+/// reader, /dev/full) is a failure: said on stderr, exit code 1.
+int checkStdout(int rc)
+{
+	errno = 0;
+	if (std::fflush(stdout) == 0 && !std::ferror(stdout))
+		return rc;
+	const int err = errno;
+	std::fprintf(stderr, "ecmxf-util: cannot write to standard output%s%s\n", err ? ": " : "",
+		     err ? std::strerror(err) : "");
+	return rc ? rc : 1;
+}
+
+} // namespace
+
 int main(int argc, char **argv)
 {
 	try {
-		return run(argc, argv);
+		return checkStdout(run(argc, argv));
 	} catch (const UsageError &e) {
 		std::fprintf(stderr, "ecmxf-util: %s\n", e.what());
-		return 2;
+		return checkStdout(2);
 	} catch (const std::exception &e) {
 		std::fprintf(stderr, "ecmxf-util: %s\n", e.what());
-		return 1;
+		return checkStdout(1);
 	}
 }

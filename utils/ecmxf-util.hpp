@@ -113,6 +113,8 @@ struct ObjectAddress {
 	std::uint8_t sub = 0;
 };
 ObjectAddress parseObjectAddress(std::string_view cmd, std::string_view text);
+/// IgH's INDEX SUB as two arguments (INDEX without ':').
+ObjectAddress parseObjectAddress(std::string_view cmd, std::string_view index, std::string_view sub);
 /// "0x6064:00"
 std::string objectName(ObjectAddress a);
 
@@ -188,8 +190,10 @@ ECMXF_UTIL_COMMAND(cmdCia402, kCia402Help)
 
 enum class DataType {
 	Bool, Int8, Int16, Int32, Int64, Uint8, Uint16, Uint32, Uint64, Float, Double, String, OctetString,
+	Sm8, Sm16, Sm32, Sm64, ///< IgH's sign-and-magnitude integers
 };
-/// -t TYPE: the contract's names and IgH's aliases (sint8.., real32/64).
+/// -t TYPE: the contract's names and IgH's (unicode_string, sm8..sm64,
+/// raw) and aliases (sint8.., real32/64).
 DataType parseType(std::string_view cmd, std::string_view text);
 std::string_view typeName(DataType t);
 /// Bytes of a fixed-size type; 0 for string and octet_string.
