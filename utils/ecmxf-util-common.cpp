@@ -166,6 +166,10 @@ std::optional<std::vector<std::string>> parseArgs(std::string_view cmd, const Ar
 		for (const Option &o : opts)
 			if ((!o.shortName.empty() && name == o.shortName) || name == o.longName)
 				found = &o;
+		if (!found && (name == "-a" || name == "--alias" || a.starts_with("-a")))
+			throw UsageError(std::string(cmd).append(": -a/--alias: ecmxf-util selects a slave by its bus "
+								 "position, -p N; 'ecmxf-util slaves -v' shows each "
+								 "slave's alias next to its position"));
 		if (!found)
 			throw UsageError(std::string(cmd).append(": unknown argument '").append(a).append("'").append(
 				tryHelp(cmd)));

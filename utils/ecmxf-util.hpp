@@ -184,7 +184,15 @@ ECMXF_UTIL_COMMAND(cmdDac, kDacHelp)
 ECMXF_UTIL_COMMAND(cmdEmergency, kEmergencyHelp)
 ECMXF_UTIL_COMMAND(cmdReset, kResetHelp)
 ECMXF_UTIL_COMMAND(cmdCia402, kCia402Help)
+// IgH's ethercat commands (ecmxf-util-igh.cpp)
+ECMXF_UTIL_COMMAND(cmdRegRead, kRegReadHelp)
+ECMXF_UTIL_COMMAND(cmdRegWrite, kRegWriteHelp)
+ECMXF_UTIL_COMMAND(cmdSiiWrite, kSiiWriteHelp)
+ECMXF_UTIL_COMMAND(cmdMaster, kMasterHelp)
 #undef ECMXF_UTIL_COMMAND
+/// For an IgH ethercat command that ecmxf-util does not have: the message
+/// saying what to use instead; std::nullopt for any other name.
+std::optional<std::string> ighAlternative(std::string_view name);
 
 // ---- SDO data types (-t; ecmxf-util-types.cpp)
 
