@@ -54,7 +54,7 @@ int cmdDownload(Globals &g, const Args &args)
 	if (pos->size() < 2 || pos->size() > 3)
 		throw UsageError(pos->size() < 2 ? "download: needs INDEX[:SUB] VALUE (download -p N INDEX[:SUB] VALUE)"
 						 : "download: too many arguments (try 'ecmxf-util download --help')");
-	const std::uint8_t position = parsePosition("download", posText);
+	std::uint8_t position = parsePosition("download", posText);
 	// INDEX:SUB VALUE, or IgH's INDEX SUB VALUE
 	const ObjectAddress obj = pos->size() == 3 ? parseObjectAddress("download", (*pos)[0], (*pos)[1])
 						   : parseObjectAddress("download", (*pos)[0]);
@@ -64,7 +64,7 @@ int cmdDownload(Globals &g, const Args &args)
 		bytes = encodeValue("download", parseType("download", *typeText), valueText);
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	if (!typeText) {
 		// the size probe is an upload: a failure is the download's
 		std::size_t n = 0;

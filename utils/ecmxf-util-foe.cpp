@@ -81,11 +81,11 @@ int cmdFoeRead(Globals &g, const Args &args)
 	if (pos->size() != 1)
 		throw UsageError(pos->empty() ? "foe_read: which file? (foe_read -p N NAME)"
 					      : "foe_read: one NAME only (try 'ecmxf-util foe_read --help')");
-	const std::uint8_t position = parsePosition("foe_read", posText);
+	std::uint8_t position = parsePosition("foe_read", posText);
 	const ecmxf::FoeOptions opt = foeOptions("foe_read", password);
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	const std::vector<std::uint8_t> data = dev->slaves().foeRead(position, pos->front(), opt);
 	if (out) {
 		std::ofstream f(*out, std::ios::binary | std::ios::trunc);
@@ -114,7 +114,7 @@ int cmdFoeWrite(Globals &g, const Args &args)
 	if (pos->size() != 1)
 		throw UsageError(pos->empty() ? "foe_write: which file? (foe_write -p N FILE)"
 					      : "foe_write: one FILE only (try 'ecmxf-util foe_write --help')");
-	const std::uint8_t position = parsePosition("foe_write", posText);
+	std::uint8_t position = parsePosition("foe_write", posText);
 	const ecmxf::FoeOptions opt = foeOptions("foe_write", password);
 	const std::string &file = pos->front();
 	std::error_code ec;
@@ -142,7 +142,7 @@ int cmdFoeWrite(Globals &g, const Args &args)
 	const std::string remote = name ? *name : std::filesystem::path(file).filename().string();
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	dev->slaves().foeWrite(position, remote, data, opt);
 	return 0;
 }

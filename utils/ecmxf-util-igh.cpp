@@ -127,7 +127,7 @@ int cmdRegRead(Globals &g, const Args &args)
 	if (pos->empty() || pos->size() > 2)
 		throw UsageError(pos->empty() ? "reg_read: which register? (reg_read -p N ADDRESS [SIZE])"
 					      : "reg_read: too many arguments (try 'ecmxf-util reg_read --help')");
-	const std::uint8_t position = parsePosition("reg_read", posText);
+	std::uint8_t position = parsePosition("reg_read", posText);
 	const auto address = static_cast<std::uint16_t>(parseUnsigned("reg_read", "ADDRESS", (*pos)[0], 0xFFFF));
 	const std::optional<DataType> type =
 		typeText ? std::optional<DataType>(parseType("reg_read", *typeText)) : std::nullopt;
@@ -137,7 +137,7 @@ int cmdRegRead(Globals &g, const Args &args)
 				 " pass register 0xffff");
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::Scan));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 	ecmxf::Datagram d;
 	d.command = ecmxf::DatagramCommand::APRD;
 	d.adp = ecmxf::autoIncrementAddress(position);
@@ -169,7 +169,7 @@ int cmdRegWrite(Globals &g, const Args &args)
 	if (pos->size() != 2)
 		throw UsageError(pos->size() < 2 ? "reg_write: needs ADDRESS DATA (reg_write -p N ADDRESS DATA)"
 						 : "reg_write: too many arguments (try 'ecmxf-util reg_write --help')");
-	const std::uint8_t position = parsePosition("reg_write", posText);
+	std::uint8_t position = parsePosition("reg_write", posText);
 	const auto address = static_cast<std::uint16_t>(parseUnsigned("reg_write", "ADDRESS", (*pos)[0], 0xFFFF));
 	const DataType type = typeText ? parseType("reg_write", *typeText) : DataType::OctetString;
 	const std::vector<std::uint8_t> data = encodeValue("reg_write", type, (*pos)[1]);
@@ -180,7 +180,7 @@ int cmdRegWrite(Globals &g, const Args &args)
 				 " pass register 0xffff");
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::Scan));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 	ecmxf::Datagram d;
 	d.command = ecmxf::DatagramCommand::APWR;
 	d.adp = ecmxf::autoIncrementAddress(position);
@@ -205,7 +205,7 @@ int cmdSiiWrite(Globals &g, const Args &args)
 	if (pos->size() != 1)
 		throw UsageError(pos->empty() ? "sii_write: which file? (sii_write -p N FILE)"
 					      : "sii_write: one FILE only (try 'ecmxf-util sii_write --help')");
-	const std::uint8_t position = parsePosition("sii_write", posText);
+	std::uint8_t position = parsePosition("sii_write", posText);
 	const std::string &file = pos->front();
 	constexpr std::size_t kMaxBytes = 0x10000 * 2;
 	std::vector<std::uint8_t> b;
@@ -248,7 +248,7 @@ int cmdSiiWrite(Globals &g, const Args &args)
 				   EINVAL);
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::Scan));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 	for (std::size_t w = 0; w < b.size() / 2; w++)
 		dev->slaves().eepromWrite(position, static_cast<std::uint16_t>(w),
 					  static_cast<std::uint16_t>(b[2 * w] | b[2 * w + 1] << 8));

@@ -99,14 +99,14 @@ int cmdSiiRead(Globals &g, const Args &args)
 	if (!pos->empty())
 		throw UsageError("sii_read: unexpected argument '" + pos->front() +
 				 "' (try 'ecmxf-util sii_read --help')");
-	const std::uint8_t position = parsePosition("sii_read", posText);
+	std::uint8_t position = parsePosition("sii_read", posText);
 	const auto offset = static_cast<std::uint16_t>(offText ? parseUnsigned("sii_read", "--offset", *offText, 0xFFFF) : 0);
 	std::optional<std::size_t> length;
 	if (lenText)
 		length = static_cast<std::size_t>(parseUnsigned("sii_read", "--length", *lenText, 0x10000u - offset, 1));
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::Scan));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 
 	std::vector<std::uint16_t> identity;
 	if (verbose)

@@ -57,7 +57,7 @@ int cmdUpload(Globals &g, const Args &args)
 	if (pos->empty() || pos->size() > 2)
 		throw UsageError(pos->empty() ? "upload: which object? (upload -p N INDEX[:SUB])"
 					      : "upload: one INDEX[:SUB] or INDEX SUB only (try 'ecmxf-util upload --help')");
-	const std::uint8_t position = parsePosition("upload", posText);
+	std::uint8_t position = parsePosition("upload", posText);
 	// INDEX:SUB, or IgH's INDEX SUB as two arguments
 	const ObjectAddress obj = pos->size() == 2 ? parseObjectAddress("upload", (*pos)[0], (*pos)[1])
 						   : parseObjectAddress("upload", pos->front());
@@ -65,7 +65,7 @@ int cmdUpload(Globals &g, const Args &args)
 		typeText ? std::optional<DataType>(parseType("upload", *typeText)) : std::nullopt;
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	const std::vector<std::uint8_t> b = dev->sdo().sdoUpload(position, obj.index, obj.sub);
 	if (type && typeSize(*type) && b.size() != typeSize(*type))
 		throw ecmxf::Error("slave " + std::to_string(position) + " " + objectName(obj) + " has " +

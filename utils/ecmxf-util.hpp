@@ -149,8 +149,14 @@ unsigned ensureBus(ecmxf::Device &dev, BusNeed need, bool verbose = false);
 bool busDown(ecmxf::Device &dev);
 
 /// Throws "slave position N out of range: the bus has C slaves (0..C-1)"
-/// when @p position >= @p count.
+/// when @p position >= @p count (a usage error when -a was given to a
+/// command that does not take it).
 void checkPosition(unsigned position, unsigned count);
+/// The slave a command addresses: -p N as it is (checked against @p
+/// count), or with IgH's -a ALIAS the N-th slave after the first one whose
+/// station alias is ALIAS (ENODEV when none has it or that is beyond the
+/// bus).
+std::uint8_t selectSlave(ecmxf::Device &dev, std::uint8_t position, unsigned count);
 
 int cmdInfo(Globals &g, const Args &args);
 int cmdSlaves(Globals &g, const Args &args);

@@ -351,13 +351,16 @@ public:
 
 	/// Process data runs in SAFE-OP (inputs) and OP: in INIT or PRE-OP the
 	/// chip's FIFOs exchange nothing and cycle() would fail every time
-	/// with no word why. ENETDOWN naming the state.
+	/// with no word why. ENETDOWN naming the state. ERROR is let through.
 	static void checkBusState(Device &dev)
 	{
 		(void)dev.bus().slaveCount(); // a fresh response header
 		const std::uint8_t st = dev.lastHeader().ecatState;
 		const unsigned s = st & 0x0Fu;
-		if (s == 4 || s == 8)
+		// ERROR (0x10): a slave failed while the bus was up; the exchange
+		// still runs (the working counter shows it), so a Cyclic may be
+		// made again during the fault handling
+		if (s == 4 || s == 8 || (st & 0x10u))
 			return;
 		char hex[8];
 		std::snprintf(hex, sizeof(hex), "0x%02x", st);

@@ -108,15 +108,49 @@ TEST_CASE("igh: upload INDEX SUB and download INDEX SUB VALUE as separate argume
 	CHECK(r.err == "ecmxf-util: download: too many arguments (try 'ecmxf-util download --help')\n");
 }
 
-TEST_CASE("igh: -a/--alias answers with -p and where the alias is shown", "[cli][igh]")
+TEST_CASE("igh: -a ALIAS [-p N] selects the N-th slave after the one with that alias", "[cli][igh]")
 {
-	for (const char *form : { "-a 1", "--alias 1", "-a1" }) {
-		const auto r = run(std::string("upload ") + form + " 0x1018:1");
-		INFO(form);
-		CHECK(r.status == 2);
-		CHECK_THAT(r.err, Contains("-a/--alias: ecmxf-util selects a slave by its bus position, -p N"));
-		CHECK_THAT(r.err, Contains("slaves -v"));
+	const std::string net = tempPath("alias.net");
+	{
+		std::ofstream f(net);
+		f << "slave dio alias=7\nslave EST-584 alias=4660\nslave EST-584\n";
 	}
+	const std::string d = "-d sim:" + net + " ";
+	// product code: EST-584 0x584 (0x1018:02), digital I/O 0x1088 (sim-slaves.rst)
+	auto r = run(d + "upload -a 4660 0x1018:2 -t uint32");
+	REQUIRE(r.status == 0);
+	CHECK(r.out == "1412\n");
+	r = run(d + "upload -a 0x1234 -p 1 0x1018:2 -t uint32");
+	REQUIRE(r.status == 0);
+	CHECK(r.out == "1412\n");
+	// the digital I/O has no mailbox: its product code from SII word 0x0a
+	r = run(d + "sii_read -a7 --offset 0x0a --length 1 --hex");
+	REQUIRE(r.status == 0);
+	CHECK(r.out == "0x000a: 1088\n");
+	r = run(d + "reg_read --alias=7 -p 2 -t uint16 0x0130");
+	REQUIRE(r.status == 0);
+	CHECK(r.out == "1\n");
+	// none has it, or -p runs past the bus
+	r = run(d + "upload -a 5 0x1018:2");
+	CHECK(r.status == 1);
+	CHECK(r.err == "ecmxf-util: upload: no slave has the alias 5 ('ecmxf-util slaves -v' shows each slave's "
+		       "alias)\n");
+	r = run(d + "upload -a 4660 -p 2 0x1018:2");
+	CHECK(r.status == 1);
+	CHECK(r.err == "ecmxf-util: upload: alias 4660 is slave 1: -p 2 after it is beyond the bus (3 slaves)\n");
+	// bad values, and commands that take no -a
+	r = run(d + "upload -a 0x10000 0x1018:2");
+	CHECK(r.status == 2);
+	CHECK(r.err == "ecmxf-util: upload: -a: 0x10000 is out of range 0..65535\n");
+	r = run(d + "upload 0x1018:2 -a");
+	CHECK(r.status == 2);
+	CHECK(r.err == "ecmxf-util: upload: option '-a' needs a value\n");
+	r = run(d + "pdos -a 7");
+	CHECK(r.status == 2);
+	CHECK(r.err == "ecmxf-util: -a/--alias is not taken by this command: select the slave with -p N\n");
+	r = run("decode -a 7 /dev/null");
+	CHECK(r.status == 2);
+	std::filesystem::remove(net);
 }
 
 TEST_CASE("igh: IgH's --type names: sm8..sm64, unicode_string, raw", "[cli][igh][units]")
