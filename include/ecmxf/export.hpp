@@ -7,10 +7,11 @@
 #pragma once
 
 /*
- * Every public header includes this one first: a consumer compiling below
- * C++20 gets this one message instead of a cascade from <span>, concepts
- * and designated initialisers.  CMake consumers get -std=c++20 from the
- * imported target (cxx_std_20), pkg-config ones from ecmxf.pc's Cflags.
+ * Every public header includes this one before any declaration of its own:
+ * a consumer compiling below C++20 gets this one message instead of a
+ * cascade from <span>, concepts and designated initialisers.  CMake
+ * consumers get -std=c++20 from the imported target (cxx_std_20),
+ * pkg-config ones from ecmxf.pc's Cflags.
  * #error does not stop the compiler; the include of a header that does not
  * exist does (a fatal error), so nothing follows the message.
  */
