@@ -25,7 +25,7 @@ DEPS := scripts/install-deps.sh
 
 .PHONY: all deps configure check check-user check-stress check-debug-kernel check-asan fuzz fuzz-long fuzz-build soak demo bench kmod kmod-deps \
 	kmod-check kmod-check-all kmod-check-kernels checkpatch dt-check kernel-lint check-kernel check-kernels \
-	kmod-clean install install-udev clean help
+	kmod-clean install install-udev deb check-deb clean help
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -207,6 +207,23 @@ install: all
 install-udev:
 	install -D -m 0644 kmod/60-ecmxf.rules $(DESTDIR)/etc/udev/rules.d/60-ecmxf.rules
 
+# Debian packages (debian/): libecmxf0, libecmxf-dev, ecmxf-tools and
+# ecmxf-dkms, built by dpkg-buildpackage from a copy of the tree into
+# DEB_OUT, then lintian (Documentation/building.rst, "Debian packages").
+DEB_OUT ?= $(BUILD)/deb
+deb:
+	@$(DEPS) --deb
+	scripts/make-deb.sh $(DEB_OUT) $(JOBS)
+
+# make deb, then the packages installed on this machine (root): DKMS
+# builds ecmxf.ko for Debian's normal and RT kernel headers, the installed
+# tools run against the simulator, a consumer builds against -dev, and the
+# purge leaves nothing behind (scripts/check-deb.sh).  Not in make check
+# (it installs system-wide); CI runs it (.ci/run).
+check-deb:
+	@$(DEPS) --deb --kernel
+	scripts/check-deb.sh $(DEB_OUT) $(JOBS)
+
 clean: kmod-clean
 	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) $(BENCH_BUILD)
 
@@ -229,5 +246,7 @@ help:
 	@echo "               (KERNELS= picks some; make kmod-check-kernels: W=1 + sparse on them)"
 	@echo "make check-debug-kernel  the same on a KASAN/UBSAN/lockdep kernel (built once)"
 	@echo "make install   install to PREFIX (default /usr/local)"
+	@echo "make deb       Debian packages (library, -dev, tools, DKMS) into DEB_OUT, lintian-checked"
+	@echo "make check-deb make deb, then install, DKMS build for both kernels, run, purge (root)"
 	@echo "make install-udev  the udev rule for /dev/ecmxfN (DESTDIR=)"
 	@echo "make clean     remove build trees"

@@ -18,6 +18,8 @@
 #                                      (crossbuild-essential-arm64), the :arm64
 #                                      -dev packages the guest programs link,
 #                                      and qemu-system-aarch64
+#   scripts/install-deps.sh --deb      also debhelper, dh-dkms, dkms, lintian
+#                                      (make deb, make check-deb)
 #   scripts/install-deps.sh --debug-kernel
 #                                      also linux-source-6.1 and what building
 #                                      it takes (make check-debug-kernel)
@@ -41,6 +43,7 @@ for arg in "$@"; do
 		arm64=1
 		pkgs="$pkgs crossbuild-essential-arm64 libgpiod-dev:arm64 libmnl-dev:arm64 qemu-system-arm busybox-static cpio"
 		;;
+	--deb) pkgs="$pkgs debhelper dh-dkms dkms lintian fakeroot adduser man-db" ;;
 	--debug-kernel) pkgs="$pkgs linux-source-6.1 flex bison bc libelf-dev libssl-dev cpio xz-utils kmod" ;;
 	*) echo "install-deps.sh: unknown option '$arg'" >&2; exit 2 ;;
 	esac

@@ -110,10 +110,10 @@ int cmdCia402(Globals &g, const Args &args)
 		throw UsageError("cia402: unknown operation '" + op +
 				 "' (status, enable, disable, fault-reset, quick-stop, move, home)");
 	}
-	const std::uint8_t position = parsePosition("cia402", posText);
+	std::uint8_t position = parsePosition("cia402", posText);
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	ecmxf::Device &d = *dev;
 
 	if (!target) {

@@ -5,6 +5,7 @@
 #include "ecmxf-util.hpp"
 #include <ecmxf/bus/bus.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -107,6 +108,10 @@ std::string stateName(std::uint8_t state)
 
 namespace {
 
+/// -a ALIAS of this run (parseArgs()), and whether selectSlave() took it.
+std::optional<std::uint16_t> gAlias;
+bool gAliasTaken = false;
+
 std::string tryHelp(std::string_view cmd)
 {
 	return std::string(" (try 'ecmxf-util ").append(cmd).append(" --help')");
@@ -153,11 +158,41 @@ std::optional<std::vector<std::string>> parseArgs(std::string_view cmd, const Ar
 				name = a.substr(0, eq);
 				inlineValue = a.substr(eq + 1);
 			}
+		} else if (a.size() > 2) {
+			// -p0, -tfloat: a short option glued to its value (getopt's
+			// form, as IgH's ethercat takes it)
+			for (const Option &o : opts)
+				if (o.value && !o.shortName.empty() && a.starts_with(o.shortName)) {
+					name = o.shortName;
+					inlineValue = a.substr(o.shortName.size());
+				}
 		}
 		const Option *found = nullptr;
 		for (const Option &o : opts)
 			if ((!o.shortName.empty() && name == o.shortName) || name == o.longName)
 				found = &o;
+		if (!found && (name == "-a" || name == "--alias" || (a.starts_with("-a") && !a.starts_with("--")))) {
+			// IgH's -a ALIAS [-p N]: the N-th slave after the first
+			// one with that station alias (selectSlave())
+			const bool selects = std::any_of(opts.begin(), opts.end(), [](const Option &o) {
+				return o.shortName == "-p" && o.value;
+			});
+			if (!selects)
+				throw UsageError(std::string(cmd).append(": -a/--alias: this command selects no "
+									 "slave"));
+			std::string_view v;
+			if (inlineValue)
+				v = *inlineValue;
+			else if (name != "-a" && name != "--alias")
+				v = a.substr(2); // -a5
+			else if (i + 1 < args.size())
+				v = args[++i];
+			else
+				throw UsageError(std::string(cmd).append(": option '").append(name).append(
+					"' needs a value"));
+			gAlias = static_cast<std::uint16_t>(parseUnsigned(cmd, "-a", v, 0xFFFF));
+			continue;
+		}
 		if (!found)
 			throw UsageError(std::string(cmd).append(": unknown argument '").append(a).append("'").append(
 				tryHelp(cmd)));
@@ -177,6 +212,11 @@ std::optional<std::vector<std::string>> parseArgs(std::string_view cmd, const Ar
 			*found->value = std::string(args[++i]);
 		}
 	}
+	// -a without -p: the aliased slave itself (IgH's -p defaults to 0)
+	if (gAlias)
+		for (const Option &o : opts)
+			if (o.shortName == "-p" && o.value && !*o.value)
+				*o.value = "0";
 	return pos;
 }
 
@@ -253,6 +293,17 @@ ObjectAddress parseObjectAddress(std::string_view cmd, std::string_view text)
 	return a;
 }
 
+ObjectAddress parseObjectAddress(std::string_view cmd, std::string_view index, std::string_view sub)
+{
+	if (index.find(':') != std::string_view::npos)
+		throw UsageError(std::string(cmd).append(": INDEX:SUB '").append(index).append(
+			"' and a SUB argument: give the subindex once"));
+	ObjectAddress a;
+	a.index = static_cast<std::uint16_t>(parseUnsigned(cmd, "INDEX", index, 0xFFFF));
+	a.sub = static_cast<std::uint8_t>(parseUnsigned(cmd, "SUB", sub, 0xFF));
+	return a;
+}
+
 std::string hexString(std::uint64_t v, int digits)
 {
 	char buf[24];
@@ -319,8 +370,33 @@ unsigned ensureBus(ecmxf::Device &dev, BusNeed need, bool verbose)
 	return dev.bus().slaveCount();
 }
 
+std::uint8_t selectSlave(ecmxf::Device &dev, std::uint8_t position, unsigned count)
+{
+	if (!gAlias) {
+		checkPosition(position, count);
+		return position;
+	}
+	gAliasTaken = true;
+	for (unsigned p = 0; p < count; p++) {
+		if (dev.bus().slaveInfo(static_cast<std::uint8_t>(p)).alias != *gAlias)
+			continue;
+		const unsigned target = p + position;
+		if (target >= count)
+			throw ecmxf::Error("alias " + std::to_string(*gAlias) + " is slave " + std::to_string(p) +
+						   ": -p " + std::to_string(position) + " after it is beyond the bus (" +
+						   std::to_string(count) + (count == 1 ? " slave)" : " slaves)"),
+					   ENODEV);
+		return static_cast<std::uint8_t>(target);
+	}
+	throw ecmxf::Error("no slave has the alias " + std::to_string(*gAlias) +
+				   " ('ecmxf-util slaves -v' shows each slave's alias)",
+			   ENODEV);
+}
+
 void checkPosition(unsigned position, unsigned count)
 {
+	if (gAlias && !gAliasTaken)
+		throw UsageError("-a/--alias is not taken by this command: select the slave with -p N");
 	if (position < count)
 		return;
 	std::string msg = "slave position " + std::to_string(position) + " out of range: the bus has " +

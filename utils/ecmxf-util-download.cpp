@@ -18,13 +18,18 @@ namespace ecmxf_util {
 
 const char *const kDownloadHelp =
 	"Usage: ecmxf-util [global options] download -p N INDEX[:SUB] VALUE [-t TYPE]\n"
+	"       ecmxf-util [global options] download -p N INDEX SUB VALUE [-t TYPE]\n"
 	"\n"
 	"Write VALUE to one object of the slave at position N by SDO download\n"
-	"(ECAT_SDO_REQ). INDEX and SUB are decimal or 0x hex each.\n"
+	"(ECAT_SDO_REQ). INDEX and SUB are decimal or 0x hex each; IgH's form,\n"
+	"INDEX SUB VALUE as three arguments, is taken too.\n"
 	"\n"
 	"TYPE: bool, int8, int16, int32, int64, uint8, uint16, uint32, uint64,\n"
 	"float, double, string, octet_string (VALUE as hex bytes, e.g. 0a0b0c),\n"
-	"aliases sint8..sint64, real32, real64. Without -t the object is uploaded\n"
+	"IgH's unicode_string, sm8..sm64 (sign and magnitude) and raw (= hex\n"
+	"bytes), aliases sint8..sint64, real32, real64. A float or double VALUE\n"
+	"must be finite and within the type's range (1e99 is refused for float,\n"
+	"not sent as +inf); inf, -inf and nan are taken when spelled so. Without -t the object is uploaded\n"
 	"first to learn its size (the ECM-XF has no SDO information service):\n"
 	"an object of 1, 2, 4 or 8 bytes takes VALUE as an integer of that size\n"
 	"(signed or unsigned, decimal or 0x hex); other sizes need -t.\n"
@@ -46,20 +51,30 @@ int cmdDownload(Globals &g, const Args &args)
 				     { "-t", "--type", nullptr, &typeText } });
 	if (!pos)
 		return 0;
-	if (pos->size() != 2)
+	if (pos->size() < 2 || pos->size() > 3)
 		throw UsageError(pos->size() < 2 ? "download: needs INDEX[:SUB] VALUE (download -p N INDEX[:SUB] VALUE)"
 						 : "download: too many arguments (try 'ecmxf-util download --help')");
-	const std::uint8_t position = parsePosition("download", posText);
-	const ObjectAddress obj = parseObjectAddress("download", (*pos)[0]);
-	const std::string &valueText = (*pos)[1];
+	std::uint8_t position = parsePosition("download", posText);
+	// INDEX:SUB VALUE, or IgH's INDEX SUB VALUE
+	const ObjectAddress obj = pos->size() == 3 ? parseObjectAddress("download", (*pos)[0], (*pos)[1])
+						   : parseObjectAddress("download", (*pos)[0]);
+	const std::string &valueText = pos->back();
 	std::vector<std::uint8_t> bytes;
 	if (typeText)
 		bytes = encodeValue("download", parseType("download", *typeText), valueText);
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	if (!typeText) {
-		const std::size_t n = dev->sdo().sdoUpload(position, obj.index, obj.sub).size();
+		// the size probe is an upload: a failure is the download's
+		std::size_t n = 0;
+		try {
+			n = dev->sdo().sdoUpload(position, obj.index, obj.sub).size();
+		} catch (const ecmxf::Error &e) {
+			throw ecmxf::Error("SDO download " + objectName(obj) + " to slave " + std::to_string(position) +
+						   ": its size could not be read (give -t TYPE to skip that): " + e.what(),
+					   e.errnoValue());
+		}
 		if (n != 1 && n != 2 && n != 4 && n != 8)
 			throw UsageError("download: slave " + std::to_string(position) + " " + objectName(obj) +
 					 " has " + std::to_string(n) +

@@ -48,7 +48,7 @@ int cmdEeprom(Globals &g, const Args &args)
 		throw UsageError("eeprom: unknown operation '" + op + "' (read or write)");
 	if (pos->size() < 2)
 		throw UsageError("eeprom: " + op + " needs WORDADDR (try 'ecmxf-util eeprom --help')");
-	const std::uint8_t position = parsePosition("eeprom", posText);
+	std::uint8_t position = parsePosition("eeprom", posText);
 	const auto addr = static_cast<std::uint16_t>(parseUnsigned("eeprom", "WORDADDR", (*pos)[1], 0xFFFF));
 
 	if (op == "read") {
@@ -59,7 +59,7 @@ int cmdEeprom(Globals &g, const Args &args)
 										       0x10000u - addr, 1))
 					      : 1;
 		const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-		checkPosition(position, ensureBus(*dev, BusNeed::Scan));
+		position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 		const std::vector<std::uint16_t> words = dev->slaves().eepromReadWords(position, addr, n);
 		if (g.json) {
 			std::printf("{\"position\": %u, \"address\": %u, \"words\": [", position, addr);
@@ -89,7 +89,7 @@ int cmdEeprom(Globals &g, const Args &args)
 		throw UsageError("eeprom: write changes the slave's SII EEPROM (its identity and "
 				 "configuration): add --force to do it");
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::Scan));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 	for (std::size_t i = 0; i < values.size(); i++)
 		dev->slaves().eepromWrite(position, static_cast<std::uint16_t>(addr + i), values[i]);
 	return 0;

@@ -10,7 +10,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
@@ -49,7 +48,8 @@ const char *const kFoeWriteHelp =
 	"\n"
 	"A fresh bus is brought up to PRE-OP first; a bus that is already up is\n"
 	"used as it is. A refused transfer fails with the FoE error code and its\n"
-	"text. Prints nothing on success.\n"
+	"text. Prints nothing on success. FILE may hold at most the chip's FoE\n"
+	"staging flash, 262144 bytes; a larger one (or /dev/zero) fails.\n"
 	"\n"
 	"Options:\n"
 	"  -p, --position N  the slave (bus position, from 0); required\n"
@@ -81,11 +81,11 @@ int cmdFoeRead(Globals &g, const Args &args)
 	if (pos->size() != 1)
 		throw UsageError(pos->empty() ? "foe_read: which file? (foe_read -p N NAME)"
 					      : "foe_read: one NAME only (try 'ecmxf-util foe_read --help')");
-	const std::uint8_t position = parsePosition("foe_read", posText);
+	std::uint8_t position = parsePosition("foe_read", posText);
 	const ecmxf::FoeOptions opt = foeOptions("foe_read", password);
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	const std::vector<std::uint8_t> data = dev->slaves().foeRead(position, pos->front(), opt);
 	if (out) {
 		std::ofstream f(*out, std::ios::binary | std::ios::trunc);
@@ -114,17 +114,35 @@ int cmdFoeWrite(Globals &g, const Args &args)
 	if (pos->size() != 1)
 		throw UsageError(pos->empty() ? "foe_write: which file? (foe_write -p N FILE)"
 					      : "foe_write: one FILE only (try 'ecmxf-util foe_write --help')");
-	const std::uint8_t position = parsePosition("foe_write", posText);
+	std::uint8_t position = parsePosition("foe_write", posText);
 	const ecmxf::FoeOptions opt = foeOptions("foe_write", password);
 	const std::string &file = pos->front();
+	std::error_code ec;
+	if (std::filesystem::is_directory(file, ec))
+		throw ecmxf::Error("\"" + file + "\" is a directory, not a file", EISDIR);
 	std::ifstream f(file, std::ios::binary);
 	if (!f)
 		throw ecmxf::Error("cannot open \"" + file + "\": " + std::strerror(errno), errno);
-	const std::vector<std::uint8_t> data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+	// The file goes through the chip's staging flash: no more than it
+	// holds is read (a FIFO or /dev/zero would otherwise be read without
+	// end).
+	std::vector<std::uint8_t> data;
+	char buf[65536];
+	while (f) {
+		f.read(buf, sizeof(buf));
+		const auto n = static_cast<std::size_t>(f.gcount());
+		if (data.size() + n > ecmxf::kFoeFlashSize)
+			throw ecmxf::Error("\"" + file + "\" is larger than the chip's FoE staging flash (" +
+						   std::to_string(ecmxf::kFoeFlashSize) + " bytes)",
+					   EFBIG);
+		data.insert(data.end(), buf, buf + n);
+	}
+	if (f.bad())
+		throw ecmxf::Error("cannot read \"" + file + "\"", EIO);
 	const std::string remote = name ? *name : std::filesystem::path(file).filename().string();
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	dev->slaves().foeWrite(position, remote, data, opt);
 	return 0;
 }

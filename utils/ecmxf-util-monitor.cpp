@@ -34,6 +34,8 @@
 #include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/link/link.hpp>
 #include <ecmxf/sim/chip.hpp>
+
+#include <thread>
 #include <ecmxf/bus/types_bus.hpp>
 
 namespace ecmxf_util {
@@ -71,7 +73,8 @@ const char *const kMonitorHelp =
 	"  device         (kernel) the device was probed or is being removed\n"
 	"A quiet bus prints nothing. Times are since the start: CLOCK_MONOTONIC\n"
 	"for the kernel's events, the device's clock when polling (virtual time\n"
-	"on sim:, where the loop runs as fast as it can).\n"
+	"on sim:). On a simulator without --count or --duration the polls are\n"
+	"paced to the wall clock (one per --interval) instead of spinning a core.\n"
 	"\n"
 	"Options:\n"
 	"  --count N      stop after N events\n"
@@ -722,6 +725,14 @@ int cmdMonitor(Globals &g, const Args &args)
 	if (!actions.empty() && !dev->link().simulator())
 		throw UsageError("monitor: --sim-at needs a sim: device");
 	ecmxf::Link &tr = dev->link();
+	// A simulator runs in virtual time: without --count or --duration the
+	// loop would spin a core polling as fast as it can. Pace it to the
+	// wall clock instead (one poll per --interval), as a real chip would.
+	const bool pace = tr.simulator() && !count && !durationMs;
+	if (pace && !g.quiet)
+		std::fprintf(stderr, "monitor: a simulator without --count or --duration: paced to the wall clock, "
+				     "one poll every %lld ms (Ctrl-C stops)\n",
+			     static_cast<long long>(interval.count()));
 	installSignals();
 
 	const std::chrono::nanoseconds t0 = tr.now();
@@ -736,8 +747,11 @@ int cmdMonitor(Globals &g, const Args &args)
 
 	bool first = true;
 	while (!gStop) {
-		if (!first)
+		if (!first) {
 			tr.sleepFor(interval);
+			if (pace)
+				std::this_thread::sleep_for(interval);
+		}
 		const std::chrono::nanoseconds t = tr.now() - t0;
 		if (durationMs && t > std::chrono::milliseconds(*durationMs))
 			break;

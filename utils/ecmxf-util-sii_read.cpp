@@ -5,6 +5,8 @@
  */
 #include "ecmxf-util.hpp"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -18,10 +20,12 @@ namespace ecmxf_util {
 
 const char *const kSiiReadHelp =
 	"Usage: ecmxf-util [global options] sii_read -p N [--offset WORD] [--length WORDS]\n"
-	"                                             [--raw] [-v] [--json]\n"
+	"                                             [--raw | --hex] [-v] [--json]\n"
 	"\n"
 	"Read the SII EEPROM of the slave at position N (EEPROM_REQ, one word per\n"
-	"request) and print it as a hex dump: the word address, then 8 words.\n"
+	"request). As IgH's ethercat does, standard output that is a pipe or a\n"
+	"file gets the binary image (little-endian words, for sii_write and\n"
+	"siitool); a terminal gets a hex dump: the word address, then 8 words.\n"
 	"Without --length the dump ends with the category list (the end marker\n"
 	"0xFFFF after the categories from word 0x40 on), at most the EEPROM's size\n"
 	"(word 0x3E).\n"
@@ -32,7 +36,8 @@ const char *const kSiiReadHelp =
 	"  -p, --position N  the slave (bus position, from 0); required\n"
 	"  --offset WORD     first word (default 0)\n"
 	"  --length WORDS    number of words\n"
-	"  --raw             the bytes (little-endian words) on stdout, no text\n"
+	"  --raw             the binary image, also on a terminal\n"
+	"  --hex             the hex dump, also into a pipe or a file\n"
 	"  -v, --verbose     the decoded identity fields instead of the dump:\n"
 	"                    alias, vendor id, product code, revision, serial,\n"
 	"                    mailboxes, mailbox protocols, EEPROM size, version\n"
@@ -81,26 +86,27 @@ std::string protocols(std::uint16_t p)
 int cmdSiiRead(Globals &g, const Args &args)
 {
 	std::optional<std::string> posText, offText, lenText;
-	bool raw = false, verbose = false;
+	bool raw = false, hex = false, verbose = false;
 	const auto pos = parseArgs("sii_read", args, g, kSiiReadHelp,
 				   { { "-p", "--position", nullptr, &posText },
 				     { "", "--offset", nullptr, &offText },
 				     { "", "--length", nullptr, &lenText },
 				     { "", "--raw", &raw, nullptr },
+				     { "", "--hex", &hex, nullptr },
 				     { "-v", "--verbose", &verbose, nullptr } });
 	if (!pos)
 		return 0;
 	if (!pos->empty())
 		throw UsageError("sii_read: unexpected argument '" + pos->front() +
 				 "' (try 'ecmxf-util sii_read --help')");
-	const std::uint8_t position = parsePosition("sii_read", posText);
+	std::uint8_t position = parsePosition("sii_read", posText);
 	const auto offset = static_cast<std::uint16_t>(offText ? parseUnsigned("sii_read", "--offset", *offText, 0xFFFF) : 0);
 	std::optional<std::size_t> length;
 	if (lenText)
 		length = static_cast<std::size_t>(parseUnsigned("sii_read", "--length", *lenText, 0x10000u - offset, 1));
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::Scan));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 
 	std::vector<std::uint16_t> identity;
 	if (verbose)
@@ -117,6 +123,12 @@ int cmdSiiRead(Globals &g, const Args &args)
 	if (*length)
 		words = dev->slaves().eepromReadWords(position, offset, *length);
 
+	if (raw && hex)
+		throw UsageError("sii_read: --raw and --hex exclude each other");
+	// as IgH's ethercat: the binary image into a pipe or a file, the hex
+	// dump on a terminal
+	if (!hex && !verbose && !g.json && !isatty(STDOUT_FILENO))
+		raw = true;
 	if (raw) {
 		for (const std::uint16_t w : words) {
 			std::putchar(w & 0xFF);

@@ -35,6 +35,10 @@ const char *const kStatesHelp =
 	"bus is brought to PRE-OP and only slave N is moved on). A bus that is\n"
 	"already up is not re-initialised.\n"
 	"\n"
+	"Upwards, a slave below STATE is walked through the states in between\n"
+	"(INIT -> PRE-OP -> SAFE-OP -> OP) as IgH's master does: states -p N OP\n"
+	"from PRE-OP requests SAFE-OP, then OP.\n"
+	"\n"
 	"A refused transition fails (exit 1) with the slave, the state it stays in\n"
 	"and its AL status code and text.\n"
 	"\n"
@@ -115,6 +119,41 @@ int cmdStates(Globals &g, const Args &args)
 	else if (count == 0)
 		throw ecmxf::Error("no slaves on the bus", ENODEV);
 
+	// Upwards the EtherCAT state machine goes one state at a time: a slave
+	// in INIT or PRE-OP refuses OP (AL status 0x0011). As IgH's master
+	// does, walk each slave below the requested state through the states
+	// in between (INIT -> PRE-OP -> SAFE-OP -> OP); BOOT goes back to INIT
+	// first. Downwards and for BOOT the request is sent as it is.
+	if (want == ecmxf::State::PreOp || want == ecmxf::State::SafeOp || want == ecmxf::State::Op) {
+		dev->bus().stateUpdate();
+		const auto rank = [](unsigned st) {
+			switch (st & 0x0F) {
+			case 1: return 1; // INIT
+			case 2: return 2; // PRE-OP
+			case 4: return 3; // SAFE-OP
+			case 8: return 4; // OP
+			default: return 0; // BOOT or unknown: from INIT
+			}
+		};
+		const int wantRank = rank(static_cast<unsigned>(want));
+		for (unsigned p = 0; p < count; p++) {
+			if (one && p != static_cast<unsigned>(position))
+				continue;
+			const auto p8 = static_cast<std::uint8_t>(p);
+			int have = rank(static_cast<unsigned>(dev->bus().slaveInfo(p8).state));
+			if (have >= wantRank - 1)
+				continue;
+			if (have == 0) {
+				dev->bus().stateSet(p8, ecmxf::State::Init);
+				have = 1;
+			}
+			for (const ecmxf::State step : { ecmxf::State::PreOp, ecmxf::State::SafeOp }) {
+				const int r = rank(static_cast<unsigned>(step));
+				if (r > have && r < wantRank)
+					dev->bus().stateSet(p8, step);
+			}
+		}
+	}
 	dev->bus().stateSet(one ? static_cast<std::uint8_t>(position) : ecmxf::kAllSlaves, want);
 	dev->bus().stateUpdate();
 

@@ -6,7 +6,11 @@
 #include "ecmxf-util.hpp"
 
 #include <bit>
+#include <cctype>
+#include <cerrno>
 #include <cinttypes>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <limits>
@@ -32,7 +36,55 @@ constexpr TypeEntry kTypes[] = {
 	{ "sint8", DataType::Int8 },     { "sint16", DataType::Int16 },
 	{ "sint32", DataType::Int32 },   { "sint64", DataType::Int64 },
 	{ "real32", DataType::Float },   { "real64", DataType::Double },
+	// the rest of IgH's --type names: sign-and-magnitude integers,
+	// unicode_string (its bytes, as IgH sends them) and raw (the bytes)
+	{ "sm8", DataType::Sm8 },        { "sm16", DataType::Sm16 },
+	{ "sm32", DataType::Sm32 },      { "sm64", DataType::Sm64 },
+	{ "unicode_string", DataType::String },
+	{ "raw", DataType::OctetString },
 };
+
+/// VALUE of a float or double: a finite number in the type's range, or
+/// inf, -inf, nan spelled out; 1e99 as a float is refused, not sent as
+/// +inf, and so is a non-zero number too small for it (it would be 0).
+double parseRealValue(std::string_view cmd, std::string_view text, bool isFloat)
+{
+	std::string lower;
+	for (const char c : text)
+		lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+	if (lower == "inf" || lower == "+inf" || lower == "infinity" || lower == "+infinity")
+		return std::numeric_limits<double>::infinity();
+	if (lower == "-inf" || lower == "-infinity")
+		return -std::numeric_limits<double>::infinity();
+	if (lower == "nan")
+		return std::numeric_limits<double>::quiet_NaN();
+	const std::string s(text);
+	char *end = nullptr;
+	errno = 0;
+	const double v = std::strtod(s.c_str(), &end);
+	const char *const name = isFloat ? "float" : "double";
+	const auto outOfRange = [&] {
+		return UsageError(std::string(cmd).append(": VALUE: ").append(text).append(
+			" is out of range for ").append(name).append(isFloat ? " (magnitude 1.17549435e-38 .. "
+									     "3.40282347e+38, or 0)"
+									   : " (magnitude 2.2250738585072014e-308 .. "
+									     "1.7976931348623157e+308, or 0)").append(
+			"; inf, -inf and nan are taken when spelled so"));
+	};
+	const bool ranged = errno == ERANGE;
+	if (s.empty() || end != s.c_str() + s.size() || std::isnan(v) || (std::isinf(v) && !ranged))
+		throw UsageError(std::string(cmd).append(": VALUE: '").append(text).append(
+			"' is not a real number (inf, -inf and nan are taken when spelled so)"));
+	if (ranged)
+		throw outOfRange();
+	if (isFloat) {
+		const double mag = std::fabs(v);
+		if (mag > static_cast<double>(std::numeric_limits<float>::max()) ||
+		    (mag != 0.0 && mag < static_cast<double>(std::numeric_limits<float>::min())))
+			throw outOfRange();
+	}
+	return v;
+}
 
 std::uint64_t le(const std::vector<std::uint8_t> &b)
 {
@@ -77,7 +129,7 @@ DataType parseType(std::string_view cmd, std::string_view text)
 			return e.type;
 	throw UsageError(std::string(cmd).append(": unknown type '").append(text).append(
 		"' (bool, int8, int16, int32, int64, uint8, uint16, uint32, uint64, float, double, string, "
-		"octet_string; sint8..sint64, real32, real64)"));
+		"octet_string; IgH's unicode_string, sm8, sm16, sm32, sm64, raw; sint8..sint64, real32, real64)"));
 }
 
 std::string_view typeName(DataType t)
@@ -93,13 +145,17 @@ std::size_t typeSize(DataType t)
 	switch (t) {
 	case DataType::Bool:
 	case DataType::Int8:
+	case DataType::Sm8:
 	case DataType::Uint8: return 1;
 	case DataType::Int16:
+	case DataType::Sm16:
 	case DataType::Uint16: return 2;
 	case DataType::Int32:
+	case DataType::Sm32:
 	case DataType::Uint32:
 	case DataType::Float: return 4;
 	case DataType::Int64:
+	case DataType::Sm64:
 	case DataType::Uint64:
 	case DataType::Double: return 8;
 	case DataType::String:
@@ -136,10 +192,21 @@ std::vector<std::uint8_t> encodeValue(std::string_view cmd, DataType t, std::str
 						 : (std::uint64_t{ 1 } << (8 * n)) - 1;
 		return leBytes(parseUnsigned(cmd, "VALUE", text, max), n);
 	}
+	case DataType::Sm8:
+	case DataType::Sm16:
+	case DataType::Sm32:
+	case DataType::Sm64: {
+		// sign and magnitude: the top bit is the sign, the rest |VALUE|
+		const std::uint64_t sign = std::uint64_t{ 1 } << (8 * n - 1);
+		const std::int64_t max = static_cast<std::int64_t>(sign - 1);
+		const std::int64_t v = parseSigned(cmd, "VALUE", text, -max, max);
+		const std::uint64_t mag = v < 0 ? static_cast<std::uint64_t>(-v) : static_cast<std::uint64_t>(v);
+		return leBytes(v < 0 ? (mag | sign) : mag, n);
+	}
 	case DataType::Float:
-		return leBytes(std::bit_cast<std::uint32_t>(static_cast<float>(parseReal(cmd, "VALUE", text))), 4);
+		return leBytes(std::bit_cast<std::uint32_t>(static_cast<float>(parseRealValue(cmd, text, true))), 4);
 	case DataType::Double:
-		return leBytes(std::bit_cast<std::uint64_t>(parseReal(cmd, "VALUE", text)), 8);
+		return leBytes(std::bit_cast<std::uint64_t>(parseRealValue(cmd, text, false)), 8);
 	case DataType::String:
 		return std::vector<std::uint8_t>(text.begin(), text.end());
 	case DataType::OctetString: {
@@ -196,6 +263,15 @@ std::string formatValue(std::optional<DataType> t, const std::vector<std::uint8_
 		return s;
 	}
 	case DataType::OctetString: return hexBytes(b);
+	case DataType::Sm8:
+	case DataType::Sm16:
+	case DataType::Sm32:
+	case DataType::Sm64: {
+		const std::uint64_t sign = std::uint64_t{ 1 } << (8 * b.size() - 1);
+		const std::uint64_t v = le(b);
+		const auto mag = static_cast<std::int64_t>(v & (sign - 1));
+		return std::to_string(v & sign ? -mag : mag);
+	}
 	default:
 		if (isSigned(*t))
 			return std::to_string(signExtend(le(b), b.size()));

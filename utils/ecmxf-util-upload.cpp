@@ -17,13 +17,16 @@ namespace ecmxf_util {
 
 const char *const kUploadHelp =
 	"Usage: ecmxf-util [global options] upload -p N INDEX[:SUB] [-t TYPE] [-v] [--json]\n"
+	"       ecmxf-util [global options] upload -p N INDEX SUB [-t TYPE] [-v] [--json]\n"
 	"\n"
 	"Read one object of the slave at position N by SDO upload (ECAT_SDO_REQ +\n"
 	"ECAT_SDO_GET) and print its value. INDEX and SUB are decimal or 0x hex\n"
-	"each (0x6064:0 or 0x6064 is subindex 0).\n"
+	"each (0x6064:0 or 0x6064 is subindex 0; 0x6064 0 as IgH's ethercat\n"
+	"takes it is the same).\n"
 	"\n"
 	"TYPE: bool, int8, int16, int32, int64, uint8, uint16, uint32, uint64,\n"
-	"float, double, string, octet_string (aliases sint8..sint64, real32,\n"
+	"float, double, string, octet_string, and IgH's unicode_string,\n"
+	"sm8..sm64 (sign and magnitude) and raw (aliases sint8..sint64, real32,\n"
 	"real64). The object must have the type's size. Without -t the type is\n"
 	"not known (the ECM-XF has no SDO information service to ask the slave's\n"
 	"object dictionary): an object of 1, 2, 4 or 8 bytes is printed as its\n"
@@ -51,16 +54,18 @@ int cmdUpload(Globals &g, const Args &args)
 				     { "-v", "--verbose", &verbose, nullptr } });
 	if (!pos)
 		return 0;
-	if (pos->size() != 1)
+	if (pos->empty() || pos->size() > 2)
 		throw UsageError(pos->empty() ? "upload: which object? (upload -p N INDEX[:SUB])"
-					      : "upload: one INDEX[:SUB] only (try 'ecmxf-util upload --help')");
-	const std::uint8_t position = parsePosition("upload", posText);
-	const ObjectAddress obj = parseObjectAddress("upload", pos->front());
+					      : "upload: one INDEX[:SUB] or INDEX SUB only (try 'ecmxf-util upload --help')");
+	std::uint8_t position = parsePosition("upload", posText);
+	// INDEX:SUB, or IgH's INDEX SUB as two arguments
+	const ObjectAddress obj = pos->size() == 2 ? parseObjectAddress("upload", (*pos)[0], (*pos)[1])
+						   : parseObjectAddress("upload", pos->front());
 	const std::optional<DataType> type =
 		typeText ? std::optional<DataType>(parseType("upload", *typeText)) : std::nullopt;
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	checkPosition(position, ensureBus(*dev, BusNeed::PreOp));
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	const std::vector<std::uint8_t> b = dev->sdo().sdoUpload(position, obj.index, obj.sub);
 	if (type && typeSize(*type) && b.size() != typeSize(*type))
 		throw ecmxf::Error("slave " + std::to_string(position) + " " + objectName(obj) + " has " +

@@ -10,6 +10,7 @@
  * go to stderr as "ecmxf-util: <reason>": exit code 1 for failures, 2 for
  * bad usage.
  */
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -116,15 +117,21 @@ const CommandDesc kCommands[] = {
 	{ "gpio", "the chip's GPIO lines: get, set, config", kGpioHelp, cmdGpio, true },
 	{ "info", "firmware, packet format, status bits and counters of the chip", kInfoHelp, cmdInfo,
 	  true },
+	{ "master", "the master's phase, link and error counters (as IgH's ethercat master)", kMasterHelp,
+	  cmdMaster, true },
 	{ "monitor", "live events: state changes, error bits, CRC/WKC errors, FIFO levels",
 	  kMonitorHelp, cmdMonitor },
 	{ "pdos", "PDO assignment and mapping of each slave", kPdosHelp, cmdPdos, true },
 	{ "qei", "the chip's quadrature encoder: open, start, stop, count", kQeiHelp, cmdQei, true },
 	{ "raw", "one raw command (or EtherCAT datagram): response header and data", kRawHelp,
 	  cmdRaw },
+	{ "reg_read", "read an ESC register of a slave (one APRD datagram)", kRegReadHelp, cmdRegRead, true },
+	{ "reg_write", "write an ESC register of a slave (one APWR datagram)", kRegWriteHelp, cmdRegWrite,
+	  true },
 	{ "reset", "ASYNCCMD_RESET, or WARM_RESET with --warm --force", kResetHelp, cmdReset, true },
 	{ "sii_read", "a slave's SII EEPROM: hex dump, binary or identity", kSiiReadHelp, cmdSiiRead,
 	  true },
+	{ "sii_write", "write an SII image file into a slave's EEPROM", kSiiWriteHelp, cmdSiiWrite, true },
 	{ "slaves", "list the slaves on the bus (scans a fresh simulator first)", kSlavesHelp,
 	  cmdSlaves, true },
 	{ "states", "request an EtherCAT state for one or all slaves", kStatesHelp, cmdStates, true },
@@ -170,6 +177,9 @@ const CommandDesc &findCommand(std::string_view name)
 		if (c.name.starts_with(name))
 			matches.push_back(&c);
 	}
+	// IgH's commands that the ECM-XF cannot do: what to use instead
+	if (const auto alt = ighAlternative(name))
+		throw UsageError(*alt);
 	if (matches.size() == 1)
 		return *matches.front();
 	if (matches.empty())
@@ -259,15 +269,32 @@ int run(int argc, char **argv)
 
 } // namespace
 
+namespace {
+
+/// Output that did not reach standard output (a full disk, a closed pipe
+/// reader, /dev/full) is a failure: said on stderr, exit code 1.
+int checkStdout(int rc)
+{
+	errno = 0;
+	if (std::fflush(stdout) == 0 && !std::ferror(stdout))
+		return rc;
+	const int err = errno;
+	std::fprintf(stderr, "ecmxf-util: cannot write to standard output%s%s\n", err ? ": " : "",
+		     err ? std::strerror(err) : "");
+	return rc ? rc : 1;
+}
+
+} // namespace
+
 int main(int argc, char **argv)
 {
 	try {
-		return run(argc, argv);
+		return checkStdout(run(argc, argv));
 	} catch (const UsageError &e) {
 		std::fprintf(stderr, "ecmxf-util: %s\n", e.what());
-		return 2;
+		return checkStdout(2);
 	} catch (const std::exception &e) {
 		std::fprintf(stderr, "ecmxf-util: %s\n", e.what());
-		return 1;
+		return checkStdout(1);
 	}
 }

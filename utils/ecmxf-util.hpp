@@ -113,6 +113,8 @@ struct ObjectAddress {
 	std::uint8_t sub = 0;
 };
 ObjectAddress parseObjectAddress(std::string_view cmd, std::string_view text);
+/// IgH's INDEX SUB as two arguments (INDEX without ':').
+ObjectAddress parseObjectAddress(std::string_view cmd, std::string_view index, std::string_view sub);
 /// "0x6064:00", "0x1A00:0x0a": parseObjectAddress() reads it back.
 std::string objectName(ObjectAddress a);
 
@@ -147,8 +149,14 @@ unsigned ensureBus(ecmxf::Device &dev, BusNeed need, bool verbose = false);
 bool busDown(ecmxf::Device &dev);
 
 /// Throws "slave position N out of range: the bus has C slaves (0..C-1)"
-/// when @p position >= @p count.
+/// when @p position >= @p count (a usage error when -a was given to a
+/// command that does not take it).
 void checkPosition(unsigned position, unsigned count);
+/// The slave a command addresses: -p N as it is (checked against @p
+/// count), or with IgH's -a ALIAS the N-th slave after the first one whose
+/// station alias is ALIAS (ENODEV when none has it or that is beyond the
+/// bus).
+std::uint8_t selectSlave(ecmxf::Device &dev, std::uint8_t position, unsigned count);
 
 int cmdInfo(Globals &g, const Args &args);
 int cmdSlaves(Globals &g, const Args &args);
@@ -182,14 +190,24 @@ ECMXF_UTIL_COMMAND(cmdDac, kDacHelp)
 ECMXF_UTIL_COMMAND(cmdEmergency, kEmergencyHelp)
 ECMXF_UTIL_COMMAND(cmdReset, kResetHelp)
 ECMXF_UTIL_COMMAND(cmdCia402, kCia402Help)
+// IgH's ethercat commands (ecmxf-util-igh.cpp)
+ECMXF_UTIL_COMMAND(cmdRegRead, kRegReadHelp)
+ECMXF_UTIL_COMMAND(cmdRegWrite, kRegWriteHelp)
+ECMXF_UTIL_COMMAND(cmdSiiWrite, kSiiWriteHelp)
+ECMXF_UTIL_COMMAND(cmdMaster, kMasterHelp)
 #undef ECMXF_UTIL_COMMAND
+/// For an IgH ethercat command that ecmxf-util does not have: the message
+/// saying what to use instead; std::nullopt for any other name.
+std::optional<std::string> ighAlternative(std::string_view name);
 
 // ---- SDO data types (-t; ecmxf-util-types.cpp)
 
 enum class DataType {
 	Bool, Int8, Int16, Int32, Int64, Uint8, Uint16, Uint32, Uint64, Float, Double, String, OctetString,
+	Sm8, Sm16, Sm32, Sm64, ///< IgH's sign-and-magnitude integers
 };
-/// -t TYPE: the contract's names and IgH's aliases (sint8.., real32/64).
+/// -t TYPE: the contract's names and IgH's (unicode_string, sm8..sm64,
+/// raw) and aliases (sint8.., real32/64).
 DataType parseType(std::string_view cmd, std::string_view text);
 std::string_view typeName(DataType t);
 /// Bytes of a fixed-size type; 0 for string and octet_string.

@@ -332,6 +332,49 @@ void Cia402Axis::update() noexcept
 	update(now);
 }
 
+// the requests on the transport's clock (a failing clock throws, as the
+// request itself may)
+void Cia402Axis::enable()
+{
+	enable(dev_.link().now());
+}
+
+void Cia402Axis::disable()
+{
+	disable(dev_.link().now());
+}
+
+void Cia402Axis::requestState(Cia402State s)
+{
+	requestState(s, dev_.link().now());
+}
+
+void Cia402Axis::setMode(std::int8_t mode)
+{
+	setMode(mode, dev_.link().now());
+}
+
+void Cia402Axis::moveTo(std::int32_t target, const PpMove &move)
+{
+	moveTo(target, move, dev_.link().now());
+}
+
+void Cia402Axis::setVelocity(std::int32_t velocity, std::optional<std::uint32_t> acceleration,
+			     std::optional<std::uint32_t> deceleration)
+{
+	setVelocity(velocity, dev_.link().now(), acceleration, deceleration);
+}
+
+void Cia402Axis::home(const HomingParams &params)
+{
+	home(params, dev_.link().now());
+}
+
+void Cia402Axis::startCsp()
+{
+	startCsp(dev_.link().now());
+}
+
 Cia402Progress Cia402Axis::stepMotion(nanoseconds now, std::uint16_t &cw) noexcept
 {
 	switch (req_) {

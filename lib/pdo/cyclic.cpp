@@ -11,6 +11,8 @@
 
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/bus/types_bus.hpp>
 #include <ecmxf/chip/chip.hpp>
 #include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/error.hpp>
@@ -21,7 +23,9 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <cstdio>
 #include <ctime>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -332,6 +336,10 @@ public:
 			throw Error("Cyclic: the bus cycle must not be negative (got " +
 					    std::to_string(cfg.busCycle.count()) + " ns)",
 				    EINVAL);
+		checkBusState(dev);
+		// one Cyclic per Device: two would share the chip's FIFOs, each
+		// taking the other's input frames and topping up its own outputs
+		claim_ = std::make_unique<DeviceClaim>(dev);
 		// a link with the kernel's rings moves the frames through them;
 		// any other link runs the FIFO commands
 		if (auto rings = dev.link().openPdoRings())
@@ -340,6 +348,66 @@ public:
 			path = detail::makeFifoCommandPath(dev, image, cfg);
 		last.expectedWkc = path->counts.expectedWkc();
 	}
+
+	/// Process data runs in SAFE-OP (inputs) and OP: in INIT or PRE-OP the
+	/// chip's FIFOs exchange nothing and cycle() would fail every time
+	/// with no word why. ENETDOWN naming the state. ERROR is let through.
+	static void checkBusState(Device &dev)
+	{
+		(void)dev.bus().slaveCount(); // a fresh response header
+		const std::uint8_t st = dev.lastHeader().ecatState;
+		const unsigned s = st & 0x0Fu;
+		// ERROR (0x10): a slave failed while the bus was up; the exchange
+		// still runs (the working counter shows it), so a Cyclic may be
+		// made again during the fault handling
+		if (s == 4 || s == 8 || (st & 0x10u))
+			return;
+		char hex[8];
+		std::snprintf(hex, sizeof(hex), "0x%02x", st);
+		const std::string name = s == 0 ? std::string("no network initialised")
+						: stateName(static_cast<State>(s));
+		throw Error("Cyclic: the bus is in " + name + " (ECAT state " + hex +
+				    "): process data needs SAFE-OP or OP; bring the bus up first "
+				    "(Master::bringUp(), or Bus::stateSet() to SAFE-OP/OP)",
+			    ENETDOWN);
+	}
+
+	/// The Devices that have a Cyclic, process-wide.
+	class DeviceClaim
+	{
+	public:
+		explicit DeviceClaim(Device &dev) : dev_(&dev)
+		{
+			const std::lock_guard<std::mutex> lock(mutex());
+			auto &set = devices();
+			if (std::find(set.begin(), set.end(), dev_) != set.end())
+				throw Error("Cyclic: this Device already has a Cyclic (one cyclic exchange per "
+					    "Device: destroy the first one, or use it for both images' slaves)",
+					    EBUSY);
+			set.push_back(dev_);
+		}
+		~DeviceClaim()
+		{
+			const std::lock_guard<std::mutex> lock(mutex());
+			std::erase(devices(), dev_);
+		}
+		DeviceClaim(const DeviceClaim &) = delete;
+		DeviceClaim &operator=(const DeviceClaim &) = delete;
+
+	private:
+		static std::mutex &mutex()
+		{
+			static std::mutex m;
+			return m;
+		}
+		static std::vector<const Device *> &devices()
+		{
+			static std::vector<const Device *> v;
+			return v;
+		}
+		const Device *dev_;
+	};
+	std::unique_ptr<DeviceClaim> claim_;
 
 	CyclicConfig cfg;
 	std::unique_ptr<CyclicPath> path;

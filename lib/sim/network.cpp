@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -188,12 +189,20 @@ Network Network::fromText(const std::string &text, const std::string &origin)
 
 Network Network::fromFile(const std::string &path)
 {
+	// a directory opens as an ifstream on Linux and reads as nothing
+	std::error_code ec;
+	if (std::filesystem::is_directory(path, ec))
+		throw std::runtime_error("network file '" + path + "' is a directory");
 	std::ifstream f(path);
 	if (!f)
 		throw std::runtime_error("cannot open network file '" + path + "'");
 	std::ostringstream ss;
 	ss << f.rdbuf();
-	return fromText(ss.str(), path);
+	Network net = fromText(ss.str(), path);
+	// the chip's ECAT_INIT_OP fails on an empty bus with no word why
+	if (net.size() == 0)
+		throw std::runtime_error("network file '" + path + "': the network has no slaves (no 'slave' line)");
+	return net;
 }
 
 Network Network::defaultNetwork()

@@ -249,10 +249,11 @@ TEST_CASE("sii_read -v decodes the identity words of the SII image", "[cli][sii]
 
 TEST_CASE("sii_read: hex dump, end of the category list, --raw, --json", "[cli][sii]")
 {
-	auto r = run("sii_read -p 2 --offset 8 --length 6");
+	// stdout is a pipe here: the hex dump needs --hex (binary by default)
+	auto r = run("sii_read -p 2 --offset 8 --length 6 --hex");
 	REQUIRE(r.status == 0);
 	CHECK(r.out == "0x0008: 0e5c 0000 1088 0000 0000 0001\n");
-	r = run("sii_read -p 0");
+	r = run("sii_read -p 0 --hex");
 	REQUIRE(r.status == 0);
 	const auto l = lines(r.out);
 	REQUIRE(l.size() > 8);
@@ -486,15 +487,19 @@ TEST_CASE("every contract command is listed and has help; help COMMAND = COMMAND
 	const auto list = run("--help");
 	REQUIRE(list.status == 0);
 	for (const char *c : { "adc", "cia402", "dac", "download", "eeprom", "emergency", "foe_read", "foe_write",
-			       "gpio", "pdos", "qei", "reset", "sii_read", "states", "upload" }) {
+			       "gpio", "pdos", "qei", "reset", "sii_read", "states", "upload", "master", "reg_read",
+			       "reg_write", "sii_write" }) {
 		CHECK_THAT(list.out, Contains(std::string("\n  ") + c + " "));
 		const auto h = run(std::string(c) + " --help");
 		CHECK(h.status == 0);
 		CHECK_THAT(h.out, StartsWith("Usage: ecmxf-util [global options] " + std::string(c)));
 		CHECK(run(std::string("help ") + c).out == h.out);
 	}
-	// a unique prefix
-	CHECK(run("sii --help").out == run("sii_read --help").out);
+	// a unique prefix; "sii" is sii_read or sii_write (as in IgH's tool)
+	CHECK(run("sii_r --help").out == run("sii_read --help").out);
+	const auto amb = run("sii --help");
+	CHECK(amb.status == 2);
+	CHECK(amb.err == "ecmxf-util: ambiguous command 'sii': sii_read, sii_write\n");
 	// -q before the command
 	CHECK(run("-q reset").out.empty());
 }

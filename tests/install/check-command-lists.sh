@@ -13,7 +13,7 @@ util=$1 man=$2 comp=$3 strict=${4:-}
 
 # the CLI contract's commands (Documentation/ecmxf-util.rst)
 full="adc cia402 commands dac decode download eeprom emergency foe_read foe_write gpio info
-monitor pdos qei raw reset sii_read slaves states upload version"
+master monitor pdos qei raw reg_read reg_write reset sii_read sii_write slaves states upload version"
 sorted() { tr ' \n' '\n\n' | sed '/^$/d' | sort -u | paste -sd' '; }
 full=$(echo "$full" | sorted)
 

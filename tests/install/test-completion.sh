@@ -52,10 +52,10 @@ comp()
 }
 
 all="adc cia402 commands dac decode download eeprom emergency foe_read foe_write gpio info
-monitor pdos qei raw reset sii_read slaves states upload version"
+master monitor pdos qei raw reg_read reg_write reset sii_read sii_write slaves states upload version"
 # shellcheck disable=SC2086
 comp "ecmxf-util " $all help
-comp "ecmxf-util s" sii_read slaves states
+comp "ecmxf-util s" sii_read sii_write slaves states
 comp "ecmxf-util foe" foe_read foe_write
 comp "ecmxf-util -" -d --device --json --trace -q --quiet -h --help -V --version
 comp "ecmxf-util --j" --json

@@ -2,9 +2,12 @@
 # SPDX-License-Identifier: MIT
 # `cmake --install` of a built tree into a temporary prefix installs the
 # library, headers, pkg-config and CMake files, the simulator networks,
-# ecmxf-util, ecmxf-sim, the man page and the bash completion; a tiny
-# program builds against the installed tree with pkg-config alone and
-# opens "sim:".
+# ecmxf-util, ecmxf-sim, the man pages and the bash completion.  Against
+# the installed tree: a consumer project (tests/install/consumer) builds
+# with CMake (find_package, ecmxf::ecmxf, no C++ standard of its own) and
+# the same program with pkg-config alone, and both open "sim:"; below
+# C++20 the headers stop with one #error; the installed ecmxf-util and
+# ecmxf-sim start without LD_LIBRARY_PATH (RUNPATH $ORIGIN/../LIBDIR).
 #
 #   test-install.sh BUILD-DIR PREFIX CXX [EXTRA-FLAGS]
 #
@@ -42,6 +45,8 @@ need 'share/ecmxf/networks/servo-io.net'
 need 'bin/ecmxf-util'
 need 'bin/ecmxf-sim'
 need 'share/man/man1/ecmxf-util.1'
+need 'share/man/man1/ecmxf-sim.1'
+need 'share/man/man1/ecmxf-demo.1'
 need 'share/bash-completion/completions/ecmxf-util'
 # nothing of the tests or internals
 [ -z "$(cd "$prefix" && find . -name 'ecmxf-proto.h' -o -name 'catch*' -o -name 'test-*')" ] ||
@@ -58,33 +63,49 @@ case $flags in
 *) fail "pkg-config cflags do not point into $prefix/include: $flags" ;;
 esac
 
-cat >"$prefix/hello.cpp" <<'CPP'
-#include <cstdio>
-#include <ecmxf/device.hpp>
-#include <ecmxf/protocol.hpp>
+here=$(cd "$(dirname "$0")" && pwd)
+want='libecmxf '*': 0 slaves, error status 0x01'
 
-int main()
-{
-	const auto dev = ecmxf::Device::open("sim:");
-	ecmxf::Command c;
-	c.code = 16; // ECAT_SLV_CNT_GET: no network before ECAT_INIT_OP
-	const ecmxf::Response r = dev->command(c);
-	std::printf("libecmxf %.*s: %u slaves, error status 0x%02x\n",
-		    static_cast<int>(ecmxf::version().size()), ecmxf::version().data(), r.ret,
-		    dev->lastHeader().errStatus);
-	return 0;
-}
-CPP
+# pkg-config alone
 # shellcheck disable=SC2086
-"$cxx" -o "$prefix/hello" "$prefix/hello.cpp" $flags $extra || fail "building against the installed tree"
+"$cxx" -o "$prefix/hello" "$here/consumer/main.cpp" $flags $extra || fail "building against the installed tree"
 out=$(LD_LIBRARY_PATH=$libdir "$prefix/hello") || fail "running the program"
-echo "ok: $out"
+echo "ok: pkg-config consumer: $out"
 case $out in
-"libecmxf "*": 0 slaves, error status 0x01") ;;
+$want) ;;
 *) fail "unexpected output: $out" ;;
 esac
 
-out=$(LD_LIBRARY_PATH=$libdir "$prefix/bin/ecmxf-util" slaves) || fail "installed ecmxf-util slaves"
+# CMake: find_package(ecmxf) + ecmxf::ecmxf, the consumer sets no standard
+cbuild=$prefix/consumer-build
+cmake -S "$here/consumer" -B "$cbuild" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_COMPILER="$cxx" \
+	-DCMAKE_CXX_FLAGS="$extra" -DCMAKE_EXE_LINKER_FLAGS="$extra" >"$cbuild.log" 2>&1 &&
+	cmake --build "$cbuild" >>"$cbuild.log" 2>&1 ||
+	{ cat "$cbuild.log"; fail "CMake consumer (find_package(ecmxf), ecmxf::ecmxf) does not build"; }
+grep -q -- '-std=gnu++20\|-std=c++20' "$cbuild/CMakeFiles/app.dir/flags.make" ||
+	fail "ecmxf::ecmxf did not bring C++20: $(grep CXX_FLAGS "$cbuild/CMakeFiles/app.dir/flags.make")"
+out=$("$cbuild/app") || fail "running the CMake consumer"
+echo "ok: CMake consumer (C++20 from ecmxf::ecmxf): $out"
+case $out in
+$want) ;;
+*) fail "unexpected output: $out" ;;
+esac
+
+# below C++20: one clear #error, and nothing after it but the stop
+if "$cxx" -std=c++17 -fsyntax-only -I"$prefix/include" "$here/consumer/main.cpp" >"$prefix/c17.log" 2>&1; then
+	fail "the headers compiled below C++20"
+fi
+grep -q 'libecmxf needs C++20' "$prefix/c17.log" || { cat "$prefix/c17.log"; fail "no #error below C++20"; }
+nerr=$(grep -c 'error:' "$prefix/c17.log")
+[ "$nerr" -le 2 ] || { cat "$prefix/c17.log"; fail "$nerr errors below C++20, not one #error"; }
+echo "ok: -std=c++17 stops at the #error ($nerr error lines)"
+
+# the installed tools start under a non-system prefix without LD_LIBRARY_PATH
+readelf -d "$prefix/bin/ecmxf-util" | grep -q 'RUNPATH.*\$ORIGIN/\.\./lib' ||
+	fail "ecmxf-util has no RUNPATH \$ORIGIN/../LIBDIR: $(readelf -d "$prefix/bin/ecmxf-util" | grep PATH)"
+out=$(env -u LD_LIBRARY_PATH "$prefix/bin/ecmxf-util" slaves) || fail "installed ecmxf-util slaves"
 [ "$(echo "$out" | wc -l)" -eq 3 ] || fail "installed ecmxf-util slaves: $out"
-echo "ok: installed ecmxf-util lists 3 slaves"
+echo "ok: installed ecmxf-util starts without LD_LIBRARY_PATH and lists 3 slaves"
+env -u LD_LIBRARY_PATH "$prefix/bin/ecmxf-sim" --help >/dev/null || fail "installed ecmxf-sim --help"
+echo "ok: installed ecmxf-sim starts"
 rm -rf "$prefix" "$prefix.log"

@@ -437,3 +437,29 @@ TEST_CASE("axis: the constructor names what is not mapped, for which mode", "[ax
 					    "(cyclic synchronous position) (setMode() first)"));
 	}
 }
+
+TEST_CASE("axis: the requests without now run on the link's clock (issue 15)", "[axis][pp]")
+{
+	// the same walk and move as above, with no time kept by the caller
+	Bench b;
+	Cia402Axis a(*b.dev, *b.image, 0, { .modes = { cia402::kModePp } });
+	std::vector<Cia402Axis *> v{ &a };
+	a.setMode(cia402::kModePp);
+	ecmxf::runUntilDone(*b.cyc, v, 1s, "the mode");
+	a.enable();
+	ecmxf::runUntilDone(*b.cyc, v, 2s, "OPERATION ENABLED");
+	CHECK(a.state() == Cia402State::OperationEnabled);
+	ecmxf::PpMove m;
+	m.velocity = 100000;
+	a.moveTo(30000, m);
+	ecmxf::runUntilDone(*b.cyc, v, 5s, "target reached");
+	CHECK(b.drive(0).positionActual() == 30000);
+	a.requestState(Cia402State::SwitchedOn);
+	ecmxf::runUntilDone(*b.cyc, v, 1s, "SWITCHED ON");
+	CHECK(a.state() == Cia402State::SwitchedOn);
+	a.disable();
+	ecmxf::runUntilDone(*b.cyc, v, 1s, "SWITCH ON DISABLED");
+	CHECK(a.state() == Cia402State::SwitchOnDisabled);
+	// a request that is not allowed throws as its timed form does
+	CHECK_THROWS_AS(a.startCsp(), Error);
+}

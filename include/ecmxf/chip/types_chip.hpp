@@ -10,6 +10,8 @@
  */
 #pragma once
 
+#include <ecmxf/export.hpp>
+
 #include <array>
 #include <chrono>
 #include <cstddef>

@@ -154,6 +154,17 @@ public:
 	/// once; failed when the drive leaves OPERATION ENABLED or reports a
 	/// following error (bit 13).
 	void startCsp(std::chrono::nanoseconds now);
+	/// The requests above on the transport's clock (Link::now(): virtual
+	/// time on the simulator), for callers that keep no time of their own.
+	void enable();
+	void disable();
+	void requestState(Cia402State s);
+	void setMode(std::int8_t mode);
+	void moveTo(std::int32_t target, const PpMove &move = {});
+	void setVelocity(std::int32_t velocity, std::optional<std::uint32_t> acceleration = {},
+			 std::optional<std::uint32_t> deceleration = {});
+	void home(const HomingParams &params);
+	void startCsp();
 	/// CSP target for the next cycles (any time; allocation-free).
 	void setCspTarget(std::int32_t position) noexcept { cspTarget_ = position; }
 	[[nodiscard]] std::int32_t cspTarget() const noexcept { return cspTarget_; }

@@ -12,6 +12,8 @@
  */
 #pragma once
 
+#include <ecmxf/export.hpp>
+
 #include <cstdint>
 #include <optional>
 #include <string_view>

@@ -15,7 +15,7 @@
  * @code
  *   ecmxf::ProcessImage image(master.pdos());
  *   auto cw = image.output<std::uint16_t>(0, 0x6040, 0);
- *   ecmxf::Cyclic cyc(dev, image, { .period = 1ms });
+ *   ecmxf::Cyclic cyc(dev, image, ecmxf::CyclicConfig::motion(1ms));
  *   cyc.start();
  *   for (;;) {
  *       cw.set(...);
@@ -50,15 +50,46 @@ namespace ecmxf {
 class Device;
 class ProcessImage;
 
-/// How a Cyclic runs.
+/// CyclicConfig::rxFill for closed-loop motion (CSP/CSV, a position or
+/// velocity loop closed over the bus): two frames in the RxFIFO cover one
+/// late application cycle, and the outputs of a cycle() reach the bus two
+/// bus cycles later (a CSP target shows in the position actual ~7 cycles
+/// later on the simulator, Documentation/motion.rst "Latency").
+inline constexpr unsigned kRxFillMotion = 2;
+/// CyclicConfig::rxFill that fills the RxFIFO to its depth minus 2 (~62
+/// frames): rides out a late or jittery host, for I/O and logging, but the
+/// outputs lag ~62 bus cycles behind: never for motion.
+inline constexpr unsigned kRxFillDeep = 0;
+
+/// How a Cyclic runs. For motion start from CyclicConfig::motion(); the
+/// default rxFill (kRxFillDeep) buffers ~62 bus cycles of outputs.
 struct CyclicConfig {
+	/// The preset for closed-loop motion: @p period, rxFill kRxFillMotion.
+	[[nodiscard]] static CyclicConfig motion(std::chrono::nanoseconds period = std::chrono::milliseconds(1))
+	{
+		CyclicConfig c;
+		c.period = period;
+		c.rxFill = kRxFillMotion;
+		return c;
+	}
+	/// The preset for buffered I/O: @p period, rxFill kRxFillDeep (the
+	/// default).
+	[[nodiscard]] static CyclicConfig buffered(std::chrono::nanoseconds period = std::chrono::milliseconds(1))
+	{
+		CyclicConfig c;
+		c.period = period;
+		c.rxFill = kRxFillDeep;
+		return c;
+	}
+
 	/// The application cycle; waitNextCycle() waits for its next boundary
 	/// on the transport's clock (virtual time in the simulator).
 	std::chrono::nanoseconds period{ std::chrono::milliseconds(1) };
-	/// RxFIFO level (frames) that cycle() tops up to; 0: the FIFO depth
-	/// minus the margin of two. At most depth - 2. The outputs of a cycle
-	/// reach the bus after about this many bus cycles.
-	unsigned rxFill = 0;
+	/// RxFIFO level (frames) that cycle() tops up to; 0 (kRxFillDeep): the
+	/// FIFO depth minus the margin of two. At most depth - 2. The outputs
+	/// of a cycle reach the bus after about this many bus cycles: for
+	/// motion use kRxFillMotion (CyclicConfig::motion()).
+	unsigned rxFill = kRxFillDeep;
 	/// Read the working counter (ECAT_PDO_WC_GET 3) every this many
 	/// cycles (one more command each time); 0: never.
 	unsigned wkcEvery = 1;
@@ -153,7 +184,9 @@ struct CyclicStats {
 class ECMXF_EXPORT Cyclic
 {
 public:
-	/// Reads the frame sizes (FIFO_PACK_SIZE_GET), the FIFO depths
+	/// Checks that the bus is in SAFE-OP or OP (ENETDOWN naming the state
+	/// otherwise) and that @p device has no other Cyclic (EBUSY: one per
+	/// Device); reads the frame sizes (FIFO_PACK_SIZE_GET), the FIFO depths
 	/// (FIFO_GET_RX/TX_CNT) and the slave counts (ECAT_PDO_WC_GET); checks
 	/// that the image's frames have the chip's sizes (EINVAL) and that one
 	/// frame each way fits the data section (EMSGSIZE: raise it with

@@ -10,6 +10,8 @@
  */
 #pragma once
 
+#include <ecmxf/export.hpp>
+
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -7,6 +7,8 @@
  */
 #pragma once
 
+#include <ecmxf/export.hpp>
+
 #include <array>
 #include <chrono>
 #include <cstddef>
