@@ -172,6 +172,7 @@ enum ecmxf_fault {
 /* Check words                                                            */
 /* ---------------------------------------------------------------------- */
 
+u8 ecmxf_crc8_update(u8 crc, const void *buf, size_t len);
 u8 ecmxf_crc8(const void *buf, size_t len);
 u16 ecmxf_crc_ccitt(const void *buf, size_t len);
 u32 ecmxf_crc32(const void *buf, size_t len);
