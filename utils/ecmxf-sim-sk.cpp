@@ -16,7 +16,6 @@
  * (UnixChannel); Documentation/ecm-sk.rst, "The simulator".
  */
 #include <cerrno>
-#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -25,102 +24,20 @@
 #include <string_view>
 #include <vector>
 
-#include <poll.h>
-#include <sys/socket.h>
-#include <sys/un.h>
-#include <unistd.h>
 
 #include <ecmxf/link/unix_channel.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sk/sim_board.hpp>
 #include <ecmxf/sk/sim_channel.hpp>
 
+#include "ecmxf-sim-server.hpp"
 #include "ecmxf-sim-sk.hpp"
 
 namespace {
 
-struct Fd {
-	int fd = -1;
-	explicit Fd(int f = -1) : fd(f) {}
-	Fd(const Fd &) = delete;
-	Fd &operator=(const Fd &) = delete;
-	~Fd() { reset(); }
-	void reset(int f = -1)
-	{
-		if (fd >= 0)
-			::close(fd);
-		fd = f;
-	}
-};
-
-class Stream
-{
-public:
-	Stream(int in, int out) : in_(in), out_(out) {}
-	bool read(void *buf, std::size_t n)
-	{
-		auto *p = static_cast<std::uint8_t *>(buf);
-		while (n) {
-			const ssize_t r = ::read(in_, p, n);
-			if (r == 0)
-				return false;
-			if (r < 0) {
-				if (errno == EINTR)
-					continue;
-				throw std::runtime_error(std::string("read: ") + std::strerror(errno));
-			}
-			p += r;
-			n -= static_cast<std::size_t>(r);
-		}
-		return true;
-	}
-	void write(const void *buf, std::size_t n)
-	{
-		const auto *p = static_cast<const std::uint8_t *>(buf);
-		while (n) {
-			const ssize_t r = ::write(out_, p, n);
-			if (r < 0) {
-				if (errno == EINTR)
-					continue;
-				throw std::runtime_error(std::string("write: ") + std::strerror(errno));
-			}
-			p += r;
-			n -= static_cast<std::size_t>(r);
-		}
-	}
-	void u8(std::uint8_t v) { write(&v, 1); }
-	void u16(std::uint16_t v)
-	{
-		const std::uint8_t b[2] = { static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8) };
-		write(b, 2);
-	}
-	void u64(std::uint64_t v)
-	{
-		std::uint8_t b[8];
-		for (int i = 0; i < 8; i++)
-			b[i] = static_cast<std::uint8_t>(v >> (8 * i));
-		write(b, 8);
-	}
-	void message(char type, const std::string &m)
-	{
-		u8(static_cast<std::uint8_t>(type));
-		u16(static_cast<std::uint16_t>(m.size()));
-		write(m.data(), m.size());
-	}
-
-private:
-	int in_, out_;
-};
-
-std::uint64_t le(const std::uint8_t *b, int n)
-{
-	std::uint64_t v = 0;
-	for (int i = n - 1; i >= 0; i--)
-		v = (v << 8) | b[i];
-	return v;
-}
-
-enum class Served { More, Closed, Quit };
+using ecmxfsim::le;
+using ecmxfsim::Served;
+using Stream = ecmxfsim::Pipe;
 
 Served serveOne(ecmxf::sk::SimBoard &b, Stream &s)
 {
@@ -197,14 +114,6 @@ Served serveOne(ecmxf::sk::SimBoard &b, Stream &s)
 	return Served::More;
 }
 
-char gPath[sizeof(sockaddr_un::sun_path)];
-
-extern "C" void removeAndExit(int)
-{
-	::unlink(gPath);
-	::_exit(0);
-}
-
 void usage(std::FILE *out)
 {
 	std::fprintf(out,
@@ -269,64 +178,8 @@ int ecmxfSimSkMain(int argc, char **argv)
 					  ? ecmxf::sim::Network::fromText(ecmxf::sk::defaultSkNetwork(), "ecm-sk")
 					  : ecmxf::sim::Network::fromFile(network),
 				  ecmxf::sk::BoardConfig::parse(settings));
-	if (socketPath.empty()) {
-		Stream s(STDIN_FILENO, STDOUT_FILENO);
-		while (serveOne(board, s) == Served::More) {
-		}
-		return 0;
-	}
-	Fd listener(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
-	if (listener.fd < 0)
-		throw std::runtime_error(std::string("socket: ") + std::strerror(errno));
-	sockaddr_un addr{};
-	addr.sun_family = AF_UNIX;
-	if (socketPath.size() >= sizeof(addr.sun_path))
-		throw std::invalid_argument("socket path too long: " + socketPath);
-	std::memcpy(addr.sun_path, socketPath.c_str(), socketPath.size() + 1);
-	::unlink(socketPath.c_str());
-	if (::bind(listener.fd, reinterpret_cast<sockaddr *>(&addr), sizeof(addr)) < 0 ||
-	    ::listen(listener.fd, 4) < 0)
-		throw std::runtime_error("listen on " + socketPath + ": " + std::strerror(errno));
-	std::memcpy(gPath, addr.sun_path, sizeof(addr.sun_path));
-	std::signal(SIGTERM, removeAndExit);
-	std::signal(SIGINT, removeAndExit);
-	Fd client;
-	for (;;) {
-		pollfd fds[2] = { { listener.fd, POLLIN, 0 }, { client.fd, POLLIN, 0 } };
-		if (::poll(fds, client.fd >= 0 ? 2 : 1, -1) < 0) {
-			if (errno == EINTR)
-				continue;
-			throw std::runtime_error(std::string("poll: ") + std::strerror(errno));
-		}
-		if (client.fd >= 0 && fds[1].revents) {
-			Stream s(client.fd, client.fd);
-			Served r = Served::Closed;
-			try {
-				r = serveOne(board, s);
-			} catch (const std::exception &e) {
-				std::fprintf(stderr, "ecmxf-sim: client dropped: %s\n", e.what());
-			}
-			if (r == Served::Quit)
-				break;
-			if (r == Served::Closed)
-				client.reset();
-		}
-		if (fds[0].revents & POLLIN) {
-			const int c = ::accept4(listener.fd, nullptr, nullptr, SOCK_CLOEXEC);
-			if (c < 0)
-				continue;
-			if (client.fd < 0) {
-				client.reset(c);
-				continue;
-			}
-			Fd other(c);
-			Stream s(c, c);
-			try {
-				s.message('B', "busy: ecmxf-sim serves one client at a time and another one is connected");
-			} catch (const std::exception &) {
-			}
-		}
-	}
-	::unlink(socketPath.c_str());
-	return 0;
+	const ecmxfsim::ServeOne serve = [&board](Stream &s) { return serveOne(board, s); };
+	if (socketPath.empty())
+		return ecmxfsim::serveStdio(serve);
+	return ecmxfsim::serveSocket(socketPath, serve);
 }

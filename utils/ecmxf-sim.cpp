@@ -37,16 +37,13 @@
 #include <utility>
 #include <vector>
 
-#include <poll.h>
-#include <sys/socket.h>
-#include <sys/un.h>
-#include <unistd.h>
 
 #include <ecmxf/link/unix_channel.hpp>
 #include <ecmxf/protocol.hpp>
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
 
+#include "ecmxf-sim-server.hpp"
 #include "ecmxf-sim-sk.hpp"
 
 namespace {
@@ -63,119 +60,15 @@ enum FaultId : std::uint8_t {
 	kFaultAsyncStuck = 8,
 };
 
-// A socket descriptor, closed with the object.
-struct Socket {
-	int fd = -1;
-	Socket() = default;
-	explicit Socket(int f) : fd(f) {}
-	Socket(Socket &&o) noexcept : fd(o.fd) { o.fd = -1; }
-	Socket &operator=(Socket &&o) noexcept
-	{
-		if (this != &o) {
-			reset();
-			fd = o.fd;
-			o.fd = -1;
-		}
-		return *this;
-	}
-	Socket(const Socket &) = delete;
-	Socket &operator=(const Socket &) = delete;
-	~Socket() { reset(); }
-	void reset()
-	{
-		if (fd >= 0)
-			::close(fd);
-		fd = -1;
-	}
-};
-
-class Pipe
-{
-public:
-	Pipe(int in, int out) : in_(in), out_(out) {}
-
-	// Read exactly n bytes; false at a clean end of input.
-	bool read(void *buf, std::size_t n)
-	{
-		auto *p = static_cast<std::uint8_t *>(buf);
-		while (n) {
-			const ssize_t r = ::read(in_, p, n);
-			if (r == 0)
-				return false;
-			if (r < 0) {
-				if (errno == EINTR)
-					continue;
-				throw std::runtime_error(std::string("read: ") + std::strerror(errno));
-			}
-			p += r;
-			n -= static_cast<std::size_t>(r);
-		}
-		return true;
-	}
-
-	void write(const void *buf, std::size_t n)
-	{
-		const auto *p = static_cast<const std::uint8_t *>(buf);
-		while (n) {
-			const ssize_t r = ::write(out_, p, n);
-			if (r < 0) {
-				if (errno == EINTR)
-					continue;
-				throw std::runtime_error(std::string("write: ") + std::strerror(errno));
-			}
-			p += r;
-			n -= static_cast<std::size_t>(r);
-		}
-	}
-
-	void writeU8(std::uint8_t v) { write(&v, 1); }
-	void writeU16(std::uint16_t v)
-	{
-		const std::uint8_t b[2] = { static_cast<std::uint8_t>(v),
-					    static_cast<std::uint8_t>(v >> 8) };
-		write(b, 2);
-	}
-	void writeU64(std::uint64_t v)
-	{
-		std::uint8_t b[8];
-		for (int i = 0; i < 8; i++)
-			b[i] = static_cast<std::uint8_t>(v >> (8 * i));
-		write(b, 8);
-	}
-
-private:
-	int in_;
-	int out_;
-};
-
-std::uint64_t le(const std::uint8_t *b, int n)
-{
-	std::uint64_t v = 0;
-	for (int i = n - 1; i >= 0; i--)
-		v = (v << 8) | b[i];
-	return v;
-}
-
-void refuse(Pipe &p, char type, const std::string &msg)
-{
-	p.writeU8(static_cast<std::uint8_t>(type));
-	p.writeU16(static_cast<std::uint16_t>(msg.size()));
-	p.write(msg.data(), msg.size());
-}
+using ecmxfsim::le;
+using ecmxfsim::Pipe;
+using ecmxfsim::Served;
 
 void error(Pipe &p, const std::string &msg)
 {
-	refuse(p, 'E', msg);
+	p.message('E', msg);
 }
 
-// What serveOne() leaves behind.
-enum class Served {
-	More,	// the request was answered; the client may send another
-	Closed, // the client went away (or must be dropped)
-	Quit,	// 'Q': the server ends
-};
-
-// Read one request and answer it.
 Served serveOne(ecmxf::sim::Chip &chip, Pipe &p)
 {
 	std::vector<std::uint8_t> mosi, miso;
@@ -201,14 +94,14 @@ Served serveOne(ecmxf::sim::Chip &chip, Pipe &p)
 			break;
 		}
 		chip.exchange(mosi, miso);
-		p.writeU8('X');
-		p.writeU16(static_cast<std::uint16_t>(n));
+		p.u8('X');
+		p.u16(static_cast<std::uint16_t>(n));
 		p.write(miso.data(), n);
 		break;
 	}
 	case 'L':
-		p.writeU8('L');
-		p.writeU8(static_cast<std::uint8_t>((chip.int0() ? 1 : 0) |
+		p.u8('L');
+		p.u8(static_cast<std::uint8_t>((chip.int0() ? 1 : 0) |
 						    (chip.int1() ? 2 : 0) |
 						    (chip.ready() ? 4 : 0)));
 		break;
@@ -222,13 +115,13 @@ Served serveOne(ecmxf::sim::Chip &chip, Pipe &p)
 			break;
 		}
 		chip.advance(std::chrono::nanoseconds(static_cast<std::int64_t>(ns)));
-		p.writeU8('A');
-		p.writeU64(static_cast<std::uint64_t>(chip.now().count()));
+		p.u8('A');
+		p.u64(static_cast<std::uint64_t>(chip.now().count()));
 		break;
 	}
 	case 'T':
-		p.writeU8('T');
-		p.writeU64(static_cast<std::uint64_t>(chip.now().count()));
+		p.u8('T');
+		p.u64(static_cast<std::uint64_t>(chip.now().count()));
 		break;
 	case 'F': {
 		std::uint8_t b[5];
@@ -265,18 +158,18 @@ Served serveOne(ecmxf::sim::Chip &chip, Pipe &p)
 			error(p, "unknown fault id " + std::to_string(b[0]));
 			return Served::More;
 		}
-		p.writeU8('F');
-		p.writeU8(0);
+		p.u8('F');
+		p.u8(0);
 		break;
 	}
 	case 'Q':
-		p.writeU8('Q');
+		p.u8('Q');
 		return Served::Quit;
 	case 'H': {
 		const auto magic = ecmxf::UnixChannel::kHelloMagic;
-		p.writeU8('H');
+		p.u8('H');
 		p.write(magic.data(), magic.size());
-		p.writeU16(ecmxf::UnixChannel::kProtocolVersion);
+		p.u16(ecmxf::UnixChannel::kProtocolVersion);
 		break;
 	}
 	default: {
@@ -287,15 +180,6 @@ Served serveOne(ecmxf::sim::Chip &chip, Pipe &p)
 	}
 	}
 	return Served::More;
-}
-
-// The socket of --socket, for removeSocketAndExit().
-char gSocketPath[sizeof(sockaddr_un::sun_path)];
-
-extern "C" void removeSocketAndExit(int)
-{
-	::unlink(gSocketPath); // async-signal-safe, as _exit()
-	::_exit(0);
 }
 
 void usage(std::FILE *out)
@@ -371,77 +255,10 @@ int run(int argc, char **argv)
 		net.setChipOption(key, val); // over the file's chip lines
 	ecmxf::sim::Chip chip(std::move(net), cfg);
 
-	if (socketPath.empty()) {
-		Pipe p(STDIN_FILENO, STDOUT_FILENO);
-		while (serveOne(chip, p) == Served::More) {
-		}
-		return 0;
-	}
-
-	const Socket listener(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
-	if (listener.fd < 0)
-		throw std::runtime_error(std::string("socket: ") + std::strerror(errno));
-	sockaddr_un addr{};
-	addr.sun_family = AF_UNIX;
-	if (socketPath.size() >= sizeof(addr.sun_path))
-		throw std::invalid_argument("socket path too long (at most " +
-					    std::to_string(sizeof(addr.sun_path) - 1) + " bytes): " + socketPath);
-	std::memcpy(addr.sun_path, socketPath.c_str(), socketPath.size() + 1);
-	::unlink(socketPath.c_str());
-	if (::bind(listener.fd, reinterpret_cast<sockaddr *>(&addr), sizeof(addr)) < 0 ||
-	    ::listen(listener.fd, 4) < 0)
-		throw std::runtime_error("listen on " + socketPath + ": " + std::strerror(errno));
-	// SIGTERM/SIGINT remove the socket: no stale one is left behind
-	std::memcpy(gSocketPath, addr.sun_path, sizeof(addr.sun_path));
-	std::signal(SIGTERM, removeSocketAndExit);
-	std::signal(SIGINT, removeSocketAndExit);
-
-	// One client at a time; the chip is the server's and outlives them.
-	// The client's requests are served before new connections are looked
-	// at, so a client that closes and reconnects is never refused.
-	Socket client;
-	for (;;) {
-		pollfd fds[2] = { { listener.fd, POLLIN, 0 }, { client.fd, POLLIN, 0 } };
-		if (::poll(fds, client.fd >= 0 ? 2 : 1, -1) < 0) {
-			if (errno == EINTR)
-				continue;
-			throw std::runtime_error(std::string("poll: ") + std::strerror(errno));
-		}
-		if (client.fd >= 0 && fds[1].revents != 0) {
-			Pipe p(client.fd, client.fd);
-			Served s = Served::Closed;
-			try {
-				s = serveOne(chip, p);
-			} catch (const std::exception &ex) {
-				std::fprintf(stderr, "ecmxf-sim: client dropped: %s\n", ex.what());
-			}
-			if (s == Served::Quit)
-				break;
-			if (s == Served::Closed)
-				client.reset();
-		}
-		if (fds[0].revents & POLLIN) {
-			Socket c(::accept4(listener.fd, nullptr, nullptr, SOCK_CLOEXEC));
-			if (c.fd < 0) {
-				if (errno == EINTR || errno == ECONNABORTED || errno == EAGAIN)
-					continue;
-				throw std::runtime_error(std::string("accept: ") + std::strerror(errno));
-			}
-			if (client.fd < 0) {
-				client = std::move(c);
-				continue;
-			}
-			Pipe p(c.fd, c.fd);
-			try {
-				refuse(p, 'B',
-				       "busy: ecmxf-sim serves one client at a time and another one is connected");
-			} catch (const std::exception &) {
-				// the refused client is gone already
-			}
-		}
-	}
-	::unlink(socketPath.c_str());
-	return 0;
+	const ecmxfsim::ServeOne serve = [&chip](Pipe &p) { return serveOne(chip, p); };
+	if (socketPath.empty())
+		return ecmxfsim::serveStdio(serve);
+	return ecmxfsim::serveSocket(socketPath, serve);
 }
 
 } // namespace

@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: MIT
+// ecmxf-sim's server for every board (ecmxf-sim-server.hpp).
+
+#include "ecmxf-sim-server.hpp"
+
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <stdexcept>
+
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+namespace ecmxfsim {
+
+Fd &Fd::operator=(Fd &&o) noexcept
+{
+	if (this != &o) {
+		reset();
+		fd = o.fd;
+		o.fd = -1;
+	}
+	return *this;
+}
+
+void Fd::reset()
+{
+	if (fd >= 0)
+		::close(fd);
+	fd = -1;
+}
+
+bool Pipe::read(void *buf, std::size_t n)
+{
+	auto *p = static_cast<std::uint8_t *>(buf);
+	while (n) {
+		const ssize_t r = ::read(in_, p, n);
+		if (r == 0)
+			return false;
+		if (r < 0) {
+			if (errno == EINTR)
+				continue;
+			throw std::runtime_error(std::string("read: ") + std::strerror(errno));
+		}
+		p += r;
+		n -= static_cast<std::size_t>(r);
+	}
+	return true;
+}
+
+void Pipe::write(const void *buf, std::size_t n)
+{
+	const auto *p = static_cast<const std::uint8_t *>(buf);
+	while (n) {
+		const ssize_t r = ::write(out_, p, n);
+		if (r < 0) {
+			if (errno == EINTR)
+				continue;
+			throw std::runtime_error(std::string("write: ") + std::strerror(errno));
+		}
+		p += r;
+		n -= static_cast<std::size_t>(r);
+	}
+}
+
+void Pipe::u16(std::uint16_t v)
+{
+	const std::uint8_t b[2] = { static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8) };
+	write(b, 2);
+}
+
+void Pipe::u64(std::uint64_t v)
+{
+	std::uint8_t b[8];
+	for (int i = 0; i < 8; i++)
+		b[i] = static_cast<std::uint8_t>(v >> (8 * i));
+	write(b, 8);
+}
+
+void Pipe::message(char type, const std::string &m)
+{
+	u8(static_cast<std::uint8_t>(type));
+	u16(static_cast<std::uint16_t>(m.size()));
+	write(m.data(), m.size());
+}
+
+std::uint64_t le(const std::uint8_t *b, int n)
+{
+	std::uint64_t v = 0;
+	for (int i = n - 1; i >= 0; i--)
+		v = (v << 8) | b[i];
+	return v;
+}
+
+int serveStdio(const ServeOne &serve)
+{
+	Pipe p(STDIN_FILENO, STDOUT_FILENO);
+	while (serve(p) == Served::More) {
+	}
+	return 0;
+}
+
+namespace {
+
+// The socket being served, for removeSocketAndExit().
+char gSocketPath[sizeof(sockaddr_un::sun_path)];
+
+extern "C" void removeSocketAndExit(int)
+{
+	::unlink(gSocketPath); // async-signal-safe, as _exit()
+	::_exit(0);
+}
+
+} // namespace
+
+int serveSocket(const std::string &path, const ServeOne &serve)
+{
+	const Fd listener(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+	if (listener.fd < 0)
+		throw std::runtime_error(std::string("socket: ") + std::strerror(errno));
+	sockaddr_un addr{};
+	addr.sun_family = AF_UNIX;
+	if (path.size() >= sizeof(addr.sun_path))
+		throw std::invalid_argument("socket path too long (at most " +
+					    std::to_string(sizeof(addr.sun_path) - 1) + " bytes): " + path);
+	std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+	::unlink(path.c_str());
+	if (::bind(listener.fd, reinterpret_cast<sockaddr *>(&addr), sizeof(addr)) < 0 ||
+	    ::listen(listener.fd, 4) < 0)
+		throw std::runtime_error("listen on " + path + ": " + std::strerror(errno));
+	// SIGTERM/SIGINT remove the socket: no stale one is left behind
+	std::memcpy(gSocketPath, addr.sun_path, sizeof(addr.sun_path));
+	std::signal(SIGTERM, removeSocketAndExit);
+	std::signal(SIGINT, removeSocketAndExit);
+
+	// One client at a time; the board is the server's and outlives them.
+	// The client's requests are served before new connections are looked
+	// at, so a client that closes and reconnects is never refused.
+	Fd client;
+	for (;;) {
+		pollfd fds[2] = { { listener.fd, POLLIN, 0 }, { client.fd, POLLIN, 0 } };
+		if (::poll(fds, client.fd >= 0 ? 2 : 1, -1) < 0) {
+			if (errno == EINTR)
+				continue;
+			throw std::runtime_error(std::string("poll: ") + std::strerror(errno));
+		}
+		if (client.fd >= 0 && fds[1].revents != 0) {
+			Pipe p(client.fd, client.fd);
+			Served s = Served::Closed;
+			try {
+				s = serve(p);
+			} catch (const std::exception &ex) {
+				std::fprintf(stderr, "ecmxf-sim: client dropped: %s\n", ex.what());
+			}
+			if (s == Served::Quit)
+				break;
+			if (s == Served::Closed)
+				client.reset();
+		}
+		if (fds[0].revents & POLLIN) {
+			Fd c(::accept4(listener.fd, nullptr, nullptr, SOCK_CLOEXEC));
+			if (c.fd < 0) {
+				if (errno == EINTR || errno == ECONNABORTED || errno == EAGAIN)
+					continue;
+				throw std::runtime_error(std::string("accept: ") + std::strerror(errno));
+			}
+			if (client.fd < 0) {
+				client = std::move(c);
+				continue;
+			}
+			Pipe p(c.fd, c.fd);
+			try {
+				p.message('B', "busy: ecmxf-sim serves one client at a time and another one is connected");
+			} catch (const std::exception &) {
+				// the refused client is gone already
+			}
+		}
+	}
+	::unlink(path.c_str());
+	return 0;
+}
+
+} // namespace ecmxfsim
