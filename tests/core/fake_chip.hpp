@@ -13,6 +13,8 @@
 #include <functional>
 #include <vector>
 
+#include <catch2/catch.hpp>
+
 #include "ecmxf-proto.h"
 
 namespace fake {
@@ -290,6 +292,67 @@ private:
 		}
 		return p;
 	}
+};
+
+
+// The engine of the protocol core wired to a fake Chip: the owner loop of
+// Documentation/protocol-core.rst in a few lines, for the engine's tests.
+struct Link {
+	ecmxf_engine e{};
+	Chip chip;
+	std::uint64_t now = 1'000'000;
+	std::uint64_t stepNs;	// virtual time per exchange
+	unsigned events = 0;	// every event seen so far
+
+	explicit Link(std::uint64_t step = 200'000) : stepNs(step)
+	{
+		ecmxf_engine_init(&e, ECMXF_DATA_DEFAULT, ECMXF_CHECK_FIXED);
+	}
+
+	// One exchange; returns the events of this exchange.
+	unsigned exchange()
+	{
+		if (now < ecmxf_engine_not_before(&e))
+			now = ecmxf_engine_not_before(&e);
+		const std::size_t n = ecmxf_engine_pkt_size(&e);
+		std::vector<std::uint8_t> tx(n);
+		REQUIRE(ecmxf_engine_next(&e, now, tx.data(), n) == 0);
+		std::vector<std::uint8_t> rx = chip.exchange(tx);
+		REQUIRE(rx.size() == n);
+		now += stepNs;
+		const unsigned ev = ecmxf_engine_input(&e, now, rx.data(), rx.size());
+		events |= ev;
+		return ev;
+	}
+
+	// Exchanges until @x is final; returns the number of exchanges.
+	int run(ecmxf_xfer &x, int max = 100000)
+	{
+		int n = 0;
+		while (x.status == -EINPROGRESS && n < max) {
+			exchange();
+			n++;
+		}
+		return n;
+	}
+
+	int submit(ecmxf_xfer &x) { return ecmxf_engine_submit(&e, &x, now); }
+
+	// Runs one command to its end; returns its status.
+	int cmd(std::uint8_t code, std::uint8_t param = 0, const std::vector<std::uint8_t> &tx = {})
+	{
+		ecmxf_xfer x{};
+		x.hdr.code = code;
+		x.hdr.param = param;
+		x.hdr.len = static_cast<std::uint16_t>(tx.size());
+		x.tx_data = tx.empty() ? nullptr : tx.data();
+		x.tx_len = static_cast<std::uint16_t>(tx.size());
+		REQUIRE(submit(x) == 0);
+		run(x);
+		return x.status;
+	}
+
+	const ecmxf_cmd_hdr &lastMosi() const { return chip.cmdLog.back(); }
 };
 
 } // namespace fake

@@ -12,47 +12,7 @@
 
 namespace {
 
-constexpr std::uint64_t kStepNs = 200'000; // 200 us per exchange
-
-struct Link {
-	ecmxf_engine e{};
-	fake::Chip chip;
-	std::uint64_t now = 1'000'000;
-	unsigned events = 0;
-
-	Link() { ecmxf_engine_init(&e, ECMXF_DATA_DEFAULT, ECMXF_CHECK_FIXED); }
-
-	// One exchange; returns the events of this exchange.
-	unsigned exchange()
-	{
-		if (now < ecmxf_engine_not_before(&e))
-			now = ecmxf_engine_not_before(&e);
-		const std::size_t n = ecmxf_engine_pkt_size(&e);
-		std::vector<std::uint8_t> tx(n);
-		REQUIRE(ecmxf_engine_next(&e, now, tx.data(), n) == 0);
-		std::vector<std::uint8_t> rx = chip.exchange(tx);
-		REQUIRE(rx.size() == n);
-		now += kStepNs;
-		const unsigned ev = ecmxf_engine_input(&e, now, rx.data(), rx.size());
-		events |= ev;
-		return ev;
-	}
-
-	// Exchanges until @x is final; returns the number of exchanges.
-	int run(ecmxf_xfer &x, int max = 100000)
-	{
-		int n = 0;
-		while (x.status == -EINPROGRESS && n < max) {
-			exchange();
-			n++;
-		}
-		return n;
-	}
-
-	int submit(ecmxf_xfer &x) { return ecmxf_engine_submit(&e, &x, now); }
-
-	const ecmxf_cmd_hdr &lastMosi() const { return chip.cmdLog.back(); }
-};
+using Link = fake::Link;
 
 ecmxf_xfer command(std::uint8_t code, std::uint8_t param = 0)
 {
@@ -382,7 +342,7 @@ TEST_CASE("engine: a command the chip never answers times out at its deadline", 
 	l.run(x);
 	CHECK(x.status == -ETIMEDOUT);
 	CHECK(l.now >= start + 5'000'000);
-	CHECK(l.now < start + 5'000'000 + 2 * kStepNs);
+	CHECK(l.now < start + 5'000'000 + 2 * l.stepNs);
 	CHECK(l.e.stats.timeouts == 1);
 	CHECK(ecmxf_engine_deadline(&l.e) == ~std::uint64_t{ 0 });
 }

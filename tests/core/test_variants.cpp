@@ -53,50 +53,8 @@ ecmxf_cmd_hdr handHdr(std::uint16_t len)
 	return h;
 }
 
-struct Link {
-	ecmxf_engine e{};
-	fake::Chip chip;
-	std::uint64_t now = 1'000'000;
-
-	Link() { ecmxf_engine_init(&e, ECMXF_DATA_DEFAULT, ECMXF_CHECK_FIXED); }
-
-	void exchange()
-	{
-		if (now < ecmxf_engine_not_before(&e))
-			now = ecmxf_engine_not_before(&e);
-		const std::size_t n = ecmxf_engine_pkt_size(&e);
-		std::vector<std::uint8_t> tx(n);
-		REQUIRE(ecmxf_engine_next(&e, now, tx.data(), n) == 0);
-		std::vector<std::uint8_t> rx = chip.exchange(tx);
-		now += kStepNs;
-		ecmxf_engine_input(&e, now, rx.data(), rx.size());
-	}
-
-	int run(ecmxf_xfer &x, int max = 100000)
-	{
-		int n = 0;
-		while (x.status == -EINPROGRESS && n < max) {
-			exchange();
-			n++;
-		}
-		return n;
-	}
-
-	int submit(ecmxf_xfer &x) { return ecmxf_engine_submit(&e, &x, now); }
-
-	// Runs one command to its end; returns its status.
-	int cmd(std::uint8_t code, std::uint8_t param = 0, const std::vector<std::uint8_t> &tx = {})
-	{
-		ecmxf_xfer x{};
-		x.hdr.code = code;
-		x.hdr.param = param;
-		x.hdr.len = static_cast<std::uint16_t>(tx.size());
-		x.tx_data = tx.empty() ? nullptr : tx.data();
-		x.tx_len = static_cast<std::uint16_t>(tx.size());
-		REQUIRE(submit(x) == 0);
-		run(x);
-		return x.status;
-	}
+struct Link : fake::Link {
+	Link() : fake::Link(kStepNs) {}
 };
 
 } // namespace

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <vector>
 
+#include "engine_link.hpp"
 #include "host.hpp"
 
 using namespace simtest;
@@ -18,43 +19,6 @@ namespace sim = ecmxf::sim;
 using namespace std::chrono_literals;
 
 namespace {
-
-/// The engine's loop (Documentation/protocol-core.rst) over the simulator:
-/// wait for INT0 "ready" and the engine's hold-off, exchange, feed the answer.
-struct EngineLink {
-	sim::Chip &chip;
-	ecmxf_engine e{};
-	unsigned exchanges = 0;
-
-	explicit EngineLink(sim::Chip &c) : chip(c)
-	{
-		ecmxf_engine_init(&e, ECMXF_DATA_DEFAULT, ECMXF_CHECK_FIXED);
-	}
-	std::uint64_t now() const { return static_cast<std::uint64_t>(chip.now().count()); }
-
-	void exchange()
-	{
-		while (!chip.ready() || now() < ecmxf_engine_not_before(&e))
-			chip.advance(10us);
-		const std::size_t n = ecmxf_engine_pkt_size(&e);
-		std::vector<std::uint8_t> tx(n), rx(n);
-		REQUIRE(ecmxf_engine_next(&e, now(), tx.data(), n) == 0);
-		chip.exchange(tx, rx);
-		ecmxf_engine_input(&e, now(), rx.data(), n);
-		exchanges++;
-	}
-
-	/// Submit @p x and exchange until it is final; returns its status.
-	int run(ecmxf_xfer &x)
-	{
-		REQUIRE(ecmxf_engine_submit(&e, &x, now()) == 0);
-		for (int i = 0; i < 100000 && x.status == -EINPROGRESS; i++) {
-			exchange();
-			chip.advance(100us); // a host that polls every ~250 us
-		}
-		return x.status;
-	}
-};
 
 ecmxf_xfer xfer(std::uint8_t code, std::uint8_t param = 0, const std::vector<std::uint8_t> *tx = nullptr,
 		std::vector<std::uint8_t> *rx = nullptr)

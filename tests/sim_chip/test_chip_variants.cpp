@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "engine_link.hpp"
 #include "host.hpp"
 
 using namespace simtest;
@@ -32,42 +33,7 @@ sim::ChipConfig variant(bool valid, bool crcSetFixed)
 	return c;
 }
 
-/// The engine's loop over the simulator (as in test_chip_engine.cpp).
-struct EngineLink {
-	sim::Chip &chip;
-	ecmxf_engine e{};
-
-	explicit EngineLink(sim::Chip &c) : chip(c) { ecmxf_engine_init(&e, ECMXF_DATA_DEFAULT, ECMXF_CHECK_FIXED); }
-	std::uint64_t now() const { return static_cast<std::uint64_t>(chip.now().count()); }
-
-	void exchange()
-	{
-		while (!chip.ready() || now() < ecmxf_engine_not_before(&e))
-			chip.advance(10us);
-		const std::size_t n = ecmxf_engine_pkt_size(&e);
-		std::vector<std::uint8_t> tx(n), rx(n);
-		REQUIRE(ecmxf_engine_next(&e, now(), tx.data(), n) == 0);
-		chip.exchange(tx, rx);
-		ecmxf_engine_input(&e, now(), rx.data(), n);
-	}
-
-	int run(std::uint8_t code, std::uint8_t param = 0, std::vector<std::uint8_t> *rx = nullptr)
-	{
-		ecmxf_xfer x{};
-		x.hdr.code = code;
-		x.hdr.param = param;
-		if (rx) {
-			x.rx_buf = rx->data();
-			x.rx_size = static_cast<std::uint16_t>(rx->size());
-		}
-		REQUIRE(ecmxf_engine_submit(&e, &x, now()) == 0);
-		for (int i = 0; i < 100000 && x.status == -EINPROGRESS; i++) {
-			exchange();
-			chip.advance(100us);
-		}
-		return x.status;
-	}
-};
+using simtest::EngineLink;
 
 /// CRC_TYPE_SET by hand: sent in the type in force, its repeat (which
 /// fetches the answer) already in @p ck, the new type; returns the answer.
@@ -166,13 +132,13 @@ TEST_CASE("chip and engine: fixed -> CRC-32 -> fixed on every variant, with a lo
 				std::vector<std::uint8_t> size(2);
 				// the engine's own first exchanges, so that the lost packet
 				// is CRC_TYPE_SET itself
-				REQUIRE(link.run(ECMXF_CMD_SPI_PACK_SIZE_GET, 0, &size) == 0);
+				REQUIRE(simtest::runCommand(link, ECMXF_CMD_SPI_PACK_SIZE_GET, 0, &size) == 0);
 				for (const auto type : { ECMXF_CHECK_CRC32, ECMXF_CHECK_FIXED, ECMXF_CHECK_CRC32 }) {
 					if (lose)
 						rig.chip->faults().mosiBitErrors = 1;
 					INFO("to type " << type);
-					REQUIRE(link.run(ECMXF_CMD_CRC_TYPE_SET, type) == 0);
-					REQUIRE(link.run(ECMXF_CMD_SPI_PACK_SIZE_GET, 0, &size) == 0);
+					REQUIRE(simtest::runCommand(link, ECMXF_CMD_CRC_TYPE_SET, type) == 0);
+					REQUIRE(simtest::runCommand(link, ECMXF_CMD_SPI_PACK_SIZE_GET, 0, &size) == 0);
 					CHECK((size[0] | size[1] << 8) == 112);
 					CHECK(ecmxf_engine_check(&link.e) == type);
 					CHECK((link.e.last.ecm_status & ECMXF_STS_CHECK_MASK) == type);
