@@ -12,6 +12,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -20,5 +22,23 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
  * to the name of the input being run.
  */
 extern const char *ecmxf_fuzz_context;
+
+/* A failed invariant: where, what and on which input; then abort(). */
+[[noreturn]] inline void ecmxf_fuzz_fail(const char *file, int line,
+					 const char *what)
+{
+	std::fprintf(stderr, "%s:%d: fuzz invariant violated: %s\n", file,
+		     line, what);
+	if (ecmxf_fuzz_context)
+		std::fprintf(stderr, "  input: %s\n", ecmxf_fuzz_context);
+	std::fflush(stderr);
+	std::abort();
+}
+
+#define FUZZ_ASSERT(cond)                                               \
+	do {                                                            \
+		if (!(cond))                                            \
+			ecmxf_fuzz_fail(__FILE__, __LINE__, #cond);     \
+	} while (0)
 
 #endif /* ECMXF_TESTS_FUZZ_H */

@@ -24,16 +24,6 @@
 
 const char *ecmxf_fuzz_context = nullptr;
 
-#define FUZZ_ASSERT(c)                                                                    \
-	do {                                                                              \
-		if (!(c)) {                                                               \
-			std::fprintf(stderr, "fuzz_cli: invariant violated: %s (%s:%d) input %s\n", \
-				     #c, __FILE__, __LINE__,                              \
-				     ecmxf_fuzz_context ? ecmxf_fuzz_context : "?");      \
-			std::abort();                                                     \
-		}                                                                         \
-	} while (0)
-
 using namespace ecmxf_util;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

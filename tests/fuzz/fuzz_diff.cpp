@@ -31,16 +31,6 @@
 
 const char *ecmxf_fuzz_context = nullptr;
 
-#define FUZZ_ASSERT(c)                                                                     \
-	do {                                                                               \
-		if (!(c)) {                                                                \
-			std::fprintf(stderr, "fuzz_diff: invariant violated: %s (%s:%d) input %s\n", \
-				     #c, __FILE__, __LINE__,                               \
-				     ecmxf_fuzz_context ? ecmxf_fuzz_context : "?");       \
-			std::abort();                                                      \
-		}                                                                          \
-	} while (0)
-
 namespace {
 
 bool sameHeader(const ecmxf_cmd_hdr &a, const ecmxf_cmd_hdr &b)

@@ -58,22 +58,6 @@ const char *ecmxf_fuzz_context = nullptr;
 
 namespace {
 
-[[noreturn]] void fuzz_fail(const char *file, int line, const char *what)
-{
-	std::fprintf(stderr, "%s:%d: fuzz invariant violated: %s\n", file,
-		     line, what);
-	if (ecmxf_fuzz_context)
-		std::fprintf(stderr, "  input: %s\n", ecmxf_fuzz_context);
-	std::fflush(stderr);
-	std::abort();
-}
-
-#define FUZZ_ASSERT(cond)                                               \
-	do {                                                            \
-		if (!(cond))                                            \
-			fuzz_fail(__FILE__, __LINE__, #cond);           \
-	} while (0)
-
 /* ECMXF_FUZZ_TRACE=1 in the environment: narrate what the input does. */
 bool tracing()
 {

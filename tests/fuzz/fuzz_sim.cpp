@@ -35,16 +35,6 @@ const char *ecmxf_fuzz_context = nullptr;
 
 namespace {
 
-#define FUZZ_ASSERT(c)                                                                     \
-	do {                                                                                   \
-		if (!(c)) {                                                                    \
-			std::fprintf(stderr, "fuzz_sim: invariant violated: %s (%s:%d) input %s\n", \
-				     #c, __FILE__, __LINE__,                                   \
-				     ecmxf_fuzz_context ? ecmxf_fuzz_context : "?");           \
-			std::abort();                                                          \
-		}                                                                              \
-	} while (0)
-
 class Reader
 {
 public:

@@ -32,16 +32,6 @@ const char *ecmxf_fuzz_context = nullptr;
 
 namespace {
 
-#define FUZZ_ASSERT(c)                                                                           \
-	do {                                                                                     \
-		if (!(c)) {                                                                      \
-			std::fprintf(stderr, "fuzz_sim_reply: invariant violated: %s (%s:%d) input %s\n", \
-				     #c, __FILE__, __LINE__,                                     \
-				     ecmxf_fuzz_context ? ecmxf_fuzz_context : "?");             \
-			std::abort();                                                            \
-		}                                                                                \
-	} while (0)
-
 bool knownType(std::uint8_t t)
 {
 	return std::string_view("XLATFQHEB").find(static_cast<char>(t)) != std::string_view::npos;
