@@ -18,7 +18,7 @@
 namespace ecmxf_util {
 
 const char *const kPdosHelp =
-	"Usage: ecmxf-util [global options] pdos [-p N] [--json]\n"
+	"Usage: ecmxf-util [global options] pdos [-p N] [--json | --cstruct | --xml]\n"
 	"\n"
 	"The PDO assignment and mapping of each slave (or of slave N): per sync\n"
 	"manager and direction the PDOs in assignment order, and per PDO its\n"
@@ -43,6 +43,12 @@ const char *const kPdosHelp =
 	"                    input_bytes, sync_managers: [{sm, direction, bytes,\n"
 	"                    pdos: [{index, entries: [{index, sub, bit_length,\n"
 	"                    bit_offset, name}]}]}]}\n"
+	"  --cstruct         the mapping as C structures for IgH's application\n"
+	"                    interface (ec_pdo_entry_info_t, ec_pdo_info_t,\n"
+	"                    ec_sync_info_t), as IgH's 'ethercat cstruct' prints\n"
+	"  --xml             the mapping as EtherCATInfo XML (Vendor, Type,\n"
+	"                    RxPdo/TxPdo with their entries), as IgH's\n"
+	"                    'ethercat xml' prints\n"
 	"  -h, --help        show this help\n";
 
 namespace {
@@ -63,16 +69,108 @@ std::vector<Pdo> groupByPdo(const std::vector<ecmxf::PdoEntryInfo> &entries)
 	return out;
 }
 
+/// IgH's "ethercat cstruct" for one slave.
+void printCstruct(unsigned p, const ecmxf::SlaveInfo &si, unsigned smOut, const ecmxf::SlavePdos &sp)
+{
+	std::printf("/* Slave %u, \"%s\"\n * Vendor ID:       0x%08x\n * Product code:    0x%08x\n"
+		    " * Revision number: 0x%08x\n */\n\n",
+		    p, si.name.c_str(), si.vendorId, si.productCode, si.revision);
+	const std::vector<Pdo> out = groupByPdo(sp.outputs), in = groupByPdo(sp.inputs);
+	std::printf("ec_pdo_entry_info_t slave_%u_pdo_entries[] = {\n", p);
+	for (const std::vector<Pdo> *side : { &out, &in })
+		for (const Pdo &pdo : *side)
+			for (const ecmxf::PdoEntryInfo *x : pdo.entries) {
+				std::printf("    {0x%04x, 0x%02x, %u},", x->index, x->sub, x->bitLength);
+				if (!x->name.empty())
+					std::printf(" /* %s */", x->name.c_str());
+				std::printf("\n");
+			}
+	std::printf("};\n\nec_pdo_info_t slave_%u_pdos[] = {\n", p);
+	std::size_t entry = 0;
+	for (const std::vector<Pdo> *side : { &out, &in })
+		for (const Pdo &pdo : *side) {
+			std::printf("    {0x%04x, %zu, slave_%u_pdo_entries + %zu},\n", pdo.index, pdo.entries.size(),
+				    p, entry);
+			entry += pdo.entries.size();
+		}
+	std::printf("};\n\nec_sync_info_t slave_%u_syncs[] = {\n", p);
+	if (smOut == 2) {
+		std::printf("    {0, EC_DIR_OUTPUT, 0, NULL, EC_WD_DISABLE},\n");
+		std::printf("    {1, EC_DIR_INPUT, 0, NULL, EC_WD_DISABLE},\n");
+	}
+	std::printf("    {%u, EC_DIR_OUTPUT, %zu, %s, EC_WD_ENABLE},\n", smOut, out.size(),
+		    out.empty() ? "NULL" : ("slave_" + std::to_string(p) + "_pdos + 0").c_str());
+	std::printf("    {%u, EC_DIR_INPUT, %zu, %s, EC_WD_DISABLE},\n", smOut + 1, in.size(),
+		    in.empty() ? "NULL" : ("slave_" + std::to_string(p) + "_pdos + " + std::to_string(out.size())).c_str());
+	std::printf("    {0xff}\n};\n\n");
+}
+
+/// "<" and "&" as XML wants them.
+std::string xmlText(const std::string &s)
+{
+	std::string o;
+	for (const char c : s) {
+		if (c == '<')
+			o += "&lt;";
+		else if (c == '>')
+			o += "&gt;";
+		else if (c == '&')
+			o += "&amp;";
+		else if (c == '"')
+			o += "&quot;";
+		else
+			o += c;
+	}
+	return o;
+}
+
+/// IgH's "ethercat xml" for one slave: an EtherCATInfo document.
+void printXml(const ecmxf::SlaveInfo &si, unsigned smOut, const ecmxf::SlavePdos &sp)
+{
+	std::printf("<?xml version=\"1.0\" ?>\n<EtherCATInfo>\n  <!-- Slave %s -->\n", xmlText(si.name).c_str());
+	std::printf("  <Vendor>\n    <Id>%u</Id>\n  </Vendor>\n  <Descriptions>\n    <Devices>\n      <Device>\n",
+		    si.vendorId);
+	std::printf("        <Type ProductCode=\"#x%08x\" RevisionNo=\"#x%08x\">%s</Type>\n", si.productCode,
+		    si.revision, xmlText(si.name).c_str());
+	struct Side {
+		const char *tag;
+		unsigned sm;
+		const std::vector<ecmxf::PdoEntryInfo> *entries;
+	};
+	for (const Side &s : { Side{ "RxPdo", smOut, &sp.outputs }, Side{ "TxPdo", smOut + 1, &sp.inputs } })
+		for (const Pdo &pdo : groupByPdo(*s.entries)) {
+			std::printf("        <%s Sm=\"%u\" Fixed=\"1\" Mandatory=\"1\">\n          <Index>#x%04x</Index>\n",
+				    s.tag, s.sm, pdo.index);
+			for (const ecmxf::PdoEntryInfo *x : pdo.entries) {
+				std::printf("          <Entry>\n            <Index>#x%04x</Index>\n", x->index);
+				if (x->index)
+					std::printf("            <SubIndex>%u</SubIndex>\n", x->sub);
+				std::printf("            <BitLen>%u</BitLen>\n", x->bitLength);
+				if (!x->name.empty())
+					std::printf("            <Name>%s</Name>\n", xmlText(x->name).c_str());
+				std::printf("          </Entry>\n");
+			}
+			std::printf("        </%s>\n", s.tag);
+		}
+	std::printf("      </Device>\n    </Devices>\n  </Descriptions>\n</EtherCATInfo>\n");
+}
+
 } // namespace
 
 int cmdPdos(Globals &g, const Args &args)
 {
 	std::optional<std::string> posText;
-	const auto pos = parseArgs("pdos", args, g, kPdosHelp, { { "-p", "--position", nullptr, &posText } });
+	bool cstruct = false, xml = false;
+	const auto pos = parseArgs("pdos", args, g, kPdosHelp,
+				   { { "-p", "--position", nullptr, &posText },
+				     { "", "--cstruct", &cstruct, nullptr },
+				     { "", "--xml", &xml, nullptr } });
 	if (!pos)
 		return 0;
 	if (!pos->empty())
 		throw UsageError("pdos: unexpected argument '" + pos->front() + "' (try 'ecmxf-util pdos --help')");
+	if (static_cast<int>(cstruct) + static_cast<int>(xml) + static_cast<int>(g.json) > 1)
+		throw UsageError("pdos: --json, --cstruct and --xml exclude each other");
 	// -1: all slaves
 	const int position = posText ? parsePosition("pdos", posText) : -1;
 	const bool one = position >= 0;
@@ -111,6 +209,13 @@ int cmdPdos(Globals &g, const Args &args)
 		const ecmxf::SlaveInfo &si = m.slaves()[p];
 		const ecmxf::SlavePdos &sp = pdos[p];
 		const unsigned smOut = mailbox[p] ? 2 : 0, smIn = smOut + 1;
+		if (cstruct || xml) {
+			if (cstruct)
+				printCstruct(p, si, smOut, sp);
+			else
+				printXml(si, smOut, sp);
+			continue;
+		}
 		struct Side {
 			unsigned sm;
 			const char *dir;

@@ -33,6 +33,7 @@
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
+using Catch::Matchers::EndsWith;
 using clitest::run;
 using testjson::Json;
 
@@ -285,11 +286,42 @@ TEST_CASE("igh: master shows phase, slaves, link and counters", "[cli][igh]")
 	CHECK(j["wkc_errors"].num == 0);
 }
 
+TEST_CASE("igh: pdos --cstruct and --xml print the mapping as IgH's cstruct and xml do", "[cli][igh]")
+{
+	// slave 0 of the default network: an EST-584 (sim-slaves.rst: vendor
+	// 0x00000e5c, product 0x00000584; RxPDO 0x1600 of 4 entries from
+	// Controlword 0x6040, TxPDO 0x1A00 of 6 from Statusword 0x6041)
+	auto r = run("pdos -p 0 --cstruct");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, StartsWith("/* Slave 0, \"EST-584\"\n * Vendor ID:       0x00000e5c\n"
+				     " * Product code:    0x00000584\n"));
+	CHECK_THAT(r.out, Contains("ec_pdo_entry_info_t slave_0_pdo_entries[] = {\n    {0x6040, 0x00, 16}, /* Controlword */\n"));
+	CHECK_THAT(r.out, Contains("ec_pdo_info_t slave_0_pdos[] = {\n    {0x1600, 4, slave_0_pdo_entries + 0},\n"
+				   "    {0x1a00, 6, slave_0_pdo_entries + 4},\n};"));
+	CHECK_THAT(r.out, Contains("    {2, EC_DIR_OUTPUT, 1, slave_0_pdos + 0, EC_WD_ENABLE},\n"
+				   "    {3, EC_DIR_INPUT, 1, slave_0_pdos + 1, EC_WD_DISABLE},\n    {0xff}\n};"));
+	r = run("pdos -p 0 --xml");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, StartsWith("<?xml version=\"1.0\" ?>\n<EtherCATInfo>\n"));
+	CHECK_THAT(r.out, Contains("<Type ProductCode=\"#x00000584\" RevisionNo=\"#x00010000\">EST-584</Type>"));
+	CHECK_THAT(r.out, Contains("<RxPdo Sm=\"2\" Fixed=\"1\" Mandatory=\"1\">\n          <Index>#x1600</Index>\n"
+				   "          <Entry>\n            <Index>#x6040</Index>\n            <SubIndex>0</SubIndex>\n"
+				   "            <BitLen>16</BitLen>\n            <Name>Controlword</Name>\n"));
+	CHECK_THAT(r.out, EndsWith("</EtherCATInfo>\n"));
+	// one output form at a time
+	for (const char *bad : { "pdos --cstruct --xml", "pdos --json --xml", "pdos --cstruct --json" }) {
+		r = run(bad);
+		INFO(bad);
+		CHECK(r.status == 2);
+		CHECK_THAT(r.err, Contains("--json, --cstruct and --xml exclude each other"));
+	}
+}
+
 TEST_CASE("igh: every IgH command the ECM-XF cannot do says what to use instead", "[cli][igh]")
 {
 	const std::pair<const char *, const char *> cases[] = {
-		{ "sdos", "no SDO information service" }, { "xml", "ecmxf-util pdos" },
-		{ "cstruct", "ecmxf-util pdos" },	  { "domains", "no domains" },
+		{ "sdos", "no SDO information service" }, { "xml", "ecmxf-util pdos --xml" },
+		{ "cstruct", "ecmxf-util pdos --cstruct" },	  { "domains", "no domains" },
 		{ "data", "ecmxf::Cyclic" },		  { "alias", "eeprom -p N write 4" },
 		{ "config", "ecmxf-util pdos" },	  { "crc", "ecmxf-util master" },
 		{ "debug", "--trace FILE" },		  { "eoe", "no Ethernet over EtherCAT" },
