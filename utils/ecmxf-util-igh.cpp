@@ -305,9 +305,6 @@ std::optional<std::string> ighAlternative(std::string_view name)
 			    "mapping, 'ecmxf-util slaves -v' the slaves" },
 		{ "crc", "'ecmxf-util master' and 'ecmxf-util info' show the chip's CRC and working-counter error "
 			 "counters; 'ecmxf-util monitor' reports them as they rise" },
-		{ "cstruct", "'ecmxf-util pdos --cstruct [-p N]' prints the PDO mapping as IgH's C structures "
-			     "(ec_pdo_entry_info_t, ec_pdo_info_t, ec_sync_info_t); the library's ecmxf::Cyclic takes "
-			     "the mapping from the chip and needs none (Documentation/process-data.rst)" },
 		{ "data", "the process image is the library's: ecmxf::Cyclic (Documentation/process-data.rst); "
 			  "'ecmxf-util monitor' shows the FIFO levels" },
 		{ "debug", "'ecmxf-util --trace FILE COMMAND' records every exchange with the chip, 'ecmxf-util "
@@ -325,8 +322,6 @@ std::optional<std::string> ighAlternative(std::string_view name)
 			  "-t TYPE'" },
 		{ "soe_read", "the ECM-XF has no Servo Drive over EtherCAT (SoE); CoE: 'ecmxf-util upload'" },
 		{ "soe_write", "the ECM-XF has no Servo Drive over EtherCAT (SoE); CoE: 'ecmxf-util download'" },
-		{ "xml", "'ecmxf-util pdos --xml [-p N]' prints the PDO mapping and identity as EtherCATInfo XML; "
-			 "'ecmxf-util sii_read -p N -v' shows the identity" },
 	};
 	for (const Entry &e : kIgh)
 		if (e.name == name)

@@ -283,4 +283,60 @@ int cmdPdos(Globals &g, const Args &args)
 	return 0;
 }
 
+const char *const kCstructHelp =
+	"Usage: ecmxf-util [global options] cstruct [-p N]\n"
+	"\n"
+	"The PDO mapping of each slave (or of slave N) as the C structures of\n"
+	"IgH's application interface: ec_pdo_entry_info_t, ec_pdo_info_t and\n"
+	"ec_sync_info_t, as IgH's 'ethercat cstruct' prints them. The same as\n"
+	"'ecmxf-util pdos --cstruct' (see 'ecmxf-util pdos --help').\n"
+	"\n"
+	"Options:\n"
+	"  -p, --position N  only the slave at bus position N\n"
+	"  -h, --help        show this help\n";
+
+const char *const kXmlHelp =
+	"Usage: ecmxf-util [global options] xml [-p N]\n"
+	"\n"
+	"The identity and PDO mapping of each slave (or of slave N) as an\n"
+	"EtherCATInfo document (Vendor, Type, RxPdo/TxPdo and their entries), as\n"
+	"IgH's 'ethercat xml' prints it. The same as 'ecmxf-util pdos --xml'.\n"
+	"\n"
+	"Options:\n"
+	"  -p, --position N  only the slave at bus position N\n"
+	"  -h, --help        show this help\n";
+
+namespace {
+
+/// IgH's cstruct / xml: pdos with @p form, its own help and name.
+int pdosAs(Globals &g, const Args &args, std::string_view name, const char *help, std::string_view form)
+{
+	for (const std::string_view a : args)
+		if (a == "-h" || a == "--help") {
+			std::fputs(help, stdout);
+			return 0;
+		}
+	for (const std::string_view a : args)
+		if (a.substr(0, 2) == "--" && a != "--position" && a.substr(0, 11) != "--position=")
+			throw UsageError(std::string(name) + ": unknown option '" + std::string(a) + "' (try 'ecmxf-util " +
+					 std::string(name) + " --help')");
+	if (g.json)
+		throw UsageError(std::string(name) + ": no --json form (try 'ecmxf-util pdos --json')");
+	Args with = args;
+	with.push_back(form);
+	return cmdPdos(g, with);
+}
+
+} // namespace
+
+int cmdCstruct(Globals &g, const Args &args)
+{
+	return pdosAs(g, args, "cstruct", kCstructHelp, "--cstruct");
+}
+
+int cmdXml(Globals &g, const Args &args)
+{
+	return pdosAs(g, args, "xml", kXmlHelp, "--xml");
+}
+
 } // namespace ecmxf_util

@@ -107,6 +107,7 @@ const CommandDesc kCommands[] = {
 	{ "cia402", "CiA-402 drive over SDO: status, enable, disable, fault-reset...", kCia402Help,
 	  cmdCia402, true },
 	{ "commands", "list the ECM-XF command codes (ver. 038 and 050)", kCommandsHelp, cmdCommands },
+	{ "cstruct", "the PDO mapping as IgH's C structures (pdos --cstruct)", kCstructHelp, cmdCstruct, true },
 	{ "dac", "set the chip's analog output", kDacHelp, cmdDac, true },
 	{ "decode", "decode a packet trace (--trace FILE) as a protocol log", kDecodeHelp, cmdDecode },
 	{ "download", "write an object by SDO download", kDownloadHelp, cmdDownload, true },
@@ -137,6 +138,7 @@ const CommandDesc kCommands[] = {
 	{ "states", "request an EtherCAT state for one or all slaves", kStatesHelp, cmdStates, true },
 	{ "upload", "read an object by SDO upload", kUploadHelp, cmdUpload, true },
 	{ "version", "print the version", kVersionHelp, cmdVersion },
+	{ "xml", "identity and PDO mapping as EtherCATInfo XML (pdos --xml)", kXmlHelp, cmdXml, true },
 };
 
 void usage(std::FILE *out)
