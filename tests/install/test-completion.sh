@@ -51,8 +51,8 @@ comp()
 	fi
 }
 
-all="adc cia402 commands dac decode download eeprom emergency foe_read foe_write gpio info
-master monitor pdos qei raw reg_read reg_write reset sii_read sii_write slaves states upload version"
+all="adc cia402 commands cstruct dac decode download eeprom emergency foe_read foe_write gpio info
+master monitor pdos qei raw reg_read reg_write reset sii_read sii_write slaves states upload version xml"
 # shellcheck disable=SC2086
 comp "ecmxf-util " $all help
 comp "ecmxf-util s" sii_read sii_write slaves states
