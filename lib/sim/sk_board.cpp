@@ -896,7 +896,9 @@ struct SimBoard::Impl {
 			if (state == ECMSK_STATE_PREOP) {
 				std::vector<std::uint8_t> m;
 				if (s.s->sdoUpload(0x6502, 0, false, m) == 0 && m.size() == 4) {
-					const std::uint32_t modes = m[0] | m[1] << 8 | m[2] << 16 |
+					const std::uint32_t modes = static_cast<std::uint32_t>(m[0]) |
+								    static_cast<std::uint32_t>(m[1]) << 8 |
+								    static_cast<std::uint32_t>(m[2]) << 16 |
 								    static_cast<std::uint32_t>(m[3]) << 24;
 					if (!(modes & (1u << (c.target - 1))))
 						return no();

@@ -89,7 +89,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			require(ecmsk_frame_crc_ok(miso.data(), n), "response without its CRC");
 		require(b.fifoUsed() <= cfg.fifoDepth, "FIFO above its depth");
 		if (miso[2] == ECMSK_STATE_OP) {
-			const unsigned remaining = miso[8] | (miso[9] << 8);
+			const unsigned remaining = miso[8] | static_cast<unsigned>(miso[9]) << 8;
 			require(remaining <= cfg.fifoDepth, "FIFO remaining above the depth");
 		}
 	}
