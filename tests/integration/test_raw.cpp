@@ -118,9 +118,14 @@ TEST_CASE("transport: INT0 drove the exchanges (the transport's own counters)", 
 		// whether a wait needed an edge or found the line ready depends
 		// on how fast the bridge answered (an rt-amd64 run saw 194 of
 		// 194 ready at the first look): the edges are reported, not
-		// required; no wait may have timed out
-		WARN("INT0 edges waited for: " << st.int0Edges << " of " << st.exchanges << " exchanges");
-		CHECK(st.int0Timeouts == 0);
+		// required. So are waits that ended without INT0 (the engine's
+		// 10 ms slice): a guest on a loaded host can stall the bridge
+		// that long (an rt-amd64 run beside a fuzzer saw 2 of 227), and
+		// the engine then just waits again. What INT0 guarantees is
+		// checked: every exchange went out on a ready line, none on the
+		// no-INT0 fallback.
+		WARN("INT0 edges waited for: " << st.int0Edges << " of " << st.exchanges << " exchanges, "
+					       << st.int0Timeouts << " waits of 10 ms ended without INT0");
 		CHECK(st.fallbackWaits == 0);
 		CHECK(st.int0Ready >= st.exchanges);
 	} else if (k) {
