@@ -586,7 +586,7 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 		      u8 *pkt, size_t pkt_len)
 {
 	struct ecmxf_cmd_hdr h;
-	struct ecmxf_xfer *x = NULL;
+	struct ecmxf_xfer *x = NULL, *polled = NULL;
 	enum ecmxf_check check = ecmxf_with_cover(e, e->check);
 	const void *data = NULL;
 	size_t data_len = 0;
@@ -605,10 +605,13 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 		x = NULL;
 	/*
 	 * WARM_RESET is never re-sent: a chip that has just restarted
-	 * remembers no previous packet and would run it again.
+	 * remembers no previous packet and would run it again.  It is polled
+	 * with INFO_UPDATE until the NOP, and stays pollable so.
 	 */
-	if (x && !first && x->hdr.code == ECMXF_CMD_WARM_RESET)
+	if (x && !first && x->hdr.code == ECMXF_CMD_WARM_RESET) {
+		polled = x;
 		x = NULL;
+	}
 
 	if (!x) {
 		/* sync packet, INFO_UPDATE poll / probe / header refresh */
@@ -647,6 +650,8 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 		return ret;
 
 	e->seq++;
+	if (polled)
+		polled->last_seq = e->seq;
 	if (x) {
 		x->last_seq = e->seq;
 		if (first) {

@@ -578,6 +578,28 @@ TEST_CASE("engine: WARM_RESET switches to the power-on format and completes on t
 	CHECK(l.chip.cmdLog.back().code == ECMXF_CMD_INFO_UPDATE_OP);
 }
 
+TEST_CASE("engine: WARM_RESET waits for the NOP through bad packets and late answers", "[engine]")
+{
+	Link l;
+	ecmxf_xfer x = command(ECMXF_CMD_WARM_RESET);
+	REQUIRE(l.submit(x) == 0);
+	l.exchange(); // sync
+	l.exchange(); // WARM_RESET; the chip takes it as any command
+	// two polls get a bad packet and a stale header before the restart
+	l.chip.faults.push_back(fake::Fault::CheckWord);
+	l.exchange();
+	l.exchange();
+	CHECK(x.status == -EINPROGRESS);
+	l.chip.resetPending = true; // the chip restarts now
+	l.run(x);
+	CHECK(x.status == 0);
+	CHECK((l.events & ECMXF_EV_CHIP_RESET) != 0);
+	std::size_t resets = 0;
+	for (const auto &c : l.chip.cmdLog)
+		resets += c.code == ECMXF_CMD_WARM_RESET;
+	CHECK(resets == 1);
+}
+
 TEST_CASE("engine: data that would not fit the format a command switches to is refused",
 	  "[engine]")
 {
