@@ -657,7 +657,10 @@ void EngineFuzz::exchange(u8 ctl, u8 aux)
 	FUZZ_ASSERT(r == 0);
 
 	for (ecmxf_xfer *k : { e_.cur, e_.nxt })
-		if (k && k->last_seq == e_.seq)
+		/* a WARM_RESET already sent is polled with INFO_UPDATE */
+		if (k && k->last_seq == e_.seq &&
+		    !(k->hdr.code == ECMXF_CMD_WARM_RESET &&
+		      k->sent_seq != e_.seq))
 			x = k;
 	first = x && x->sent_seq == e_.seq;
 	/* WARM_RESET is polled with INFO_UPDATE, never re-sent */
