@@ -519,6 +519,28 @@ static unsigned int ecmxf_answer_lost(struct ecmxf_engine *e,
 				      u8 new_err, u64 now_ns);
 
 /*
+ * A result fetch polling its running async command goes out anew, with a
+ * fresh index, in every exchange rather than being repeated to collect
+ * its answer: the answer to its previous send comes back in the same
+ * exchange (ecmxf_match()), so the chip is polled once per exchange, not
+ * once per two.  Only an idempotent fetch (a *_GET that runs again
+ * harmlessly) alone in the slots, with pipelining on.  The answer to the
+ * send that goes out after the one showing the end is never read: the
+ * chip answers it, and the next packet repeats it as INFO_UPDATE or
+ * overwrites it.
+ */
+static bool ecmxf_fetch_ahead(const struct ecmxf_engine *e,
+			      const struct ecmxf_xfer *x)
+{
+	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(x->hdr.code);
+
+	return e->pipeline && x->owner && x->owner == e->async &&
+	       x->owner->state == ECMXF_XS_RUNNING &&
+	       (x == e->cur ? !e->nxt : !e->cur) &&
+	       ci && (ci->flags & ECMXF_CMDF_IDEMPOTENT);
+}
+
+/*
  * What the next packet carries: a first send (*first set), a re-send of
  * the newest command sent, or NULL for an INFO_UPDATE.  Only the packet
  * sent last may be repeated: the chip runs a repeat of the previous
@@ -550,6 +572,9 @@ static struct ecmxf_xfer *ecmxf_pick(struct ecmxf_engine *e, bool *first,
 		if (e->nxt && e->nxt->state == ECMXF_XS_QUEUED &&
 		    e->pipeline && !hold)
 			return e->nxt;
+		if (newest && newest->last_seq == e->seq && !hold &&
+		    ecmxf_fetch_ahead(e, newest))
+			return newest;	/* sent ahead: a first send again */
 		*first = false;
 		if (!newest || newest->last_seq == e->seq)
 			return newest;
@@ -625,6 +650,9 @@ int ecmxf_engine_next(struct ecmxf_engine *e, u64 now_ns,
 		data = x->tx_data;
 		data_len = x->tx_len;
 		if (first) {
+			/* a fetch already sent goes ahead (ecmxf_pick()) */
+			x->ahead = x->state == ECMXF_XS_SENT;
+			x->prev_index = x->hdr.index;
 			h.index = ecmxf_fresh_index(e);
 			x->hdr.index = h.index;
 			ecmxf_take_pending(e, &h);
@@ -783,9 +811,13 @@ static unsigned int ecmxf_answered(struct ecmxf_engine *e,
 	u16 n = h->len;			/* <= data section: decode checked it */
 
 	if (x->owner && (h->ecm_status & ECMXF_STS_BUSY)) {
-		/* a fetch that ran while the chip was busy: poll again */
+		/*
+		 * a fetch that ran while the chip was busy: poll again, unless
+		 * this answers the send before the one already out ahead
+		 */
 		e->stats.fetch_polls++;
-		x->state = ECMXF_XS_QUEUED;
+		if (!x->ahead || h->index != x->prev_index)
+			x->state = ECMXF_XS_QUEUED;
 		return 0;
 	}
 	x->rsp = *h;
@@ -813,6 +845,12 @@ static unsigned int ecmxf_match(struct ecmxf_engine *e,
 	if (ecmxf_sent(e->cur) && h->index == e->cur->hdr.index)
 		x = e->cur;
 	else if (ecmxf_sent(e->nxt) && h->index == e->nxt->hdr.index)
+		x = e->nxt;
+	else if (ecmxf_sent(e->cur) && e->cur->ahead &&
+		 h->index == e->cur->prev_index)
+		x = e->cur;	/* a fetch sent ahead: its previous send */
+	else if (ecmxf_sent(e->nxt) && e->nxt->ahead &&
+		 h->index == e->nxt->prev_index)
 		x = e->nxt;
 
 	if (!x) {

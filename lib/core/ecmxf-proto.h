@@ -294,6 +294,9 @@ enum ecmxf_perm ecmxf_cmd_perm(unsigned int code, unsigned int param,
  * @sent_seq: private: exchange of the first send
  * @last_seq: private: exchange of the latest send (first or re-send)
  * @owner: private: the async command this one is the fetch of
+ * @prev_index: private: the index of @owner's fetch before its latest send
+ * @ahead: private: the latest send was a fetch sent ahead (a fresh send
+ *	while the answer to @prev_index was still due)
  */
 struct ecmxf_xfer {
 	struct ecmxf_cmd_hdr hdr;
@@ -317,6 +320,8 @@ struct ecmxf_xfer {
 	u32 sent_seq;
 	u32 last_seq;
 	struct ecmxf_xfer *owner;
+	u8 prev_index;
+	bool ahead;
 };
 
 /**

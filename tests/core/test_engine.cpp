@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <set>
 #include <vector>
 
 #include "ecmxf-proto.h"
@@ -806,16 +807,67 @@ TEST_CASE("pipelining: an async command's fetch is its poll, and completes with 
 	for (const ecmxf_cmd_hdr &h : l.chip.executed)
 		reqs += h.code == ECMXF_CMD_ECAT_SDO_REQ;
 	CHECK(reqs == 1);
+	int gets = 0;
+	for (const ecmxf_cmd_hdr &h : l.chip.executed)
+		gets += h.code == ECMXF_CMD_ECAT_SDO_GET;
 	if (pipeline) {
-		// REQ, then a fetch in every exchange until one runs after the
-		// busy phase, and the exchange that brings its answer
+		// By hand, the chip busy for the 3 exchanges after the one that
+		// took REQ: 1 REQ; 2 REQ repeated (its answer: accepted, busy);
+		// 3 GET (runs busy); 4 GET again, sent ahead while the answer
+		// to 3 (busy) comes back; it runs after the busy phase; 5 GET
+		// again, while the answer to 4 brings the result: 5 exchanges,
+		// a fresh GET in each from the third on, none repeated
 		CHECK(infos == 0);
-		CHECK(n == 6);
-		CHECK(ecmxf_engine_get_stats(&l.e)->fetch_polls > 0);
+		CHECK(n == 5);
+		CHECK(gets == 3);
+		CHECK(ecmxf_engine_get_stats(&l.e)->fetch_polls == 1);
 	} else {
 		CHECK(infos > 0);
 		CHECK(n > 6);
 	}
+}
+
+TEST_CASE("pipelining: a fetch sent ahead polls through lost answers and a packet the chip dropped",
+	  "[engine][pipeline]")
+{
+	Link l;
+	l.chip.asyncBusyExchanges = 6;
+	l.chip.handler = [](const ecmxf_cmd_hdr &h, const std::uint8_t *) {
+		return fake::Answer{ static_cast<std::uint8_t>(h.code + 1), { 1, 2, 3, 4 } };
+	};
+	int getsSeen = 0;
+	l.chip.dropCmd = [&](const ecmxf_cmd_hdr &h) {
+		return h.code == ECMXF_CMD_ECAT_SDO_GET && ++getsSeen == 2;
+	};
+	l.exchange();
+	std::uint8_t buf[4] = {};
+	ecmxf_xfer req = command(ECMXF_CMD_ECAT_SDO_REQ);
+	ecmxf_xfer get = command(ECMXF_CMD_ECAT_SDO_GET);
+	get.rx_buf = buf;
+	get.rx_size = sizeof(buf);
+	req.fetch = &get;
+	REQUIRE(l.submit(req) == 0);
+	// the answers of the 4th and 6th exchange are garbled on the wire
+	l.chip.faults = { fake::Fault::None, fake::Fault::None, fake::Fault::None, fake::Fault::CheckWord,
+			  fake::Fault::None, fake::Fault::CheckWord };
+	runAll(l, { &req, &get });
+	CHECK(req.status == 0);
+	CHECK(get.status == 0);
+	REQUIRE(get.rx_len == 4);
+	CHECK(buf[3] == 4);
+	CHECK((get.rsp.ecm_status & ECMXF_STS_BUSY) == 0);
+	int reqs = 0;
+	for (const ecmxf_cmd_hdr &h : l.chip.executed)
+		reqs += h.code == ECMXF_CMD_ECAT_SDO_REQ;
+	CHECK(reqs == 1);
+	// never a repeat while the fetch polls: every GET packet is fresh
+	std::set<std::uint8_t> seen;
+	for (const ecmxf_cmd_hdr &h : l.chip.cmdLog)
+		if (h.code == ECMXF_CMD_ECAT_SDO_GET)
+			CHECK(seen.insert(h.index).second);
+	CHECK(seen.size() >= 4);
+	CHECK(getsSeen >= 2); // the drop happened
+	CHECK(ecmxf_engine_idle(&l.e));
 }
 
 TEST_CASE("pipelining: the fetch of an async command the chip refuses is withdrawn",
