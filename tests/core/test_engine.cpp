@@ -646,6 +646,21 @@ int runAll(Link &l, std::initializer_list<ecmxf_xfer *> xs, int max = 1000)
 	return n;
 }
 
+// SDO_REQ with SDO_GET as its fetch, which brings 4 bytes back.
+struct SdoUpload {
+	std::uint8_t buf[4] = {};
+	ecmxf_xfer req = command(ECMXF_CMD_ECAT_SDO_REQ);
+	ecmxf_xfer get = command(ECMXF_CMD_ECAT_SDO_GET);
+	SdoUpload()
+	{
+		get.rx_buf = buf;
+		get.rx_size = sizeof(buf);
+		req.fetch = &get;
+	}
+	SdoUpload(const SdoUpload &) = delete;
+	SdoUpload &operator=(const SdoUpload &) = delete;
+};
+
 } // namespace
 
 TEST_CASE("pipelining: the second command rides in the exchange that fetches the first answer",
@@ -787,12 +802,9 @@ TEST_CASE("pipelining: an async command's fetch is its poll, and completes with 
 		return fake::Answer{ static_cast<std::uint8_t>(h.code + 1), { 0x50, 0xC3, 0, 0 } };
 	};
 	l.exchange();
-	std::uint8_t buf[4] = {};
-	ecmxf_xfer req = command(ECMXF_CMD_ECAT_SDO_REQ);
-	ecmxf_xfer get = command(ECMXF_CMD_ECAT_SDO_GET);
-	get.rx_buf = buf;
-	get.rx_size = sizeof(buf);
-	req.fetch = &get;
+	SdoUpload up;
+	ecmxf_xfer &req = up.req, &get = up.get;
+	const std::uint8_t *buf = up.buf;
 	REQUIRE(l.submit(req) == 0);
 	const int n = runAll(l, { &req, &get });
 	CHECK(req.status == 0);
@@ -840,12 +852,9 @@ TEST_CASE("pipelining: a fetch sent ahead polls through lost answers and a packe
 		return h.code == ECMXF_CMD_ECAT_SDO_GET && ++getsSeen == 2;
 	};
 	l.exchange();
-	std::uint8_t buf[4] = {};
-	ecmxf_xfer req = command(ECMXF_CMD_ECAT_SDO_REQ);
-	ecmxf_xfer get = command(ECMXF_CMD_ECAT_SDO_GET);
-	get.rx_buf = buf;
-	get.rx_size = sizeof(buf);
-	req.fetch = &get;
+	SdoUpload up;
+	ecmxf_xfer &req = up.req, &get = up.get;
+	const std::uint8_t *buf = up.buf;
 	REQUIRE(l.submit(req) == 0);
 	// the answers of the 4th and 6th exchange are garbled on the wire
 	l.chip.faults = { fake::Fault::None, fake::Fault::None, fake::Fault::None, fake::Fault::CheckWord,
