@@ -8,7 +8,10 @@
  * the TxFIFO into the input ring (the rings: ecmxf-ring.c); now and then
  * it reads the working counter.  It is woken by INT1 (the FIFO threshold
  * flags), by its own timer and by the work a previous command left.  Its
- * commands take turns with the files' commands.
+ * commands take turns with the files' commands.  The working counter read
+ * has a command of its own beside the FIFO command's, so that it rides in
+ * the exchange that fetches the FIFO command's answer (pipelining: three
+ * exchanges for a cycle that reads it, not four).
  *
  * What a command carries and what its answer means (the fill level, the
  * skipped frames, the refusals and losses, the EPROTO rules) is the
@@ -38,32 +41,53 @@ MODULE_PARM_DESC(pump_timeout_ms,
 		 "time allowed for each PDO pump command, ms (10..60000, default 500)");
 
 /**
+ * ecmxf_pump_busy() - is one of the pump's commands in the engine?
+ * @edev: the device, lock held
+ *
+ * Return: true while the FIFO command or the working counter read is in
+ * flight.
+ */
+bool ecmxf_pump_busy(const struct ecmxf_dev *edev)
+{
+	return edev->pump.fifo.busy || edev->pump.wkc.busy;
+}
+
+/**
  * ecmxf_pump_take() - should the pump send a command now?
  * @edev: the device, lock held
  * @now: ktime_get_ns()
  *
- * Due when rings exist, the pump has not stopped, the chip's FIFO is on
- * (ECM status bit 6 in the last header) and: its timer expired, INT1 fired
- * (the FIFO threshold flags), the last command left work, or the working
- * counter is due.
+ * Due when rings exist, the pump has not stopped and the chip's FIFO is
+ * on (ECM status bit 6 in the last header); then the FIFO command, when
+ * it is not in flight and its timer expired, INT1 fired (the FIFO
+ * threshold flags) or the last one left work; else the working counter
+ * read, when it is not in flight and due.  The FIFO command goes first:
+ * it carries the process data, and the read rides behind it.  The choice
+ * is kept for ecmxf_pump_submit().
  *
  * Return: the rings with a reference for the command, or NULL.
  */
 struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now)
 {
 	struct ecmxf_rings *r = edev->rings;
+	struct ecmxf_pump_slot *p = &edev->pump;
+	bool fifo, wkc;
 
 	lockdep_assert_held(&edev->lock);
-	if (!r || r->stopped || edev->pump.busy)
+	if (!r || r->stopped)
 		return NULL;
 	if (!(edev->last.ecm_status & ECMXF_STS_FIFO_EN))
 		return NULL;
-	if (!r->again && now < r->next_tick_ns &&
-	    !atomic_read(&edev->int1_flag) &&
-	    !(r->wkc_ns && now >= r->next_wkc_ns))
+	fifo = !p->fifo.busy &&
+	       (r->again || now >= r->next_tick_ns ||
+		atomic_read(&edev->int1_flag));
+	wkc = !p->wkc.busy && r->wkc_ns && now >= r->next_wkc_ns;
+	if (!fifo && !wkc)
 		return NULL;
+	p->take_wkc = !fifo;
 	/* this command is the exchange that INT1 asks for */
-	atomic_set(&edev->int1_flag, 0);
+	if (fifo)
+		atomic_set(&edev->int1_flag, 0);
 	kref_get(&r->ref);
 	return r;
 }
@@ -88,20 +112,40 @@ u64 ecmxf_pump_deadline(struct ecmxf_dev *edev)
 	return t ? t : 1;
 }
 
+/* Build the working counter read in @edev->pump.wkc.x. */
+static void ecmxf_pump_prepare_wkc(struct ecmxf_dev *edev,
+				   struct ecmxf_rings *r, u64 now)
+{
+	struct ecmxf_xfer *x = &edev->pump.wkc.x;
+
+	memset(x, 0, sizeof(*x));
+	x->rx_buf = r->wkc_buf;
+	x->rx_size = ECMXF_DATA_MAX;
+	x->status = -EINPROGRESS;
+	ecmxf_pump_wkc_cmd(&x->hdr);
+	/*
+	 * every wkc_ns from the first read on, not from whenever the worker
+	 * woke: late wake-ups must not stretch the period (a reader counting
+	 * reads over N periods sees N / period); after a gap of more than a
+	 * period, one read, no burst
+	 */
+	r->next_wkc_ns += r->wkc_ns;
+	if (r->next_wkc_ns <= now)
+		r->next_wkc_ns = now + r->wkc_ns;
+}
+
 /*
- * Build the pump's next command in @edev->pump.x: the working counter
- * when due, else the FIFO command the protocol core plans from what the
- * output ring holds (up to the RxFIFO fill level and the data section),
- * popping TxPDO frames.  Return: false when there is nothing to send.
+ * Build the FIFO command in @edev->pump.fifo.x: what the protocol core
+ * plans from what the output ring holds (up to the RxFIFO fill level and
+ * the data section), popping TxPDO frames.  Return: false when there is
+ * nothing to send.
  */
-static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r,
-			       u64 now)
+static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r)
 {
 	struct ecmxf_pump_slot *p = &edev->pump;
 	struct ecmxf_pump_plan *pl = &p->plan;
-	struct ecmxf_xfer *x = &p->x;
+	struct ecmxf_xfer *x = &p->fifo.x;
 	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
-	bool after_wkc = p->wkc;
 	bool send;
 	int avail;
 
@@ -112,26 +156,6 @@ static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 	x->tx_data = r->tx_buf;
 	x->status = -EINPROGRESS;
 	p->skipped = 0;
-	p->wkc = false;
-
-	/*
-	 * the working counter when due, but never twice in a row: on a slow
-	 * link (each command longer than wkc_us) it would starve the FIFOs
-	 */
-	if (r->wkc_ns && now >= r->next_wkc_ns && !after_wkc) {
-		ecmxf_pump_wkc_cmd(&x->hdr);
-		/*
-		 * every wkc_ns from the first read on, not from whenever the
-		 * worker woke: late wake-ups must not stretch the period
-		 * (a reader counting reads over N periods sees N / period);
-		 * after a gap of more than a period, one read, no burst
-		 */
-		r->next_wkc_ns += r->wkc_ns;
-		if (r->next_wkc_ns <= now)
-			r->next_wkc_ns = now + r->wkc_ns;
-		p->wkc = true;
-		return true;
-	}
 
 	avail = ecmxf_ring_out_avail(r);
 	if (avail < 0)
@@ -169,35 +193,43 @@ static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 {
 	struct ecmxf_pump_slot *p = &edev->pump;
+	bool wkc = p->take_wkc;
+	struct ecmxf_pump_cmd *c = wkc ? &p->wkc : &p->fifo;
 	int ret;
 
-	r->again = false;
-	r->next_tick_ns = now + r->poll_ns;
-	if (!ecmxf_pump_prepare(edev, r, now)) {
-		ret = -ENODATA;
-		if (ecmxf_ring_out_avail(r) < 0)
-			ret = -EFAULT;
-		goto drop;
+	if (wkc) {
+		ecmxf_pump_prepare_wkc(edev, r, now);
+	} else {
+		r->again = false;
+		r->next_tick_ns = now + r->poll_ns;
+		if (!ecmxf_pump_prepare(edev, r)) {
+			ret = -ENODATA;
+			if (ecmxf_ring_out_avail(r) < 0)
+				ret = -EFAULT;
+			goto drop;
+		}
 	}
-	p->x.timeout_us = clamp(READ_ONCE(ecmxf_param_pump_timeout_ms),
+	c->x.timeout_us = clamp(READ_ONCE(ecmxf_param_pump_timeout_ms),
 				10U, 60000U) * USEC_PER_MSEC;
-	if (!ecmxf_engine_can_submit(&edev->e, &p->x)) {
+	if (!ecmxf_engine_can_submit(&edev->e, &c->x)) {
 		ret = -EBUSY;
 		goto drop;
 	}
-	ret = ecmxf_engine_submit(&edev->e, &p->x, now);
+	ret = ecmxf_engine_submit(&edev->e, &c->x, now);
 	if (ret)
 		goto drop;
 	mutex_lock(&edev->lock);
-	p->rings = r;
-	p->busy = true;
+	c->rings = r;
+	c->busy = true;
 	p->turn = false;
 	mutex_unlock(&edev->lock);
 	return 0;
 drop:
 	mutex_lock(&edev->lock);
-	edev->out_ring_skipped += p->skipped;
-	p->skipped = 0;
+	if (!wkc) {
+		edev->out_ring_skipped += p->skipped;
+		p->skipped = 0;
+	}
 	if (ret == -EFAULT && edev->rings == r)
 		ecmxf_rings_stop(edev, -EFAULT);
 	mutex_unlock(&edev->lock);
@@ -237,7 +269,7 @@ static void ecmxf_pump_wkc_done(struct ecmxf_rings *r,
 {
 	u32 wkc;
 
-	if (ecmxf_pump_wkc_answer(&x->rsp, r->rx_buf, x->rx_len, &wkc))
+	if (ecmxf_pump_wkc_answer(&x->rsp, r->wkc_buf, x->rx_len, &wkc))
 		return;
 	r->cur.wkc = wkc;
 	r->cur.wkc_reads++;
@@ -313,8 +345,9 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 static void ecmxf_pump_failed(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 			      const struct ecmxf_xfer *x)
 {
-	u32 deltas[7] = { 0, 0, 0, 0, 0, edev->pump.skipped, 1 };
-	u32 lost = ecmxf_pump_lost(&r->pump, &edev->pump.plan);
+	bool fifo = x == &edev->pump.fifo.x;
+	u32 deltas[7] = { 0, 0, 0, 0, 0, fifo ? edev->pump.skipped : 0, 1 };
+	u32 lost = fifo ? ecmxf_pump_lost(&r->pump, &edev->pump.plan) : 0;
 
 	edev->pump_failures++;
 	if (lost) {
@@ -324,31 +357,28 @@ static void ecmxf_pump_failed(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 	ecmxf_status_update(r, &x->rsp, x->status, deltas);
 }
 
-/**
- * ecmxf_pump_collect() - the pump's command left the engine: finish it
- * @edev: the device, lock held (called by ecmxf_collect())
- *
- * Return: the command's reference to the rings once it is finished, else
- * NULL.  The caller drops it with ecmxf_rings_put() after unlocking.
- */
-struct ecmxf_rings *ecmxf_pump_collect(struct ecmxf_dev *edev)
+/* Finish @c if the engine finished it; lock held.  Return: its reference. */
+static struct ecmxf_rings *ecmxf_pump_finish(struct ecmxf_dev *edev,
+					     struct ecmxf_pump_cmd *c)
 {
-	struct ecmxf_pump_slot *p = &edev->pump;
-	struct ecmxf_rings *r = p->rings;
-	const struct ecmxf_xfer *x = &p->x;
+	struct ecmxf_rings *r = c->rings;
+	const struct ecmxf_xfer *x = &c->x;
+	bool fifo = c == &edev->pump.fifo;
 
-	lockdep_assert_held(&edev->lock);
-	if (!p->busy || x->status == -EINPROGRESS)
+	if (!c->busy || x->status == -EINPROGRESS)
 		return NULL;
-	p->busy = false;
-	p->rings = NULL;
-	edev->out_ring_skipped += p->skipped;
+	c->busy = false;
+	c->rings = NULL;
+	if (fifo) {
+		edev->out_ring_skipped += edev->pump.skipped;
+		edev->pump.skipped = 0;
+	}
 	if (r == edev->rings && !r->stopped) {
 		if (x->status == -ECONNRESET)
 			ecmxf_rings_stop(edev, x->status);
 		else if (x->status)
 			ecmxf_pump_failed(edev, r, x);
-		else if (p->wkc)
+		else if (!fifo)
 			ecmxf_pump_wkc_done(r, x);
 		else
 			ecmxf_pump_fifo_done(edev, r, x);
@@ -357,23 +387,44 @@ struct ecmxf_rings *ecmxf_pump_collect(struct ecmxf_dev *edev)
 }
 
 /**
- * ecmxf_pump_cancel() - the worker stops: withdraw the pump's command
- * @edev: the device, lock held
- *
- * Return: the command's reference to the rings, or NULL when none was
- * in the engine.  The caller drops it with ecmxf_rings_put() after
- * unlocking.
+ * ecmxf_pump_collect() - finish the pump's commands that left the engine
+ * @edev: the device, lock held (called by ecmxf_collect())
+ * @put: the commands' references to the rings, set for those finished,
+ *	else NULL; the caller drops them with ecmxf_rings_put() after
+ *	unlocking (both may finish in one exchange: a chip reset, the
+ *	retries run out)
  */
-struct ecmxf_rings *ecmxf_pump_cancel(struct ecmxf_dev *edev)
+void ecmxf_pump_collect(struct ecmxf_dev *edev, struct ecmxf_rings *put[2])
 {
-	struct ecmxf_pump_slot *p = &edev->pump;
-	struct ecmxf_rings *r = p->rings;
-
 	lockdep_assert_held(&edev->lock);
-	if (!p->busy)
+	put[0] = ecmxf_pump_finish(edev, &edev->pump.fifo);
+	put[1] = ecmxf_pump_finish(edev, &edev->pump.wkc);
+}
+
+/* Withdraw @c from the engine; lock held.  Return: its reference. */
+static struct ecmxf_rings *ecmxf_pump_withdraw(struct ecmxf_dev *edev,
+					       struct ecmxf_pump_cmd *c)
+{
+	struct ecmxf_rings *r = c->rings;
+
+	if (!c->busy)
 		return NULL;
-	ecmxf_engine_cancel(&edev->e, &p->x);
-	p->busy = false;
-	p->rings = NULL;
+	ecmxf_engine_cancel(&edev->e, &c->x);
+	c->busy = false;
+	c->rings = NULL;
 	return r;
+}
+
+/**
+ * ecmxf_pump_cancel() - the worker stops: withdraw the pump's commands
+ * @edev: the device, lock held
+ * @put: the commands' references to the rings, NULL where none was in
+ *	the engine; the caller drops them with ecmxf_rings_put() after
+ *	unlocking
+ */
+void ecmxf_pump_cancel(struct ecmxf_dev *edev, struct ecmxf_rings *put[2])
+{
+	lockdep_assert_held(&edev->lock);
+	put[0] = ecmxf_pump_withdraw(edev, &edev->pump.fifo);
+	put[1] = ecmxf_pump_withdraw(edev, &edev->pump.wkc);
 }

@@ -68,6 +68,7 @@ static void ecmxf_rings_release(struct kref *ref)
 	ecmxf_ring_free(&r->in);
 	kfree(r->tx_buf);
 	kfree(r->rx_buf);
+	kfree(r->wkc_buf);
 	kfree(r);
 }
 
@@ -169,8 +170,9 @@ int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
 	r->edev = edev;
 	r->tx_buf = kzalloc(ECMXF_DATA_MAX, GFP_KERNEL);
 	r->rx_buf = kzalloc(ECMXF_DATA_MAX, GFP_KERNEL);
+	r->wkc_buf = kzalloc(ECMXF_DATA_MAX, GFP_KERNEL);
 	ret = -ENOMEM;
-	if (!r->tx_buf || !r->rx_buf)
+	if (!r->tx_buf || !r->rx_buf || !r->wkc_buf)
 		goto err;
 	ret = ecmxf_ring_init(&r->out, rs->out_entries, sizes[0], false);
 	if (ret)

@@ -76,6 +76,8 @@ struct ecmxf_ring {
  *	and its bookkeeping of the frames pushed (worker only after setup)
  * @tx_buf: data section of the pump's command (%ECMXF_DATA_MAX)
  * @rx_buf: data section of its answer (%ECMXF_DATA_MAX)
+ * @wkc_buf: data section of the working counter read's answer
+ *	(%ECMXF_DATA_MAX: the two commands are in flight together)
  * @stopped: the pump stopped for good (%ECMXF_RING_S_ERROR); under
  *	&ecmxf_dev.lock
  * @next_tick_ns: next timer-driven pump command (worker only)
@@ -97,6 +99,7 @@ struct ecmxf_rings {
 	struct ecmxf_pump pump;
 	u8 *tx_buf;
 	u8 *rx_buf;
+	u8 *wkc_buf;
 	bool stopped;
 	u64 next_tick_ns;
 	u64 next_wkc_ns;
@@ -104,24 +107,35 @@ struct ecmxf_rings {
 };
 
 /**
- * struct ecmxf_pump_slot - the PDO pump's command in the engine (worker only)
- * @x: the command (ECAT_PDO_DATA_FIFO_OP or ECAT_PDO_WC_GET)
- * @plan: what @x pushes and pops (zero for the working counter)
+ * struct ecmxf_pump_cmd - one of the PDO pump's commands in the engine
+ * @x: the command
  * @rings: the rings it serves, a reference held while @busy
  * @busy: @x is in the engine
- * @turn: the pump goes before the files' commands when both are due
- * @skipped: output frames skipped when @x was built (not yet counted in
- *	&ecmxf_dev.out_ring_skipped)
- * @wkc: @x reads the working counter
  */
-struct ecmxf_pump_slot {
+struct ecmxf_pump_cmd {
 	struct ecmxf_xfer x;
-	struct ecmxf_pump_plan plan;
 	struct ecmxf_rings *rings;
 	bool busy;
+};
+
+/**
+ * struct ecmxf_pump_slot - the PDO pump's commands (worker only)
+ * @fifo: ECAT_PDO_DATA_FIFO_OP
+ * @wkc: ECAT_PDO_WC_GET; in flight beside @fifo, so that it rides in
+ *	the exchange that fetches @fifo's answer (pipelining)
+ * @plan: what @fifo pushes and pops
+ * @take_wkc: what ecmxf_pump_take() chose for ecmxf_pump_submit(): @wkc
+ * @turn: the pump goes before the files' commands when both are due
+ * @skipped: output frames skipped when @fifo was built (not yet counted
+ *	in &ecmxf_dev.out_ring_skipped)
+ */
+struct ecmxf_pump_slot {
+	struct ecmxf_pump_cmd fifo;
+	struct ecmxf_pump_cmd wkc;
+	struct ecmxf_pump_plan plan;
+	bool take_wkc;
 	bool turn;
 	u32 skipped;
-	bool wkc;
 };
 
 /* ecmxf-ring.c: the ring memory */
@@ -145,8 +159,9 @@ u32 ecmxf_ring_in_store(struct ecmxf_rings *r, const u8 *src, u32 n);
 struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now);
 int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 		      u64 now);
-struct ecmxf_rings *ecmxf_pump_collect(struct ecmxf_dev *edev);
-struct ecmxf_rings *ecmxf_pump_cancel(struct ecmxf_dev *edev);
+void ecmxf_pump_collect(struct ecmxf_dev *edev, struct ecmxf_rings *put[2]);
+void ecmxf_pump_cancel(struct ecmxf_dev *edev, struct ecmxf_rings *put[2]);
+bool ecmxf_pump_busy(const struct ecmxf_dev *edev);
 u64 ecmxf_pump_deadline(struct ecmxf_dev *edev);
 
 #endif /* ECMXF_RING_H */

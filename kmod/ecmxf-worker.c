@@ -680,11 +680,11 @@ static void ecmxf_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 
 /*
  * Finish what the engine finished; lock held.  The engine moves an
- * accepted async command out of its command slot: follow it.  Return:
- * the rings reference of a finished pump command (or NULL), for the
- * caller to drop after unlocking.
+ * accepted async command out of its command slot: follow it.  @put: the
+ * rings references of finished pump commands (or NULL), for the caller
+ * to drop after unlocking.
  */
-static struct ecmxf_rings *ecmxf_collect(struct ecmxf_dev *edev)
+static void ecmxf_collect(struct ecmxf_dev *edev, struct ecmxf_rings *put[2])
 {
 	struct ecmxf_req *req = edev->cur_req;
 
@@ -702,7 +702,14 @@ static struct ecmxf_rings *ecmxf_collect(struct ecmxf_dev *edev)
 		edev->async_req = NULL;
 		ecmxf_done(edev, req);
 	}
-	return ecmxf_pump_collect(edev);
+	ecmxf_pump_collect(edev, put);
+}
+
+/* Drop the pump's references to the rings; the lock not held. */
+static void ecmxf_rings_put2(struct ecmxf_rings *put[2])
+{
+	ecmxf_rings_put(put[0]);
+	ecmxf_rings_put(put[1]);
 }
 
 /*
@@ -714,15 +721,15 @@ static int ecmxf_reset_link(struct ecmxf_dev *edev)
 {
 	unsigned int size = ecmxf_engine_data_size(&edev->e);
 	enum ecmxf_check check = edev->e.check;
-	struct ecmxf_rings *pumped;
+	struct ecmxf_rings *pumped[2];
 	int ret;
 
 	mutex_lock(&edev->lock);
 	ecmxf_cancel_async(edev, -ECONNRESET);
-	pumped = ecmxf_pump_cancel(edev);
+	ecmxf_pump_cancel(edev, pumped);
 	ecmxf_rings_stop(edev, -ECONNRESET);
 	mutex_unlock(&edev->lock);
-	ecmxf_rings_put(pumped);
+	ecmxf_rings_put2(pumped);
 
 	ecmxf_engine_reinit(edev, size, check);
 	ecmxf_watch_link_reset(edev);
@@ -817,7 +824,7 @@ static int ecmxf_worker_fn(void *data)
 {
 	struct ecmxf_dev *edev = data;
 	struct ecmxf_req *reset, *req;
-	struct ecmxf_rings *pump, *finished;
+	struct ecmxf_rings *pump, *finished[2];
 	u64 now, int1_at;
 	bool slot_free, pump_ok;
 	int ret;
@@ -835,7 +842,7 @@ static int ecmxf_worker_fn(void *data)
 
 		mutex_lock(&edev->lock);
 		/* a reset needs the engine to itself */
-		slot_free = !edev->cur_req && !edev->pump.busy;
+		slot_free = !edev->cur_req && !ecmxf_pump_busy(edev);
 		if (slot_free) {
 			reset = list_first_entry_or_null(&edev->resets,
 							 struct ecmxf_req,
@@ -906,10 +913,10 @@ static int ecmxf_worker_fn(void *data)
 		}
 		ecmxf_exchange(edev);
 		mutex_lock(&edev->lock);
-		finished = ecmxf_collect(edev);
+		ecmxf_collect(edev, finished);
 		mutex_unlock(&edev->lock);
-		/* the pump's reference, after the lock (see &ecmxf_dev.lock) */
-		ecmxf_rings_put(finished);
+		/* the pump's references, after the lock (see &ecmxf_dev.lock) */
+		ecmxf_rings_put2(finished);
 	}
 
 	/* the device is going away: nothing in flight survives */
@@ -921,9 +928,9 @@ static int ecmxf_worker_fn(void *data)
 		ecmxf_req_finish(edev, req, -ENODEV);
 	}
 	ecmxf_cancel_async(edev, -ENODEV);
-	finished = ecmxf_pump_cancel(edev);
+	ecmxf_pump_cancel(edev, finished);
 	mutex_unlock(&edev->lock);
-	ecmxf_rings_put(finished);
+	ecmxf_rings_put2(finished);
 	/* the last events, after every command of the watcher ended */
 	ecmxf_watch_stop(edev);
 	return 0;
