@@ -873,7 +873,14 @@ int run(const Options &o)
 				    static_cast<double>(x.recMax) / 1e3);
 		if (x.appActions)
 			std::printf(" (%" PRIu64 " application actions)", x.appActions);
+		// the run may end while the last fault is on or recovering
+		const std::uint64_t open = act.kind == k ? 1 : 0;
+		if (open)
+			std::printf("; 1 still under way at the end");
 		std::printf("\n");
+		if (x.injected != x.detected + x.absorbed + x.undetected + x.notRecovered + open)
+			g_fail.fail("faults not accounted for", x.injected,
+				    x.detected + x.absorbed + x.undetected + x.notRecovered + open);
 	}
 	std::printf("random bit errors: %" PRIu64 " MOSI, %" PRIu64 " MISO packets corrupted in all\n", fc.mosiErrors,
 		    fc.misoErrors);
