@@ -393,7 +393,10 @@ bool SpidevChannel::waitReady(std::chrono::nanoseconds timeout)
 			levelRead = true;
 			stats_.int0LevelReads++;
 			if (lineActive(IntLine::Int0, options_.readyHigh)) {
-				stats_.int0Unsignalled++;
+				// ready: an edge that came in the meantime is this
+				// one, late (left queued, it would pass for the next)
+				if (!readyEdge(nanoseconds::zero()))
+					stats_.int0Unsignalled++;
 				int0_ = Int0State::Ready;
 				(void)now();
 				stats_.int0Ready++;

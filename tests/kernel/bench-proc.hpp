@@ -34,6 +34,7 @@
 #include <map>
 #include <optional>
 #include <string_view>
+#include <unordered_map>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -250,18 +251,24 @@ public:
 	}
 
 	/// The function @p a is in, demangled, without its parameters.
-	[[nodiscard]] std::string name(std::uintptr_t a) const
+	/// (Kept per function: the tracer names every traced system call's
+	/// frames, and a slow tracer slows the traced cycle.)
+	[[nodiscard]] const std::string &name(std::uintptr_t a) const
 	{
+		static const std::string unknown = "?";
 		auto it = std::upper_bound(syms_.begin(), syms_.end(), a,
 					   [](std::uintptr_t v, const Sym &s) { return v < s.addr; });
 		if (it == syms_.begin())
-			return "?";
+			return unknown;
 		--it;
-		int st = 0;
-		char *d = abi::__cxa_demangle(it->name, nullptr, nullptr, &st);
-		std::string n = st == 0 && d ? d : it->name;
-		std::free(d);
-		return prettyName(n);
+		auto [at, fresh] = names_.try_emplace(it->addr);
+		if (fresh) {
+			int st = 0;
+			char *d = abi::__cxa_demangle(it->name, nullptr, nullptr, &st);
+			at->second = prettyName(st == 0 && d ? d : it->name);
+			std::free(d);
+		}
+		return at->second;
 	}
 
 private:
@@ -272,6 +279,7 @@ private:
 	};
 	std::uintptr_t base_ = 0, lo_ = 0, hi_ = 0;
 	std::vector<Sym> syms_;
+	mutable std::unordered_map<std::uintptr_t, std::string> names_;
 	/// the executable's bytes: the names point into them
 	std::string img_;
 };
@@ -314,7 +322,7 @@ inline std::string siteKey(const CodeMap &code, pid_t pid, std::size_t nr, std::
 	for (std::size_t i = 0; got > 0 && i < static_cast<std::size_t>(got) / 8 && found < 2; i++) {
 		if (!code.returnAddress(stack[i]))
 			continue;
-		std::string n = code.name(stack[i]);
+		const std::string &n = code.name(stack[i]);
 		if (!projectFrame(n) || (found == 1 && n == site))
 			continue;
 		site += found ? " < " + n : n;

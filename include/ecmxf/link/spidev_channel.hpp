@@ -130,8 +130,8 @@ struct SpidevStats {
 	/// reads of INT0's level: the first wait, and waits in which no ready
 	/// edge came within kEdgeGrace (a steady exchange reads none)
 	std::uint64_t int0LevelReads = 0;
-	/// of those, the ones that found INT0 ready all the same (an edge
-	/// missed, or a chip that did not go busy)
+	/// of those after kEdgeGrace, the ones that found INT0 ready with no
+	/// edge queued (an edge missed, or a chip that did not go busy)
 	std::uint64_t int0Unsignalled = 0;
 };
 
