@@ -250,6 +250,39 @@ public:
 		       (p[-7] == 0xFF && (p[-6] & 0x38) == 0x10);                 // call *d32(%reg,%idx)
 	}
 
+	/// Where the direct call (call rel32) before return address @p a
+	/// goes, or 0 (another kind of call).
+	[[nodiscard]] static std::uintptr_t directTarget(std::uintptr_t a)
+	{
+		const auto *p = reinterpret_cast<const unsigned char *>(a);
+		if (p[-5] != 0xE8)
+			return 0;
+		std::int32_t rel = 0;
+		std::memcpy(&rel, p - 4, sizeof rel);
+		return static_cast<std::uintptr_t>(static_cast<std::intptr_t>(a) + rel);
+	}
+	/// The start and size of the function @p a is in (0, 0: none).
+	[[nodiscard]] std::pair<std::uintptr_t, std::size_t> function(std::uintptr_t a) const
+	{
+		auto it = std::upper_bound(syms_.begin(), syms_.end(), a,
+					   [](std::uintptr_t v, const Sym &s) { return v < s.addr; });
+		if (it == syms_.begin() || a < lo_ || a >= hi_)
+			return { 0, 0 };
+		--it;
+		return { it->addr, it->size };
+	}
+	/// Is @p a a call to the function that starts at @p callee (0: not
+	/// known)? A direct call to another function is not, unless that one
+	/// is small enough to be a stub that jumps on (a tail call).
+	[[nodiscard]] bool callsInto(std::uintptr_t a, std::uintptr_t callee) const
+	{
+		const std::uintptr_t t = directTarget(a);
+		if (!callee || !t || t == callee)
+			return true;
+		const auto [start, size] = function(t);
+		return start == t && size <= 64;
+	}
+
 	/// The function @p a is in, demangled, without its parameters.
 	/// (Kept per function: the tracer names every traced system call's
 	/// frames, and a slow tracer slows the traced cycle.)
@@ -309,10 +342,16 @@ inline std::string callName(std::size_t nr, std::uint64_t arg1)
 }
 
 /// "call @ site < caller" of the system call @p nr that the stopped tracee
-/// @p pid makes with the stack pointer @p sp: the innermost two project
-/// functions whose return addresses are on its stack (8 KiB from @p sp).
-inline std::string siteKey(const CodeMap &code, pid_t pid, std::size_t nr, std::uint64_t arg1, std::uint64_t sp)
+/// @p pid makes at @p ip with the stack pointer @p sp: the innermost two
+/// project functions whose return addresses are on its stack (8 KiB from
+/// @p sp). Each return address taken must come from a call into the
+/// function of the one before (from the one that holds @p ip), where the
+/// call says where it goes: a stale return address left on the stack by
+/// an earlier call is skipped.
+inline std::string siteKey(const CodeMap &code, pid_t pid, std::size_t nr, std::uint64_t arg1, std::uint64_t sp,
+			   std::uint64_t ip)
 {
+	std::uintptr_t callee = code.function(ip).first;
 	std::array<std::uintptr_t, 1024> stack{};
 	iovec local{ stack.data(), sizeof stack };
 	iovec remote{ reinterpret_cast<void *>(sp), sizeof stack };
@@ -320,8 +359,9 @@ inline std::string siteKey(const CodeMap &code, pid_t pid, std::size_t nr, std::
 	std::string site;
 	int found = 0;
 	for (std::size_t i = 0; got > 0 && i < static_cast<std::size_t>(got) / 8 && found < 2; i++) {
-		if (!code.returnAddress(stack[i]))
+		if (!code.returnAddress(stack[i]) || !code.callsInto(stack[i], callee))
 			continue;
+		callee = code.function(stack[i]).first;
 		const std::string &n = code.name(stack[i]);
 		if (!projectFrame(n) || (found == 1 && n == site))
 			continue;
@@ -396,7 +436,7 @@ inline long countSyscalls(const std::function<int()> &body, std::string &which, 
 						nrs[nr]++;
 					}
 					if (sites)
-						(*sites)[siteKey(*code, pid, nr, regs.rsi, regs.rsp)]++;
+						(*sites)[siteKey(*code, pid, nr, regs.rsi, regs.rsp, regs.rip)]++;
 				}
 			}
 			entry = !entry;
@@ -526,7 +566,8 @@ inline long countCycleSyscalls(const std::function<void()> &cycle, unsigned trac
 				nrs[nr]++;
 			}
 			if (sites)
-				(*sites)[siteKey(*code, pid, nr, info.entry.args[1], info.stack_pointer)]++;
+				(*sites)[siteKey(*code, pid, nr, info.entry.args[1], info.stack_pointer,
+						 info.instruction_pointer)]++;
 		}
 		request = tracing ? PTRACE_SYSCALL : PTRACE_CONT;
 	}
