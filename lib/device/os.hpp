@@ -8,6 +8,10 @@
 #include <string>
 #include <utility>
 
+#include <time.h>
+
+#include <chrono>
+
 namespace ecmxf::detail {
 
 /// Throws ecmxf::Error("<what>: <strerror(err)>", err).
@@ -64,5 +68,19 @@ private:
 	void *addr_ = nullptr;
 	std::size_t len_ = 0;
 };
+
+/// Sleeps until CLOCK_MONOTONIC (std::chrono::steady_clock on Linux) reads
+/// @p deadline: one absolute clock_nanosleep() (again after a signal).
+/// Returns at once when the deadline has passed.
+inline void sleepUntilMonotonic(std::chrono::nanoseconds deadline) noexcept
+{
+	if (deadline.count() <= 0)
+		return;
+	timespec ts{};
+	ts.tv_sec = static_cast<time_t>(deadline.count() / 1'000'000'000);
+	ts.tv_nsec = static_cast<long>(deadline.count() % 1'000'000'000);
+	while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+	}
+}
 
 } // namespace ecmxf::detail

@@ -70,7 +70,17 @@ private:
 	};
 	std::array<Slot, 6> slots_{};
 
+	/// The channel's coarse clock (ByteChannel::coarseNow()): between
+	/// exchanges, what the channel learned without a system call (over
+	/// spidev the time of INT0's ready edge); the engine's deadlines are
+	/// then seen late by at most one exchange, never early.
 	[[nodiscard]] std::uint64_t nowNs() const
+	{
+		const auto t = channel->coarseNow().count();
+		return t > 0 ? static_cast<std::uint64_t>(t) : 0;
+	}
+	/// The channel's clock, read: where a command's time starts.
+	[[nodiscard]] std::uint64_t readNowNs() const
 	{
 		const auto t = channel->now().count();
 		return t > 0 ? static_cast<std::uint64_t>(t) : 0;
@@ -129,6 +139,7 @@ void EngineLink::Engine::step()
 
 	const std::size_t n = ecmxf_engine_pkt_size(&engine);
 	const std::uint64_t sentNs = nowNs();
+	const std::uint64_t holdBefore = ecmxf_engine_not_before(&engine);
 	const int r = ecmxf_engine_next(&engine, sentNs, tx.data(), n);
 	if (r == -EAGAIN)
 		return; // hold-off: the next turn sleeps
@@ -141,6 +152,14 @@ void EngineLink::Engine::step()
 		trace->packet(recvNs, '<', std::span<const std::uint8_t>(rx.data(), n));
 	}
 	ecmxf_engine_input(&engine, recvNs, rx.data(), n);
+	// a hold-off began with this exchange (SPI_RECONFIG_OP, WARM_RESET):
+	// it counts from the coarse clock, which may lag; from the clock read
+	// now it is never cut short (the engine's field: it has no setter)
+	if (ecmxf_engine_not_before(&engine) > holdBefore) {
+		const std::uint64_t t = readNowNs();
+		if (t > sentNs)
+			engine.not_before_ns += t - sentNs;
+	}
 }
 
 /// The outcome of a finished transfer in its RawResult.
@@ -204,11 +223,13 @@ void EngineLink::Engine::runBatch(std::span<const RawRequest> reqs, std::span<Ra
 	for (std::size_t i = 0; i < n; i++)
 		res[i] = RawResult{};
 
+	// the time the batch's commands start at: one read of the clock
+	const std::uint64_t start = n ? readNowNs() : nowNs();
 	// commands an earlier batch left in flight: their time starts now
 	for (Slot &s : slots_)
 		if (s.used && s.x.status == -EINPROGRESS && !ecmxf_engine_running(&engine, &s.x)) {
 			const std::uint64_t t = s.x.deadline_ns - s.x.started_ns;
-			s.x.started_ns = nowNs();
+			s.x.started_ns = start;
 			s.x.deadline_ns = s.x.started_ns + t;
 		}
 
@@ -270,7 +291,9 @@ void EngineLink::Engine::runBatch(std::span<const RawRequest> reqs, std::span<Ra
 				if (!ecmxf_engine_can_submit(&engine, &x) && !ecmxf_engine_idle(&engine))
 					break; // after the exchange that frees a slot
 				const std::uint64_t exhausted = ecmxf_engine_get_stats(&engine)->exhausted;
-				const int r = ecmxf_engine_submit(&engine, &x, nowNs());
+				// a command handed over after exchanges of this batch
+				// starts at the coarse time, later than the batch's
+				const int r = ecmxf_engine_submit(&engine, &x, std::max(start, nowNs()));
 				if (r != 0) {
 					res[next].status = r;
 					res[next].linkFailure =
@@ -394,6 +417,16 @@ std::chrono::nanoseconds EngineLink::now() const
 void EngineLink::sleepFor(std::chrono::nanoseconds duration)
 {
 	e_->channel->sleepFor(duration);
+}
+
+void EngineLink::sleepUntil(std::chrono::nanoseconds deadline)
+{
+	e_->channel->sleepUntil(deadline);
+}
+
+std::chrono::nanoseconds EngineLink::coarseNow() const
+{
+	return e_->channel->coarseNow();
 }
 
 void EngineLink::assumeFormat(std::uint16_t dataSize, CheckType check)

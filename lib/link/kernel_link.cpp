@@ -122,6 +122,11 @@ std::string KernelLink::name() const
 	return s_->path;
 }
 
+void KernelLink::sleepUntil(std::chrono::nanoseconds deadline)
+{
+	detail::sleepUntilMonotonic(deadline);
+}
+
 const KernelDevInfo &KernelLink::openInfo() const noexcept
 {
 	return s_->info;

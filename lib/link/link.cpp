@@ -44,6 +44,11 @@ void ByteChannel::sleepFor(std::chrono::nanoseconds duration)
 	sleepSteady(duration);
 }
 
+void ByteChannel::sleepUntil(std::chrono::nanoseconds deadline)
+{
+	sleepFor(deadline - now());
+}
+
 Link::~Link() = default;
 
 std::chrono::nanoseconds Link::now() const
@@ -55,6 +60,11 @@ std::chrono::nanoseconds Link::now() const
 void Link::sleepFor(std::chrono::nanoseconds duration)
 {
 	sleepSteady(duration);
+}
+
+void Link::sleepUntil(std::chrono::nanoseconds deadline)
+{
+	sleepFor(deadline - now());
 }
 
 void Link::runBatch(std::span<const RawRequest> reqs, std::span<RawResult> res, bool) noexcept

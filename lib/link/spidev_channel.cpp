@@ -8,6 +8,7 @@
 
 #include <fcntl.h>
 #include <gpiod.h>
+#include <poll.h>
 #include <linux/spi/spidev.h>
 #include <sys/ioctl.h>
 #include <time.h>
@@ -29,6 +30,26 @@ namespace ecmxf {
 
 SpidevBackend::~SpidevBackend() = default;
 
+int SpidevBackend::readEdges(IntLine line, std::chrono::nanoseconds timeout, Edges &edges) noexcept
+{
+	edges = Edges{};
+	const int r = waitEdge(line, timeout);
+	if (r <= 0)
+		return r;
+	const int v = lineValue(line);
+	if (v < 0)
+		return v;
+	edges.count = 1;
+	edges.high = v != 0;
+	edges.time = now();
+	return 1;
+}
+
+void SpidevBackend::sleepUntil(std::chrono::nanoseconds deadline) noexcept
+{
+	sleepFor(deadline - now());
+}
+
 namespace {
 
 using std::chrono::nanoseconds;
@@ -46,11 +67,14 @@ std::string lineText(const GpioLineSpec &s)
 	return t;
 }
 
-/// One requested GPIO line with edge events on both edges.
+/// Which edges a line's events report.
+enum class Edge : std::uint8_t { Both, Rising, Falling };
+
+/// One requested GPIO line with edge events.
 class GpioLine
 {
 public:
-	GpioLine(IntLine which, const GpioLineSpec &spec)
+	GpioLine(IntLine which, const GpioLineSpec &spec, Edge edge)
 	{
 		const std::string what = std::string(lineName(which)) + " line " + quoted(lineText(spec));
 		chip_.reset(::gpiod_chip_open_lookup(spec.chip.c_str()));
@@ -67,10 +91,22 @@ public:
 					    " (" + what + "): " + std::strerror(err),
 				    err);
 		}
-		if (::gpiod_line_request_both_edges_events(line_, "ecmxf") < 0) {
+		const int req = edge == Edge::Rising	? ::gpiod_line_request_rising_edge_events(line_, "ecmxf")
+				: edge == Edge::Falling ? ::gpiod_line_request_falling_edge_events(line_, "ecmxf")
+							: ::gpiod_line_request_both_edges_events(line_, "ecmxf");
+		if (req < 0) {
 			const int err = errno;
 			throw Error("cannot request edge events on the " + what + ": " + std::strerror(err) +
 					    (err == EBUSY ? " (another consumer holds the line)" : ""),
+				    err);
+		}
+		// readEdges() reads what is queued without blocking
+		fd_ = ::gpiod_line_event_get_fd(line_);
+		const int fl = fd_ < 0 ? -1 : ::fcntl(fd_, F_GETFL);
+		if (fl < 0 || ::fcntl(fd_, F_SETFL, fl | O_NONBLOCK) < 0) {
+			const int err = errno ? errno : EBADF;
+			::gpiod_line_release(line_);
+			throw Error("cannot make the event fd of the " + what + " non-blocking: " + std::strerror(err),
 				    err);
 		}
 	}
@@ -86,19 +122,46 @@ public:
 
 	int waitEdge(nanoseconds timeout) noexcept
 	{
-		const auto ns = std::max<std::int64_t>(timeout.count(), 0);
-		timespec ts{};
-		ts.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
-		ts.tv_nsec = static_cast<long>(ns % 1'000'000'000);
-		const int r = ::gpiod_line_event_wait(line_, &ts);
-		if (r < 0)
-			return -errno;
-		if (r == 0)
-			return 0;
-		gpiod_line_event ev{};
-		if (::gpiod_line_event_read(line_, &ev) < 0)
-			return -errno;
-		return 1;
+		SpidevBackend::Edges e;
+		const int r = readEdges(timeout, e, 1);
+		return r < 0 ? r : r > 0;
+	}
+
+	/// One ppoll() when @p timeout is positive, then one read() of up to
+	/// @p max queued events (of the kernel's 16; more are read on).
+	int readEdges(nanoseconds timeout, SpidevBackend::Edges &e, unsigned max = kBatch) noexcept
+	{
+		e = SpidevBackend::Edges{};
+		if (timeout > nanoseconds::zero()) {
+			const std::int64_t ns = timeout.count();
+			timespec ts{};
+			ts.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
+			ts.tv_nsec = static_cast<long>(ns % 1'000'000'000);
+			pollfd p{ fd_, POLLIN, 0 };
+			const int r = ::ppoll(&p, 1, &ts, nullptr);
+			if (r < 0)
+				return -errno;
+			if (r == 0)
+				return 0;
+		}
+		std::array<gpiod_line_event, kBatch> ev{};
+		const unsigned batch = std::clamp(max, 1u, kBatch);
+		for (;;) {
+			const int n = ::gpiod_line_event_read_fd_multiple(fd_, ev.data(), batch);
+			if (n < 0)
+				return errno == EAGAIN ? static_cast<int>(e.count) : -errno;
+			if (n == 0)
+				break;
+			const gpiod_line_event &last = ev[static_cast<std::size_t>(n - 1)];
+			e.count += static_cast<unsigned>(n);
+			e.high = last.event_type == GPIOD_LINE_EVENT_RISING_EDGE;
+			e.time = std::chrono::seconds(last.ts.tv_sec) + nanoseconds(last.ts.tv_nsec);
+			// a full batch: there may be more (kept for the next wait
+			// when one was asked for)
+			if (static_cast<unsigned>(n) < batch || max == 1)
+				break;
+		}
+		return static_cast<int>(e.count);
 	}
 
 private:
@@ -108,6 +171,9 @@ private:
 	/// the chip owns the line: released first (the destructor), then closed
 	std::unique_ptr<gpiod_chip, ChipCloser> chip_;
 	gpiod_line *line_ = nullptr;
+	int fd_ = -1; ///< the line's event fd (the line owns it)
+	/// events read at once (the kernel queues 16 per line)
+	static constexpr unsigned kBatch = 16;
 };
 
 /// The real system calls.
@@ -118,10 +184,12 @@ public:
 	{
 		// the lines first: a wrong line is reported before the SPI bus is
 		// reconfigured
+		// INT0: its ready edge only (a wait is one ppoll() and one read());
+		// INT1: both edges
 		if (o.int0)
-			lines_[0].emplace(IntLine::Int0, *o.int0);
+			lines_[0].emplace(IntLine::Int0, *o.int0, o.readyHigh ? Edge::Rising : Edge::Falling);
 		if (o.int1)
-			lines_[1].emplace(IntLine::Int1, *o.int1);
+			lines_[1].emplace(IntLine::Int1, *o.int1, Edge::Both);
 
 		fd_.reset(::open(o.device.c_str(), O_RDWR | O_CLOEXEC));
 		if (!fd_.valid())
@@ -159,6 +227,11 @@ public:
 		auto &g = lines_[index(l)];
 		return g ? g->waitEdge(timeout) : -ENODEV;
 	}
+	int readEdges(IntLine l, nanoseconds timeout, Edges &edges) noexcept override
+	{
+		auto &g = lines_[index(l)];
+		return g ? g->readEdges(timeout, edges) : -ENODEV;
+	}
 	nanoseconds now() const noexcept override
 	{
 		return std::chrono::duration_cast<nanoseconds>(std::chrono::steady_clock::now().time_since_epoch());
@@ -168,6 +241,7 @@ public:
 		if (d > nanoseconds::zero())
 			std::this_thread::sleep_for(d);
 	}
+	void sleepUntil(nanoseconds deadline) noexcept override { detail::sleepUntilMonotonic(deadline); }
 
 private:
 	static std::size_t index(IntLine l) noexcept { return l == IntLine::Int0 ? 0 : 1; }
@@ -235,7 +309,14 @@ void SpidevChannel::exchange(std::span<const std::uint8_t> mosi, std::span<std::
 			    -r);
 	stats_.exchanges++;
 	exchanged_ = true;
-	lastExchangeEnd_ = backend_->now();
+	sleptSinceExchange_ = false;
+	if (backend_->hasLine(IntLine::Int0)) {
+		// the chip is busy with the packet now: its ready edge follows
+		if (int0_ != Int0State::Unknown)
+			int0_ = Int0State::Busy;
+	} else {
+		lastExchangeEnd_ = now();
+	}
 	if (static_cast<std::size_t>(r) != mosi.size())
 		throw Error("spidev " + options_.device + ": short SPI transfer: " + std::to_string(r) + " of " +
 				    std::to_string(mosi.size()) + " bytes moved",
@@ -273,25 +354,96 @@ bool SpidevChannel::waitReady(std::chrono::nanoseconds timeout)
 		return true;
 	}
 
-	const nanoseconds end = backend_->now() + timeout;
-	for (;;) {
+	if (int0_ == Int0State::Ready) {
+		// its ready edge came after the last exchange: no system call
+		stats_.int0Ready++;
+		return true;
+	}
+	bool levelRead = false;
+	if (int0_ == Int0State::Unknown) {
+		// the first wait: what is queued is older than anything we
+		// sent; the level says
+		(void)readyEdge(nanoseconds::zero());
+		stats_.int0LevelReads++;
+		levelRead = true;
 		if (lineActive(IntLine::Int0, options_.readyHigh)) {
+			// an edge queued after the first look is no newer either
+			(void)readyEdge(nanoseconds::zero());
+			int0_ = Int0State::Ready;
+			(void)now(); // the coarse clock from here
 			stats_.int0Ready++;
 			return true;
 		}
-		const nanoseconds now = backend_->now();
-		if (now >= end) {
-			stats_.int0Timeouts++;
-			return false;
+		int0_ = Int0State::Busy;
+	} else if (sleptSinceExchange_ && readyEdge(nanoseconds::zero())) {
+		// slept since the exchange: the edge is most likely there
+		stats_.int0Ready++;
+		return true;
+	}
+	// wait for the ready edge; the level once, after kEdgeGrace without one
+	nanoseconds left = timeout;
+	while (left > nanoseconds::zero()) {
+		const nanoseconds slice = levelRead ? left : std::min(left, SpidevOptions::kEdgeGrace);
+		if (readyEdge(slice)) {
+			stats_.int0Ready++;
+			return true;
 		}
-		const int r = backend_->waitEdge(IntLine::Int0, end - now);
+		left -= slice;
+		if (!levelRead) {
+			levelRead = true;
+			stats_.int0LevelReads++;
+			if (lineActive(IntLine::Int0, options_.readyHigh)) {
+				// ready: an edge that came in the meantime is this
+				// one, late (left queued, it would pass for the next)
+				if (!readyEdge(nanoseconds::zero()))
+					stats_.int0Unsignalled++;
+				int0_ = Int0State::Ready;
+				(void)now();
+				stats_.int0Ready++;
+				return true;
+			}
+		}
+	}
+	stats_.int0Timeouts++;
+	(void)now(); // the time has moved on by at least @p timeout
+	return false;
+}
+
+bool SpidevChannel::readyEdge(nanoseconds timeout)
+{
+	// at most a few edges to busy in a row (a backend that reports both
+	// edges); then the time is counted as waited
+	for (int i = 0; i < 8; i++) {
+		SpidevBackend::Edges e;
+		const int r = backend_->readEdges(IntLine::Int0, timeout, e);
 		if (r < 0)
 			throw Error("spidev " + options_.device + ": waiting for an edge on the INT0 (ready) line failed: " +
 					    std::strerror(-r),
 				    -r);
-		if (r > 0)
-			stats_.int0Edges++;
+		if (r == 0)
+			return false;
+		stats_.int0Edges += e.count;
+		if (e.high != options_.readyHigh)
+			continue; // busy again: wait on
+		// a timestamp on our clock, and not ahead of it by more than an
+		// exchange could take (an older kernel stamps CLOCK_REALTIME)
+		if (e.time > known_ && e.time - known_ < std::chrono::seconds(10))
+			advanceClock(e.time);
+		int0_ = Int0State::Ready;
+		return true;
 	}
+	return false;
+}
+
+void SpidevChannel::advanceClock(nanoseconds t) const noexcept
+{
+	if (t > known_)
+		known_ = t;
+}
+
+std::chrono::nanoseconds SpidevChannel::coarseNow() const
+{
+	return known_;
 }
 
 bool SpidevChannel::waitEvent(std::chrono::nanoseconds timeout)
@@ -319,13 +471,26 @@ bool SpidevChannel::waitEvent(std::chrono::nanoseconds timeout)
 
 std::chrono::nanoseconds SpidevChannel::now() const
 {
-	return backend_->now();
+	const nanoseconds t = backend_->now();
+	advanceClock(t);
+	return t;
 }
 
 void SpidevChannel::sleepFor(std::chrono::nanoseconds duration)
 {
-	if (duration > nanoseconds::zero())
+	if (duration > nanoseconds::zero()) {
 		backend_->sleepFor(duration);
+		// at least that much later than the last time known
+		advanceClock(known_ + duration);
+		sleptSinceExchange_ = true;
+	}
+}
+
+void SpidevChannel::sleepUntil(std::chrono::nanoseconds deadline)
+{
+	backend_->sleepUntil(deadline);
+	advanceClock(deadline);
+	sleptSinceExchange_ = true;
 }
 
 } // namespace ecmxf

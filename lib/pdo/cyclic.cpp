@@ -18,6 +18,7 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/link.hpp>
 #include <ecmxf/pdo/process_image.hpp>
+#include <ecmxf/pdo/realtime.hpp>
 
 #include <algorithm>
 #include <array>
@@ -336,6 +337,7 @@ public:
 			throw Error("Cyclic: the bus cycle must not be negative (got " +
 					    std::to_string(cfg.busCycle.count()) + " ns)",
 				    EINVAL);
+		checkRealtime(cfg.realtime);
 		checkBusState(dev);
 		// one Cyclic per Device: two would share the chip's FIFOs, each
 		// taking the other's input frames and topping up its own outputs
@@ -427,6 +429,9 @@ Cyclic::~Cyclic() = default;
 
 void Cyclic::start()
 {
+	// on the thread that will run the cycle; before the path's commands,
+	// so that they run as the cycle will
+	applyRealtime(impl_->cfg.realtime);
 	impl_->path->start();
 	impl_->stats = CyclicStats{};
 	CycleResult fresh;
@@ -487,6 +492,8 @@ int Cyclic::waitNextCycle() noexcept
 	Impl &m = *impl_;
 	Link &t = m.path->clock();
 	try {
+		// one clock read (is the cycle late?) and one absolute sleep to
+		// the boundary: the two system calls of a steady cycle's pacing
 		const nanoseconds now = t.now();
 		const std::int64_t period = m.cfg.period.count();
 		nanoseconds next = m.epoch + nanoseconds(static_cast<std::int64_t>(m.tick + 1) * period);
@@ -498,7 +505,7 @@ int Cyclic::waitNextCycle() noexcept
 		} else {
 			m.tick++;
 		}
-		t.sleepFor(next - now);
+		t.sleepUntil(next);
 	} catch (...) {
 		return EIO;
 	}

@@ -316,8 +316,10 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 	unsigned level = 0;
 	if (haveOut) {
 		std::uint64_t gone = 1;
+		// the link's coarse clock: an estimate needs no clock read (over
+		// spidev the end of the last sleep, or INT0's last ready edge)
 		if (cfg_.busCycle.count() > 0) {
-			const nanoseconds dt = clock().now() - rxTime_;
+			const nanoseconds dt = clock().coarseNow() - rxTime_;
 			gone = dt.count() > 0 ? static_cast<std::uint64_t>(dt / cfg_.busCycle) : 0;
 		}
 		level = gone >= rxLevel_ ? 0u : rxLevel_ - static_cast<unsigned>(gone);
@@ -343,14 +345,14 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 		r.framesPushed += pl.push;
 		if (pl.push) {
 			rxLevel_ = h.rxFifoCnt;
-			rxTime_ = clock().now();
+			rxTime_ = clock().coarseNow();
 		}
 		if (pl.read) {
 			if (!takeFrames(r, h, res.popped, proto))
 				return;
 			// a full TxFIFO dropped its oldest (the pump: popped + left
 			// reached the depth)
-			const nanoseconds now = clock().now();
+			const nanoseconds now = clock().coarseNow();
 			if (res.tx_overrun) {
 				r.txOverflow = true;
 				if (cfg_.busCycle.count() > 0) {
@@ -377,7 +379,7 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 				if (!takeFrames(r, h, more.popped, proto))
 					return;
 				txLevel_ = h.txFifoCnt;
-				txTime_ = clock().now();
+				txTime_ = clock().coarseNow();
 				if (more.popped == 0)
 					break;
 			}

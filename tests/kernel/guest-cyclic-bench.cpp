@@ -13,21 +13,31 @@
 //       3. spidev: the library's Cyclic over SpidevChannel (the same
 //          FIFO commands, from userspace); prints the ratios
 //
-// Each path: the bus up (2 x EST-584 + digital I/O, 1 ms SYNC0), 100
+// The process runs as an RT application would (ecmxf::applyRealtime():
+// memory locked, SCHED_FIFO 49, below the kernel worker's 50). Each path:
+// the bus up (2 x EST-584 + digital I/O, 1 ms SYNC0), 100
 // cycles of warm-up, N cycles at a 1 ms period measured (this process's
 // CPU time from getrusage(), the kernel worker's from its
-// /proc/PID/schedstat), then 200 cycles in a child process traced with
-// ptrace(PTRACE_SYSCALL): every system call between two markers is
-// counted. Every line starts with "bench:". Timings under TCG are
+// /proc/PID/schedstat), then 1400 cycles in a child process of which
+// every 7th (200) is traced with ptrace(PTRACE_SYSCALL): every system
+// call of those is counted, by name and by call site (the innermost two project functions
+// on the caller's stack, bench-proc.hpp). The spidev run ends with the
+// three paths' call-site tables side by side (the kernel run leaves its
+// tables in /tmp/ecmxf-cbench-sites) and the late cycles of rings and
+// spidev. Every line starts with "bench:". Timings under TCG are
 // emulated: only ratios within one run mean something.
 
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/link/engine_link.hpp>
 #include <ecmxf/link/kernel_link.hpp>
+#include <ecmxf/link/spidev_channel.hpp>
+#include <ecmxf/link/link.hpp>
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/pdo/process_image.hpp>
+#include <ecmxf/pdo/realtime.hpp>
 
 #include <dirent.h>
 #include <signal.h>
@@ -49,6 +59,8 @@
 #include <exception>
 #include <fstream>
 #include <functional>
+#include <map>
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -62,8 +74,15 @@ using namespace std::chrono_literals;
 namespace {
 
 constexpr const char *kResultFile = "/tmp/ecmxf-cbench-kernel";
+/// the kernel paths' system calls by call site, for the side-by-side table
+constexpr const char *kSitesFile = "/tmp/ecmxf-cbench-sites";
 constexpr unsigned kWarmup = 100;
 constexpr unsigned kTraced = 200;
+/// one traced cycle in this many (the others bring the exchange back to
+/// its steady state; 7: every phase of a working counter read every 10)
+constexpr unsigned kStride = 7;
+/// the bench's SCHED_FIFO priority: below the ecmxf0 worker's 50
+constexpr int kPriority = 49;
 
 using ecmxf::ktest::cpuUs;
 using ecmxf::ktest::taskCpuUs;
@@ -74,6 +93,9 @@ struct Figures {
 	double appCpuUs = 0;  ///< this process, per cycle
 	double workerCpuUs = 0; ///< the kernel's worker, per cycle
 	double wallUs = 0;    ///< per cycle
+	long late = -1;       ///< late cycles (Cyclic's count), -1: not counted
+	/// the traced cycles' system calls by call site
+	ecmxf::ktest::SiteCounts sites;
 };
 
 /// @p once runs one cycle (exchange and wait).
@@ -92,17 +114,13 @@ Figures measure(const char *name, unsigned n, const std::function<void()> &once)
 	f.workerCpuUs = (taskCpuUs(wpid) - w0) / n;
 	f.wallUs = std::chrono::duration<double, std::micro>(t1 - t0).count() / n;
 	std::string which;
-	int failedUnused = 0;
-	const long calls = ecmxf::ktest::countSyscalls(
-		[&] {
-			for (unsigned i = 0; i < kTraced; i++)
-				once();
-			return 0;
-		},
-		which, failedUnused);
+	const long calls = ecmxf::ktest::countCycleSyscalls(once, kTraced, kStride, which, &f.sites);
 	f.syscalls = calls < 0 ? -1 : static_cast<double>(calls) / kTraced;
 	std::printf("bench: cyclic %s: system calls in %u traced cycles (x86-64):%s\n", name, kTraced,
 		    which.c_str());
+	for (const auto &[site, count] : f.sites)
+		std::printf("bench: cyclic %s: %8.2f per cycle  %s\n", name, static_cast<double>(count) / kTraced,
+			    site.c_str());
 	std::printf("bench: cyclic %s: %.2f syscalls per cycle, CPU %.1f us per cycle in the application + %.1f us in "
 		    "the kernel worker, %.0f us wall per cycle (%u cycles, 1 ms period)\n",
 		    name, f.syscalls, f.appCpuUs, f.workerCpuUs, f.wallUs, n);
@@ -140,11 +158,35 @@ Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *n
 	}
 	cyc.start();
 	unsigned errors = 0;
-	const Figures f = measure(name, n, [&] {
+	const ecmxf::LinkCounters k0 = dev.link().counters();
+	Figures f = measure(name, n, [&] {
 		errors += cyc.cycle().error != 0;
 		(void)cyc.waitNextCycle();
 	});
 	const ecmxf::CyclicStats &s = cyc.stats();
+	// what the link (the kernel's, for the rings: its pump's) exchanged
+	// per cycle, in this process's cycles (not the traced child's)
+	const ecmxf::LinkCounters k1 = dev.link().counters();
+	const auto per = [&](std::uint64_t a, std::uint64_t b) {
+		return s.cycles ? static_cast<double>(b - a) / static_cast<double>(s.cycles) : 0.0;
+	};
+	std::printf("bench: cyclic %s: per cycle %.2f SPI exchanges, %.2f polls, %.2f retries, %.2f not-ready answers "
+		    "(the link's counters)\n",
+		    name, per(k0.exchanges, k1.exchanges), per(k0.polls, k1.polls), per(k0.retries, k1.retries),
+		    per(k0.badNotReady, k1.badNotReady));
+	// over spidev: how INT0 was waited for
+	if (auto *el = dynamic_cast<ecmxf::EngineLink *>(&dev.link()))
+		if (auto *sc = dynamic_cast<ecmxf::SpidevChannel *>(&el->channel())) {
+			const ecmxf::SpidevStats &st = sc->stats();
+			std::printf("bench: cyclic %s: INT0 over the whole run: %llu exchanges, %llu ready edges, %llu level "
+				    "reads (%llu found ready with no edge), %llu timeouts\n",
+				    name, static_cast<unsigned long long>(st.exchanges),
+				    static_cast<unsigned long long>(st.int0Edges),
+				    static_cast<unsigned long long>(st.int0LevelReads),
+				    static_cast<unsigned long long>(st.int0Unsignalled),
+				    static_cast<unsigned long long>(st.int0Timeouts));
+		}
+	f.late = static_cast<long>(s.lateCycles);
 	std::printf("bench: cyclic %s: %llu cycles, %.2f commands per cycle from userspace, %u failed, %llu late\n", name,
 		    static_cast<unsigned long long>(s.cycles),
 		    s.cycles ? static_cast<double>(s.commands) / static_cast<double>(s.cycles) : 0.0, errors,
@@ -197,9 +239,45 @@ void save(const Figures &ring, const Figures &ioc)
 	std::FILE *f = std::fopen(kResultFile, "w");
 	if (!f)
 		return;
-	std::fprintf(f, "%f %f %f %f %f %f\n", ring.syscalls, ring.appCpuUs, ring.workerCpuUs, ioc.syscalls,
-		     ioc.appCpuUs, ioc.workerCpuUs);
+	std::fprintf(f, "%f %f %f %f %f %f %ld\n", ring.syscalls, ring.appCpuUs, ring.workerCpuUs, ioc.syscalls,
+		     ioc.appCpuUs, ioc.workerCpuUs, ring.late);
 	std::fclose(f);
+	std::FILE *t = std::fopen(kSitesFile, "w");
+	if (!t)
+		return;
+	for (const auto &[site, count] : ring.sites)
+		std::fprintf(t, "0\t%ld\t%s\n", count, site.c_str());
+	for (const auto &[site, count] : ioc.sites)
+		std::fprintf(t, "1\t%ld\t%s\n", count, site.c_str());
+	std::fclose(t);
+}
+
+/// The kernel paths' call sites (save()) and @p sp's side by side, per
+/// cycle: one row per system call and call site.
+void printSites(const Figures &sp)
+{
+	std::map<std::string, std::array<long, 3>> rows;
+	std::ifstream t(kSitesFile);
+	for (std::string line; std::getline(t, line);) {
+		const std::size_t a = line.find('\t'), b = line.find('\t', a + 1);
+		if (a == std::string::npos || b == std::string::npos)
+			continue;
+		const unsigned col = line[0] == '1' ? 1 : 0;
+		rows[line.substr(b + 1)][col] += std::strtol(line.c_str() + a + 1, nullptr, 10);
+	}
+	for (const auto &[site, count] : sp.sites)
+		rows[site][2] += count;
+	std::printf("bench: cyclic call sites, system calls per cycle (%u traced cycles each):\n", kTraced);
+	std::printf("bench:    rings    ioctl   spidev  system call @ call site < its caller\n");
+	std::array<long, 3> sum{};
+	for (const auto &[site, c] : rows) {
+		std::printf("bench: %8.2f %8.2f %8.2f  %s\n", static_cast<double>(c[0]) / kTraced,
+			    static_cast<double>(c[1]) / kTraced, static_cast<double>(c[2]) / kTraced, site.c_str());
+		for (std::size_t i = 0; i < 3; i++)
+			sum[i] += c[i];
+	}
+	std::printf("bench: %8.2f %8.2f %8.2f  all\n", static_cast<double>(sum[0]) / kTraced,
+		    static_cast<double>(sum[1]) / kTraced, static_cast<double>(sum[2]) / kTraced);
 }
 
 double ratio(double a, double b)
@@ -218,6 +296,15 @@ int main(int argc, char **argv)
 		}
 		const std::string_view mode = argv[1];
 		const auto n = static_cast<unsigned>(std::strtoul(argv[2], nullptr, 10));
+		// what an RT application does (CyclicConfig::realtime): memory
+		// locked, SCHED_FIFO just below the kernel's link worker (50),
+		// for all three paths alike
+		ecmxf::RealtimeConfig rt;
+		rt.lockMemory = true;
+		rt.priority = kPriority;
+		rt.prefaultStack = 256 * 1024;
+		ecmxf::applyRealtime(rt);
+		std::printf("bench: cyclic: memory locked, SCHED_FIFO %d\n", kPriority);
 		auto dev = ecmxf::Device::open(argv[3]);
 		ecmxf::ProcessImage image = bringUp(*dev);
 		if (mode == "kernel") {
@@ -234,12 +321,16 @@ int main(int argc, char **argv)
 			const Figures sp = cyclicPath(*dev, image, "spidev (library, FIFO commands)", n, false);
 			std::FILE *f = std::fopen(kResultFile, "r");
 			Figures ring, ioc;
-			if (!f || std::fscanf(f, "%lf %lf %lf %lf %lf %lf", &ring.syscalls, &ring.appCpuUs,
-					      &ring.workerCpuUs, &ioc.syscalls, &ioc.appCpuUs, &ioc.workerCpuUs) != 6) {
+			if (!f || std::fscanf(f, "%lf %lf %lf %lf %lf %lf %ld", &ring.syscalls, &ring.appCpuUs,
+					      &ring.workerCpuUs, &ioc.syscalls, &ioc.appCpuUs, &ioc.workerCpuUs,
+					      &ring.late) != 7) {
 				std::printf("bench: no kernel figures in %s: no ratios\n", kResultFile);
 				return 0;
 			}
 			std::fclose(f);
+			printSites(sp);
+			std::printf("bench: cyclic late cycles: rings %ld, spidev %ld (of %u + %u warm-up)\n", ring.late,
+				    sp.late, n, kWarmup);
 			std::printf("bench: cyclic rings/spidev: syscalls per cycle %.2f, CPU per cycle %.2f (with the "
 				    "kernel worker)\n",
 				    ratio(ring.syscalls, sp.syscalls),

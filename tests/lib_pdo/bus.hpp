@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
-// A simulated bus for the process-data tests: a Device over a SimChannel,
+// A simulated bus for the process-data tests: a Device over a SimChannel
+// (or over another channel to a simulated chip),
 // brought up with raw Device::command() calls (ECAT_INIT_OP, ECAT_STATE_SET
 // PRE-OP, SAFE-OP, OP), and the PDO mapping of the default network written
 // by hand from the models' default maps (EST-584 manual 5.4.1, dio.cpp).
@@ -70,7 +71,11 @@ struct Bus {
 		dev = std::make_unique<ecmxf::Device>(std::move(t));
 	}
 
-	ecmxf::sim::Chip &chip() { return sim->chip(); }
+	/// A bus over @p device whose chip is @p chip (e.g. a spidev channel
+	/// over a fake backend played by it).
+	Bus(std::unique_ptr<ecmxf::Device> device, ecmxf::sim::Chip &chip) : dev(std::move(device)), chip_(&chip) {}
+
+	ecmxf::sim::Chip &chip() { return chip_ ? *chip_ : sim->chip(); }
 
 	ecmxf::Response cmd(std::uint8_t code, std::uint8_t param = 0, std::uint8_t d0 = 0)
 	{
@@ -128,6 +133,9 @@ struct Bus {
 	{
 		return dynamic_cast<Model &>(chip().network().at(position));
 	}
+
+private:
+	ecmxf::sim::Chip *chip_ = nullptr;
 };
 
 inline ecmxf::PdoEntryInfo entry(std::uint16_t pdo, std::uint16_t index, std::uint8_t sub, std::uint8_t bits,

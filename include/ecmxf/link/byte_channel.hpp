@@ -67,6 +67,19 @@ public:
 	/// or advances virtual time (simulator). Non-positive durations return
 	/// at once.
 	virtual void sleepFor(std::chrono::nanoseconds duration);
+	/// Sleeps until now() reads @p deadline (an absolute time on the
+	/// channel's clock); returns at once when it has passed. The default
+	/// sleeps for deadline - now(); a real channel overrides it with one
+	/// absolute sleep (clock_nanosleep(TIMER_ABSTIME)), the cyclic loop's
+	/// one system call per cycle.
+	virtual void sleepUntil(std::chrono::nanoseconds deadline);
+	/// A time not later than now(), and not older than the channel's
+	/// last exchange, ready wait or sleep: what the channel learned
+	/// without reading the clock (the time of INT0's ready edge, the
+	/// deadline of a sleep), for the protocol core's bookkeeping between
+	/// exchanges. Must not be used to start a timeout (it may lag by as
+	/// much as the caller spent since). The default is now().
+	[[nodiscard]] virtual std::chrono::nanoseconds coarseNow() const { return now(); }
 
 	/// How messages name the channel, e.g. "sim:", "unix:/tmp/s",
 	/// "/dev/spidev0.0".

@@ -47,6 +47,8 @@ public:
 	[[nodiscard]] std::string name() const override;
 	[[nodiscard]] std::chrono::nanoseconds now() const override;
 	void sleepFor(std::chrono::nanoseconds duration) override;
+	void sleepUntil(std::chrono::nanoseconds deadline) override;
+	[[nodiscard]] std::chrono::nanoseconds coarseNow() const override;
 	void assumeFormat(std::uint16_t dataSize, CheckType check) override;
 	void setAsyncPollInterval(std::chrono::nanoseconds interval) noexcept override;
 	[[nodiscard]] std::chrono::nanoseconds asyncPollInterval() const noexcept override;

@@ -77,6 +77,8 @@ public:
 	[[nodiscard]] CrcCoverage crcCoverage() const noexcept override;
 	/// The path it opened.
 	[[nodiscard]] std::string name() const override;
+	/// One absolute clock_nanosleep() on the steady clock (CLOCK_MONOTONIC).
+	void sleepUntil(std::chrono::nanoseconds deadline) override;
 	/// ECMXF_IOC_RESET (the kernel sends ASYNCCMD_RESET and WARM_RESET only
 	/// this way); @p param only for LinkReset::AsyncCmd; @p timeoutUs 0:
 	/// the default.

@@ -228,6 +228,16 @@ public:
 	/// Lets @p duration pass on the link's clock (sleeps, or advances the
 	/// simulator's virtual time).
 	virtual void sleepFor(std::chrono::nanoseconds duration);
+	/// Sleeps until now() reads @p deadline (absolute, on the link's
+	/// clock); returns at once when it has passed. The default sleeps for
+	/// deadline - now(); the kernel link and the spidev channel sleep
+	/// with one absolute clock_nanosleep() (Cyclic::waitNextCycle()).
+	virtual void sleepUntil(std::chrono::nanoseconds deadline);
+	/// A time not later than now() that the link knows without reading
+	/// the clock (spidev: the time of INT0's last ready edge or of the
+	/// end of the last sleep); for estimates between exchanges, never to
+	/// start a timeout. The default is now().
+	[[nodiscard]] virtual std::chrono::nanoseconds coarseNow() const { return now(); }
 
 	// ---- capabilities: what only some links have
 

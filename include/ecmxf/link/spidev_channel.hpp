@@ -52,6 +52,9 @@ struct SpidevOptions {
 	std::uint8_t mode = 0;               ///< SPI mode 0..3; the chip uses mode 0 (CPOL=0, CPHA=0)
 	std::optional<GpioLineSpec> int0;    ///< the ready line; none: wait kFallbackWait
 	std::optional<GpioLineSpec> int1;    ///< the event line
+	/// With INT0: how long a wait for INT0's ready edge lasts before the
+	/// level is read once (a missed edge; a chip that did not go busy).
+	static constexpr std::chrono::nanoseconds kEdgeGrace = std::chrono::microseconds(300);
 	/// INT0 level that means "ready": high by default (manual ver. 050;
 	/// ECAT_INT_SET_ENABLE parameter bit 1 inverts it).
 	bool readyHigh = true;
@@ -80,18 +83,38 @@ public:
 	[[nodiscard]] virtual bool hasLine(IntLine line) const noexcept = 0;
 	/// The level of @p line: 1 high, 0 low, or a negative errno.
 	virtual int lineValue(IntLine line) noexcept = 0;
-	/// Waits for one edge (either direction) on @p line for at most
-	/// @p timeout and consumes it: 1 an edge came, 0 timeout, or a
-	/// negative errno.
+	/// Waits for one edge on @p line for at most @p timeout and consumes
+	/// it: 1 an edge came, 0 timeout, or a negative errno. (INT1: either
+	/// direction; INT0: the real backend asks for the ready edge only.)
 	virtual int waitEdge(IntLine line, std::chrono::nanoseconds timeout) noexcept = 0;
+	/// What readEdges() saw.
+	struct Edges {
+		unsigned count = 0;  ///< edge events read
+		bool high = false;   ///< the line's level after the last of them
+		/// when the last happened, on now()'s clock; zero: not known
+		std::chrono::nanoseconds time{ 0 };
+	};
+	/// Reads every edge event queued on @p line, first waiting up to
+	/// @p timeout for one to come (zero: no wait, only what is queued).
+	/// Returns the number read (0: none came in time) or a negative
+	/// errno; @p edges tells the last. The real backend: one read() of
+	/// the line's event fd (non-blocking), after one ppoll() when
+	/// @p timeout is positive. The default builds it from waitEdge() and
+	/// lineValue() (backends that predate it).
+	virtual int readEdges(IntLine line, std::chrono::nanoseconds timeout, Edges &edges) noexcept;
 	/// The backend's monotonic clock.
 	[[nodiscard]] virtual std::chrono::nanoseconds now() const noexcept = 0;
 	/// Lets @p duration pass on that clock.
 	virtual void sleepFor(std::chrono::nanoseconds duration) noexcept = 0;
+	/// Sleeps until now() reads @p deadline. The real backend: one
+	/// absolute clock_nanosleep(); the default sleeps deadline - now().
+	virtual void sleepUntil(std::chrono::nanoseconds deadline) noexcept;
 };
 
-/// The real backend: opens the INT0/INT1 lines (libgpiod, edge events on
-/// both edges, consumer "ecmxf") and then the spidev node (O_RDWR), and
+/// The real backend: opens the INT0/INT1 lines (libgpiod, consumer
+/// "ecmxf"; INT0 with events on its ready edge only, rising for ready=high,
+/// falling for ready=low, its event fd non-blocking; INT1 with events on
+/// both edges) and then the spidev node (O_RDWR), and
 /// sets mode, 8 bits per word and the clock. Throws ecmxf::Error naming
 /// the node or line and the system's reason (errno kept).
 [[nodiscard]] ECMXF_EXPORT std::unique_ptr<SpidevBackend> openSpidevBackend(const SpidevOptions &options);
@@ -104,6 +127,12 @@ struct SpidevStats {
 	std::uint64_t int0Timeouts = 0;   ///< waitReady() calls that ended without INT0 ready
 	std::uint64_t fallbackWaits = 0;  ///< waits of the 150 us fallback (no INT0)
 	std::uint64_t int1Events = 0;     ///< waitEvent() calls that found INT1 asserted
+	/// reads of INT0's level: the first wait, and waits in which no ready
+	/// edge came within kEdgeGrace (a steady exchange reads none)
+	std::uint64_t int0LevelReads = 0;
+	/// of those after kEdgeGrace, the ones that found INT0 ready with no
+	/// edge queued (an edge missed, or a chip that did not go busy)
+	std::uint64_t int0Unsignalled = 0;
 };
 
 /// Byte channel over spidev and libgpiod.
@@ -120,14 +149,26 @@ public:
 	/// One transfer; throws ecmxf::Error (the errno of the ioctl, or EIO
 	/// for a short transfer) naming the node.
 	void exchange(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso) override;
-	/// With INT0: checks the level, then waits for edges until the level
-	/// says ready or @p timeout has passed. Without INT0: ready once
-	/// kFallbackWait has passed since the end of the last exchange (waits
-	/// for the rest of it, or for @p timeout if shorter). Throws
-	/// ecmxf::Error when the line cannot be read.
+	/// With INT0, event-driven: INT0 is ready when its ready edge came
+	/// after the last exchange (the chip drops INT0 while it processes a
+	/// packet and raises it when done). Ready with no system call when
+	/// that edge was seen already; else one read() of the queued events
+	/// when the channel slept since the exchange, then one ppoll() + one
+	/// read() per wait. The level is read only for the first wait, and
+	/// when no edge came within kEdgeGrace of waiting (a missed edge).
+	/// Without INT0: ready once kFallbackWait has passed since the end of
+	/// the last exchange (waits for the rest of it, or for @p timeout if
+	/// shorter). Throws ecmxf::Error when the line cannot be read.
 	[[nodiscard]] bool waitReady(std::chrono::nanoseconds timeout) override;
+	/// Reads the clock (and keeps what it read for coarseNow()).
 	[[nodiscard]] std::chrono::nanoseconds now() const override;
 	void sleepFor(std::chrono::nanoseconds duration) override;
+	/// One absolute sleep (SpidevBackend::sleepUntil()).
+	void sleepUntil(std::chrono::nanoseconds deadline) override;
+	/// The latest of: the last clock read, the last sleep's end, the time
+	/// of INT0's last ready edge (when its events carry a timestamp on
+	/// now()'s clock). No system call.
+	[[nodiscard]] std::chrono::nanoseconds coarseNow() const override;
 	/// "spidev:<node>".
 	[[nodiscard]] std::string name() const override;
 
@@ -141,12 +182,30 @@ public:
 
 private:
 	bool lineActive(IntLine line, bool activeHigh);
+	/// Reads INT0's queued events (waiting up to @p timeout): true when
+	/// the last says ready. Throws ecmxf::Error when that fails.
+	bool readyEdge(std::chrono::nanoseconds timeout);
+	/// Moves coarseNow() on to @p t (never back).
+	void advanceClock(std::chrono::nanoseconds t) const noexcept;
+
+	/// What the channel knows of INT0 without reading it.
+	enum class Int0State : std::uint8_t {
+		Unknown, ///< nothing yet: the level is read
+		Ready,   ///< its ready edge came after the last exchange
+		Busy,    ///< an exchange since its last ready edge
+	};
 
 	std::unique_ptr<SpidevBackend> backend_;
 	SpidevOptions options_;
 	SpidevStats stats_;
 	std::chrono::nanoseconds lastExchangeEnd_{ 0 };
 	bool exchanged_ = false;
+	Int0State int0_ = Int0State::Unknown;
+	/// the channel slept since the last exchange: the ready edge has
+	/// probably come, so the events are read before any wait
+	bool sleptSinceExchange_ = false;
+	/// coarseNow()
+	mutable std::chrono::nanoseconds known_{ 0 };
 };
 
 } // namespace ecmxf

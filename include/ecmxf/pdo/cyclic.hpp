@@ -43,6 +43,7 @@
 #include <span>
 
 #include <ecmxf/export.hpp>
+#include <ecmxf/pdo/realtime.hpp>
 #include <ecmxf/pdo/types_pdo.hpp>
 
 namespace ecmxf {
@@ -117,6 +118,13 @@ struct CyclicConfig {
 	/// Over the kernel's PDO rings cycle() sends no command (the kernel's
 	/// pump allows each of its commands 500 ms) and this is not used.
 	std::chrono::microseconds commandTimeout{ 0 };
+	/// The real-time setup of the cyclic thread (memory lock, SCHED_FIFO
+	/// priority, CPU, pre-faulted stack): checked when the Cyclic is made
+	/// (ecmxf::Error EINVAL naming the field), applied by start() to the
+	/// thread that calls it (ecmxf::Error with the errno, e.g. EPERM).
+	/// The default changes nothing. realtime.hpp, Documentation/
+	/// process-data.rst "Real time".
+	RealtimeConfig realtime{};
 };
 
 /// What one cycle() did.
