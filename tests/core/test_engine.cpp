@@ -879,6 +879,28 @@ TEST_CASE("pipelining: a fetch sent ahead polls through lost answers and a packe
 	CHECK(ecmxf_engine_idle(&l.e));
 }
 
+TEST_CASE("pipelining: a fetch does not go ahead of a late chip's answers", "[engine][pipeline]")
+{
+	// answers come 2 exchanges late: a fetch sent anew in every exchange
+	// would never meet the answer to its previous send; it waits for them
+	const int lag = GENERATE(1, 2, 4);
+	Link l;
+	l.exchange();
+	l.chip.answerLag = lag;
+	l.chip.asyncBusyExchanges = 6;
+	l.chip.handler = [](const ecmxf_cmd_hdr &h, const std::uint8_t *) {
+		return fake::Answer{ static_cast<std::uint8_t>(h.code + 1), { 9, 8, 7, 6 } };
+	};
+	SdoUpload up;
+	REQUIRE(l.submit(up.req) == 0);
+	const int n = runAll(l, { &up.req, &up.get });
+	CHECK(up.req.status == 0);
+	CHECK(up.get.status == 0);
+	CHECK(up.buf[0] == 9);
+	CHECK(n < 100);
+	CHECK(ecmxf_engine_idle(&l.e));
+}
+
 TEST_CASE("pipelining: the fetch of an async command the chip refuses is withdrawn",
 	  "[engine][pipeline]")
 {
