@@ -214,5 +214,7 @@ TEST_CASE("realtime: applied where permitted (SCHED_FIFO, CPU 0, memory locked),
 		}
 		return bits;
 	});
-	CHECK(refused == 3);
+	// AddressSanitizer intercepts mlockall() and makes it a no-op that
+	// succeeds, so there only the priority can be refused
+	CHECK(refused == (kAsan ? 1 : 3));
 }
