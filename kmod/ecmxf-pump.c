@@ -369,10 +369,9 @@ static struct ecmxf_rings *ecmxf_pump_finish(struct ecmxf_dev *edev,
 		return NULL;
 	c->busy = false;
 	c->rings = NULL;
-	if (fifo) {
+	/* counted here; the status block's delta below reads it too */
+	if (fifo)
 		edev->out_ring_skipped += edev->pump.skipped;
-		edev->pump.skipped = 0;
-	}
 	if (r == edev->rings && !r->stopped) {
 		if (x->status == -ECONNRESET)
 			ecmxf_rings_stop(edev, x->status);
