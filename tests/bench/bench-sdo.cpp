@@ -63,33 +63,46 @@ struct Figures {
 
 using Nanos = std::chrono::nanoseconds;
 
-/// The simulator's channel, noting when the first exchange since start()
-/// begins and when the last one ends.
-class TimedChannel : public ecmxf::ByteChannel
+/// One transfer's time: from the start of its first exchange since
+/// start() to the end of its last.
+class TransferTimer
+{
+public:
+	void start() { started_ = false; }
+	/// Around each exchange: @p now before it, then after it.
+	void before(Nanos now)
+	{
+		if (!started_) {
+			started_ = true;
+			first_ = now;
+		}
+	}
+	void after(Nanos now) { last_ = now; }
+	[[nodiscard]] double micros() const { return std::chrono::duration<double, std::micro>(last_ - first_).count(); }
+
+private:
+	bool started_ = false;
+	Nanos first_{}, last_{};
+};
+
+/// The simulator's channel, timing transfers (TransferTimer).
+class TimedChannel : public ecmxf::ByteChannel, public TransferTimer
 {
 public:
 	explicit TimedChannel(std::unique_ptr<ecmxf::SimChannel> c) : c_(std::move(c)) {}
 	void exchange(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso) override
 	{
-		if (!started_) {
-			started_ = true;
-			first_ = c_->now();
-		}
+		before(c_->now());
 		c_->exchange(mosi, miso);
-		last_ = c_->now();
+		after(c_->now());
 	}
 	bool waitReady(Nanos timeout) override { return c_->waitReady(timeout); }
 	Nanos now() const override { return c_->now(); }
 	void sleepFor(Nanos d) override { c_->sleepFor(d); }
 	std::string name() const override { return c_->name(); }
 	sim::Chip *simulator() noexcept override { return c_->simulator(); }
-	void start() { started_ = false; }
-	[[nodiscard]] double micros() const { return std::chrono::duration<double, std::micro>(last_ - first_).count(); }
-
 private:
 	std::unique_ptr<ecmxf::SimChannel> c_;
-	bool started_ = false;
-	Nanos first_{}, last_{};
 };
 
 // A raw host: one packet per exchange, waiting for INT0 in 10 µs steps.
@@ -118,12 +131,9 @@ public:
 			die("encode failed");
 		while (!chip_.ready())
 			chip_.advance(10us);
-		if (!started_) {
-			started_ = true;
-			first_ = chip_.now();
-		}
+		timer.before(chip_.now());
 		chip_.exchange(tx, rx);
-		last_ = chip_.now();
+		timer.after(chip_.now());
 		const std::uint8_t *d = nullptr;
 		if (ecmxf_decode_rsp(rx.data(), rx.size(), ECMXF_CHECK_FIXED, &h, &d) != ECMXF_FAULT_NONE)
 			die("bad response");
@@ -149,14 +159,10 @@ public:
 			die("async command failed");
 	}
 
-	// one transfer's time: first exchange since start() to the last's end
-	void start() { started_ = false; }
-	[[nodiscard]] double micros() const { return std::chrono::duration<double, std::micro>(last_ - first_).count(); }
+	TransferTimer timer; ///< one transfer's time
 
 private:
 	sim::Chip &chip_;
-	bool started_ = false;
-	Nanos first_{}, last_{};
 	ecmxf_cmd_hdr hdr_{};
 	std::vector<std::uint8_t> payload_;
 	std::uint8_t index_ = 0;
@@ -219,13 +225,13 @@ Figures baseline(unsigned latencyUs)
 	const auto t0 = chip.now();
 	double transfers = 0;
 	for (int i = 0; i < kRounds; i++) {
-		host.start();
+		host.timer.start();
 		host.cmd(ECMXF_CMD_ECAT_SDO_REQ, 0, 0, sdoReadPayload());
 		host.waitIdle1ms();
 		host.cmd(ECMXF_CMD_ECAT_SDO_GET);
 		if (host.data.size() != 4)
 			die("SDO_GET returned " + std::to_string(host.data.size()) + " bytes");
-		transfers += host.micros();
+		transfers += host.timer.micros();
 	}
 	Figures f;
 	f.exchanges = static_cast<double>(chip.stats().exchanges - x0) / kRounds;

@@ -371,6 +371,53 @@ inline std::string siteKey(const CodeMap &code, pid_t pid, std::size_t nr, std::
 	return callName(nr, arg1) + " @ " + (found ? site : std::string("?"));
 }
 
+#if defined(__x86_64__)
+/// Forks a child that asks to be traced by this process and stops itself
+/// (SIGSTOP): in the child it returns 0 and the caller runs what is to be
+/// traced; in the parent the child's pid (or -1), which the caller waits
+/// for. Standard output is flushed first, so the child repeats nothing.
+inline pid_t forkTracee()
+{
+	std::fflush(stdout);
+	const pid_t pid = ::fork();
+	if (pid == 0) {
+		::ptrace(PTRACE_TRACEME, 0, nullptr, nullptr);
+		::raise(SIGSTOP);
+	}
+	return pid;
+}
+#endif
+
+/// System calls counted by number, and named for the bench's lines.
+struct CallTally {
+	long count = 0;
+	std::vector<long> byNr; ///< syscall number -> count (numbers below 1024)
+
+	void add(std::size_t nr)
+	{
+		count++;
+		if (nr < 1024) {
+			if (byNr.size() <= nr)
+				byNr.resize(nr + 1, 0);
+			byNr[nr]++;
+		}
+	}
+	/// " name=N" for each number seen, in number order.
+	[[nodiscard]] std::string names() const
+	{
+		std::string which;
+		for (std::size_t nr = 0; nr < byNr.size(); nr++) {
+			if (!byNr[nr])
+				continue;
+			const char *name = syscallName(nr);
+			which += " ";
+			which += name ? name : "nr" + std::to_string(nr);
+			which += "=" + std::to_string(byNr[nr]);
+		}
+		return which;
+	}
+};
+
 /// System calls made by @p body, run in a child process traced with
 /// PTRACE_SYSCALL (between two getppid() markers); @p which gets them by
 /// name, @p failed the number @p body returns (its failed commands), @p
@@ -384,16 +431,13 @@ inline long countSyscalls(const std::function<int()> &body, std::string &which, 
 {
 	failed = -1;
 #if defined(__x86_64__)
-	std::fflush(stdout);
 	std::optional<CodeMap> code;
 	if (sites)
 		code.emplace();
-	const pid_t pid = ::fork();
+	const pid_t pid = forkTracee();
 	if (pid < 0)
 		return -1;
 	if (pid == 0) {
-		::ptrace(PTRACE_TRACEME, 0, nullptr, nullptr);
-		::raise(SIGSTOP);
 		::syscall(SYS_getppid);
 		const int f = body();
 		::syscall(SYS_getppid);
@@ -402,9 +446,8 @@ inline long countSyscalls(const std::function<int()> &body, std::string &which, 
 	int st = 0;
 	::waitpid(pid, &st, 0);
 	::ptrace(PTRACE_SETOPTIONS, pid, nullptr, reinterpret_cast<void *>(PTRACE_O_TRACESYSGOOD | PTRACE_O_EXITKILL));
-	long count = 0;
+	CallTally calls;
 	int markers = 0;
-	std::vector<long> nrs; // syscall number -> count
 	bool entry = true;
 	long sig = 0;
 	for (;;) {
@@ -428,13 +471,8 @@ inline long countSyscalls(const std::function<int()> &body, std::string &which, 
 				if (static_cast<long>(regs.orig_rax) == SYS_getppid)
 					markers++;
 				else if (markers == 1) {
-					count++;
 					const auto nr = static_cast<std::size_t>(regs.orig_rax);
-					if (nr < 1024) {
-						if (nrs.size() <= nr)
-							nrs.resize(nr + 1, 0);
-						nrs[nr]++;
-					}
+					calls.add(nr);
 					if (sites)
 						(*sites)[siteKey(*code, pid, nr, regs.rsi, regs.rsp, regs.rip)]++;
 				}
@@ -446,15 +484,8 @@ inline long countSyscalls(const std::function<int()> &body, std::string &which, 
 	}
 	if (failed < 0 && ::waitpid(pid, &st, 0) == pid && WIFEXITED(st))
 		failed = WEXITSTATUS(st);
-	for (std::size_t nr = 0; nr < nrs.size(); nr++) {
-		if (!nrs[nr])
-			continue;
-		const char *name = syscallName(nr);
-		which += " ";
-		which += name ? name : "nr" + std::to_string(nr);
-		which += "=" + std::to_string(nrs[nr]);
-	}
-	return markers >= 2 ? count : -1;
+	which += calls.names();
+	return markers >= 2 ? calls.count : -1;
 #else
 	(void)body;
 	(void)which;
@@ -480,16 +511,13 @@ inline long countCycleSyscalls(const std::function<void()> &cycle, unsigned trac
 {
 #if defined(__x86_64__)
 	stride = std::max(stride, 1u);
-	std::fflush(stdout);
 	std::optional<CodeMap> code;
 	if (sites)
 		code.emplace();
-	const pid_t pid = ::fork();
+	const pid_t pid = forkTracee();
 	if (pid < 0)
 		return -1;
 	if (pid == 0) {
-		::ptrace(PTRACE_TRACEME, 0, nullptr, nullptr);
-		::raise(SIGSTOP);
 		// getppid() -> SECCOMP_RET_TRACE, everything else allowed
 		std::array<sock_filter, 4> prog{ {
 			{ BPF_LD | BPF_W | BPF_ABS, 0, 0, static_cast<std::uint32_t>(offsetof(seccomp_data, nr)) },
@@ -513,11 +541,10 @@ inline long countCycleSyscalls(const std::function<void()> &cycle, unsigned trac
 	::waitpid(pid, &st, 0);
 	::ptrace(PTRACE_SETOPTIONS, pid, nullptr,
 		 reinterpret_cast<void *>(PTRACE_O_TRACESYSGOOD | PTRACE_O_EXITKILL | PTRACE_O_TRACESECCOMP));
-	long count = 0;
+	CallTally calls;
 	long markers = 0;
-	unsigned done = 0;     // traced cycles finished
-	bool tracing = false;  // the cycle running now is traced
-	std::vector<long> nrs; // syscall number -> count
+	unsigned done = 0;    // traced cycles finished
+	bool tracing = false; // the cycle running now is traced
 	int request = PTRACE_CONT;
 	long sig = 0;
 	bool ok = true;
@@ -558,28 +585,16 @@ inline long countCycleSyscalls(const std::function<void()> &cycle, unsigned trac
 			continue;
 		}
 		if (info.op == PTRACE_SYSCALL_INFO_ENTRY && tracing && info.entry.nr != SYS_getppid) {
-			count++;
 			const auto nr = static_cast<std::size_t>(info.entry.nr);
-			if (nr < 1024) {
-				if (nrs.size() <= nr)
-					nrs.resize(nr + 1, 0);
-				nrs[nr]++;
-			}
+			calls.add(nr);
 			if (sites)
 				(*sites)[siteKey(*code, pid, nr, info.entry.args[1], info.stack_pointer,
 						 info.instruction_pointer)]++;
 		}
 		request = tracing ? PTRACE_SYSCALL : PTRACE_CONT;
 	}
-	for (std::size_t nr = 0; nr < nrs.size(); nr++) {
-		if (!nrs[nr])
-			continue;
-		const char *name = syscallName(nr);
-		which += " ";
-		which += name ? name : "nr" + std::to_string(nr);
-		which += "=" + std::to_string(nrs[nr]);
-	}
-	return ok && done == traced ? count : -1;
+	which += calls.names();
+	return ok && done == traced ? calls.count : -1;
 #else
 	(void)cycle;
 	(void)traced;
