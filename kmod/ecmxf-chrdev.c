@@ -65,15 +65,20 @@ static enum ecmxf_perm ecmxf_hdr_perm(const struct ecmxf_cmd_hdr *h)
 	return ECMXF_PERM_QUERY;
 }
 
-/* Checks of a command that do not depend on the device state. */
+/*
+ * Checks of a command that do not depend on the device state.  @allowed:
+ * the %ECMXF_CMD_F_* input flags of the ioctl; @reserved must be zero
+ * unless %ECMXF_CMD_F_FETCH made it the fetch's header.
+ */
 static int ecmxf_check_cmd(const struct ecmxf_cmd_header *h, u32 tx_len,
 			   u64 tx_ptr, u32 rx_size, u64 rx_ptr, u32 flags,
-			   const u32 *reserved, size_t reserved_size)
+			   u32 allowed, const void *reserved,
+			   size_t reserved_size)
 {
-	if (h->padding || h->reserved ||
-	    memchr_inv(reserved, 0, reserved_size))
+	if (h->padding || h->reserved || (flags & ~allowed))
 		return -EINVAL;
-	if (flags & ~ECMXF_CMD_F_NO_AUTO_CLEAR)
+	if (!(flags & ECMXF_CMD_F_FETCH) &&
+	    memchr_inv(reserved, 0, reserved_size))
 		return -EINVAL;
 	if (tx_len > ECMXF_DATA_MAX || (tx_len && !tx_ptr) ||
 	    (rx_size && !rx_ptr))
@@ -96,12 +101,45 @@ static int ecmxf_check_cmd(const struct ecmxf_cmd_header *h, u32 tx_len,
 	return 0;
 }
 
+/*
+ * The result fetch @f of the %ECMXF_CMD_F_FETCH command @h: @h is async
+ * and @f its *_GET partner in the command table, with no data.
+ */
+static int ecmxf_check_fetch(const struct ecmxf_cmd_header *h,
+			     const struct ecmxf_cmd_header *f)
+{
+	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(h->code);
+
+	if (!ci || !ecmxf_cmd_is_async(h->code, h->param) ||
+	    ci->partner != f->code)
+		return -EINVAL;
+	if (f->padding || f->reserved || f->len)
+		return -EINVAL;
+	return 0;
+}
+
+/* The engine's header of the command @h from userspace. */
+static void ecmxf_hdr_from_user(struct ecmxf_cmd_hdr *d,
+				const struct ecmxf_cmd_header *h)
+{
+	memcpy(d->data, h->data, sizeof(d->data));
+	d->reserved = h->rsv_word;
+	d->control = h->control;
+	d->code = h->code;
+	d->param = h->param;
+	d->len = h->len;
+	d->int_clear = h->int_clear;
+	memcpy(d->gpio_int_clear, h->gpio_int_clear, sizeof(d->gpio_int_clear));
+	memcpy(d->gpio_out, h->gpio_out, sizeof(d->gpio_out));
+}
+
 /* A request for command @h, data copied from @tx_ptr. */
 static struct ecmxf_req *ecmxf_req_new(struct ecmxf_client *c,
 				       enum ecmxf_req_kind kind,
 				       const struct ecmxf_cmd_header *h,
 				       u64 tx_ptr, u32 tx_len, u32 rx_size,
-				       u32 timeout_us, u32 flags)
+				       u32 timeout_us, u32 flags,
+				       const struct ecmxf_cmd_header *fetch)
 {
 	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(h->code);
 	struct ecmxf_req *req;
@@ -120,16 +158,7 @@ static struct ecmxf_req *ecmxf_req_new(struct ecmxf_client *c,
 	req->kind = kind;
 	req->state = ECMXF_RS_QUEUED;
 
-	memcpy(req->x.hdr.data, h->data, sizeof(req->x.hdr.data));
-	req->x.hdr.reserved = h->rsv_word;
-	req->x.hdr.control = h->control;
-	req->x.hdr.code = h->code;
-	req->x.hdr.param = h->param;
-	req->x.hdr.len = h->len;
-	req->x.hdr.int_clear = h->int_clear;
-	memcpy(req->x.hdr.gpio_int_clear, h->gpio_int_clear,
-	       sizeof(req->x.hdr.gpio_int_clear));
-	memcpy(req->x.hdr.gpio_out, h->gpio_out, sizeof(req->x.hdr.gpio_out));
+	ecmxf_hdr_from_user(&req->x.hdr, h);
 	req->x.tx_data = req->tx;
 	req->x.tx_len = (u16)tx_len;
 	req->x.rx_buf = req->rx;
@@ -137,6 +166,17 @@ static struct ecmxf_req *ecmxf_req_new(struct ecmxf_client *c,
 	if (flags & ECMXF_CMD_F_NO_AUTO_CLEAR)
 		req->x.flags |= ECMXF_XF_NO_AUTO_CLEAR;
 	req->x.status = -EINPROGRESS;
+	if (fetch) {
+		/* the answer wanted is the fetch's; the command's own is empty */
+		ecmxf_hdr_from_user(&req->fx.hdr, fetch);
+		req->fx.rx_buf = req->x.rx_buf;
+		req->fx.rx_size = req->x.rx_size;
+		req->fx.flags = req->x.flags;
+		req->fx.status = -EINPROGRESS;
+		req->x.rx_buf = NULL;
+		req->x.rx_size = 0;
+		req->x.fetch = &req->fx;
+	}
 
 	/* counted from the ioctl: time in the queue counts too */
 	timeout_ns = timeout_us ? (u64)timeout_us * NSEC_PER_USEC :
@@ -185,6 +225,13 @@ static int ecmxf_queue_req(struct ecmxf_client *c, struct ecmxf_req *req)
 	ret = ecmxf_check_perm(c, perm);
 	if (!ret)
 		ret = ecmxf_check_perm(c, ecmxf_hdr_perm(h));
+	/* a result fetch is a command of its own class */
+	if (!ret && req->x.fetch)
+		ret = ecmxf_check_perm(c, ecmxf_cmd_perm(req->fx.hdr.code,
+							 req->fx.hdr.param,
+							 NULL, 0));
+	if (!ret && req->x.fetch)
+		ret = ecmxf_check_perm(c, ecmxf_hdr_perm(&req->fx.hdr));
 	if (ret)
 		goto out_unlock;
 	/* while the rings exist, the pump owns the FIFO exchange */
@@ -240,20 +287,27 @@ static int ecmxf_wait_req(struct ecmxf_dev *edev, struct ecmxf_req *req)
 static long ecmxf_ioc_cmd(struct ecmxf_client *c, void __user *argp)
 {
 	struct ecmxf_dev *edev = c->edev;
+	const struct ecmxf_xfer *ans;
 	struct ecmxf_req *req;
 	struct ecmxf_cmd cmd;
+	bool fetch;
 	u32 n;
 	int ret;
 
 	if (copy_from_user(&cmd, argp, sizeof(cmd)))
 		return -EFAULT;
 	ret = ecmxf_check_cmd(&cmd.hdr, cmd.tx_len, cmd.tx_ptr, cmd.rx_size,
-			      cmd.rx_ptr, cmd.flags, cmd.reserved,
-			      sizeof(cmd.reserved));
+			      cmd.rx_ptr, cmd.flags,
+			      ECMXF_CMD_F_NO_AUTO_CLEAR | ECMXF_CMD_F_FETCH,
+			      &cmd.fetch, sizeof(cmd.fetch));
+	fetch = cmd.flags & ECMXF_CMD_F_FETCH;
+	if (!ret && fetch)
+		ret = ecmxf_check_fetch(&cmd.hdr, &cmd.fetch);
 	if (ret)
 		return ret;
 	req = ecmxf_req_new(c, ECMXF_REQ_SYNC, &cmd.hdr, cmd.tx_ptr,
-			    cmd.tx_len, cmd.rx_size, cmd.timeout_us, cmd.flags);
+			    cmd.tx_len, cmd.rx_size, cmd.timeout_us, cmd.flags,
+			    fetch ? &cmd.fetch : NULL);
 	if (IS_ERR(req))
 		return PTR_ERR(req);
 	ret = ecmxf_queue_req(c, req);
@@ -270,10 +324,14 @@ static long ecmxf_ioc_cmd(struct ecmxf_client *c, void __user *argp)
 		return -ENODEV;
 	}
 
-	n = min_t(u32, req->x.rx_len, cmd.rx_size);
-	ecmxf_rsp_to_user(&cmd.rsp, &req->x.rsp);
+	/* the outcome is the fetch's once it ran (ecmxf_done()) */
+	ans = req->fetched ? &req->fx : &req->x;
+	n = min_t(u32, ans->rx_len, cmd.rx_size);
+	ecmxf_rsp_to_user(&cmd.rsp, &ans->rsp);
 	cmd.rx_len = n;
 	cmd.status = req->x.status;
+	if (req->fetched)
+		cmd.flags |= ECMXF_CMD_F_FETCHED;
 	ret = 0;
 	if (n && copy_to_user(u64_to_user_ptr(cmd.rx_ptr), req->rx, n))
 		ret = -EFAULT;
@@ -292,14 +350,16 @@ static long ecmxf_ioc_submit(struct ecmxf_client *c, void __user *argp)
 	if (copy_from_user(&sub, argp, sizeof(sub)))
 		return -EFAULT;
 	ret = ecmxf_check_cmd(&sub.hdr, sub.tx_len, sub.tx_ptr, 0, 0,
-			      sub.flags, sub.reserved, sizeof(sub.reserved));
+			      sub.flags, ECMXF_CMD_F_NO_AUTO_CLEAR,
+			      sub.reserved, sizeof(sub.reserved));
 	if (ret)
 		return ret;
 	/* the answer travels in the completion record, never to a pointer */
 	if (sub.reserved_ptr || sub.rx_size > ECMXF_DATA_SIZE_MAX)
 		return -EINVAL;
 	req = ecmxf_req_new(c, ECMXF_REQ_SUBMIT, &sub.hdr, sub.tx_ptr,
-			    sub.tx_len, sub.rx_size, sub.timeout_us, sub.flags);
+			    sub.tx_len, sub.rx_size, sub.timeout_us, sub.flags,
+			    NULL);
 	if (IS_ERR(req))
 		return PTR_ERR(req);
 	req->cookie = sub.cookie;
@@ -350,7 +410,8 @@ static long ecmxf_ioc_reset(struct ecmxf_client *c, void __user *argp)
 	default:
 		return -EINVAL;
 	}
-	req = ecmxf_req_new(c, ECMXF_REQ_RESET, &h, 0, 0, 0, r.timeout_us, 0);
+	req = ecmxf_req_new(c, ECMXF_REQ_RESET, &h, 0, 0, 0, r.timeout_us, 0,
+			    NULL);
 	if (IS_ERR(req))
 		return PTR_ERR(req);
 	req->reset_flags = r.flags;
@@ -467,7 +528,7 @@ static int ecmxf_kernel_cmd(struct ecmxf_client *c, u8 code, u8 param,
 	h.code = code;
 	h.param = param;
 	h.control = ECMXF_CTL_CLR_CMD_ERR;
-	req = ecmxf_req_new(c, ECMXF_REQ_SYNC, &h, 0, 0, rx_size, 0, 0);
+	req = ecmxf_req_new(c, ECMXF_REQ_SYNC, &h, 0, 0, rx_size, 0, 0, NULL);
 	if (IS_ERR(req))
 		return PTR_ERR(req);
 	ret = ecmxf_queue_req(c, req);

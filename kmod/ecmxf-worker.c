@@ -603,6 +603,10 @@ static struct ecmxf_req *ecmxf_pick(struct ecmxf_dev *edev)
 					       node);
 		if (!req || !ecmxf_engine_can_submit(&edev->e, &req->x))
 			continue;
+		/* an ended async command's fetch still holds async_req */
+		if (edev->async_req &&
+		    ecmxf_cmd_is_async(req->x.hdr.code, req->x.hdr.param))
+			continue;
 		list_del_init(&req->node);
 		list_move_tail(&c->node, &edev->clients);
 		return req;
@@ -620,8 +624,26 @@ static int ecmxf_submit(struct ecmxf_dev *edev, struct ecmxf_req *req)
 		return -ETIMEDOUT;
 	left = div_u64(req->deadline_ns - now, NSEC_PER_USEC);
 	req->x.timeout_us = (u32)clamp_t(u64, left, 1, U32_MAX);
+	req->fx.timeout_us = req->x.timeout_us;
 	ecmxf_watch_req_sent(edev, &req->x);
 	return ecmxf_engine_submit(&edev->e, &req->x, now);
+}
+
+/*
+ * Take @req's command and its result fetch out of the engine; the fetch
+ * may be there alone, after its command ended.
+ */
+static void ecmxf_req_cancel(struct ecmxf_dev *edev, struct ecmxf_req *req)
+{
+	if (ecmxf_engine_cancel(&edev->e, &req->x) && req->x.fetch)
+		ecmxf_engine_cancel(&edev->e, req->x.fetch);
+}
+
+/* Both @req's command and its result fetch (if any) are done. */
+static bool ecmxf_req_ended(const struct ecmxf_req *req)
+{
+	return req->x.status != -EINPROGRESS &&
+	       (!req->x.fetch || req->fx.status != -EINPROGRESS);
 }
 
 /* Withdraw the running async command with @status; lock held. */
@@ -631,7 +653,7 @@ static void ecmxf_cancel_async(struct ecmxf_dev *edev, int status)
 
 	if (!req)
 		return;
-	ecmxf_engine_cancel(&edev->e, &req->x);
+	ecmxf_req_cancel(edev, req);
 	edev->async_req = NULL;
 	ecmxf_req_finish(edev, req, status);
 }
@@ -657,6 +679,12 @@ static void ecmxf_reset_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 static void ecmxf_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 {
 	int status = req->x.status;
+
+	/* the command ended well: the outcome is its result fetch's */
+	if (!status && req->x.fetch) {
+		status = req->fx.status;
+		req->fetched = true;
+	}
 
 	if (req->x.hdr.code == ECMXF_CMD_FW_VERSION_GET &&
 	    (!status || status == -EMSGSIZE) &&
@@ -690,15 +718,17 @@ static void ecmxf_collect(struct ecmxf_dev *edev, struct ecmxf_rings *put[2])
 
 	lockdep_assert_held(&edev->lock);
 	ecmxf_snapshot(edev);
-	if (req && req->x.status != -EINPROGRESS) {
+	if (req && ecmxf_req_ended(req)) {
 		edev->cur_req = NULL;
 		ecmxf_done(edev, req);
-	} else if (req && ecmxf_engine_running(&edev->e, &req->x)) {
+	} else if (req && (ecmxf_engine_running(&edev->e, &req->x) ||
+			   req->x.status != -EINPROGRESS)) {
+		/* running, or ended with its result fetch still to come */
 		edev->cur_req = NULL;
 		edev->async_req = req;
 	}
 	req = edev->async_req;
-	if (req && req->x.status != -EINPROGRESS) {
+	if (req && ecmxf_req_ended(req)) {
 		edev->async_req = NULL;
 		ecmxf_done(edev, req);
 	}
@@ -923,7 +953,7 @@ static int ecmxf_worker_fn(void *data)
 	mutex_lock(&edev->lock);
 	if (edev->cur_req) {
 		req = edev->cur_req;
-		ecmxf_engine_cancel(&edev->e, &req->x);
+		ecmxf_req_cancel(edev, req);
 		edev->cur_req = NULL;
 		ecmxf_req_finish(edev, req, -ENODEV);
 	}

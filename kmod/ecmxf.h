@@ -117,11 +117,14 @@ enum ecmxf_req_state {
  *	%ECMXF_RS_DONE, with &ecmxf_dev.lock held; the request stays its
  *	owner's (it may queue it again)
  * @x: the engine's view of the command, and its result
+ * @fx: with %ECMXF_CMD_F_FETCH: the result fetch (@x.fetch points here);
+ *	its answer's data goes to @rx
+ * @fetched: the fetch ran: the outcome is @fx's (set when it finishes)
  * @tx: data section bytes to send (%ECMXF_DATA_MAX)
  * @rx: response data (%ECMXF_DATA_MAX)
  *
- * All fields except @x, @tx and @rx are protected by &ecmxf_dev.lock; @x
- * belongs to the worker while @state is %ECMXF_RS_ACTIVE.
+ * All fields except @x, @fx, @tx and @rx are protected by &ecmxf_dev.lock;
+ * @x and @fx belong to the worker while @state is %ECMXF_RS_ACTIVE.
  */
 struct ecmxf_req {
 	struct list_head node;
@@ -136,6 +139,8 @@ struct ecmxf_req {
 	struct completion done;
 	void (*complete)(struct ecmxf_dev *edev, struct ecmxf_req *req);
 	struct ecmxf_xfer x;
+	struct ecmxf_xfer fx;
+	bool fetched;
 	u8 tx[ECMXF_DATA_MAX];
 	u8 rx[ECMXF_DATA_MAX];
 };
@@ -221,7 +226,9 @@ struct ecmxf_client {
  * @irqs_off: ecmxf_free_irqs() began: no IRQ is enabled again
  * @cur_req: the request in the engine's command slot (written by the
  *	worker under @lock, read by it without)
- * @async_req: the async request the chip runs (as @cur_req)
+ * @async_req: the async request the chip runs, or whose result fetch is
+ *	still in the engine after it ended (as @cur_req); while it is set no
+ *	other async request is taken
  * @queue_timeouts: requests that timed out before they were sent
  * @clients: open files, in round-robin order
  * @resets: %ECMXF_REQ_RESET requests waiting for the worker

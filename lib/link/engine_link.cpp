@@ -18,6 +18,7 @@
 
 #include "ecmxf-proto.h"
 #include "device/lib_text.hpp"
+#include "link/outcome.hpp"
 #include "trace/trace_writer.hpp"
 
 namespace ecmxf {
@@ -174,7 +175,7 @@ void EngineLink::Engine::fill(Slot &s, ecmxf_engine &e)
 	res.waitedUs =
 		static_cast<std::uint32_t>(std::min<std::uint64_t>((x.deadline_ns - x.started_ns) / 1000u, UINT32_MAX));
 	if (x.status == -ECANCELED && !res.linkFailure)
-		res.linkFailure = "not sent: the async command it fetches the result of failed";
+		res.linkFailure = detail::kFetchNotSent;
 	if (x.status == -EBADMSG || x.status == -EPROTO || x.status == -EIO) {
 		if (ecmxf_engine_get_stats(&e)->exhausted > s.exhaustedBefore)
 			res.badPackets = ecmxf_engine_retries(&e) + 1u;
@@ -244,7 +245,7 @@ void EngineLink::Engine::runBatch(std::span<const RawRequest> reqs, std::span<Ra
 				if (req.fetchesPrevious) {
 					// its async command failed before it was paired
 					res[next].status = -ECANCELED;
-					res[next].linkFailure = "not sent: the async command it fetches the result of failed";
+					res[next].linkFailure = detail::kFetchNotSent;
 					next++;
 					continue;
 				}
@@ -303,8 +304,7 @@ void EngineLink::Engine::runBatch(std::span<const RawRequest> reqs, std::span<Ra
 							: "invalid command (e.g. a data size outside 32..1408 or an unknown check type)";
 					if (withFetch) {
 						res[next + 1].status = -ECANCELED;
-						res[next + 1].linkFailure =
-							"not sent: the async command it fetches the result of failed";
+						res[next + 1].linkFailure = detail::kFetchNotSent;
 						next++;
 					}
 					next++;

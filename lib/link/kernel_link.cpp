@@ -256,18 +256,49 @@ void KernelLink::attachTrace(detail::TraceWriter *trace) noexcept
 
 void KernelLink::run(const RawRequest &req, RawResult &res) noexcept
 {
+	command(req, nullptr, res, nullptr);
+}
+
+void KernelLink::runBatch(std::span<const RawRequest> reqs, std::span<RawResult> res, bool) noexcept
+{
+	const std::size_t n = std::min(reqs.size(), res.size());
+	for (std::size_t i = 0; i < n; i++) {
+		if (i + 1 < n && reqs[i + 1].fetchesPrevious) {
+			command(reqs[i], &reqs[i + 1], res[i], &res[i + 1]);
+			i++;
+			continue;
+		}
+		command(reqs[i], nullptr, res[i], nullptr);
+	}
+}
+
+void KernelLink::command(const RawRequest &req, const RawRequest *fetch, RawResult &res,
+			 RawResult *fetchRes) noexcept
+{
 	res = RawResult{};
-	if (s_->trace)
+	if (fetchRes)
+		*fetchRes = RawResult{};
+	if (s_->trace) {
 		s_->trace->request(static_cast<std::uint64_t>(now().count()), req);
+		if (fetch)
+			s_->trace->request(static_cast<std::uint64_t>(now().count()), *fetch);
+	}
+	// the answer wanted is the fetch's, into its buffer
+	const RawRequest &ans = fetch ? *fetch : req;
 	ecmxf_cmd c{};
 	detail::headerTo(req, c.hdr);
 	c.hdr.rsv_word = req.reserved;
 	c.tx_ptr = req.tx.empty() ? 0 : reinterpret_cast<std::uintptr_t>(req.tx.data());
 	c.tx_len = static_cast<__u32>(req.tx.size());
-	c.rx_ptr = req.rx.empty() ? 0 : reinterpret_cast<std::uintptr_t>(req.rx.data());
-	c.rx_size = static_cast<__u32>(req.rx.size());
+	c.rx_ptr = ans.rx.empty() ? 0 : reinterpret_cast<std::uintptr_t>(ans.rx.data());
+	c.rx_size = static_cast<__u32>(ans.rx.size());
 	c.timeout_us = req.timeoutUs;
 	c.flags = req.noAutoClear ? ECMXF_CMD_F_NO_AUTO_CLEAR : 0u;
+	if (fetch) {
+		detail::headerTo(*fetch, c.fetch);
+		c.fetch.rsv_word = fetch->reserved;
+		c.flags |= ECMXF_CMD_F_FETCH;
+	}
 	// the one system call of a command: the format is kept, not asked
 	// (dataSize(), checkType())
 	if (::ioctl(fd(), ECMXF_IOC_CMD, &c) < 0) {
@@ -277,19 +308,38 @@ void KernelLink::run(const RawRequest &req, RawResult &res) noexcept
 			      std::strerror(err));
 		res.status = -err;
 		res.linkFailure = s_->failure.data();
+		if (fetchRes) {
+			fetchRes->status = -ECANCELED;
+			fetchRes->linkFailure = detail::kFetchNotSent;
+		}
 		return;
 	}
 	if (c.status != 0 || req.code == ECMXF_CMD_SPI_RECONFIG_OP || req.code == ECMXF_CMD_CRC_TYPE_SET)
 		s_->formatStale = true;
-	res.status = c.status;
-	res.header = detail::headerFrom(c.rsp);
-	res.rxLen = std::min<std::size_t>(c.rx_len, req.rx.size());
+	// with a fetch: its outcome once it ran (the command then ended well),
+	// else the command's own, the fetch not sent
+	const bool fetched = fetch && (c.flags & ECMXF_CMD_F_FETCHED);
+	RawResult &out = fetched ? *fetchRes : res;
+	out.status = c.status;
+	out.header = detail::headerFrom(c.rsp);
+	out.rxLen = std::min<std::size_t>(c.rx_len, (fetched ? ans : req).rx.size());
+	if (fetched) {
+		// the command's own answer stays in the kernel: it ended well
+		res.header = out.header;
+	} else if (fetchRes) {
+		fetchRes->status = -ECANCELED;
+		fetchRes->linkFailure = detail::kFetchNotSent;
+	}
 	// headers the chip sent: success and the outcomes it reported
-	if (res.status == 0 || res.status == -EBUSY || res.status == -EREMOTEIO || res.status == -EMSGSIZE)
-		s_->last = res.header;
-	if (s_->trace)
+	if (out.status == 0 || out.status == -EBUSY || out.status == -EREMOTEIO || out.status == -EMSGSIZE)
+		s_->last = out.header;
+	if (s_->trace) {
 		s_->trace->response(static_cast<std::uint64_t>(now().count()), res,
-				    std::span<const std::uint8_t>(req.rx.data(), res.rxLen));
+				    std::span<const std::uint8_t>(req.rx.data(), fetched ? 0 : res.rxLen));
+		if (fetchRes)
+			s_->trace->response(static_cast<std::uint64_t>(now().count()), *fetchRes,
+					    std::span<const std::uint8_t>(ans.rx.data(), fetchRes->rxLen));
+	}
 }
 
 // ---------------------------------------------------------------------------

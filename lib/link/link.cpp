@@ -74,7 +74,7 @@ void Link::runBatch(std::span<const RawRequest> reqs, std::span<RawResult> res, 
 		if (reqs[i].fetchesPrevious && i > 0 && res[i - 1].status != 0) {
 			res[i] = RawResult{};
 			res[i].status = -ECANCELED;
-			res[i].linkFailure = "not sent: the async command it fetches the result of failed";
+			res[i].linkFailure = detail::kFetchNotSent;
 			continue;
 		}
 		run(reqs[i], res[i]);

@@ -9,6 +9,10 @@
 
 namespace ecmxf::detail {
 
+/// The linkFailure of a result fetch (RawRequest::fetchesPrevious) whose
+/// async command failed, on every link.
+inline constexpr const char *kFetchNotSent = "not sent: the async command it fetches the result of failed";
+
 /// Throws the ecmxf::Error that says why @p req failed on @p link with
 /// @p res (res.status != 0): "<COMMAND>: <what happened>", errno
 /// -res.status, the chip's error status where it told one.

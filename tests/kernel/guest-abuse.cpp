@@ -65,6 +65,8 @@ constexpr std::uint8_t kSpiReconfig = ECMXF_CMD_SPI_RECONFIG_OP;    // admin
 constexpr std::uint8_t kCrcTypeSet = ECMXF_CMD_CRC_TYPE_SET;        // admin
 constexpr std::uint8_t kFwVersionGet = ECMXF_CMD_FW_VERSION_GET;    // immediate, query (idempotent)
 constexpr std::uint8_t kStateUpdate = ECMXF_CMD_ECAT_STATE_UPDATE;  // async, chip class
+constexpr std::uint8_t kSdoReq = ECMXF_CMD_ECAT_SDO_REQ;            // async, chip class
+constexpr std::uint8_t kSdoGet = ECMXF_CMD_ECAT_SDO_GET;            // its result fetch, query
 constexpr std::uint8_t kAsyncReset = ECMXF_CMD_ASYNCCMD_RESET;      // ECMXF_IOC_RESET only
 constexpr std::uint8_t kWarmReset = ECMXF_CMD_WARM_RESET;           // ECMXF_IOC_RESET only
 constexpr std::uint8_t kWkcMaxGet = ECMXF_CMD_ECAT_WKC_CONTI_ERR_MAX_GET; // immediate, query
@@ -517,13 +519,13 @@ void argsCmdFields(int fd)
 	c.hdr.reserved = 0x80000000u;
 	r = ioc(fd, ECMXF_IOC_CMD, &c);
 	expectErr("CMD hdr.reserved bit 31", r.ret, r.err, EINVAL);
-	for (unsigned i = 0; i < 6; i++) {
+	for (unsigned i = 0; i < sizeof(c.fetch); i += 4) {
 		c = cmdOf(kFwVersionGet);
-		c.reserved[i] = 1;
+		reinterpret_cast<unsigned char *>(&c.fetch)[i] = 1;
 		r = ioc(fd, ECMXF_IOC_CMD, &c);
-		expectErr("CMD reserved[" + std::to_string(i) + "] 1", r.ret, r.err, EINVAL);
+		expectErr("CMD fetch byte " + std::to_string(i) + " 1 without ECMXF_CMD_F_FETCH", r.ret, r.err, EINVAL);
 	}
-	for (std::uint32_t f : { 1u << 1, 1u << 31, 0xFFFFFFFFu }) {
+	for (std::uint32_t f : { ECMXF_CMD_F_FETCHED, 1u << 3, 1u << 31, 0xFFFFFFFFu }) {
 		c = cmdOf(kFwVersionGet);
 		c.flags = f;
 		r = ioc(fd, ECMXF_IOC_CMD, &c);
@@ -611,6 +613,85 @@ void argsCmdFields(int fd)
 	expectErr("CMD CRC_TYPE_SET param 4", r.ret, r.err, EINVAL);
 
 	expectWorks("after the rejected commands", fd);
+}
+
+/// ECAT_SDO_REQ uploading @p len bytes of @p index:0 of slave 0.
+std::vector<std::uint8_t> sdoUploadReq(std::uint16_t index, std::uint16_t len)
+{
+	return { 1, 0, static_cast<std::uint8_t>(index), static_cast<std::uint8_t>(index >> 8), 0, 0,
+		 static_cast<std::uint8_t>(len), static_cast<std::uint8_t>(len >> 8), 0, 0, 0, 0 };
+}
+
+/// ECAT_SDO_REQ (an upload of @p req) with its ECAT_SDO_GET fetch.
+ecmxf_cmd sdoWithFetch(const std::vector<std::uint8_t> &req, std::uint8_t *rx, std::uint32_t rxSize)
+{
+	ecmxf_cmd c = cmdOf(kSdoReq);
+	c.tx_ptr = ptr(req.data());
+	c.tx_len = static_cast<std::uint32_t>(req.size());
+	c.rx_ptr = ptr(rx);
+	c.rx_size = rxSize;
+	c.flags = ECMXF_CMD_F_FETCH;
+	c.fetch.code = kSdoGet;
+	return c;
+}
+
+/// ECMXF_CMD_F_FETCH: an async command with its result fetch in one
+/// ECMXF_IOC_CMD; what it returns, and the headers it refuses.
+void argsCmdFetch(int fd)
+{
+	std::uint8_t rx[64];
+	const std::vector<std::uint8_t> good = sdoUploadReq(0x2001, 2);
+	// EST-584 manual 3.5: 0x2001:00 pulses per revolution, default 50000
+	ecmxf_cmd c = sdoWithFetch(good, rx, sizeof(rx));
+	std::memset(rx, 0xAA, sizeof(rx));
+	Res r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD SDO_REQ upload 0x2001:00 with its SDO_GET (F_FETCH)", r.ret, r.err, 0);
+	expectStatus("  its status", c.status, 0);
+	expectTrue("  F_FETCHED set", (c.flags & ECMXF_CMD_F_FETCHED) != 0, std::to_string(c.flags));
+	expectEq("  rsp.code: the fetch's answer", c.rsp.code, kSdoGet);
+	expectEq("  rx_len", c.rx_len, 2);
+	expectEq("  the value (50000)", rx[0] | rx[1] << 8, 50000);
+	expectEq("  fetch echoed", c.fetch.code, kSdoGet);
+
+	// an object the slave does not have: the command fails, no fetch
+	const std::vector<std::uint8_t> missing = sdoUploadReq(0x7777, 2);
+	c = sdoWithFetch(missing, rx, sizeof(rx));
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD SDO_REQ upload of a missing object with its fetch", r.ret, r.err, 0);
+	expectStatus("  its status (the command's)", c.status, -EREMOTEIO);
+	expectTrue("  F_FETCHED clear", (c.flags & ECMXF_CMD_F_FETCHED) == 0, std::to_string(c.flags));
+	expectEq("  rx_len", c.rx_len, 0);
+
+	// headers it refuses
+	const std::pair<const char *, std::function<void(ecmxf_cmd &)>> bad[] = {
+		{ "whose fetch is not the partner (STATE_GET for SDO_REQ)",
+		  [](ecmxf_cmd &k) { k.fetch.code = ECMXF_CMD_ECAT_STATE_GET; } },
+		{ "whose fetch is the command itself", [](ecmxf_cmd &k) { k.fetch.code = kSdoReq; } },
+		{ "on an immediate command (FW_VERSION_GET)",
+		  [](ecmxf_cmd &k) {
+			  k.hdr.code = kFwVersionGet;
+			  k.tx_len = 0;
+			  k.fetch.code = kFwVersionGet;
+		  } },
+		{ "fetch.padding 1", [](ecmxf_cmd &k) { k.fetch.padding = 1; } },
+		{ "fetch.reserved 1", [](ecmxf_cmd &k) { k.fetch.reserved = 1; } },
+		{ "fetch.len 4 (a fetch carries no data)", [](ecmxf_cmd &k) { k.fetch.len = 4; } },
+		{ "with the output flag F_FETCHED", [](ecmxf_cmd &k) { k.flags |= ECMXF_CMD_F_FETCHED; } },
+	};
+	for (const auto &[what, spoil] : bad) {
+		c = sdoWithFetch(good, rx, sizeof(rx));
+		spoil(c);
+		r = ioc(fd, ECMXF_IOC_CMD, &c);
+		expectErr(std::string("CMD F_FETCH ") + what, r.ret, r.err, EINVAL);
+	}
+	ecmxf_submit s = subOf(kSdoReq, 1);
+	s.tx_ptr = ptr(good.data());
+	s.tx_len = static_cast<std::uint32_t>(good.size());
+	s.flags = ECMXF_CMD_F_FETCH;
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT F_FETCH (ECMXF_IOC_CMD only)", r.ret, r.err, EINVAL);
+
+	expectWorks("after the fetch commands", fd);
 }
 
 void argsSubmitFields(int fd)
@@ -963,6 +1044,7 @@ void partArgs()
 		argsIoctlNumbers(f.get());
 		argsDevinfoCounters(f.get());
 		argsCmdFields(f.get());
+		argsCmdFetch(f.get());
 		argsSubmitFields(f.get());
 		argsReset(f.get());
 		argsBadPointers(f.get());
@@ -1007,6 +1089,7 @@ struct PermRow {
 	std::vector<std::uint8_t> data;
 	std::uint32_t reset = 0; // ECMXF_IOC_RESET flags instead of a command
 	std::uint32_t resetParam = 0;
+	bool cmdOnly = false; // ECMXF_IOC_CMD only (a result fetch)
 };
 
 constexpr std::uint8_t kPdoDataFifoOp = ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP, kPdoDataOp = ECMXF_CMD_ECAT_PDO_DATA_OP,
@@ -1058,6 +1141,18 @@ std::vector<PermRow> permRows(int wmax)
 	reset("RESET LINK", Perm::Chip, true, ECMXF_RESET_F_LINK);
 	reset("RESET ASYNC_CMD", Perm::Chip, true, ECMXF_RESET_F_ASYNC_CMD, ECMXF_RESET_ASYNC_CLEAR_BUSY);
 
+	// a result fetch (ECMXF_CMD_F_FETCH) counts as a command of its own
+	auto fetchRow = [&](std::string what, Perm p, bool run) -> PermRow & {
+		PermRow &f = cmd(std::move(what), p, run, kSdoReq, 0, sdoUploadReq(0x2001, 2));
+		f.cmd.flags = ECMXF_CMD_F_FETCH;
+		f.cmd.fetch.code = kSdoGet;
+		f.cmdOnly = true;
+		return f;
+	};
+	fetchRow("SDO_REQ upload with its SDO_GET fetch", Perm::Chip, true);
+	fetchRow("SDO_REQ with a fetch whose header clears interrupt flags", Perm::Process, false).cmd.fetch.int_clear =
+		1u << 31;
+
 	cmd("ECAT_PDO_DATA_OP", Perm::Process, true, kPdoDataOp);
 	cmd("ECAT_PDO_DATA_FIFO_OP", Perm::Process, true, kPdoDataFifoOp);
 	cmd("FIFO_CLR_OP", Perm::Process, true, kFifoClrOp);
@@ -1105,7 +1200,7 @@ void permCheck(int fd, const std::string &who, int wmax, const std::function<int
 		const std::string what = who + ": " + row.what;
 		Res r = sendRow(fd, row, false);
 		expectErr(what, r.ret, r.err, want);
-		if (want == 0 || row.reset)
+		if (want == 0 || row.reset || row.cmdOnly)
 			continue;
 		r = sendRow(fd, row, true);
 		expectErr(what + " (SUBMIT)", r.ret, r.err, want);

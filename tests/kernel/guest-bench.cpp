@@ -16,6 +16,11 @@
 //   A  library Device::transact() over KernelLink (/dev/ecmxf0)
 //   B  the bare ECMXF_IOC_CMD ioctl on the same file
 //   C  library Device::transact() over SpidevChannel (INT0 by libgpiod)
+// and an SDO upload (2 bytes, 0x2001:00 of slave 0, the bus in PRE-OP) over
+// both devices in the same blocks, N / 5 per block:
+//   D  Sdo::sdoRead() over /dev/ecmxf0 (ECAT_SDO_REQ with its ECAT_SDO_GET
+//      in one ECMXF_IOC_CMD, ECMXF_CMD_F_FETCH)
+//   E  Sdo::sdoRead() over spidev (the library's engine pairs them)
 // The SPI device (e.g. spi0.0) is handed from ecmxf to spidev and back
 // between the blocks through sysfs (unbind, driver_override, bind), in the
 // order A B | C, C | B A, A B | C, ... so that every path sees the same
@@ -37,6 +42,8 @@
 // worker's (/proc/PID/schedstat of the kthread ecmxf0); the bridge
 // process (the chip) is in neither.
 
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/engine_link.hpp>
@@ -260,6 +267,22 @@ bool check(int err, std::uint8_t ret)
 	return false;
 }
 
+constexpr std::uint16_t kSdoValue = 50000; // EST-584 manual 3.5: 0x2001:00 pulses per revolution
+
+/// One SDO upload of 0x2001:00 of slave 0; false on a wrong answer.
+bool sdoUpload(ecmxf::Device &dev)
+{
+	try {
+		const auto v = dev.sdo().sdoRead<std::uint16_t>(0, 0x2001, 0);
+		if (v == kSdoValue)
+			return true;
+		gWhy = "SDO 0x2001:00 read " + std::to_string(v);
+	} catch (const ecmxf::Error &e) {
+		gWhy = e.what();
+	}
+	return false;
+}
+
 struct Kernel {
 	std::unique_ptr<ecmxf::Device> dev;
 	ecmxf::KernelLink *k = nullptr;
@@ -295,6 +318,7 @@ struct Kernel {
 			return false;
 		}
 	}
+	bool sdo() { return sdoUpload(*dev); }
 	bool raw()
 	{
 		ecmxf_cmd cmd{};
@@ -327,6 +351,7 @@ struct Spidev {
 		const int err = dev->transact(c, {}, rx, h);
 		return check(err, h.ret);
 	}
+	bool sdo() { return sdoUpload(*dev); }
 };
 
 int run(unsigned n, unsigned blocks, const Spi &spi)
@@ -344,8 +369,18 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 	Path a{ "/dev/ecmxf0 library (KernelLink)", {}, 0, 0, 0 };
 	Path b{ "/dev/ecmxf0 raw ECMXF_IOC_CMD", {}, 0, 0, 0 };
 	Path c{ "spidev library (SpidevChannel, INT0 by libgpiod)", {}, 0, 0, 0 };
+	Path d{ "/dev/ecmxf0 SDO upload (KernelLink, ECMXF_CMD_F_FETCH)", {}, 0, 0, 0 };
+	Path e{ "spidev SDO upload (SpidevChannel)", {}, 0, 0, 0 };
+	const unsigned perSdo = std::max(per / 5, 5u);
 	std::uint64_t kExchanges = 0, kInt0 = 0, kCommands = 0;
 	std::uint64_t sExchanges = 0, sEdges = 0, sTimeouts = 0, sCommands = 0;
+	std::uint64_t kSdoExchanges = 0, sSdoExchanges = 0;
+	{
+		// the mailboxes answer from PRE-OP on (the same chip for both)
+		Kernel k;
+		k.dev->bus().initNetwork();
+		k.dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
+	}
 
 	const auto kernelPhase = [&](bool first, bool reversed) {
 		Kernel k;
@@ -380,6 +415,11 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 		kExchanges += c1.exchanges - c0.exchanges;
 		kInt0 += c1.int0Irqs - c0.int0Irqs;
 		kCommands += 2 * (kWarmup + per);
+		const Once sdo = [&] { return k.sdo(); };
+		warmup(d.name, sdo);
+		const ecmxf::LinkCounters c2 = k.k->counters();
+		block(d, perSdo, sdo, k.worker);
+		kSdoExchanges += k.k->counters().exchanges - c2.exchanges;
 	};
 	const auto spidevPhase = [&](bool first) {
 		Spidev s(spi.uri);
@@ -392,6 +432,11 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 		sEdges += s1.int0Edges - s0.int0Edges;
 		sTimeouts += s1.int0Timeouts - s0.int0Timeouts;
 		sCommands += kWarmup + per;
+		const Once sdo = [&] { return s.sdo(); };
+		warmup(e.name, sdo);
+		const std::uint64_t x0 = s.sp->stats().exchanges;
+		block(e, perSdo, sdo, 0);
+		sSdoExchanges += s.sp->stats().exchanges - x0;
 		// last: the traced child moves the chip's link state on without
 		// this process's engine (s is not used again)
 		if (first)
@@ -433,6 +478,13 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 	      " (library over /dev/ecmxf0 vs library over spidev; < 1: the kernel path is cheaper)");
 	ratio("kernel/spidev round-trip ratio, raw ECMXF_IOC_CMD", b, c, "");
 	ratio("library/raw round-trip ratio over /dev/ecmxf0", a, b, "");
+	report(d);
+	report(e);
+	std::printf("bench: %s SDO upload: %.2f SPI exchanges per upload over /dev/ecmxf0, %.2f over spidev\n",
+		    gKernel.c_str(), static_cast<double>(kSdoExchanges) / std::max(d.commands, 1u),
+		    static_cast<double>(sSdoExchanges) / std::max(e.commands, 1u));
+	ratio("kernel/spidev SDO upload round-trip ratio", d, e,
+	      " (Sdo::sdoRead() over /dev/ecmxf0 vs over spidev; < 1: the kernel path is faster)");
 	std::printf("bench: kernel/spidev cpu ratio (this process only): %.2f; with the kernel worker: %.2f\n",
 		    c.cpuUs > 0 ? (a.cpuUs / a.commands) / (c.cpuUs / c.commands) : 0.0,
 		    c.cpuUs > 0 ? ((a.cpuUs + a.workerUs) / a.commands) / (c.cpuUs / c.commands) : 0.0);

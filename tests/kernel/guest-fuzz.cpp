@@ -716,6 +716,13 @@ void actCmd(Ctx &c)
 		cmd.rx_ptr = cmd.rx_size || r.chance(500) ? genPtr(r, c.arena, cmd.rx_size) : 0;
 		cmd.timeout_us = genTimeout(r);
 		cmd.flags = genFlags(r, s);
+		// with its result fetch (ECMXF_CMD_F_FETCH): the *_GET partner of
+		// an async *_REQ is its code plus one; any code otherwise
+		if (r.chance(60)) {
+			cmd.flags |= ECMXF_CMD_F_FETCH;
+			genHeader(r, cmd.fetch, s);
+			cmd.fetch.code = static_cast<std::uint8_t>(r.chance(700) ? cmd.hdr.code + 1 : r.below(256));
+		}
 		if (r.chance(100))
 			r.fill(&cmd.rsp, sizeof(cmd.rsp)); // output fields: ignored
 		const unsigned m = mutRate(s);
@@ -723,7 +730,6 @@ void actCmd(Ctx &c)
 		mut(r, cmd.rx_size, m);
 		mut(r, cmd.tx_ptr, m / 4);
 		mut(r, cmd.rx_ptr, m / 4);
-		mut(r, cmd.reserved, m);
 	}
 	keepFormat(r, cmd.hdr);
 	const int fd = slotFd(r);
@@ -732,8 +738,12 @@ void actCmd(Ctx &c)
 	if (ret == 0 && arg != c.arena.ro + kRoCmd) {
 		ecmxf_cmd out;
 		std::memcpy(&out, arg, sizeof(out));
-		if (out.rsp.padding || !zero(out.reserved, sizeof(out.reserved)))
+		if (out.rsp.padding)
 			failure("CMD code %u: reserved output fields not zero", out.hdr.code);
+		if (!(out.flags & ECMXF_CMD_F_FETCH) && !zero(&out.fetch, sizeof(out.fetch)))
+			failure("CMD code %u: accepted with a fetch header but no ECMXF_CMD_F_FETCH", out.hdr.code);
+		if ((out.flags & ECMXF_CMD_F_FETCHED) && !(out.flags & ECMXF_CMD_F_FETCH))
+			failure("CMD code %u: ECMXF_CMD_F_FETCHED without ECMXF_CMD_F_FETCH", out.hdr.code);
 		if (out.rx_len > out.rx_size)
 			failure("CMD code %u: rx_len %u > rx_size %u", out.hdr.code, out.rx_len, out.rx_size);
 	}

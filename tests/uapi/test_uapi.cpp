@@ -237,7 +237,7 @@ TEST_CASE("uAPI ioctl numbers encode the magic, a unique number, the direction a
 
 TEST_CASE("uAPI flag bits do not overlap and ring mmap offsets are page aligned", "[uapi]")
 {
-	CHECK(disjointBits({ ECMXF_CMD_F_NO_AUTO_CLEAR }));
+	CHECK(disjointBits({ ECMXF_CMD_F_NO_AUTO_CLEAR, ECMXF_CMD_F_FETCH, ECMXF_CMD_F_FETCHED }));
 	CHECK(disjointBits({ ECMXF_DEVINFO_F_INT0, ECMXF_DEVINFO_F_INT1, ECMXF_DEVINFO_F_FW_VERSION,
 			     ECMXF_DEVINFO_F_CLAIMED, ECMXF_DEVINFO_F_CLAIM_MINE, ECMXF_DEVINFO_F_RINGS }));
 	CHECK(disjointBits({ ECMXF_RESET_F_ASYNC_CMD, ECMXF_RESET_F_WARM, ECMXF_RESET_F_LINK }));

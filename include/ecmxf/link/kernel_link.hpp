@@ -24,7 +24,7 @@
 namespace ecmxf {
 
 /// The ABI version this library was built against (ECMXF_UAPI_VERSION).
-inline constexpr std::uint32_t kKernelUapiVersion = 2;
+inline constexpr std::uint32_t kKernelUapiVersion = 3;
 
 /// Throws ecmxf::Error (EPROTO) naming @p path and both versions when the
 /// running module's ABI version @p running differs from
@@ -59,6 +59,13 @@ public:
 
 	/// ECMXF_IOC_CMD: the one system call of a command.
 	void run(const RawRequest &req, RawResult &res) noexcept override;
+	/// The requests one by one with run(), but an async command and its
+	/// result fetch (RawRequest::fetchesPrevious) in one ECMXF_IOC_CMD
+	/// (ECMXF_CMD_F_FETCH): the kernel sends the fetch as the poll of the
+	/// running command. Every result is in on return (@p leaveLast has
+	/// nothing to leave).
+	void runBatch(std::span<const RawRequest> reqs, std::span<RawResult> res,
+		      bool leaveLast = false) noexcept override;
 	/// The driver's data section size. Kept without a system call: read
 	/// at open and read again (ECMXF_IOC_DEVINFO) on the first call after
 	/// a command through this link that can change the format
@@ -107,6 +114,10 @@ public:
 	[[nodiscard]] int fd() const noexcept;
 
 private:
+	/// One ECMXF_IOC_CMD: @p req, with @p fetch (its result fetch) when
+	/// not null, whose outcome goes to @p fetchRes.
+	void command(const RawRequest &req, const RawRequest *fetch, RawResult &res, RawResult *fetchRes) noexcept;
+
 	class State;
 	std::unique_ptr<State> s_;
 };

@@ -34,10 +34,12 @@
  * Version 2 (from version 1): completion records carry the answer's data
  * inline (&struct ecmxf_completion.data; &struct ecmxf_submit.reserved_ptr
  * was rx_ptr and must now be zero) and the ring status block is a latch of
- * two copies (&struct ecmxf_ring_status_block).  Userspace built against
- * another version must refuse to run: compare the value first.
+ * two copies (&struct ecmxf_ring_status_block).  Version 3: an async
+ * command may carry its result fetch (%ECMXF_CMD_F_FETCH, &struct
+ * ecmxf_cmd.fetch in what were its reserved words).  Userspace built
+ * against another version must refuse to run: compare the value first.
  */
-#define ECMXF_UAPI_VERSION		2
+#define ECMXF_UAPI_VERSION		3
 
 /**
  * ECMXF_DATA_SIZE_MAX - the largest packet data section (bytes), and the
@@ -138,8 +140,23 @@ struct ecmxf_rsp_header {
  * ECMXF_CMD_F_NO_AUTO_CLEAR: when the command fails with the chip's
  * async-command error or command error bit, leave the bit set instead of
  * clearing it with the next packet's control byte.
+ *
+ * ECMXF_CMD_F_FETCH (%ECMXF_IOC_CMD only): the command is async and
+ * &struct ecmxf_cmd.fetch is the header of the command that fetches its
+ * result, its *_GET partner (ECAT_SDO_GET for ECAT_SDO_REQ, ...; no data).
+ * The kernel sends the fetch as the poll of the running command, so the
+ * exchange that sees the command end also brings the result: no separate
+ * fetch after it.  The fetch has a permission class of its own (its code
+ * and its header's fields), checked with the command's.
+ *
+ * ECMXF_CMD_F_FETCHED (output only; rejected as input): set by the kernel
+ * when the fetch ran: @rsp, @rx_len, @status and the data are the fetch's.
+ * Clear after a %ECMXF_CMD_F_FETCH command: the command itself failed
+ * (@status, @rsp are its own) and the fetch was not sent.
  */
 #define ECMXF_CMD_F_NO_AUTO_CLEAR	(1U << 0)
+#define ECMXF_CMD_F_FETCH		(1U << 1)
+#define ECMXF_CMD_F_FETCHED		(1U << 2)
 
 /**
  * struct ecmxf_cmd - one synchronous command (%ECMXF_IOC_CMD)
@@ -154,7 +171,8 @@ struct ecmxf_rsp_header {
  * @timeout_us: time allowed from the ioctl until the answer (for async
  *	commands: until the chip's busy phase ends), in microseconds; 0 selects
  *	the command's default
- * @flags: %ECMXF_CMD_F_* bits; unknown bits are rejected
+ * @flags: %ECMXF_CMD_F_* bits; unknown bits are rejected; output:
+ *	%ECMXF_CMD_F_FETCHED
  * @rsp: output: the response header that answered the command
  * @rx_len: output: response data bytes copied to @rx_ptr
  * @status: output: 0, or the negative errno of the command: -ETIMEDOUT,
@@ -163,10 +181,14 @@ struct ecmxf_rsp_header {
  *	-EPROTO or -EIO (transport retries exhausted), -ECONNRESET (the chip
  *	reset), -EMSGSIZE (answer longer than @rx_size, @rx_len bytes copied),
  *	-ECANCELED (abandoned by %ECMXF_IOC_RESET)
- * @reserved: must be zero
+ * @fetch: with %ECMXF_CMD_F_FETCH, the result fetch's header, as @hdr
+ *	(the kernel allocates its index; len, padding and reserved zero);
+ *	without, all zero (version 2 called these 24 bytes reserved)
  *
  * The ioctl returns 0 whenever the command reached the link; the outcome of
- * the command itself is in @status.
+ * the command itself is in @status.  With %ECMXF_CMD_F_FETCH the outputs
+ * are the fetch's when %ECMXF_CMD_F_FETCHED is set (the data is the
+ * result, @status 0 or the fetch's errno), else the command's own.
  */
 struct ecmxf_cmd {
 	struct ecmxf_cmd_header hdr;
@@ -179,7 +201,7 @@ struct ecmxf_cmd {
 	struct ecmxf_rsp_header rsp;
 	__u32 rx_len;
 	__s32 status;
-	__u32 reserved[6];
+	struct ecmxf_cmd_header fetch;
 };
 
 /**
@@ -194,7 +216,8 @@ struct ecmxf_cmd {
  *	(0..%ECMXF_DATA_SIZE_MAX); a longer answer completes with -EMSGSIZE and
  *	its first @rx_size bytes
  * @timeout_us: as &struct ecmxf_cmd.timeout_us, counted from the submit
- * @flags: %ECMXF_CMD_F_* bits
+ * @flags: %ECMXF_CMD_F_* bits (%ECMXF_CMD_F_NO_AUTO_CLEAR; the fetch
+ *	flags are %ECMXF_IOC_CMD's)
  * @cookie: any value; returned in &struct ecmxf_completion.cookie
  * @reserved: must be zero
  *
