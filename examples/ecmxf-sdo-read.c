@@ -22,8 +22,9 @@
  *   ECAT_SLV_CNT_GET        slave count (return value)
  *   ECAT_STATE_SET x 3      all slaves PRE-OP, SAFE-OP, OP (async)
  *   ECAT_STATE_GET          the slave's state (return value)
- *   ECAT_SDO_REQ            the upload (async) ...
- *   ECAT_SDO_GET            ... and its data
+ *   ECAT_SDO_REQ            the upload (async), with ECAT_SDO_GET, its
+ *                           data, as its result fetch (ECMXF_CMD_F_FETCH:
+ *                           the kernel polls the running upload with it)
  *   ECAT_SDO_ABORTCODE_GET  why, when the upload failed
  *
  * An async command's ECMXF_IOC_CMD returns when the chip's busy phase has
@@ -345,7 +346,10 @@ int main(int argc, char **argv)
 	}
 	fprintf(stderr, "%s: all slaves in OP\n", prog);
 
-	/* the upload: ECAT_SDO_REQ, then its data with ECAT_SDO_GET */
+	/*
+	 * the upload: ECAT_SDO_REQ with ECAT_SDO_GET as its result fetch, in
+	 * one ioctl; the answer and data are the fetch's (ECMXF_CMD_F_FETCHED)
+	 */
 	snprintf(what, sizeof(what), "ECAT_SDO_REQ upload of 0x%04lx:%02lx from slave %lu", index,
 		 sub, slave);
 	memset(d, 0, sizeof(d));
@@ -355,7 +359,11 @@ int main(int argc, char **argv)
 	d[4] = (__u8)sub;
 	put_le16(d + 6, 0);		/* length: 0 = as long as the object */
 	put_le32(d + 8, 0);		/* SDO timeout in us: 0 = the chip's */
-	cmd_init(&c, ECMXF_CMD_ECAT_SDO_REQ, 0, d, sizeof(d), NULL, 0);
+	cmd_init(&c, ECMXF_CMD_ECAT_SDO_REQ, 0, d, sizeof(d), rx, sizeof(rx));
+	c.flags = ECMXF_CMD_F_FETCH;
+	c.fetch.code = ECMXF_CMD_ECAT_SDO_GET;
+	/* a refusal left from an earlier command must not read as the fetch's */
+	c.fetch.control = ECMXF_CTL_CLR_CMD_ERR;
 	rc = async(fd, &c, what);
 	if (rc == 1) {
 		struct ecmxf_cmd a;
@@ -373,9 +381,12 @@ int main(int argc, char **argv)
 	}
 	if (rc)
 		goto fail;
-	cmd_init(&c, ECMXF_CMD_ECAT_SDO_GET, 0, NULL, 0, rx, sizeof(rx));
-	if (immediate(fd, &c, "ECAT_SDO_GET"))
+	if (!(c.flags & ECMXF_CMD_F_FETCHED) || (c.rsp.err_status & ECMXF_ERR_CMD)) {
+		fprintf(stderr, "%s: ECAT_SDO_GET: %s\n", prog,
+			!(c.flags & ECMXF_CMD_F_FETCHED) ? "not sent" :
+			"the chip refused the command (error status bit 7)");
 		goto fail;
+	}
 	if (c.rx_len >= info.data_size)
 		fprintf(stderr, "%s: warning: the answer fills the data section; the object may be longer\n",
 			prog);
