@@ -206,7 +206,8 @@ bool ecmxf_ring_setup_valid(const struct ecmxf_ring_setup *rs)
 	if (!ecmxf_entries_valid(rs->out_entries) ||
 	    !ecmxf_entries_valid(rs->in_entries))
 		return false;
-	if (rs->flags & ~(ECMXF_RING_F_POLL_OUT | ECMXF_RING_F_POLL_IN))
+	if (rs->flags & ~(ECMXF_RING_F_POLL_OUT | ECMXF_RING_F_POLL_IN |
+			  ECMXF_RING_F_WKC_NEXT))
 		return false;
 	if (rs->poll_us && (rs->poll_us < ECMXF_POLL_US_MIN ||
 			    rs->poll_us > ECMXF_POLL_US_MAX))

@@ -162,6 +162,7 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 void ecmxf_pump_collect(struct ecmxf_dev *edev, struct ecmxf_rings *put[2]);
 void ecmxf_pump_cancel(struct ecmxf_dev *edev, struct ecmxf_rings *put[2]);
 bool ecmxf_pump_busy(const struct ecmxf_dev *edev);
+bool ecmxf_pump_answer_waits(struct ecmxf_dev *edev);
 u64 ecmxf_pump_deadline(struct ecmxf_dev *edev);
 
 #endif /* ECMXF_RING_H */

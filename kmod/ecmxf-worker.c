@@ -930,9 +930,11 @@ static int ecmxf_worker_fn(void *data)
 
 		/*
 		 * INT1, or a poll for the events' listeners: refresh the
-		 * header (flags, state) with one exchange
+		 * header (flags, state) with one exchange.  A working counter
+		 * read left to the next FIFO command needs none of its own.
 		 */
-		if (ecmxf_engine_idle(&edev->e) &&
+		if ((ecmxf_engine_idle(&edev->e) ||
+		     ecmxf_pump_answer_waits(edev)) &&
 		    !atomic_xchg(&edev->int1_flag, 0) &&
 		    !ecmxf_watch_poll_due(edev, now)) {
 			/* a burst that just ended */

@@ -1166,6 +1166,25 @@ bool ecmxf_engine_sent(const struct ecmxf_engine *e,
 }
 
 /**
+ * ecmxf_engine_waits_only() - is @x, sent, all the engine has in flight
+ * @e: engine
+ * @x: a command submitted to @e
+ *
+ * An owner loop that may leave @x's answer to the next exchange it makes
+ * for another reason (the kernel's PDO pump: the working counter read's
+ * answer to the next cycle's FIFO command) need not exchange now.
+ *
+ * Return: true when @x has gone out and waits for its answer, and no
+ * other command is in the engine (nothing to send, no async command).
+ */
+bool ecmxf_engine_waits_only(const struct ecmxf_engine *e,
+			     const struct ecmxf_xfer *x)
+{
+	return ecmxf_engine_sent(e, x) && !e->async &&
+	       (x == e->cur ? !e->nxt : !e->cur);
+}
+
+/**
  * ecmxf_engine_last_header() - the latest valid response header
  * @e: engine
  *

@@ -439,6 +439,8 @@ bool ecmxf_engine_running(const struct ecmxf_engine *e,
 			  const struct ecmxf_xfer *x);
 bool ecmxf_engine_sent(const struct ecmxf_engine *e,
 		       const struct ecmxf_xfer *x);
+bool ecmxf_engine_waits_only(const struct ecmxf_engine *e,
+			     const struct ecmxf_xfer *x);
 const struct ecmxf_rsp_hdr *
 ecmxf_engine_last_header(const struct ecmxf_engine *e);
 const struct ecmxf_engine_stats *

@@ -176,7 +176,9 @@ void RingPath::start()
 	ecmxf_ring_setup rs{};
 	rs.out_entries = pow2AtLeast(std::max<std::uint64_t>(16, 2ull * rxDepth));
 	rs.in_entries = pow2AtLeast(std::max<std::uint64_t>(32, 4 * perCycle + txDepth));
-	rs.flags = ECMXF_RING_F_POLL_IN;
+	// CyclicConfig::wkcAnswerNextCycle: the pump's read answered by its
+	// next cycle's FIFO command
+	rs.flags = ECMXF_RING_F_POLL_IN | (cfg_.wkcAnswerNextCycle ? ECMXF_RING_F_WKC_NEXT : 0u);
 	// the pump's timer: once per cycle (INT1 wakes it earlier)
 	rs.poll_us = static_cast<std::uint32_t>(std::clamp<std::int64_t>(period / 1000, 50, 100000));
 	rs.rx_fill = rxFill;

@@ -688,6 +688,55 @@ TEST_CASE("pipelining: the second command rides in the exchange that fetches the
 	CHECK(ecmxf_engine_idle(&l.e));
 }
 
+TEST_CASE("pipelining: a command whose answer waits for the next exchange, alone or not (waits_only)",
+	  "[engine][pipeline]")
+{
+	Link l;
+	l.exchange(); // sync
+	ecmxf_xfer a = command(ECMXF_CMD_ECAT_SLV_CNT_GET);
+	ecmxf_xfer w = command(ECMXF_CMD_ECAT_PDO_WC_GET, 3);
+	CHECK_FALSE(ecmxf_engine_waits_only(&l.e, nullptr));
+	REQUIRE(l.submit(a) == 0);
+	REQUIRE(l.submit(w) == 0);
+	CHECK_FALSE(ecmxf_engine_waits_only(&l.e, &w)); // not sent
+	l.exchange();                                     // a goes out
+	CHECK_FALSE(ecmxf_engine_waits_only(&l.e, &w));
+	CHECK_FALSE(ecmxf_engine_waits_only(&l.e, &a)); // w still to send
+	l.exchange(); // w rides, fetching a's answer
+	CHECK(a.status == 0);
+	CHECK(w.status == -EINPROGRESS);
+	CHECK(ecmxf_engine_waits_only(&l.e, &w));
+	CHECK_FALSE(ecmxf_engine_idle(&l.e));
+	// the next command takes the answer along: no exchange for w alone
+	ecmxf_xfer b = command(ECMXF_CMD_ECAT_STATE_GET, 0xFF);
+	REQUIRE(l.submit(b) == 0);
+	CHECK_FALSE(ecmxf_engine_waits_only(&l.e, &w)); // b is to send
+	l.exchange();
+	CHECK(w.status == 0);
+	CHECK(w.rsp.code == ECMXF_CMD_ECAT_PDO_WC_GET);
+	CHECK(ecmxf_engine_waits_only(&l.e, &b));
+	l.exchange();
+	CHECK(b.status == 0);
+	CHECK(l.chip.executed.size() == 3);
+	CHECK(ecmxf_engine_idle(&l.e));
+
+	// an async command running beside it: not alone
+	SdoUpload u;
+	ecmxf_xfer w2 = command(ECMXF_CMD_ECAT_PDO_WC_GET, 3);
+	l.chip.asyncBusyExchanges = 6;
+	REQUIRE(l.submit(u.req) == 0);
+	while (l.e.async != &u.req)
+		l.exchange();
+	REQUIRE(l.submit(w2) == 0);
+	for (int i = 0; i < 3 && !ecmxf_engine_sent(&l.e, &w2); i++)
+		l.exchange();
+	REQUIRE(ecmxf_engine_sent(&l.e, &w2));
+	CHECK_FALSE(ecmxf_engine_waits_only(&l.e, &w2));
+	runAll(l, { &u.req, &u.get, &w2 });
+	CHECK(u.get.status == 0);
+	CHECK(w2.status == 0);
+}
+
 TEST_CASE("pipelining: off, the second command waits for the first answer", "[engine][pipeline]")
 {
 	Link l;

@@ -217,8 +217,11 @@ void claimChecks(const std::string &path, int holder, std::uint32_t outEntries)
 	eq("holder: RING_SETUP with a reserved field set: EINVAL", ioc(holder, ECMXF_IOC_RING_SETUP, &rs).err,
 	   EINVAL);
 	rs.reserved[1] = 0;
-	rs.flags = 0x80;
-	eq("holder: RING_SETUP with an unknown flag: EINVAL", ioc(holder, ECMXF_IOC_RING_SETUP, &rs).err, EINVAL);
+	for (std::uint32_t f : { 1u << 3, 0x80u, 1u << 31 }) {
+		rs.flags = f | ECMXF_RING_F_WKC_NEXT;
+		eq("holder: RING_SETUP with an unknown flag " + std::to_string(f) + ": EINVAL",
+		   ioc(holder, ECMXF_IOC_RING_SETUP, &rs).err, EINVAL);
+	}
 	rs.flags = 0;
 	rs.poll_us = 10;
 	eq("holder: RING_SETUP with poll_us 10: EINVAL", ioc(holder, ECMXF_IOC_RING_SETUP, &rs).err, EINVAL);
@@ -585,6 +588,9 @@ int runLockstep(const std::string &path, unsigned hz, unsigned cycles)
 	cc.busCycle = bus;
 	cc.rxFill = kInFlight; // the pump keeps up to this many in the RxFIFO
 	cc.wkcEvery = 10;
+	// the pump's read answered by its next FIFO command
+	// (ECMXF_RING_F_WKC_NEXT); the other run reads within the cycle
+	cc.wkcAnswerNextCycle = true;
 	cc.onInputFrame = &Strict::onFrame;
 	cc.context = &chk;
 	ecmxf::Cyclic cyc(*dev, image, cc);

@@ -36,7 +36,9 @@
  * was rx_ptr and must now be zero) and the ring status block is a latch of
  * two copies (&struct ecmxf_ring_status_block).  Version 3: an async
  * command may carry its result fetch (%ECMXF_CMD_F_FETCH, &struct
- * ecmxf_cmd.fetch in what were its reserved words).  Userspace built
+ * ecmxf_cmd.fetch in what were its reserved words), and the rings' working
+ * counter read may leave its answer to the next pump cycle
+ * (%ECMXF_RING_F_WKC_NEXT).  Userspace built
  * against another version must refuse to run: compare the value first.
  */
 #define ECMXF_UAPI_VERSION		3
@@ -415,6 +417,15 @@ struct ecmxf_reset {
  */
 #define ECMXF_RING_F_POLL_OUT	(1U << 0)	/* EPOLLOUT: output ring has room */
 #define ECMXF_RING_F_POLL_IN	(1U << 1)	/* EPOLLRDBAND: input ring has frames */
+/*
+ * ECMXF_RING_F_WKC_NEXT: the working counter read (@wkc_us) rides in the
+ * exchange that fetches the FIFO command's answer, and its own answer is
+ * left to the next exchange the pump makes anyway (the next FIFO command):
+ * two SPI exchanges per pump cycle with a read instead of three.
+ * &struct ecmxf_ring_status.wkc then shows the read about one @poll_us
+ * later.
+ */
+#define ECMXF_RING_F_WKC_NEXT	(1U << 2)
 
 /* bits of the ring's flags word (in ring memory, written by the kernel) */
 #define ECMXF_RING_S_ACTIVE	(1U << 0)	/* the pump is moving frames */
