@@ -24,6 +24,10 @@ using namespace std::chrono_literals;
 
 TEST_CASE("Cyclic: 1000 cycles on the simulator allocate nothing", "[lib][pdo][cyclic][alloc]")
 {
+	// the synchronous cycle, and the one that leaves its FIFO command's
+	// answer to the next cycle (with a working counter read every 10th)
+	const bool ahead = GENERATE(false, true);
+	INFO("fifoAnswerNextCycle " << ahead);
 	// the counter counts: a vector allocates
 	const auto before = ecmxf_test::allocations();
 	{
@@ -41,6 +45,9 @@ TEST_CASE("Cyclic: 1000 cycles on the simulator allocate nothing", "[lib][pdo][c
 	ecmxf::CyclicConfig cfg;
 	cfg.period = 1ms;
 	cfg.busCycle = 1ms;
+	cfg.fifoAnswerNextCycle = ahead;
+	if (ahead)
+		cfg.wkcEvery = 10;
 	ecmxf::Cyclic cyc(*bus.dev, image, cfg);
 	cyc.start();
 	// warm-up: the first fill, the first reads
