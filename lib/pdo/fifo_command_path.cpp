@@ -8,6 +8,13 @@
 // too: this file copies the frames, runs the commands and reports the
 // cycle. Its own part is the level estimate: the RxFIFO count of the last
 // write, less one frame per bus cycle since.
+//
+// Two ways to run a cycle: the synchronous one (exchange()), whose FIFO
+// commands are answered within the cycle, and, with
+// CyclicConfig::fifoAnswerNextCycle, the one that leaves the cycle's FIFO
+// command in flight (exchangeAhead()): its answer comes with the next
+// cycle's first exchange, which sends the next FIFO command, and is taken
+// then: one SPI exchange per cycle.
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
@@ -22,6 +29,7 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -96,6 +104,18 @@ RawCommand rawCommand(const ecmxf_cmd_hdr &hdr, std::chrono::microseconds timeou
 	return c;
 }
 
+/// The response header fields of CycleResult from @p h.
+void showHeader(CycleResult &r, const ResponseHeader &h) noexcept
+{
+	r.rxFifoCount = h.rxFifoCnt;
+	r.txFifoCount = h.txFifoCnt;
+	r.wkcErrorCount = h.wkcErrCnt;
+	r.ecatState = h.ecatState;
+	r.errStatus = h.errStatus;
+	r.ecmStatus = h.ecmStatus;
+	r.intFlags = h.intFlags;
+}
+
 /// The FIFO-command path: ECAT_PDO_DATA_FIFO_OP over Device::transact().
 class FifoCommandPath final : public CyclicPath
 {
@@ -109,17 +129,47 @@ public:
 	int waitInputs(nanoseconds timeout) noexcept override;
 
 private:
+	/// CyclicConfig::fifoAnswerNextCycle's cycle: one FIFO command sent
+	/// and left in flight, the previous cycle's answer taken.
+	void exchangeAhead(CycleResult &r, bool readWkc) noexcept;
+	/// Takes the answer to the FIFO command of set @p set (exchangeAhead())
+	/// into @p r; @p shown gets its header.
+	void takeAhead(CycleResult &r, int set, ResponseHeader &shown) noexcept;
+	/// The RxFIFO level to plan with: the count of the last answer taken
+	/// plus @p inFlight frames no header has shown yet, less about one
+	/// frame per bus cycle since the chip ran that command (one per
+	/// application cycle when the bus cycle is not configured).
+	[[nodiscard]] unsigned rxEstimate(unsigned inFlight) const noexcept;
+	/// @p n copies of the image's output frame at @p dst.
+	void copyOutputs(std::uint8_t *dst, unsigned n) const noexcept;
+	/// A full TxFIFO found by an answer (@p res, @p h) to a command the
+	/// chip ran at @p at: r.txOverflow and the estimate of the frames lost.
+	void noteOverrun(CycleResult &r, const ecmxf_pump_result &res, const ResponseHeader &h,
+			 nanoseconds at) const noexcept;
 	/// One ECAT_PDO_DATA_FIFO_OP as @p pl plans it (copies of the output
 	/// frame, a read): false (and @p r failed) when the transport fails or
 	/// the chip refuses the command. @p res and @p proto (0 or the pump's
 	/// -EPROTO) tell the rest of its answer.
 	bool fifoOp(CycleResult &r, const ecmxf_pump_plan &pl, ResponseHeader &h, ecmxf_pump_result &res,
 		    int &proto, bool withWkc = false) noexcept;
+	/// The working counter read answered in @p res, its data in @p data,
+	/// into @p r.
+	static void takeWkc(CycleResult &r, const RawResult &res, std::span<const std::uint8_t, 4> data) noexcept;
 	/// The working counter read of set @p set (fifoOp(withWkc)) into @p r.
-	void takeWkc(CycleResult &r, int set) noexcept;
-	/// Hands the @p n TxPDO frames of the last answer over; false (and @p r
-	/// failed) when the pump found the answer's data bad (@p proto).
-	bool takeFrames(CycleResult &r, const ResponseHeader &h, unsigned n, int proto) noexcept;
+	void takeWkc(CycleResult &r, int set) noexcept
+	{
+		const auto s = static_cast<std::size_t>(set);
+		takeWkc(r, batch_[s][1], wkcBuf_[s]);
+	}
+	/// Hands the @p n TxPDO frames of an answer (its data in @p data) over;
+	/// false (and @p r failed) when the pump found the answer's data bad
+	/// (@p proto).
+	bool takeFrames(CycleResult &r, const ResponseHeader &h, unsigned n, int proto,
+			std::span<const std::uint8_t> data) noexcept;
+	bool takeFrames(CycleResult &r, const ResponseHeader &h, unsigned n, int proto) noexcept
+	{
+		return takeFrames(r, h, n, proto, rxBuf_);
+	}
 
 	Device &dev_;
 	ProcessImage &image_;
@@ -130,6 +180,9 @@ private:
 	unsigned rxLevel_ = 0;
 	unsigned txLevel_ = 0;
 	nanoseconds rxTime_{ 0 }, txTime_{ 0 };
+	/// exchange() calls since start(), and the one whose command gave
+	/// rxLevel_ (for the level estimate without a bus cycle)
+	std::uint64_t cycles_ = 0, rxCycle_ = 0;
 	unsigned maxReads_ = 0;
 	/// the protocol core's pump: the plans and the answers' meaning
 	ecmxf_pump pump_{};
@@ -142,11 +195,32 @@ private:
 	std::array<std::array<std::uint8_t, 4>, 2> wkcBuf_{};
 	/// The set whose working counter read is not taken yet, or -1.
 	int wkcSet_ = -1;
+	/// CyclicConfig::fifoAnswerNextCycle: the FIFO command whose answer
+	/// the next exchange on the link fetches. Two sets used in turn: the
+	/// engine fills the last cycle's (its result, its rx buffer; it may
+	/// send its tx frames again after a bad packet) while this cycle's
+	/// command goes out in the same exchange.
+	struct Ahead {
+		/// [0] the cycle's ECAT_PDO_WC_GET (answered within the
+		/// cycle), [1] its ECAT_PDO_DATA_FIFO_OP
+		std::array<RawResult, 2> res{};
+		std::vector<std::uint8_t> tx, rx;
+		std::array<std::uint8_t, 4> wkc{};
+		ecmxf_pump_plan plan{};
+		/// when the exchange that sent it ended (the chip ran it then:
+		/// its answer's header counts are of that time), and in which
+		/// cycle
+		nanoseconds sentAt{ 0 };
+		std::uint64_t cycle = 0;
+	};
+	std::array<Ahead, 2> ahead_{};
+	/// The set whose FIFO command's answer is not taken yet, or -1.
+	int aheadSet_ = -1;
 
 public:
 	~FifoCommandPath() override
 	{
-		// nothing may keep pointing at wkcRes_ / wkcBuf_
+		// nothing may keep pointing at batch_ / wkcBuf_ / ahead_
 		dev_.link().settle();
 	}
 };
@@ -158,35 +232,45 @@ FifoCommandPath::FifoCommandPath(Device &dev, ProcessImage &image, const CyclicC
 	maxReads_ = perRead ? txDepth / perRead + 2 : 0;
 	txBuf_.assign(dataCapacity, 0);
 	rxBuf_.assign(dataCapacity, 0);
+	if (cfg.fifoAnswerNextCycle)
+		for (Ahead &a : ahead_) {
+			a.tx.assign(dataCapacity, 0);
+			a.rx.assign(dataCapacity, 0);
+		}
 	ecmxf_pump_init(&pump_, static_cast<u32>(sizes.rxPdoBytes), static_cast<u32>(sizes.txPdoBytes),
 			static_cast<u32>(dataCapacity), rxDepth, rxFill, txDepth);
 }
 
 void FifoCommandPath::start()
 {
+	// a stop() that threw may have left a command in flight
+	dev_.link().settle();
+	wkcSet_ = -1;
+	aheadSet_ = -1;
 	if (sizes.rxPdoBytes)
 		dev_.pdo().pdoWrite(image_.outputs());
 	dev_.pdo().fifoClear(FifoSelect::Both);
 	dev_.pdo().fifoEnable(true);
 	rxLevel_ = 0;
 	txLevel_ = 0;
+	cycles_ = rxCycle_ = 0;
 	rxTime_ = txTime_ = clock().now();
 }
 
 void FifoCommandPath::stop()
 {
+	// the answers in flight are fetched; the last FIFO command's (its
+	// input frames) is dropped: no cycle reports it
 	dev_.link().settle();
 	wkcSet_ = -1;
+	aheadSet_ = -1;
 	dev_.pdo().fifoEnable(false);
 }
 
 bool FifoCommandPath::fifoOp(CycleResult &r, const ecmxf_pump_plan &pl, ResponseHeader &h, ecmxf_pump_result &res,
 			     int &proto, bool withWkc) noexcept
 {
-	const std::size_t frameBytes = sizes.rxPdoBytes;
-	const std::span<const std::uint8_t> out = image_.outputs();
-	for (unsigned i = 0; i < pl.push; i++)
-		std::memcpy(txBuf_.data() + i * frameBytes, out.data(), frameBytes);
+	copyOutputs(txBuf_.data(), pl.push);
 	ecmxf_cmd_hdr hdr;
 	const u32 len = ecmxf_pump_fifo_cmd(&pump_, &pl, false, &hdr);
 	const std::span<const std::uint8_t> payload(txBuf_.data(), len);
@@ -234,7 +318,16 @@ bool FifoCommandPath::fifoOp(CycleResult &r, const ecmxf_pump_plan &pl, Response
 	return true;
 }
 
-bool FifoCommandPath::takeFrames(CycleResult &r, const ResponseHeader &h, unsigned n, int proto) noexcept
+void FifoCommandPath::copyOutputs(std::uint8_t *dst, unsigned n) const noexcept
+{
+	const std::size_t frameBytes = sizes.rxPdoBytes;
+	const std::span<const std::uint8_t> out = image_.outputs();
+	for (unsigned i = 0; i < n; i++)
+		std::memcpy(dst + i * frameBytes, out.data(), frameBytes);
+}
+
+bool FifoCommandPath::takeFrames(CycleResult &r, const ResponseHeader &h, unsigned n, int proto,
+				 std::span<const std::uint8_t> data) noexcept
 {
 	const std::size_t size = sizes.txPdoBytes;
 	if (proto) {
@@ -245,8 +338,8 @@ bool FifoCommandPath::takeFrames(CycleResult &r, const ResponseHeader &h, unsign
 		return true;
 	if (cfg_.onInputFrame)
 		for (std::size_t i = 0; i < n; i++)
-			cfg_.onInputFrame(cfg_.context, std::span<const std::uint8_t>(rxBuf_.data() + i * size, size));
-	std::memcpy(image_.inputs().data(), rxBuf_.data() + (n - 1) * size, size);
+			cfg_.onInputFrame(cfg_.context, data.subspan(i * size, size));
+	std::memcpy(image_.inputs().data(), data.data() + (n - 1) * size, size);
 	r.framesPopped += n;
 	r.inputsUpdated = true;
 	return true;
@@ -260,6 +353,14 @@ int FifoCommandPath::waitInputs(nanoseconds timeout) noexcept
 	const nanoseconds step = cfg_.busCycle.count() > 0 ? cfg_.busCycle : cfg_.period;
 	try {
 		Link &t = clock();
+		// fifoAnswerNextCycle: the answer in flight first; frames in it
+		// are the next cycle()'s
+		if (aheadSet_ >= 0) {
+			dev_.link().settle();
+			const Ahead &a = ahead_[static_cast<std::size_t>(aheadSet_)];
+			if (a.plan.read && a.res[1].status == 0 && a.res[1].header.len >= sizes.txPdoBytes)
+				return 0;
+		}
 		const nanoseconds deadline = t.now() + std::max(timeout, nanoseconds(0));
 		for (;;) {
 			// a FIFO command that moves no frame: its answer's header
@@ -286,16 +387,15 @@ int FifoCommandPath::waitInputs(nanoseconds timeout) noexcept
 	}
 }
 
-void FifoCommandPath::takeWkc(CycleResult &r, int set) noexcept
+void FifoCommandPath::takeWkc(CycleResult &r, const RawResult &res, std::span<const std::uint8_t, 4> data) noexcept
 {
-	const RawResult &res = batch_[static_cast<std::size_t>(set)][1];
 	if (res.status) {
 		cycleFail(r, -res.status, wcGetText(-res.status));
 		return;
 	}
 	const ecmxf_rsp_hdr rh = detail::wireHeader<ecmxf_rsp_hdr>(res.header);
 	std::uint32_t wkc = 0;
-	const int werr = ecmxf_pump_wkc_answer(&rh, wkcBuf_[static_cast<std::size_t>(set)].data(), res.header.len, &wkc);
+	const int werr = ecmxf_pump_wkc_answer(&rh, data.data(), res.header.len, &wkc);
 	if (werr) {
 		cycleFail(r, -werr, werr == -EREMOTEIO ? wcGetText(EREMOTEIO) : kShortWkc);
 		return;
@@ -307,23 +407,17 @@ void FifoCommandPath::takeWkc(CycleResult &r, int set) noexcept
 
 void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 {
+	if (cfg_.fifoAnswerNextCycle) {
+		exchangeAhead(r, readWkc);
+		return;
+	}
 	const bool haveOut = sizes.rxPdoBytes > 0;
 	ResponseHeader h{};
 
 	// the RxFIFO level to plan with: the count from our last write, less
-	// about one frame per bus cycle since (one per application cycle when
-	// the bus cycle is not configured)
-	unsigned level = 0;
-	if (haveOut) {
-		std::uint64_t gone = 1;
-		// the link's coarse clock: an estimate needs no clock read (over
-		// spidev the end of the last sleep, or INT0's last ready edge)
-		if (cfg_.busCycle.count() > 0) {
-			const nanoseconds dt = clock().coarseNow() - rxTime_;
-			gone = dt.count() > 0 ? static_cast<std::uint64_t>(dt / cfg_.busCycle) : 0;
-		}
-		level = gone >= rxLevel_ ? 0u : rxLevel_ - static_cast<unsigned>(gone);
-	}
+	// about one frame per bus cycle since
+	cycles_++;
+	const unsigned level = haveOut ? rxEstimate(0) : 0;
 
 	// the writes, planned by the pump; the first command also reads and
 	// offers at least this cycle's outputs. The image is the only frame:
@@ -346,25 +440,13 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 		if (pl.push) {
 			rxLevel_ = h.rxFifoCnt;
 			rxTime_ = clock().coarseNow();
+			rxCycle_ = cycles_;
 		}
 		if (pl.read) {
 			if (!takeFrames(r, h, res.popped, proto))
 				return;
-			// a full TxFIFO dropped its oldest (the pump: popped + left
-			// reached the depth)
 			const nanoseconds now = clock().coarseNow();
-			if (res.tx_overrun) {
-				r.txOverflow = true;
-				if (cfg_.busCycle.count() > 0) {
-					const unsigned queued = res.popped + h.txFifoCnt;
-					const auto made = static_cast<std::uint64_t>((now - txTime_) / cfg_.busCycle);
-					const std::uint64_t expected = txLevel_ + made;
-					r.txDroppedEstimate = expected > queued
-								      ? static_cast<std::uint32_t>(std::min<std::uint64_t>(
-										expected - queued, UINT32_MAX))
-								      : 0;
-				}
-			}
+			noteOverrun(r, res, h, now);
 			txTime_ = now;
 			txLevel_ = h.txFifoCnt;
 			// more queued than one answer holds: read on while the
@@ -418,13 +500,142 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 		wkcSet_ = -1;
 	}
 
-	r.rxFifoCount = h.rxFifoCnt;
-	r.txFifoCount = h.txFifoCnt;
-	r.wkcErrorCount = h.wkcErrCnt;
-	r.ecatState = h.ecatState;
-	r.errStatus = h.errStatus;
-	r.ecmStatus = h.ecmStatus;
-	r.intFlags = h.intFlags;
+	showHeader(r, h);
+}
+
+unsigned FifoCommandPath::rxEstimate(unsigned inFlight) const noexcept
+{
+	std::uint64_t gone = cycles_ - rxCycle_;
+	// the link's coarse clock: an estimate needs no clock read (over
+	// spidev the end of the last sleep, or INT0's last ready edge)
+	if (cfg_.busCycle.count() > 0) {
+		const nanoseconds dt = dev_.link().coarseNow() - rxTime_;
+		gone = dt.count() > 0 ? static_cast<std::uint64_t>(dt / cfg_.busCycle) : 0;
+	}
+	const std::uint64_t have = std::uint64_t{ rxLevel_ } + inFlight;
+	return gone >= have ? 0u : static_cast<unsigned>(have - gone);
+}
+
+void FifoCommandPath::noteOverrun(CycleResult &r, const ecmxf_pump_result &res, const ResponseHeader &h,
+				  nanoseconds at) const noexcept
+{
+	// a full TxFIFO dropped its oldest (the pump: popped + left reached
+	// the depth)
+	if (!res.tx_overrun)
+		return;
+	r.txOverflow = true;
+	if (cfg_.busCycle.count() > 0) {
+		const unsigned queued = res.popped + h.txFifoCnt;
+		const std::uint64_t made = at > txTime_ ? static_cast<std::uint64_t>((at - txTime_) / cfg_.busCycle) : 0;
+		const std::uint64_t expected = txLevel_ + made;
+		r.txDroppedEstimate =
+			expected > queued ? static_cast<std::uint32_t>(std::min<std::uint64_t>(expected - queued, UINT32_MAX))
+					  : 0;
+	}
+}
+
+void FifoCommandPath::takeAhead(CycleResult &r, int set, ResponseHeader &shown) noexcept
+{
+	Ahead &a = ahead_[static_cast<std::size_t>(set)];
+	const RawResult &res = a.res[1];
+	if (!res.linkFailure)
+		shown = res.header;
+	if (res.status) {
+		cycleFail(r, -res.status, fifoOpText(-res.status));
+		return;
+	}
+	const ResponseHeader &h = res.header;
+	const ecmxf_rsp_hdr rh = detail::wireHeader<ecmxf_rsp_hdr>(h);
+	ecmxf_pump_result pr;
+	const int proto = ecmxf_pump_answer(&pump_, &a.plan, &rh, h.len, &pr);
+	if (proto == -EREMOTEIO) {
+		cycleFail(r, EREMOTEIO, fifoOpText(EREMOTEIO));
+		return;
+	}
+	r.framesPushed += a.plan.push;
+	if (a.plan.push) {
+		// the chip ran the command, and made its answer, when it was sent
+		rxLevel_ = h.rxFifoCnt;
+		rxTime_ = a.sentAt;
+		rxCycle_ = a.cycle;
+	}
+	if (a.plan.read) {
+		if (!takeFrames(r, h, pr.popped, proto, a.rx))
+			return;
+		noteOverrun(r, pr, h, a.sentAt);
+		txTime_ = a.sentAt;
+		txLevel_ = h.txFifoCnt;
+	}
+	if (pr.refused)
+		r.rxRefused = true;
+}
+
+void FifoCommandPath::exchangeAhead(CycleResult &r, bool readWkc) noexcept
+{
+	const bool haveOut = sizes.rxPdoBytes > 0;
+	cycles_++;
+	const int prev = aheadSet_;
+	const int set = prev == 0 ? 1 : 0;
+	Ahead &a = ahead_[static_cast<std::size_t>(set)];
+
+	// the level: the last answer's count, plus the frames of the command
+	// still in flight (no header shows them yet), less the bus cycles
+	// since the chip ran the answered command
+	const unsigned inFlight = prev >= 0 ? ahead_[static_cast<std::size_t>(prev)].plan.push : 0;
+	const unsigned level = haveOut ? rxEstimate(inFlight) : 0;
+
+	// one FIFO command: it reads and offers at least this cycle's outputs.
+	// The follow-up writes and reads of exchange() would need its answer:
+	// a backlog is left to the next cycles.
+	ecmxf_pump_next(&pump_, level, haveOut ? pump_.rx_fill : 0, ECMXF_PUMP_F_READ | ECMXF_PUMP_F_ONE, &a.plan);
+	copyOutputs(a.tx.data(), a.plan.push);
+	ecmxf_cmd_hdr hdr;
+	const u32 len = ecmxf_pump_fifo_cmd(&pump_, &a.plan, false, &hdr);
+	std::array<RawRequest, 2> req{};
+	// a working counter read goes first: its answer comes back in the
+	// exchange that sends the FIFO command (two exchanges), and the FIFO
+	// command's answer is left in flight as in any cycle
+	const std::size_t first = readWkc ? 0 : 1;
+	if (readWkc) {
+		ecmxf_cmd_hdr wh;
+		ecmxf_pump_wkc_cmd(&wh);
+		req[0] = dev_.request(rawCommand(wh, cfg_.commandTimeout), {}, a.wkc);
+	}
+	req[1] = dev_.request(rawCommand(hdr, cfg_.commandTimeout), std::span<const std::uint8_t>(a.tx.data(), len),
+			      a.rx);
+	dev_.link().runBatch(std::span<const RawRequest>(req).subspan(first),
+			     std::span<RawResult>(a.res).subspan(first), true);
+	a.sentAt = clock().coarseNow();
+	a.cycle = cycles_;
+	aheadSet_ = set;
+	r.commands += static_cast<unsigned>(2 - first);
+
+	if (readWkc)
+		takeWkc(r, a.res[0], a.wkc);
+	ResponseHeader shown{};
+	bool taken = false;
+	// the previous cycle's command: this batch's first exchange fetched
+	// its answer (the batch waits for every answer but the last)
+	if (prev >= 0) {
+		Ahead &p = ahead_[static_cast<std::size_t>(prev)];
+		if (p.res[1].status == -EINPROGRESS)
+			dev_.link().settle();
+		takeAhead(r, prev, shown);
+		taken = true;
+	}
+	// a link that does not pipeline ran it to its end (or it failed
+	// before it was sent): take it now
+	if (a.res[1].status != -EINPROGRESS) {
+		aheadSet_ = -1;
+		takeAhead(r, set, shown);
+		taken = true;
+	}
+	if (!taken) {
+		// the first cycle: no answer yet, the latest header the chip sent
+		if (const std::optional<ResponseHeader> lh = dev_.link().lastHeader())
+			shown = *lh;
+	}
+	showHeader(r, shown);
 }
 } // namespace
 

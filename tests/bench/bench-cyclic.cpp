@@ -5,9 +5,10 @@
 //
 // For 2, 16 and 128 slaves: bring the network to OP with raw commands
 // (1 ms SYNC0 cycle, 1408-byte SPI data section at 96 Mbit/s), set up a ProcessImage and
-// a Cyclic (1 ms period, bus cycle 1 ms, WKC read every cycle), warm up for
-// 200 cycles, then run 2000 cycles paced with waitNextCycle() in virtual
-// time. Reported: cycles per second of wall time, thread CPU time per
+// a Cyclic (1 ms period, bus cycle 1 ms, WKC read every cycle or every
+// 10th), warm up for 200 cycles, then run 2000 cycles paced with
+// waitNextCycle() in virtual time, in each mode of the engine and of
+// CyclicConfig (see main()). Reported: cycles per second of wall time, thread CPU time per
 // cycle, commands and SPI exchanges per cycle, allocations per cycle
 // (global operator new is counted in this program), and failed cycles /
 // WKC mismatches so that a broken run cannot look fast. The CPU time
@@ -98,7 +99,16 @@ struct Row {
 	std::uint64_t failed = 0, wkcBad = 0;
 };
 
-Row run(const std::string &network, bool pipeline, bool nextCycle = false)
+/// How a run sends its commands.
+struct Mode {
+	const char *name;
+	bool pipeline;
+	bool wkcNext;  ///< CyclicConfig::wkcAnswerNextCycle
+	bool fifoNext; ///< CyclicConfig::fifoAnswerNextCycle
+	unsigned wkcEvery;
+};
+
+Row run(const std::string &network, const Mode &mode)
 {
 	constexpr int kWarmup = 200;
 	constexpr int kCycles = 2000;
@@ -107,13 +117,15 @@ Row run(const std::string &network, bool pipeline, bool nextCycle = false)
 	auto t = std::make_unique<ecmxf::SimChannel>(network, chip);
 	ecmxf::SimChannel &sim = *t;
 	ecmxf::Device dev(std::move(t));
-	dev.link().setPipelining(pipeline);
+	dev.link().setPipelining(mode.pipeline);
 	bringUp(dev);
 	ecmxf::ProcessImage image(sizes(dev));
 	ecmxf::CyclicConfig cfg;
 	cfg.period = 1ms;
 	cfg.busCycle = 1ms;
-	cfg.wkcAnswerNextCycle = nextCycle;
+	cfg.wkcAnswerNextCycle = mode.wkcNext;
+	cfg.fifoAnswerNextCycle = mode.fifoNext;
+	cfg.wkcEvery = mode.wkcEvery;
 	ecmxf::Cyclic cyc(dev, image, cfg);
 	cyc.start();
 	for (int i = 0; i < kWarmup; i++) {
@@ -159,27 +171,38 @@ int main()
 	std::printf("bench-cyclic: ecmxf::Cyclic through the simulator transport, 1 ms cycle, 1408-byte SPI data\n"
 		    "at 96 Mbit/s, "
 		    "2000 cycles after 200 of warm-up; CPU = this thread (library + simulated chip and slaves)\n\n");
-	std::printf("engine: 'off' = one command per two exchanges (before pipelining), 'on' = pipelined,\n"
-		    "'next' = pipelined with CyclicConfig::wkcAnswerNextCycle (the WKC read's answer comes with\n"
-		    "the next cycle's first exchange); all in this run, on the same machine\n\n");
-	std::printf("%7s %6s %9s %9s %12s %12s %9s %10s %12s %7s %8s\n", "slaves", "engine", "out B", "in B",
+	std::printf("mode: 'off' = engine without pipelining (one command per two exchanges), 'on' = pipelined,\n"
+		    "'next' = pipelined with CyclicConfig::wkcAnswerNextCycle (the WKC read's answer comes with the\n"
+		    "next cycle's first exchange), 'fifo' = pipelined with CyclicConfig::fifoAnswerNextCycle (the FIFO\n"
+		    "command's answer comes with the next cycle's exchange, which sends the next one), 'fifo+next' =\n"
+		    "both; WKC = the read every this many cycles (0: never). All in this run, on the same machine:\n"
+		    "'on'/'next' are before, 'fifo' after\n\n");
+	static constexpr Mode kModes[] = {
+		{ "off", false, false, false, 1 },	 { "on", true, false, false, 1 },
+		{ "next", true, true, false, 1 },	 { "fifo", true, false, true, 1 },
+		{ "fifo+next", true, true, true, 1 },	 { "on", true, false, false, 10 },
+		{ "next", true, true, false, 10 },	 { "fifo", true, false, true, 10 },
+		{ "fifo+next", true, true, true, 10 }, { "on", true, false, false, 0 },
+		{ "fifo", true, false, true, 0 },
+	};
+	std::printf("%7s %10s %4s %7s %7s %10s %11s %9s %10s %11s %7s %8s\n", "slaves", "mode", "WKC", "out B", "in B",
 		    "cycles/s", "CPU us/cyc", "cmds/cyc", "xfers/cyc", "allocs/cyc", "failed", "WKC bad");
 	int rc = 0;
 	for (const std::string &n : nets)
-		for (const int mode : { 0, 1, 2 }) {
-		try {
-			const Row r = run(n, mode > 0, mode == 2);
-			std::printf("%7zu %6s %9zu %9zu %12.0f %12.2f %9.2f %10.2f %12.3f %7llu %8llu\n", r.slaves,
-				    mode == 0 ? "off" : mode == 1 ? "on" : "next",
-				    r.rxBytes, r.txBytes, r.cyclesPerSecond, r.cpuUsPerCycle, r.commandsPerCycle,
-				    r.exchangesPerCycle, r.allocsPerCycle, static_cast<unsigned long long>(r.failed),
-				    static_cast<unsigned long long>(r.wkcBad));
-			if (r.failed || r.wkcBad || r.allocsPerCycle != 0.0)
+		for (const Mode &mode : kModes) {
+			try {
+				const Row r = run(n, mode);
+				std::printf("%7zu %10s %4u %7zu %7zu %10.0f %11.2f %9.2f %10.2f %11.3f %7llu %8llu\n",
+					    r.slaves, mode.name, mode.wkcEvery, r.rxBytes, r.txBytes, r.cyclesPerSecond,
+					    r.cpuUsPerCycle, r.commandsPerCycle, r.exchangesPerCycle, r.allocsPerCycle,
+					    static_cast<unsigned long long>(r.failed),
+					    static_cast<unsigned long long>(r.wkcBad));
+				if (r.failed || r.wkcBad || r.allocsPerCycle != 0.0)
+					rc = 1;
+			} catch (const std::exception &e) {
+				std::fprintf(stderr, "bench-cyclic: %s: %s\n", n.c_str(), e.what());
 				rc = 1;
-		} catch (const std::exception &e) {
-			std::fprintf(stderr, "bench-cyclic: %s: %s\n", n.c_str(), e.what());
-			rc = 1;
+			}
 		}
-	}
 	return rc;
 }

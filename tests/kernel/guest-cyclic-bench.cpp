@@ -11,7 +11,9 @@
 //       writes the figures to /tmp/ecmxf-cbench-kernel
 //   ecmxf-guest-cyclic-bench spidev <N> <spidev URI>
 //       3. spidev: the library's Cyclic over SpidevChannel (the same
-//          FIFO commands, from userspace); prints the ratios
+//          FIFO commands, from userspace, each cycle's answer fetched by
+//          the next cycle's exchange: CyclicConfig::fifoAnswerNextCycle);
+//          prints the ratios
 //
 // The process runs as an RT application would (ecmxf::applyRealtime():
 // memory locked, SCHED_FIFO 49, below the kernel worker's 50). Each path:
@@ -145,6 +147,9 @@ ecmxf::CyclicConfig config()
 	cc.rxFill = 4;
 	cc.wkcEvery = 10;
 	cc.commandTimeout = 1s;
+	// spidev: the FIFO command's answer comes with the next cycle's
+	// exchange, one exchange per cycle (the rings ignore it)
+	cc.fifoAnswerNextCycle = true;
 	return cc;
 }
 

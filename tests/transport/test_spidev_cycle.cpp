@@ -201,3 +201,71 @@ TEST_CASE("spidev Cyclic: a steady cycle makes 2 transfers, waits INT0 by its ed
 	CHECK(r.chip.stats().notReady == 0);
 	CHECK(r.chip.stats().busyExchanges == 0);
 }
+
+TEST_CASE("spidev Cyclic fifoAnswerNextCycle: a steady cycle makes 1 transfer and 5 system calls, a cycle with a "
+	  "working counter read 2 transfers and 8",
+	  "[transport][spidev][rt][cyclic]")
+{
+	test::SpidevRig r;
+	test::FakeSpidev &b = *r.backend;
+	ecmxf::SpidevChannel &ch = *r.transport;
+	pdotest::Bus bus(std::move(r.dev), r.chip);
+	bus.toOp();
+	REQUIRE(bus.dev->link().pipelining());
+	ecmxf::ProcessImage image(pdotest::defaultPdos());
+	ecmxf::CyclicConfig cc;
+	cc.period = 1ms;
+	cc.busCycle = 1ms;
+	cc.rxFill = 4;
+	cc.wkcEvery = 10;
+	cc.fifoAnswerNextCycle = true; // the FIFO command's answer comes with the next cycle's exchange
+	ecmxf::Cyclic cyc(*bus.dev, image, cc);
+	cyc.start();
+	for (int i = 0; i < 50; i++) {
+		REQUIRE(cyc.cycle().error == 0);
+		REQUIRE(cyc.waitNextCycle() == 0);
+	}
+	constexpr unsigned kCycles = 200;
+	constexpr unsigned kReads = kCycles / 10;
+	const Calls before = b.calls;
+	const std::uint64_t exchanges = ch.stats().exchanges;
+	const std::uint64_t linkExchanges = bus.dev->link().counters().exchanges;
+	const std::uint64_t levels = ch.stats().int0LevelReads;
+	for (unsigned i = 0; i < kCycles; i++) {
+		const ecmxf::CycleResult &res = cyc.cycle();
+		INFO("cycle " << i << ": " << res.message);
+		REQUIRE(res.error == 0);
+		REQUIRE(res.inputsUpdated);
+		REQUIRE(cyc.waitNextCycle() == 0);
+	}
+	const Calls d = since(b.calls, before);
+	INFO("per " << kCycles << " cycles: transfer " << d.ioctlTransfer << ", line " << d.ioctlLine << ", ppoll "
+		    << d.ppoll << ", read " << d.read << ", clock " << d.clock << ", sleep " << d.sleep);
+	// one exchange per cycle, one more in each of the 20 with a read
+	CHECK(ch.stats().exchanges - exchanges == kCycles + kReads);
+	CHECK(bus.dev->link().counters().exchanges - linkExchanges == kCycles + kReads);
+	CHECK(cyc.stats().wkcReads == 50 / 10 + kReads);
+	CHECK(d.ioctlTransfer == kCycles + kReads);
+	CHECK(d.ioctlLine == 0);
+	CHECK(ch.stats().int0LevelReads == levels);
+	// the first exchange's edge came during the sleep: one read; the
+	// batch returns once the FIFO command is sent, without waiting for
+	// its edge. A read cycle waits for the second exchange's edge: one
+	// ppoll and one read more
+	CHECK(d.ppoll == kReads);
+	CHECK(d.read == kCycles + kReads);
+	// the pacing: one clock read and one absolute sleep; the batch's
+	// start: one clock read
+	CHECK(d.sleep == kCycles);
+	CHECK(d.clock == 2 * kCycles);
+	// 5 a cycle, 8 in a read cycle
+	CHECK(d.total() == 5 * (kCycles - kReads) + 8 * kReads);
+	CHECK(cyc.stats().lateCycles == 0);
+	CHECK(cyc.stats().rxRefusals == 0);
+	CHECK(cyc.stats().txOverflows == 0);
+	CHECK(r.chip.stats().notReady == 0);
+	CHECK(r.chip.stats().busyExchanges == 0);
+	cyc.stop();
+	// nothing in flight: the next command gets its own answer
+	CHECK(bus.cmd(16).ret == 3); // ECAT_SLV_CNT_GET
+}

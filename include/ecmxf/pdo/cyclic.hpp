@@ -101,8 +101,36 @@ struct CyclicConfig {
 	/// exchange, so a cycle with a read costs 2 exchanges, and
 	/// CycleResult::wkc / wkcOk report the read of the cycle before (the
 	/// first cycle reports none). Over the kernel module's link the read
-	/// is always answered within the cycle.
+	/// is always answered within the cycle; with fifoAnswerNextCycle too
+	/// (this then changes nothing).
 	bool wkcAnswerNextCycle = false;
+	/// The cycle's ECAT_PDO_DATA_FIFO_OP goes out in the cycle's first
+	/// exchange and its answer is left in flight: the next exchange on the
+	/// link (the next cycle's first, which sends the next FIFO command)
+	/// fetches it, and the next cycle() takes it. One SPI exchange per
+	/// cycle instead of two (for spidev under PREEMPT_RT: one round trip
+	/// less per cycle). A cycle with a working counter read sends the read
+	/// first, in the exchange that fetches the previous answer, then the
+	/// FIFO command in the exchange that fetches the read's answer: 2
+	/// exchanges, the read's answer within the cycle (wkcAnswerNextCycle
+	/// then changes nothing). The price, in the CycleResult of cycle N:
+	/// error / message (of the FIFO command), framesPushed, framesPopped,
+	/// inputsUpdated (the image's inputs), rxRefused, txOverflow,
+	/// txDroppedEstimate and the response header fields are those of the
+	/// FIFO command of cycle N - 1 (cycle N's outputs went out, their
+	/// fate is told by cycle N + 1); commands and the working counter
+	/// fields are cycle N's. The first cycle after start() reports no
+	/// frames (its header fields: the latest header the chip sent). Only
+	/// one FIFO command goes out per cycle (the extra writes and reads of
+	/// the synchronous cycle need its answer): a TxFIFO backlog, or an
+	/// RxFIFO below its fill level, is worked off by the next cycles at up
+	/// to framesPerRead() / framesPerWrite() frames each. stop() and the
+	/// destructor fetch the last answer and drop it (its input frames
+	/// reach neither the image nor onInputFrame). Over a link that does not
+	/// pipeline (it runs a command to its end) the answer is taken within
+	/// the cycle. Over the kernel module's link (its PDO rings) this
+	/// changes nothing: cycle() sends no command there.
+	bool fifoAnswerNextCycle = false;
 	/// The bus cycle (ECAT_INIT_OP's SYNC0 cycle, or 1 ms free run): with
 	/// it, TxPDO frames lost to a TxFIFO overflow are estimated; zero: not
 	/// estimated (overflows are still detected and counted).
@@ -230,7 +258,12 @@ public:
 	/// system call when frames are already there); over the FIFO commands
 	/// it asks the chip for its TxFIFO count (an ECAT_PDO_DATA_FIFO_OP
 	/// that moves no frame) once per bus cycle (CyclicConfig::busCycle, or
-	/// the period when that is zero) until one is queued.
+	/// the period when that is zero) until one is queued. With
+	/// CyclicConfig::fifoAnswerNextCycle it fetches the answer in flight
+	/// first and returns 0 at once when that holds frames (the next
+	/// cycle() reports them); frames it finds queued are popped by the
+	/// next cycle() and reported by the one after: an application clocked
+	/// by its inputs should not use that option.
 	/// Returns 0 (inputs there), ETIMEDOUT (none within @p timeout), EINVAL
 	/// (before start()), or the transport's or the pump's error (EIO...).
 	/// Allocates nothing, throws nothing.
