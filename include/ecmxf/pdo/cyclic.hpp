@@ -100,9 +100,12 @@ struct CyclicConfig {
 	/// without. true: its answer is left to the next cycle's first
 	/// exchange, so a cycle with a read costs 2 exchanges, and
 	/// CycleResult::wkc / wkcOk report the read of the cycle before (the
-	/// first cycle reports none). Over the kernel module's link the read
-	/// is always answered within the cycle; with fifoAnswerNextCycle too
-	/// (this then changes nothing).
+	/// first cycle reports none). Over the kernel module's PDO rings it
+	/// sets ECMXF_RING_F_WKC_NEXT: the pump's read is answered by the
+	/// pump's next FIFO command (2 exchanges per pump cycle with a read,
+	/// not 3), and the read shows in the status block about one period
+	/// later. With fifoAnswerNextCycle the read is answered within the
+	/// cycle anyway (this then changes nothing).
 	bool wkcAnswerNextCycle = false;
 	/// The cycle's ECAT_PDO_DATA_FIFO_OP goes out in the cycle's first
 	/// exchange and its answer is left in flight: the next exchange on the
