@@ -8,7 +8,10 @@
 //          rings; the pump in the kernel's worker sends the commands);
 //       2. ioctl: a loop of synchronous ECMXF_IOC_CMD ECAT_PDO_DATA_FIFO_OP
 //          (one output frame pushed, the inputs popped) per cycle;
-//       writes the figures to /tmp/ecmxf-cbench-kernel
+//       writes the figures to /tmp/ecmxf-cbench-kernel; then the rings
+//       with a working counter read every cycle, answered within the
+//       pump's cycle and by its next one (ECMXF_RING_F_WKC_NEXT):
+//       the kernel's SPI exchanges per cycle
 //   ecmxf-guest-cyclic-bench spidev <N> <spidev URI>
 //       3. spidev: the library's Cyclic over SpidevChannel (the same
 //          FIFO commands, from userspace, each cycle's answer fetched by
@@ -239,6 +242,41 @@ Figures ioctlPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
 	return f;
 }
 
+/// The rings with the working counter read every cycle, its answer within
+/// the pump's cycle or (wkcAnswerNextCycle: ECMXF_RING_F_WKC_NEXT) with the
+/// pump's next FIFO command: the kernel's SPI exchanges per cycle.
+void ringsWkcEveryCycle(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
+{
+	for (const bool next : { false, true }) {
+		ecmxf::CyclicConfig cc = config();
+		cc.wkcEvery = 1;
+		cc.wkcAnswerNextCycle = next;
+		ecmxf::Cyclic cyc(dev, image, cc);
+		cyc.start();
+		const auto once = [&] {
+			(void)cyc.cycle();
+			(void)cyc.waitNextCycle();
+		};
+		for (unsigned i = 0; i < kWarmup; i++)
+			once();
+		const ecmxf::LinkCounters k0 = dev.link().counters();
+		const ecmxf::CyclicStats s0 = cyc.stats();
+		for (unsigned i = 0; i < n; i++)
+			once();
+		const ecmxf::LinkCounters k1 = dev.link().counters();
+		const ecmxf::CyclicStats s1 = cyc.stats();
+		const double cycles = static_cast<double>(s1.cycles - s0.cycles);
+		std::printf("bench: cyclic rings, working counter read every cycle, answered %s: %.2f SPI exchanges "
+			    "per cycle (the kernel's counters), %llu reads, %llu not the expected count, %llu late\n",
+			    next ? "by the next FIFO command (ECMXF_RING_F_WKC_NEXT)" : "within the pump's cycle",
+			    cycles > 0 ? static_cast<double>(k1.exchanges - k0.exchanges) / cycles : 0.0,
+			    static_cast<unsigned long long>(s1.wkcReads - s0.wkcReads),
+			    static_cast<unsigned long long>(s1.wkcMismatches - s0.wkcMismatches),
+			    static_cast<unsigned long long>(s1.lateCycles - s0.lateCycles));
+		cyc.stop();
+	}
+}
+
 void save(const Figures &ring, const Figures &ioc)
 {
 	std::FILE *f = std::fopen(kResultFile, "w");
@@ -316,6 +354,7 @@ int main(int argc, char **argv)
 			const Figures ring = cyclicPath(*dev, image, "rings", n, true);
 			const Figures ioc = ioctlPath(*dev, image, n);
 			save(ring, ioc);
+			ringsWkcEveryCycle(*dev, image, n);
 			std::printf("bench: cyclic rings/ioctl: syscalls per cycle %.2f, CPU per cycle %.2f (application "
 				    "only), %.2f (with the kernel worker)\n",
 				    ratio(ring.syscalls, ioc.syscalls), ratio(ring.appCpuUs, ioc.appCpuUs),
