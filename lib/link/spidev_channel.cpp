@@ -375,10 +375,25 @@ bool SpidevChannel::waitReady(std::chrono::nanoseconds timeout)
 			return true;
 		}
 		int0_ = Int0State::Busy;
-	} else if (sleptSinceExchange_ && readyEdge(nanoseconds::zero())) {
+	} else if (sleptSinceExchange_) {
 		// slept since the exchange: the edge is most likely there
-		stats_.int0Ready++;
-		return true;
+		if (readyEdge(nanoseconds::zero())) {
+			stats_.int0Ready++;
+			return true;
+		}
+		// and if not, the chip had its time: the level at once, no
+		// kEdgeGrace for an edge that may never come (a chip that was
+		// done before it could drop INT0)
+		levelRead = true;
+		stats_.int0LevelReads++;
+		if (lineActive(IntLine::Int0, options_.readyHigh)) {
+			// an edge that came in the meantime is this one, late
+			if (!readyEdge(nanoseconds::zero()))
+				stats_.int0Unsignalled++;
+			int0_ = Int0State::Ready;
+			stats_.int0Ready++;
+			return true;
+		}
 	}
 	// wait for the ready edge; the level once, after kEdgeGrace without one
 	nanoseconds left = timeout;

@@ -21,6 +21,8 @@
 //   D  Sdo::sdoRead() over /dev/ecmxf0 (ECAT_SDO_REQ with its ECAT_SDO_GET
 //      in one ECMXF_IOC_CMD, ECMXF_CMD_F_FETCH)
 //   E  Sdo::sdoRead() over spidev (the library's engine pairs them)
+//   F  the same upload as two bare ECMXF_IOC_CMD, ECAT_SDO_REQ and then
+//      ECAT_SDO_GET (no fetch: what /dev/ecmxf0 cost before uAPI 3)
 // The SPI device (e.g. spi0.0) is handed from ecmxf to spidev and back
 // between the blocks through sysfs (unbind, driver_override, bind), in the
 // order A B | C, C | B A, A B | C, ... so that every path sees the same
@@ -319,6 +321,35 @@ struct Kernel {
 		}
 	}
 	bool sdo() { return sdoUpload(*dev); }
+	/// The upload as two ioctls: ECAT_SDO_REQ, then ECAT_SDO_GET.
+	bool sdoUnpaired()
+	{
+		// upload, slave 0, 0x2001:00, 2 bytes, the chip's SDO timeout
+		const std::array<std::uint8_t, 12> req{ 1, 0, 0x01, 0x20, 0, 0, 2, 0, 0, 0, 0, 0 };
+		ecmxf_cmd cmd{};
+		cmd.hdr.code = ECMXF_CMD_ECAT_SDO_REQ;
+		cmd.tx_ptr = reinterpret_cast<std::uintptr_t>(req.data());
+		cmd.tx_len = static_cast<std::uint32_t>(req.size());
+		cmd.timeout_us = static_cast<std::uint32_t>(kTimeout.count());
+		if (::ioctl(k->fd(), ECMXF_IOC_CMD, &cmd) < 0 || cmd.status) {
+			gWhy = std::string("ECAT_SDO_REQ: ") + std::strerror(cmd.status ? -cmd.status : errno);
+			return false;
+		}
+		cmd = ecmxf_cmd{};
+		cmd.hdr.code = ECMXF_CMD_ECAT_SDO_GET;
+		cmd.rx_ptr = reinterpret_cast<std::uintptr_t>(rx.data());
+		cmd.rx_size = static_cast<std::uint32_t>(rx.size());
+		cmd.timeout_us = static_cast<std::uint32_t>(kTimeout.count());
+		if (::ioctl(k->fd(), ECMXF_IOC_CMD, &cmd) < 0 || cmd.status || cmd.rx_len != 2) {
+			gWhy = std::string("ECAT_SDO_GET: ") + std::strerror(cmd.status ? -cmd.status : errno);
+			return false;
+		}
+		const unsigned v = rx[0] | rx[1] << 8;
+		if (v == kSdoValue)
+			return true;
+		gWhy = "SDO 0x2001:00 read " + std::to_string(v);
+		return false;
+	}
 	bool raw()
 	{
 		ecmxf_cmd cmd{};
@@ -371,10 +402,11 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 	Path c{ "spidev library (SpidevChannel, INT0 by libgpiod)", {}, 0, 0, 0 };
 	Path d{ "/dev/ecmxf0 SDO upload (KernelLink, ECMXF_CMD_F_FETCH)", {}, 0, 0, 0 };
 	Path e{ "spidev SDO upload (SpidevChannel)", {}, 0, 0, 0 };
+	Path f{ "/dev/ecmxf0 SDO upload as SDO_REQ + SDO_GET (two ioctls, no fetch)", {}, 0, 0, 0 };
 	const unsigned perSdo = std::max(per / 5, 5u);
 	std::uint64_t kExchanges = 0, kInt0 = 0, kCommands = 0;
 	std::uint64_t sExchanges = 0, sEdges = 0, sTimeouts = 0, sCommands = 0;
-	std::uint64_t kSdoExchanges = 0, sSdoExchanges = 0;
+	std::uint64_t kSdoExchanges = 0, sSdoExchanges = 0, kUnpairedExchanges = 0;
 	{
 		// the mailboxes answer from PRE-OP on (the same chip for both)
 		Kernel k;
@@ -420,6 +452,11 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 		const ecmxf::LinkCounters c2 = k.k->counters();
 		block(d, perSdo, sdo, k.worker);
 		kSdoExchanges += k.k->counters().exchanges - c2.exchanges;
+		const Once unpaired = [&] { return k.sdoUnpaired(); };
+		warmup(f.name, unpaired);
+		const ecmxf::LinkCounters c3 = k.k->counters();
+		block(f, perSdo, unpaired, k.worker);
+		kUnpairedExchanges += k.k->counters().exchanges - c3.exchanges;
 	};
 	const auto spidevPhase = [&](bool first) {
 		Spidev s(spi.uri);
@@ -480,11 +517,15 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 	ratio("library/raw round-trip ratio over /dev/ecmxf0", a, b, "");
 	report(d);
 	report(e);
-	std::printf("bench: %s SDO upload: %.2f SPI exchanges per upload over /dev/ecmxf0, %.2f over spidev\n",
+	report(f);
+	std::printf("bench: %s SDO upload: %.2f SPI exchanges per upload over /dev/ecmxf0 (with the fetch), %.2f "
+		    "over spidev, %.2f over /dev/ecmxf0 as two ioctls\n",
 		    gKernel.c_str(), static_cast<double>(kSdoExchanges) / std::max(d.commands, 1u),
-		    static_cast<double>(sSdoExchanges) / std::max(e.commands, 1u));
+		    static_cast<double>(sSdoExchanges) / std::max(e.commands, 1u),
+		    static_cast<double>(kUnpairedExchanges) / std::max(f.commands, 1u));
 	ratio("kernel/spidev SDO upload round-trip ratio", d, e,
 	      " (Sdo::sdoRead() over /dev/ecmxf0 vs over spidev; < 1: the kernel path is faster)");
+	ratio("kernel SDO upload with the fetch / as two ioctls", d, f, " (< 1: the fetch saves time)");
 	std::printf("bench: kernel/spidev cpu ratio (this process only): %.2f; with the kernel worker: %.2f\n",
 		    c.cpuUs > 0 ? (a.cpuUs / a.commands) / (c.cpuUs / c.commands) : 0.0,
 		    c.cpuUs > 0 ? ((a.cpuUs + a.workerUs) / a.commands) / (c.cpuUs / c.commands) : 0.0);

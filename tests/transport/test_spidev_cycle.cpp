@@ -124,6 +124,40 @@ TEST_CASE("spidev INT0: a chip that does not go busy (no edge) is found ready by
 	CHECK(r.transport->stats().int0Timeouts == 0);
 }
 
+TEST_CASE("spidev INT0: after a sleep with no edge queued, the level is read at once (no grace)",
+	  "[transport][spidev][rt]")
+{
+	ecmxf::sim::ChipConfig cfg = test::SpidevRig::defaultConfig();
+	cfg.processingTime = 0ns; // INT0 never drops: no edge
+	test::SpidevRig r(true, false, cfg);
+	std::vector<std::uint8_t> mosi(r.chip.packetSize()), miso(mosi.size());
+	REQUIRE(r.transport->waitReady(1ms));
+	r.transport->exchange(mosi, miso);
+	r.transport->sleepFor(700us); // the rest of a cycle
+	const auto t0 = r.chip.now();
+	const Calls before = r.backend->calls;
+	REQUIRE(r.transport->waitReady(5ms));
+	const Calls d = since(r.backend->calls, before);
+	CHECK(r.chip.now() == t0); // no wait
+	CHECK(d.ppoll == 0);
+	CHECK(d.ioctlLine == 1);
+	CHECK(d.read == 2); // the queue before the level and after it
+	CHECK(r.transport->stats().int0Unsignalled == 1);
+	// a chip still busy after the sleep: the level says so, the edge is
+	// then waited for as usual
+	ecmxf::sim::ChipConfig slow = test::SpidevRig::defaultConfig();
+	slow.processingTime = 2ms;
+	test::SpidevRig s(true, false, slow);
+	REQUIRE(s.transport->waitReady(1ms));
+	s.transport->exchange(mosi, miso);
+	s.transport->sleepFor(500us);
+	const auto t1 = s.chip.now();
+	REQUIRE(s.transport->waitReady(5ms));
+	CHECK(s.chip.now() - t1 == 1500us);
+	CHECK(s.transport->stats().int0Unsignalled == 0);
+	CHECK(s.transport->stats().int0Timeouts == 0);
+}
+
 TEST_CASE("spidev INT0 stuck busy after an exchange: one level read after the grace, then the edge wait to "
 	  "the timeout",
 	  "[transport][spidev][rt]")

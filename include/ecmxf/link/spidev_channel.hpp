@@ -127,11 +127,12 @@ struct SpidevStats {
 	std::uint64_t int0Timeouts = 0;   ///< waitReady() calls that ended without INT0 ready
 	std::uint64_t fallbackWaits = 0;  ///< waits of the 150 us fallback (no INT0)
 	std::uint64_t int1Events = 0;     ///< waitEvent() calls that found INT1 asserted
-	/// reads of INT0's level: the first wait, and waits in which no ready
-	/// edge came within kEdgeGrace (a steady exchange reads none)
+	/// reads of INT0's level: the first wait, waits in which no ready edge
+	/// came within kEdgeGrace, and waits after a sleep that found no edge
+	/// queued (a steady exchange reads none)
 	std::uint64_t int0LevelReads = 0;
-	/// of those after kEdgeGrace, the ones that found INT0 ready with no
-	/// edge queued (an edge missed, or a chip that did not go busy)
+	/// of those after kEdgeGrace or a sleep, the ones that found INT0 ready
+	/// with no edge queued (an edge missed, or a chip that did not go busy)
 	std::uint64_t int0Unsignalled = 0;
 };
 
@@ -153,9 +154,10 @@ public:
 	/// after the last exchange (the chip drops INT0 while it processes a
 	/// packet and raises it when done). Ready with no system call when
 	/// that edge was seen already; else one read() of the queued events
-	/// when the channel slept since the exchange, then one ppoll() + one
-	/// read() per wait. The level is read only for the first wait, and
-	/// when no edge came within kEdgeGrace of waiting (a missed edge).
+	/// when the channel slept since the exchange (none there: the level,
+	/// once, at once), then one ppoll() + one read() per wait. The level
+	/// is read only for the first wait, after a sleep that found no edge,
+	/// and when no edge came within kEdgeGrace of waiting (a missed edge).
 	/// Without INT0: ready once kFallbackWait has passed since the end of
 	/// the last exchange (waits for the rest of it, or for @p timeout if
 	/// shorter). Throws ecmxf::Error when the line cannot be read.
