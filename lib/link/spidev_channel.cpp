@@ -385,15 +385,8 @@ bool SpidevChannel::waitReady(std::chrono::nanoseconds timeout)
 		// kEdgeGrace for an edge that may never come (a chip that was
 		// done before it could drop INT0)
 		levelRead = true;
-		stats_.int0LevelReads++;
-		if (lineActive(IntLine::Int0, options_.readyHigh)) {
-			// an edge that came in the meantime is this one, late
-			if (!readyEdge(nanoseconds::zero()))
-				stats_.int0Unsignalled++;
-			int0_ = Int0State::Ready;
-			stats_.int0Ready++;
+		if (levelReady())
 			return true;
-		}
 	}
 	// wait for the ready edge; the level once, after kEdgeGrace without one
 	nanoseconds left = timeout;
@@ -406,22 +399,28 @@ bool SpidevChannel::waitReady(std::chrono::nanoseconds timeout)
 		left -= slice;
 		if (!levelRead) {
 			levelRead = true;
-			stats_.int0LevelReads++;
-			if (lineActive(IntLine::Int0, options_.readyHigh)) {
-				// ready: an edge that came in the meantime is this
-				// one, late (left queued, it would pass for the next)
-				if (!readyEdge(nanoseconds::zero()))
-					stats_.int0Unsignalled++;
-				int0_ = Int0State::Ready;
-				(void)now();
-				stats_.int0Ready++;
+			if (levelReady())
 				return true;
-			}
 		}
 	}
 	stats_.int0Timeouts++;
 	(void)now(); // the time has moved on by at least @p timeout
 	return false;
+}
+
+bool SpidevChannel::levelReady()
+{
+	stats_.int0LevelReads++;
+	if (!lineActive(IntLine::Int0, options_.readyHigh))
+		return false;
+	// ready: an edge that came in the meantime is this one, late (left
+	// queued, it would pass for the next)
+	if (!readyEdge(nanoseconds::zero()))
+		stats_.int0Unsignalled++;
+	int0_ = Int0State::Ready;
+	(void)now();
+	stats_.int0Ready++;
+	return true;
 }
 
 bool SpidevChannel::readyEdge(nanoseconds timeout)

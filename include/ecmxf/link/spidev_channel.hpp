@@ -187,6 +187,9 @@ private:
 	/// Reads INT0's queued events (waiting up to @p timeout): true when
 	/// the last says ready. Throws ecmxf::Error when that fails.
 	bool readyEdge(std::chrono::nanoseconds timeout);
+	/// One read of INT0's level with no edge seen: true (and INT0 known
+	/// ready) when it says ready; counts it in stats().
+	bool levelReady();
 	/// Moves coarseNow() on to @p t (never back).
 	void advanceClock(std::chrono::nanoseconds t) const noexcept;
 
