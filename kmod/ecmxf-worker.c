@@ -856,7 +856,7 @@ static int ecmxf_worker_fn(void *data)
 	struct ecmxf_req *reset, *req;
 	struct ecmxf_rings *pump, *finished[2];
 	u64 now, int1_at;
-	bool slot_free, pump_ok;
+	bool slot_free, pump_ok, waits;
 	int ret;
 
 	ecmxf_watch_start(edev);
@@ -929,13 +929,20 @@ static int ecmxf_worker_fn(void *data)
 		}
 
 		/*
-		 * INT1, or a poll for the events' listeners: refresh the
-		 * header (flags, state) with one exchange.  A working counter
-		 * read left to the next FIFO command needs none of its own.
+		 * A working counter read left to the next FIFO command needs
+		 * no exchange of its own; INT1 meanwhile is for that command
+		 * (the pump's turn at the top of the loop), not a refresh.
 		 */
-		if ((ecmxf_engine_idle(&edev->e) ||
-		     ecmxf_pump_answer_waits(edev)) &&
-		    !atomic_xchg(&edev->int1_flag, 0) &&
+		waits = !ecmxf_engine_idle(&edev->e) &&
+			ecmxf_pump_answer_waits(edev);
+		if (waits && atomic_read(&edev->int1_flag))
+			continue;
+		/*
+		 * INT1, or a poll for the events' listeners: refresh the
+		 * header (flags, state) with one exchange
+		 */
+		if ((waits || (ecmxf_engine_idle(&edev->e) &&
+			       !atomic_xchg(&edev->int1_flag, 0))) &&
 		    !ecmxf_watch_poll_due(edev, now)) {
 			/* a burst that just ended */
 			ecmxf_watch_flush(edev);
