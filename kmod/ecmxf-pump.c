@@ -254,8 +254,13 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 	return 0;
 drop:
 	mutex_lock(&edev->lock);
-	if (!wkc) {
+	/* frames skipped for a command that did not go: counted all the same */
+	if (!wkc && p->skipped) {
 		edev->out_ring_skipped += p->skipped;
+		if (edev->rings == r && !r->stopped) {
+			r->cur.out_skipped += p->skipped;
+			ecmxf_rings_publish(r);
+		}
 		p->skipped = 0;
 	}
 	if (ret == -EFAULT && edev->rings == r)

@@ -139,6 +139,8 @@ private:
 	bool irqSaved_ = false;
 	/// the kernel's counts as seen by the previous cycle
 	std::uint32_t wkcReads_ = 0, outDropped_ = 0, inDropped_ = 0, txOverflows_ = 0, rxRefusals_ = 0;
+	/// the status block's out_skipped at the last cycle
+	std::uint32_t outSkipped_ = 0;
 	std::uint32_t pumpFailures_ = 0;
 };
 
@@ -186,7 +188,7 @@ void RingPath::start()
 	rs.wkc_us = static_cast<std::uint32_t>(std::clamp<std::int64_t>(wkcUs, cfg_.wkcEvery ? 1 : 0, 10'000'000));
 
 	rings_->setup(rs);
-	wkcReads_ = outDropped_ = inDropped_ = txOverflows_ = rxRefusals_ = pumpFailures_ = 0;
+	wkcReads_ = outDropped_ = inDropped_ = txOverflows_ = rxRefusals_ = pumpFailures_ = outSkipped_ = 0;
 
 	dev_.pdo().fifoClear(FifoSelect::Both);
 	// INT1 on every TxPDO frame (TxFIFO high mark 1) and when the RxFIFO
@@ -269,6 +271,9 @@ void RingPath::exchange(CycleResult &r, bool) noexcept
 			txOverflows_ = st.tx_overflows;
 			r.txOverflow = true;
 		}
+		// the pump dropped the oldest of a backlog (never silent)
+		r.outputsSkipped = st.out_skipped - outSkipped_;
+		outSkipped_ = st.out_skipped;
 		if (st.pump_failures != pumpFailures_) {
 			// frames lost in a failed command: this cycle reports it
 			pumpFailures_ = st.pump_failures;
@@ -481,6 +486,7 @@ const CycleResult &Cyclic::cycle() noexcept
 	if (r.txOverflow)
 		s.txOverflows++;
 	s.txDroppedEstimate += r.txDroppedEstimate;
+	s.outputsSkipped += r.outputsSkipped;
 	if (r.wkcRead) {
 		s.wkcReads++;
 		if (!r.wkcOk)

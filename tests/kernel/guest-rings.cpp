@@ -52,6 +52,7 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/bus/master.hpp>
+#include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 
 #include <fcntl.h>
@@ -492,6 +493,34 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 			    "by the ring, the RxFIFO and the bus in %lld us\n",
 			    refused, taken, static_cast<long long>(dt.count() / 1000));
 		eq("  the statistics count them", cyc.stats().rxRefusals - before.rxRefusals, refused);
+	}
+	// the pump's skip: with the FIFOs off the pump sends nothing and the
+	// output ring fills; on again, the pump finds more frames than the
+	// RxFIFO's room plus its fill level and drops the oldest, counted in
+	// the status block (CycleResult::outputsSkipped) and in sysfs alike
+	{
+		const ecmxf::CyclicStats before = cyc.stats();
+		const std::uint64_t skipBefore = ringSkipped();
+		dev->pdo().fifoEnable(false);
+		// one more answer: the header the pump goes by shows them off
+		ecmxf::Command info;
+		info.code = ECMXF_CMD_INFO_UPDATE_OP;
+		(void)dev->command(info);
+		for (unsigned i = 0; i < 64; i++)
+			(void)cyc.cycle(); // the ring full, the rest refused
+		dev->pdo().fifoEnable(true);
+		for (int i = 0; i < 20; i++) {
+			(void)cyc.cycle();
+			(void)cyc.waitNextCycle();
+		}
+		const std::uint64_t sys = ringSkipped() - skipBefore;
+		const std::uint64_t lib = cyc.stats().outputsSkipped - before.outputsSkipped;
+		std::printf("guest-test: info pump skip: %llu frames skipped (sysfs), %llu (status block)\n",
+			    static_cast<unsigned long long>(sys), static_cast<unsigned long long>(lib));
+		ok(sys > 0, "pump skip: the FIFOs on again with a full output ring, the pump dropped the oldest (" +
+				    std::to_string(sys) + ")");
+		eq("  the status block's out_skipped (CycleResult::outputsSkipped) counts what sysfs ring_skipped does",
+		   lib, sys);
 	}
 	cyc.stop();
 	std::printf("guest-test: info rings %u Hz: counters exchanges %llu int1 %llu\n", hz,

@@ -184,6 +184,12 @@ struct CycleResult {
 	/// Estimated TxPDO frames lost to that overflow (needs
 	/// CyclicConfig::busCycle; 0 otherwise).
 	std::uint32_t txDroppedEstimate = 0;
+	/// Over the kernel's PDO rings: output frames of earlier cycles that
+	/// the kernel's pump dropped since the last cycle, the oldest of a
+	/// backlog it could not send in time (the status block's out_skipped;
+	/// the same count as /sys/class/ecmxf/ecmxfN/ring_skipped). Always 0
+	/// over the FIFO commands (the image is the only output frame there).
+	std::uint32_t outputsSkipped = 0;
 
 	/// The working counter was read this cycle (CyclicConfig::wkcEvery).
 	bool wkcRead = false;
@@ -214,6 +220,7 @@ struct CyclicStats {
 	std::uint64_t rxRefusals = 0;    ///< cycles with refused RxPDO frames
 	std::uint64_t txOverflows = 0;   ///< cycles that found the TxFIFO full
 	std::uint64_t txDroppedEstimate = 0;
+	std::uint64_t outputsSkipped = 0; ///< CycleResult::outputsSkipped summed
 	std::uint64_t wkcReads = 0;
 	std::uint64_t wkcMismatches = 0; ///< reads with wkc != expected
 	std::uint64_t lateCycles = 0;    ///< waitNextCycle() found a boundary already past
