@@ -499,6 +499,14 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 	// RxFIFO's room plus its fill level and drops the oldest, counted in
 	// the status block (CycleResult::outputsSkipped) and in sysfs alike
 	{
+		// both counts at a point where the pump cannot skip: no new
+		// outputs for 20 periods (the pump skips a backlog down to what
+		// fits at once), then one cycle() reads the status block
+		const auto settle = [&] {
+			std::this_thread::sleep_for(period * 20);
+			(void)cyc.cycle();
+		};
+		settle();
 		const ecmxf::CyclicStats before = cyc.stats();
 		const std::uint64_t skipBefore = ringSkipped();
 		dev->pdo().fifoEnable(false);
@@ -513,6 +521,7 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 			(void)cyc.cycle();
 			(void)cyc.waitNextCycle();
 		}
+		settle();
 		const std::uint64_t sys = ringSkipped() - skipBefore;
 		const std::uint64_t lib = cyc.stats().outputsSkipped - before.outputsSkipped;
 		std::printf("guest-test: info pump skip: %llu frames skipped (sysfs), %llu (status block)\n",
