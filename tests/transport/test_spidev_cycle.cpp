@@ -40,6 +40,47 @@ Calls since(const Calls &now, const Calls &before)
 	return d;
 }
 
+/// What @p cycles steady cycles of a started Cyclic cost (after 50 of
+/// warm-up): the backend's system calls and the channel's and link's
+/// counts.
+struct Steady {
+	Calls calls;
+	std::uint64_t exchanges = 0;     ///< the channel's
+	std::uint64_t linkExchanges = 0; ///< the link's counters
+	std::uint64_t levelReads = 0;
+};
+
+Steady runSteady(test::FakeSpidev &b, ecmxf::SpidevChannel &ch, ecmxf::Device &dev, ecmxf::Cyclic &cyc,
+		 unsigned cycles, bool wantInputs)
+{
+	cyc.start();
+	for (int i = 0; i < 50; i++) {
+		REQUIRE(cyc.cycle().error == 0);
+		REQUIRE(cyc.waitNextCycle() == 0);
+	}
+	const Calls before = b.calls;
+	const std::uint64_t exchanges = ch.stats().exchanges;
+	const std::uint64_t linkExchanges = dev.link().counters().exchanges;
+	const std::uint64_t levels = ch.stats().int0LevelReads;
+	for (unsigned i = 0; i < cycles; i++) {
+		const ecmxf::CycleResult &res = cyc.cycle();
+		INFO("cycle " << i << ": " << res.message);
+		REQUIRE(res.error == 0);
+		if (wantInputs)
+			REQUIRE(res.inputsUpdated);
+		REQUIRE(cyc.waitNextCycle() == 0);
+	}
+	Steady st;
+	st.calls = since(b.calls, before);
+	st.exchanges = ch.stats().exchanges - exchanges;
+	st.linkExchanges = dev.link().counters().exchanges - linkExchanges;
+	st.levelReads = ch.stats().int0LevelReads - levels;
+	const Calls &d = st.calls;
+	INFO("per " << cycles << " cycles: transfer " << d.ioctlTransfer << ", line " << d.ioctlLine << ", ppoll "
+		    << d.ppoll << ", read " << d.read << ", clock " << d.clock << ", sleep " << d.sleep);
+	return st;
+}
+
 } // namespace
 
 TEST_CASE("spidev INT0: the ready edge after an exchange is waited for with one ppoll and one read, "
@@ -198,30 +239,15 @@ TEST_CASE("spidev Cyclic: a steady cycle makes 2 transfers, waits INT0 by its ed
 	cc.wkcEvery = 10;
 	cc.wkcAnswerNextCycle = true; // the read rides along: 2 exchanges per cycle
 	ecmxf::Cyclic cyc(*bus.dev, image, cc);
-	cyc.start();
-	for (int i = 0; i < 50; i++) {
-		REQUIRE(cyc.cycle().error == 0);
-		REQUIRE(cyc.waitNextCycle() == 0);
-	}
 	constexpr unsigned kCycles = 200;
-	const Calls before = b.calls;
-	const std::uint64_t exchanges = ch.stats().exchanges;
-	const std::uint64_t levels = ch.stats().int0LevelReads;
-	for (unsigned i = 0; i < kCycles; i++) {
-		const ecmxf::CycleResult &res = cyc.cycle();
-		INFO("cycle " << i << ": " << res.message);
-		REQUIRE(res.error == 0);
-		REQUIRE(cyc.waitNextCycle() == 0);
-	}
-	const Calls d = since(b.calls, before);
-	INFO("per " << kCycles << " cycles: transfer " << d.ioctlTransfer << ", line " << d.ioctlLine << ", ppoll "
-		    << d.ppoll << ", read " << d.read << ", clock " << d.clock << ", sleep " << d.sleep);
-	CHECK(ch.stats().exchanges - exchanges == 2 * kCycles);
+	const Steady st = runSteady(b, ch, *bus.dev, cyc, kCycles, false);
+	const Calls &d = st.calls;
+	CHECK(st.exchanges == 2 * kCycles);
 	// one SPI transfer ioctl per exchange
 	CHECK(d.ioctlTransfer == 2 * kCycles);
 	// INT0 by its edge: never its level
 	CHECK(d.ioctlLine == 0);
-	CHECK(ch.stats().int0LevelReads == levels);
+	CHECK(st.levelReads == 0);
 	// the first exchange's edge came during the sleep: one read; the
 	// second's is waited for: one ppoll and one read
 	CHECK(d.ppoll == kCycles);
@@ -254,34 +280,17 @@ TEST_CASE("spidev Cyclic fifoAnswerNextCycle: a steady cycle makes 1 transfer an
 	cc.wkcEvery = 10;
 	cc.fifoAnswerNextCycle = true; // the FIFO command's answer comes with the next cycle's exchange
 	ecmxf::Cyclic cyc(*bus.dev, image, cc);
-	cyc.start();
-	for (int i = 0; i < 50; i++) {
-		REQUIRE(cyc.cycle().error == 0);
-		REQUIRE(cyc.waitNextCycle() == 0);
-	}
 	constexpr unsigned kCycles = 200;
 	constexpr unsigned kReads = kCycles / 10;
-	const Calls before = b.calls;
-	const std::uint64_t exchanges = ch.stats().exchanges;
-	const std::uint64_t linkExchanges = bus.dev->link().counters().exchanges;
-	const std::uint64_t levels = ch.stats().int0LevelReads;
-	for (unsigned i = 0; i < kCycles; i++) {
-		const ecmxf::CycleResult &res = cyc.cycle();
-		INFO("cycle " << i << ": " << res.message);
-		REQUIRE(res.error == 0);
-		REQUIRE(res.inputsUpdated);
-		REQUIRE(cyc.waitNextCycle() == 0);
-	}
-	const Calls d = since(b.calls, before);
-	INFO("per " << kCycles << " cycles: transfer " << d.ioctlTransfer << ", line " << d.ioctlLine << ", ppoll "
-		    << d.ppoll << ", read " << d.read << ", clock " << d.clock << ", sleep " << d.sleep);
+	const Steady st = runSteady(b, ch, *bus.dev, cyc, kCycles, true);
+	const Calls &d = st.calls;
 	// one exchange per cycle, one more in each of the 20 with a read
-	CHECK(ch.stats().exchanges - exchanges == kCycles + kReads);
-	CHECK(bus.dev->link().counters().exchanges - linkExchanges == kCycles + kReads);
+	CHECK(st.exchanges == kCycles + kReads);
+	CHECK(st.linkExchanges == kCycles + kReads);
 	CHECK(cyc.stats().wkcReads == 50 / 10 + kReads);
 	CHECK(d.ioctlTransfer == kCycles + kReads);
 	CHECK(d.ioctlLine == 0);
-	CHECK(ch.stats().int0LevelReads == levels);
+	CHECK(st.levelReads == 0);
 	// the first exchange's edge came during the sleep: one read; the
 	// batch returns once the FIFO command is sent, without waiting for
 	// its edge. A read cycle waits for the second exchange's edge: one
