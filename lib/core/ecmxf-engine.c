@@ -513,6 +513,13 @@ static bool ecmxf_sent(const struct ecmxf_xfer *x)
 	return x && x->state == ECMXF_XS_SENT;
 }
 
+/* @x, in one of the two command slots, has the slots to itself. */
+static bool ecmxf_alone(const struct ecmxf_engine *e,
+			const struct ecmxf_xfer *x)
+{
+	return x == e->cur ? !e->nxt : !e->cur;
+}
+
 static unsigned int ecmxf_answer_lost(struct ecmxf_engine *e,
 				      struct ecmxf_xfer *x,
 				      const struct ecmxf_rsp_hdr *h,
@@ -535,8 +542,7 @@ static bool ecmxf_fetch_ahead(const struct ecmxf_engine *e,
 	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(x->hdr.code);
 
 	return e->pipeline && x->owner && x->owner == e->async &&
-	       x->owner->state == ECMXF_XS_RUNNING &&
-	       (x == e->cur ? !e->nxt : !e->cur) &&
+	       x->owner->state == ECMXF_XS_RUNNING && ecmxf_alone(e, x) &&
 	       ci && (ci->flags & ECMXF_CMDF_IDEMPOTENT);
 }
 
@@ -1180,8 +1186,7 @@ bool ecmxf_engine_sent(const struct ecmxf_engine *e,
 bool ecmxf_engine_waits_only(const struct ecmxf_engine *e,
 			     const struct ecmxf_xfer *x)
 {
-	return ecmxf_engine_sent(e, x) && !e->async &&
-	       (x == e->cur ? !e->nxt : !e->cur);
+	return ecmxf_engine_sent(e, x) && !e->async && ecmxf_alone(e, x);
 }
 
 /**
