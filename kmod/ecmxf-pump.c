@@ -54,28 +54,28 @@ bool ecmxf_pump_busy(const struct ecmxf_dev *edev)
 
 /**
  * ecmxf_pump_answer_waits() - may the worker sleep with a command in flight?
- * @edev: the device; takes the lock
+ * @edev: the device; called by the worker without the lock
  *
  * With %ECMXF_RING_F_WKC_NEXT the working counter read's answer is left
  * to the exchange of the next FIFO command: the worker need not exchange
  * for it alone while that command is coming (the pump's timer runs) and
- * nothing else waits (no request, no reset).
+ * no reset waits.  The engine is the worker's: whether the read is all it
+ * has in flight (no FIFO command, no file's request) is asked without the
+ * lock, which is taken only then.
  *
  * Return: true when the read, sent, is all the engine has in flight and
  * may wait for the pump's next command.
  */
 bool ecmxf_pump_answer_waits(struct ecmxf_dev *edev)
 {
-	const struct ecmxf_pump_slot *p = &edev->pump;
 	bool waits;
 
+	if (!ecmxf_engine_waits_only(&edev->e, &edev->pump.wkc.x))
+		return false;
 	mutex_lock(&edev->lock);
-	waits = edev->rings &&
+	waits = edev->pump.wkc.busy && edev->rings &&
 		(edev->rings->setup_flags & ECMXF_RING_F_WKC_NEXT) &&
-		p->wkc.busy && !p->fifo.busy && !edev->cur_req &&
-		!edev->async_req && list_empty(&edev->resets) &&
-		ecmxf_engine_waits_only(&edev->e, &p->wkc.x) &&
-		ecmxf_pump_deadline(edev);
+		list_empty(&edev->resets) && ecmxf_pump_deadline(edev);
 	mutex_unlock(&edev->lock);
 	return waits;
 }

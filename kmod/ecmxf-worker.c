@@ -933,8 +933,7 @@ static int ecmxf_worker_fn(void *data)
 		 * no exchange of its own; INT1 meanwhile is for that command
 		 * (the pump's turn at the top of the loop), not a refresh.
 		 */
-		waits = !ecmxf_engine_idle(&edev->e) &&
-			ecmxf_pump_answer_waits(edev);
+		waits = ecmxf_pump_answer_waits(edev);
 		if (waits && atomic_read(&edev->int1_flag))
 			continue;
 		/*
