@@ -10,7 +10,9 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -211,6 +213,45 @@ inline std::vector<ecmxf::SlavePdos> defaultPdos()
 inline std::vector<ecmxf::SlavePdos> loopbackPdos()
 {
 	return { est584(), est584(), dioWord(4) };
+}
+
+/// What the sequence counters a run echoed back show, one per input frame:
+/// zeros (the pre-loaded outputs), then 1, 2, 3... each value once, or
+/// repeated while the RxFIFO is first filled; never a gap or a step back.
+struct Sequence {
+	bool found = false;      ///< a non-zero value came
+	std::uint32_t first = 0; ///< the first non-zero value
+	/// the first frame that is neither the value before nor one more
+	/// (seen.size(): none); the counts stop there
+	std::size_t badFrame = 0;
+	std::size_t distinct = 0; ///< distinct values from the first non-zero one
+	int repeated = 0;         ///< of those, values above @p settled that came more than once
+};
+
+inline Sequence sequenceOf(const std::vector<std::uint32_t> &seen, std::uint32_t settled)
+{
+	Sequence q;
+	std::size_t k = 0;
+	while (k < seen.size() && seen[k] == 0)
+		k++;
+	q.badFrame = seen.size();
+	if (k == seen.size())
+		return q;
+	q.found = true;
+	q.first = seen[k];
+	std::map<std::uint32_t, int> count;
+	for (std::size_t j = k; j < seen.size(); j++) {
+		if (j > k && seen[j] != seen[j - 1] && seen[j] != seen[j - 1] + 1) {
+			q.badFrame = j;
+			break;
+		}
+		count[seen[j]]++;
+	}
+	q.distinct = count.size();
+	for (const auto &[value, n] : count)
+		if (value > settled && n != 1)
+			q.repeated++;
+	return q;
 }
 
 } // namespace pdotest

@@ -12,7 +12,6 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdint>
-#include <map>
 #include <memory>
 #include <vector>
 
@@ -298,23 +297,13 @@ TEST_CASE("Cyclic fifoAnswerNextCycle: a steady RxFIFO over 500 cycles, and no f
 	CHECK(s.framesPopped == readBefore - read0);
 	CHECK(seen.size() == s.framesPopped);
 	CHECK(s.framesPushed + chip.stats().rxRefused <= chip.stats().rxAccepted);
-	std::size_t k = 0;
-	while (k < seen.size() && seen[k] == 0)
-		k++;
-	REQUIRE(k < seen.size());
-	CHECK(seen[k] == 1);
-	std::map<std::uint32_t, int> count;
-	for (std::size_t j = k; j < seen.size(); j++) {
-		count[seen[j]]++;
-		if (j > k && seen[j] != seen[j - 1] && seen[j] != seen[j - 1] + 1)
-			FAIL("frame " << j << " carries " << seen[j] << " after " << seen[j - 1]);
-	}
+	const pdotest::Sequence q = pdotest::sequenceOf(seen, settled);
+	REQUIRE(q.found);
+	CHECK(q.first == 1);
+	if (q.badFrame < seen.size())
+		FAIL("frame " << q.badFrame << " carries " << seen[q.badFrame] << " after " << seen[q.badFrame - 1]);
 	// after the fill every output frame reached the bus exactly once
-	int repeated = 0;
-	for (const auto &[value, n] : count)
-		if (value > settled && n != 1)
-			repeated++;
-	CHECK(repeated == 0);
+	CHECK(q.repeated == 0);
 	CHECK(echo.get() == seen.back());
 	// the outputs of the last cycle are about rxFill + 2 bus cycles away
 	CHECK(seen.back() + cyc.rxFill() + 4 >= kCycles);
