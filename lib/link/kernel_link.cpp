@@ -335,7 +335,7 @@ void KernelLink::command(const RawRequest &req, const RawRequest *fetch, RawResu
 		s_->last = out.header;
 	if (s_->trace) {
 		s_->trace->response(static_cast<std::uint64_t>(now().count()), res,
-				    std::span<const std::uint8_t>(req.rx.data(), fetched ? 0 : res.rxLen));
+				    std::span<const std::uint8_t>(req.rx.data(), res.rxLen));
 		if (fetchRes)
 			s_->trace->response(static_cast<std::uint64_t>(now().count()), *fetchRes,
 					    std::span<const std::uint8_t>(ans.rx.data(), fetchRes->rxLen));
