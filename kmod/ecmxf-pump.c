@@ -11,7 +11,10 @@
  * commands take turns with the files' commands.  The working counter read
  * has a command of its own beside the FIFO command's, so that it rides in
  * the exchange that fetches the FIFO command's answer (pipelining: three
- * exchanges for a cycle that reads it, not four).
+ * exchanges for a cycle that reads it, not four).  With
+ * %ECMXF_RING_F_FIFO_NEXT the FIFO command's answer is left to the next
+ * FIFO command's exchange: two of them are then in flight (&struct
+ * ecmxf_pump_slot.fifo), one exchange per pump cycle.
  *
  * What a command carries and what its answer means (the fill level, the
  * skipped frames, the refusals and losses, the EPROTO rules) is the
@@ -49,32 +52,54 @@ MODULE_PARM_DESC(pump_timeout_ms,
  */
 bool ecmxf_pump_busy(const struct ecmxf_dev *edev)
 {
-	return edev->pump.fifo.busy || edev->pump.wkc.busy;
+	const struct ecmxf_pump_slot *p = &edev->pump;
+
+	return p->fifo[0].busy || p->fifo[1].busy || p->wkc.busy;
+}
+
+/* the time allowed for each pump command, in microseconds */
+static u32 ecmxf_pump_timeout_us(void)
+{
+	return clamp(READ_ONCE(ecmxf_param_pump_timeout_ms), 10U, 60000U) *
+	       USEC_PER_MSEC;
 }
 
 /**
  * ecmxf_pump_answer_waits() - may the worker sleep with a command in flight?
  * @edev: the device; called by the worker without the lock
  *
- * With %ECMXF_RING_F_WKC_NEXT the working counter read's answer is left
- * to the exchange of the next FIFO command: the worker need not exchange
- * for it alone while that command is coming (the pump's timer runs) and
- * no reset waits.  The engine is the worker's: whether the read is all it
- * has in flight (no FIFO command, no file's request) is asked without the
- * lock, which is taken only then.
+ * With %ECMXF_RING_F_WKC_NEXT the working counter read's answer, with
+ * %ECMXF_RING_F_FIFO_NEXT the FIFO command's, is left to the exchange of
+ * the next FIFO command: the worker need not exchange for it alone while
+ * that command is coming (the pump's timer runs, well within the time
+ * the command is allowed, and its next tick, which may find nothing to
+ * send, has not passed yet) and no reset waits.  The engine is the
+ * worker's: whether the command is all it has in flight (no other pump
+ * command, no file's request) is asked without the lock, which is taken
+ * only then.
  *
- * Return: true when the read, sent, is all the engine has in flight and
- * may wait for the pump's next command.
+ * Return: true when one of the pump's commands, sent, is all the engine
+ * has in flight and may wait for the pump's next command.
  */
 bool ecmxf_pump_answer_waits(struct ecmxf_dev *edev)
 {
+	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_pump_cmd *c = &p->fifo[p->newest];
+	u32 flag = ECMXF_RING_F_FIFO_NEXT;
+	struct ecmxf_rings *r;
 	bool waits;
 
-	if (!ecmxf_engine_waits_only(&edev->e, &edev->pump.wkc.x))
-		return false;
+	if (!ecmxf_engine_waits_only(&edev->e, &c->x)) {
+		c = &p->wkc;
+		flag = ECMXF_RING_F_WKC_NEXT;
+		if (!ecmxf_engine_waits_only(&edev->e, &c->x))
+			return false;
+	}
 	mutex_lock(&edev->lock);
-	waits = edev->pump.wkc.busy && edev->rings &&
-		(edev->rings->setup_flags & ECMXF_RING_F_WKC_NEXT) &&
+	r = edev->rings;
+	waits = c->busy && r && (r->setup_flags & flag) &&
+		r->poll_ns * 2 <= (u64)c->x.timeout_us * NSEC_PER_USEC &&
+		ktime_get_ns() < c->answer_by_ns &&
 		list_empty(&edev->resets) && ecmxf_pump_deadline(edev);
 	mutex_unlock(&edev->lock);
 	return waits;
@@ -87,11 +112,13 @@ bool ecmxf_pump_answer_waits(struct ecmxf_dev *edev)
  *
  * Due when rings exist, the pump has not stopped and the chip's FIFO is
  * on (ECM status bit 6 in the last header); then the FIFO command, when
- * it is not in flight and its timer expired, INT1 fired (the FIFO
- * threshold flags) or the last one left work; else the working counter
- * read, when it is not in flight and due.  The FIFO command goes first:
- * it carries the process data, and the read rides behind it.  The choice
- * is kept for ecmxf_pump_submit().
+ * it is not in flight (with %ECMXF_RING_F_FIFO_NEXT: when the one in
+ * flight has gone out and waits for its answer, which the new one will
+ * fetch) and its timer expired, INT1 fired (the FIFO threshold flags) or
+ * the last one left work; else the working counter read, when it is not
+ * in flight and due.  The FIFO command goes first: it carries the process
+ * data, and the read rides behind it (while one is in flight, the read
+ * goes next).  The choice is kept for ecmxf_pump_submit().
  *
  * Return: the rings with a reference for the command, or NULL.
  */
@@ -99,6 +126,7 @@ struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now)
 {
 	struct ecmxf_rings *r = edev->rings;
 	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_pump_cmd *f = &p->fifo[p->newest];
 	bool fifo, wkc;
 
 	lockdep_assert_held(&edev->lock);
@@ -106,15 +134,23 @@ struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now)
 		return NULL;
 	if (!(edev->last.ecm_status & ECMXF_STS_FIFO_EN))
 		return NULL;
-	fifo = !p->fifo.busy &&
-	       (r->again || now >= r->next_tick_ns ||
-		atomic_read(&edev->int1_flag));
+	fifo = !f->busy ||
+	       ((r->setup_flags & ECMXF_RING_F_FIFO_NEXT) &&
+		!p->fifo[!p->newest].busy && ecmxf_engine_sent(&edev->e, &f->x));
+	fifo = fifo && (r->again || now >= r->next_tick_ns ||
+			atomic_read(&edev->int1_flag));
 	wkc = !p->wkc.busy && r->wkc_ns && now >= r->next_wkc_ns;
 	if (!fifo && !wkc)
 		return NULL;
-	p->take_wkc = !fifo;
+	/*
+	 * the read rides in the exchange that fetches the answer of the FIFO
+	 * command in flight; a FIFO command that could go in its place
+	 * (%ECMXF_RING_F_FIFO_NEXT) waits for that one exchange, else a
+	 * busy pump would never read
+	 */
+	p->take_wkc = wkc && (!fifo || f->busy);
 	/* this command is the exchange that INT1 asks for */
-	if (fifo)
+	if (!p->take_wkc)
 		atomic_set(&edev->int1_flag, 0);
 	kref_get(&r->ref);
 	return r;
@@ -163,45 +199,52 @@ static void ecmxf_pump_prepare_wkc(struct ecmxf_dev *edev,
 }
 
 /*
- * Build the FIFO command in @edev->pump.fifo.x: what the protocol core
+ * Build the FIFO command @i of @edev->pump.fifo: what the protocol core
  * plans from what the output ring holds (up to the RxFIFO fill level and
- * the data section), popping TxPDO frames.  Return: false when there is
- * nothing to send.
+ * the data section), popping TxPDO frames.  The frames of the other one,
+ * when it is in flight, are in the RxFIFO for the plan, though no header
+ * shows them yet.  Return: false when there is nothing to send.
  */
-static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r)
+static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r,
+			       unsigned int i)
 {
 	struct ecmxf_pump_slot *p = &edev->pump;
-	struct ecmxf_pump_plan *pl = &p->plan;
-	struct ecmxf_xfer *x = &p->fifo.x;
+	struct ecmxf_pump_cmd *c = &p->fifo[i];
+	const struct ecmxf_pump_cmd *o = &p->fifo[!i];
+	struct ecmxf_pump_plan *pl = &c->plan;
+	struct ecmxf_xfer *x = &c->x;
 	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
+	u32 level;
 	bool send;
 	int avail;
 
 	memset(x, 0, sizeof(*x));
 	memset(pl, 0, sizeof(*pl));
-	x->rx_buf = r->rx_buf;
+	x->rx_buf = r->rx_buf[i];
 	x->rx_size = ECMXF_DATA_MAX;
-	x->tx_data = r->tx_buf;
+	x->tx_data = r->tx_buf[i];
 	x->status = -EINPROGRESS;
-	p->skipped = 0;
+	c->skipped = 0;
+	c->released = r->setup_flags & ECMXF_RING_F_FIFO_NEXT;
 
 	avail = ecmxf_ring_out_avail(r);
 	if (avail < 0)
 		return false;	/* ecmxf_pump_submit() stops the rings */
 	r->pump.data_size = ecmxf_engine_data_size(&edev->e);
-	send = ecmxf_pump_next(&r->pump, ecmxf_pump_level(&r->pump, h),
-			       (u32)avail, ECMXF_PUMP_F_READ, pl);
+	level = ecmxf_pump_level(&r->pump, h) + (o->busy ? o->plan.push : 0);
+	send = ecmxf_pump_next(&r->pump, level, (u32)avail, ECMXF_PUMP_F_READ,
+			       pl);
 	/*
 	 * Fallen behind (the application produces faster than the chip
 	 * takes): the oldest frames are skipped.  Counted, never silent.
 	 */
 	if (pl->skip) {
 		ecmxf_ring_out_release(r, pl->skip, pl->skip);
-		p->skipped = pl->skip;
+		c->skipped = pl->skip;
 	}
 	if (!send)
 		return false;
-	ecmxf_ring_out_copy(r, r->tx_buf, pl->push);
+	ecmxf_ring_out_copy(r, r->tx_buf[i], pl->push);
 	/* re-arm the threshold flags that woke us (INT1 is edge-triggered) */
 	x->tx_len = (u16)ecmxf_pump_fifo_cmd(&r->pump, pl, true, &x->hdr);
 	return true;
@@ -222,23 +265,27 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 {
 	struct ecmxf_pump_slot *p = &edev->pump;
 	bool wkc = p->take_wkc;
-	struct ecmxf_pump_cmd *c = wkc ? &p->wkc : &p->fifo;
+	struct ecmxf_pump_cmd *c = &p->wkc;
 	int ret;
 
 	if (wkc) {
 		ecmxf_pump_prepare_wkc(edev, r, now);
 	} else {
+		/* the one in flight, if any, is the older */
+		if (p->fifo[p->newest].busy)
+			p->newest = !p->newest;
+		c = &p->fifo[p->newest];
 		r->again = false;
 		r->next_tick_ns = now + r->poll_ns;
-		if (!ecmxf_pump_prepare(edev, r)) {
+		if (!ecmxf_pump_prepare(edev, r, p->newest)) {
 			ret = -ENODATA;
 			if (ecmxf_ring_out_avail(r) < 0)
 				ret = -EFAULT;
 			goto drop;
 		}
 	}
-	c->x.timeout_us = clamp(READ_ONCE(ecmxf_param_pump_timeout_ms),
-				10U, 60000U) * USEC_PER_MSEC;
+	c->x.timeout_us = ecmxf_pump_timeout_us();
+	c->answer_by_ns = r->next_tick_ns;
 	if (!ecmxf_engine_can_submit(&edev->e, &c->x)) {
 		ret = -EBUSY;
 		goto drop;
@@ -250,18 +297,23 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 	c->rings = r;
 	c->busy = true;
 	p->turn = false;
+	/* the command has its copy: the slots are the application's again */
+	if (!wkc && c->released && c->plan.push) {
+		ecmxf_ring_out_release(r, c->plan.push, 0);
+		ecmxf_rings_wake(edev, EPOLLOUT | EPOLLWRNORM);
+	}
 	mutex_unlock(&edev->lock);
 	return 0;
 drop:
 	mutex_lock(&edev->lock);
 	/* frames skipped for a command that did not go: counted all the same */
-	if (!wkc && p->skipped) {
-		edev->out_ring_skipped += p->skipped;
+	if (!wkc && c->skipped) {
+		edev->out_ring_skipped += c->skipped;
 		if (edev->rings == r && !r->stopped) {
-			r->cur.out_skipped += p->skipped;
+			r->cur.out_skipped += c->skipped;
 			ecmxf_rings_publish(r);
 		}
-		p->skipped = 0;
+		c->skipped = 0;
 	}
 	if (ret == -EFAULT && edev->rings == r)
 		ecmxf_rings_stop(edev, -EFAULT);
@@ -309,33 +361,44 @@ static void ecmxf_pump_wkc_done(struct ecmxf_rings *r,
 	ecmxf_rings_publish(r);
 }
 
-/* The FIFO command answered: move the frames, count; lock held. */
+/*
+ * The FIFO command @c answered: move the frames, count; lock held.  Its
+ * output frames leave the ring now, or left it when it was built
+ * (@c->released): then only the refused ones are counted here.
+ */
 static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 				 struct ecmxf_rings *r,
-				 const struct ecmxf_xfer *x)
+				 const struct ecmxf_pump_cmd *c)
 {
+	const struct ecmxf_xfer *x = &c->x;
 	const struct ecmxf_rsp_hdr *h = &x->rsp;
-	u32 deltas[7] = { 1, 0, 0, 0, 0, edev->pump.skipped, 0 };
+	u32 deltas[7] = { 1, 0, 0, 0, 0, c->skipped, 0 };
 	struct ecmxf_pump_result res;
 	__poll_t wake = 0;
 	u32 stored;
 	int avail, err;
 
-	err = ecmxf_pump_answer(&r->pump, &edev->pump.plan, h, x->rx_len,
-				&res);
+	err = ecmxf_pump_answer(&r->pump, &c->plan, h, x->rx_len, &res);
 	if (err == -EREMOTEIO) {
-		/* nothing was taken: the frames stay in the ring */
+		/*
+		 * nothing was taken: the frames stay in the ring, or, gone
+		 * from it already, are dropped (newer ones have been sent)
+		 */
+		if (c->released && c->plan.push)
+			ecmxf_ring_out_release(r, 0, c->plan.push);
 		ecmxf_status_update(r, h, err, deltas);
 		return;
 	}
 	if (res.taken) {
-		ecmxf_ring_out_release(r, res.taken, res.refused);
+		ecmxf_ring_out_release(r, c->released ? 0 : res.taken,
+				       res.refused);
 		if (res.refused) {
 			/* the RxFIFO was full: some of them were refused */
 			edev->rx_fifo_overruns++;
 			deltas[1]++;
 		}
-		wake |= EPOLLOUT | EPOLLWRNORM;
+		if (!c->released)
+			wake |= EPOLLOUT | EPOLLWRNORM;
 	}
 	if (err) {
 		/* -EPROTO: the input frames of the answer are lost */
@@ -343,7 +406,7 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 		return;
 	}
 	if (res.popped) {
-		stored = ecmxf_ring_in_store(r, r->rx_buf, res.popped);
+		stored = ecmxf_ring_in_store(r, x->rx_buf, res.popped);
 		edev->in_ring_overruns += res.popped - stored;
 		wake |= EPOLLRDBAND;
 	}
@@ -376,18 +439,19 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
  * a refusal (the chip may well have taken the frames); lock held.
  */
 static void ecmxf_pump_failed(struct ecmxf_dev *edev, struct ecmxf_rings *r,
-			      const struct ecmxf_xfer *x)
+			      const struct ecmxf_pump_cmd *c)
 {
-	bool fifo = x == &edev->pump.fifo.x;
-	u32 deltas[7] = { 0, 0, 0, 0, 0, fifo ? edev->pump.skipped : 0, 1 };
-	u32 lost = fifo ? ecmxf_pump_lost(&r->pump, &edev->pump.plan) : 0;
+	bool fifo = c != &edev->pump.wkc;
+	u32 deltas[7] = { 0, 0, 0, 0, 0, fifo ? c->skipped : 0, 1 };
+	u32 lost = fifo ? ecmxf_pump_lost(&r->pump, &c->plan) : 0;
 
 	edev->pump_failures++;
 	if (lost) {
-		ecmxf_ring_out_release(r, lost, lost);
-		ecmxf_rings_wake(edev, EPOLLOUT | EPOLLWRNORM);
+		ecmxf_ring_out_release(r, c->released ? 0 : lost, lost);
+		if (!c->released)
+			ecmxf_rings_wake(edev, EPOLLOUT | EPOLLWRNORM);
 	}
-	ecmxf_status_update(r, &x->rsp, x->status, deltas);
+	ecmxf_status_update(r, &c->x.rsp, c->x.status, deltas);
 }
 
 /* Finish @c if the engine finished it; lock held.  Return: its reference. */
@@ -396,7 +460,7 @@ static struct ecmxf_rings *ecmxf_pump_finish(struct ecmxf_dev *edev,
 {
 	struct ecmxf_rings *r = c->rings;
 	const struct ecmxf_xfer *x = &c->x;
-	bool fifo = c == &edev->pump.fifo;
+	bool fifo = c != &edev->pump.wkc;
 
 	if (!c->busy || x->status == -EINPROGRESS)
 		return NULL;
@@ -404,16 +468,16 @@ static struct ecmxf_rings *ecmxf_pump_finish(struct ecmxf_dev *edev,
 	c->rings = NULL;
 	/* counted here; the status block's delta below reads it too */
 	if (fifo)
-		edev->out_ring_skipped += edev->pump.skipped;
+		edev->out_ring_skipped += c->skipped;
 	if (r == edev->rings && !r->stopped) {
 		if (x->status == -ECONNRESET)
 			ecmxf_rings_stop(edev, x->status);
 		else if (x->status)
-			ecmxf_pump_failed(edev, r, x);
+			ecmxf_pump_failed(edev, r, c);
 		else if (!fifo)
 			ecmxf_pump_wkc_done(r, x);
 		else
-			ecmxf_pump_fifo_done(edev, r, x);
+			ecmxf_pump_fifo_done(edev, r, c);
 	}
 	return r;
 }
@@ -423,14 +487,21 @@ static struct ecmxf_rings *ecmxf_pump_finish(struct ecmxf_dev *edev,
  * @edev: the device, lock held (called by ecmxf_collect())
  * @put: the commands' references to the rings, set for those finished,
  *	else NULL; the caller drops them with ecmxf_rings_put() after
- *	unlocking (both may finish in one exchange: a chip reset, the
+ *	unlocking (several may finish in one exchange: a chip reset, the
  *	retries run out)
+ *
+ * The FIFO commands are finished oldest first: their frames are moved in
+ * the order the chip took and gave them.
  */
-void ecmxf_pump_collect(struct ecmxf_dev *edev, struct ecmxf_rings *put[2])
+void ecmxf_pump_collect(struct ecmxf_dev *edev,
+			struct ecmxf_rings *put[ECMXF_PUMP_CMDS])
 {
+	struct ecmxf_pump_slot *p = &edev->pump;
+
 	lockdep_assert_held(&edev->lock);
-	put[0] = ecmxf_pump_finish(edev, &edev->pump.fifo);
-	put[1] = ecmxf_pump_finish(edev, &edev->pump.wkc);
+	put[0] = ecmxf_pump_finish(edev, &p->fifo[!p->newest]);
+	put[1] = ecmxf_pump_finish(edev, &p->fifo[p->newest]);
+	put[2] = ecmxf_pump_finish(edev, &p->wkc);
 }
 
 /* Withdraw @c from the engine; lock held.  Return: its reference. */
@@ -454,9 +525,13 @@ static struct ecmxf_rings *ecmxf_pump_withdraw(struct ecmxf_dev *edev,
  *	the engine; the caller drops them with ecmxf_rings_put() after
  *	unlocking
  */
-void ecmxf_pump_cancel(struct ecmxf_dev *edev, struct ecmxf_rings *put[2])
+void ecmxf_pump_cancel(struct ecmxf_dev *edev,
+		       struct ecmxf_rings *put[ECMXF_PUMP_CMDS])
 {
+	struct ecmxf_pump_slot *p = &edev->pump;
+
 	lockdep_assert_held(&edev->lock);
-	put[0] = ecmxf_pump_withdraw(edev, &edev->pump.fifo);
-	put[1] = ecmxf_pump_withdraw(edev, &edev->pump.wkc);
+	put[0] = ecmxf_pump_withdraw(edev, &p->fifo[0]);
+	put[1] = ecmxf_pump_withdraw(edev, &p->fifo[1]);
+	put[2] = ecmxf_pump_withdraw(edev, &p->wkc);
 }

@@ -66,8 +66,10 @@ static void ecmxf_rings_release(struct kref *ref)
 
 	ecmxf_ring_free(&r->out);
 	ecmxf_ring_free(&r->in);
-	kfree(r->tx_buf);
-	kfree(r->rx_buf);
+	kfree(r->tx_buf[0]);
+	kfree(r->tx_buf[1]);
+	kfree(r->rx_buf[0]);
+	kfree(r->rx_buf[1]);
 	kfree(r->wkc_buf);
 	kfree(r);
 }
@@ -153,6 +155,7 @@ int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
 	u32 poll_us = rs->poll_us ? rs->poll_us : ECMXF_POLL_US_DEFAULT;
 	unsigned int data_size;
 	struct ecmxf_rings *r;
+	unsigned int i;
 	int ret;
 
 	mutex_lock(&edev->lock);
@@ -168,11 +171,14 @@ int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
 		return -ENOMEM;
 	kref_init(&r->ref);
 	r->edev = edev;
-	r->tx_buf = kzalloc(ECMXF_DATA_MAX, GFP_KERNEL);
-	r->rx_buf = kzalloc(ECMXF_DATA_MAX, GFP_KERNEL);
+	for (i = 0; i < ARRAY_SIZE(r->tx_buf); i++) {
+		r->tx_buf[i] = kzalloc(ECMXF_DATA_MAX, GFP_KERNEL);
+		r->rx_buf[i] = kzalloc(ECMXF_DATA_MAX, GFP_KERNEL);
+	}
 	r->wkc_buf = kzalloc(ECMXF_DATA_MAX, GFP_KERNEL);
 	ret = -ENOMEM;
-	if (!r->tx_buf || !r->rx_buf || !r->wkc_buf)
+	if (!r->tx_buf[0] || !r->tx_buf[1] || !r->rx_buf[0] ||
+	    !r->rx_buf[1] || !r->wkc_buf)
 		goto err;
 	ret = ecmxf_ring_init(&r->out, rs->out_entries, sizes[0], false);
 	if (ret)
@@ -207,7 +213,7 @@ bool ecmxf_ring_setup_valid(const struct ecmxf_ring_setup *rs)
 	    !ecmxf_entries_valid(rs->in_entries))
 		return false;
 	if (rs->flags & ~(ECMXF_RING_F_POLL_OUT | ECMXF_RING_F_POLL_IN |
-			  ECMXF_RING_F_WKC_NEXT))
+			  ECMXF_RING_F_WKC_NEXT | ECMXF_RING_F_FIFO_NEXT))
 		return false;
 	if (rs->poll_us && (rs->poll_us < ECMXF_POLL_US_MIN ||
 			    rs->poll_us > ECMXF_POLL_US_MAX))

@@ -74,8 +74,9 @@ struct ecmxf_ring {
  * @wkc_ns: working counter read period, 0 never
  * @pump: the protocol core's pump: frame sizes, fill level, TxFIFO depth
  *	and its bookkeeping of the frames pushed (worker only after setup)
- * @tx_buf: data section of the pump's command (%ECMXF_DATA_MAX)
- * @rx_buf: data section of its answer (%ECMXF_DATA_MAX)
+ * @tx_buf: data sections of the pump's two FIFO commands
+ *	(&ecmxf_pump_slot.fifo; %ECMXF_DATA_MAX each)
+ * @rx_buf: data sections of their answers (%ECMXF_DATA_MAX each)
  * @wkc_buf: data section of the working counter read's answer
  *	(%ECMXF_DATA_MAX: the two commands are in flight together)
  * @stopped: the pump stopped for good (%ECMXF_RING_S_ERROR); under
@@ -97,8 +98,8 @@ struct ecmxf_rings {
 	u64 poll_ns;
 	u64 wkc_ns;
 	struct ecmxf_pump pump;
-	u8 *tx_buf;
-	u8 *rx_buf;
+	u8 *tx_buf[2];
+	u8 *rx_buf[2];
 	u8 *wkc_buf;
 	bool stopped;
 	u64 next_tick_ns;
@@ -111,31 +112,45 @@ struct ecmxf_rings {
  * @x: the command
  * @rings: the rings it serves, a reference held while @busy
  * @busy: @x is in the engine
+ * @plan: what a FIFO command pushes and pops
+ * @skipped: output frames skipped when a FIFO command was built (not yet
+ *	counted in &ecmxf_dev.out_ring_skipped)
+ * @released: a FIFO command's output frames left the ring when it was
+ *	built (%ECMXF_RING_F_FIFO_NEXT), not when it is answered
+ * @answer_by_ns: the pump's next timer tick when @x was built: its answer
+ *	may wait for the next FIFO command until then, not longer (that
+ *	tick may find nothing to send)
  */
 struct ecmxf_pump_cmd {
 	struct ecmxf_xfer x;
 	struct ecmxf_rings *rings;
 	bool busy;
+	struct ecmxf_pump_plan plan;
+	u32 skipped;
+	bool released;
+	u64 answer_by_ns;
 };
+
+/* the pump's commands: two FIFO commands and the working counter read */
+#define ECMXF_PUMP_CMDS	3
 
 /**
  * struct ecmxf_pump_slot - the PDO pump's commands (worker only)
- * @fifo: ECAT_PDO_DATA_FIFO_OP
+ * @fifo: ECAT_PDO_DATA_FIFO_OP: one in flight, or two with
+ *	%ECMXF_RING_F_FIFO_NEXT (the next one rides in the exchange that
+ *	fetches the answer of the one before)
  * @wkc: ECAT_PDO_WC_GET; in flight beside @fifo, so that it rides in
  *	the exchange that fetches @fifo's answer (pipelining)
- * @plan: what @fifo pushes and pops
+ * @newest: the @fifo built last (the other one, when busy, is older)
  * @take_wkc: what ecmxf_pump_take() chose for ecmxf_pump_submit(): @wkc
  * @turn: the pump goes before the files' commands when both are due
- * @skipped: output frames skipped when @fifo was built (not yet counted
- *	in &ecmxf_dev.out_ring_skipped)
  */
 struct ecmxf_pump_slot {
-	struct ecmxf_pump_cmd fifo;
+	struct ecmxf_pump_cmd fifo[2];
 	struct ecmxf_pump_cmd wkc;
-	struct ecmxf_pump_plan plan;
+	unsigned int newest;
 	bool take_wkc;
 	bool turn;
-	u32 skipped;
 };
 
 /* ecmxf-ring.c: the ring memory */
@@ -159,8 +174,10 @@ u32 ecmxf_ring_in_store(struct ecmxf_rings *r, const u8 *src, u32 n);
 struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now);
 int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 		      u64 now);
-void ecmxf_pump_collect(struct ecmxf_dev *edev, struct ecmxf_rings *put[2]);
-void ecmxf_pump_cancel(struct ecmxf_dev *edev, struct ecmxf_rings *put[2]);
+void ecmxf_pump_collect(struct ecmxf_dev *edev,
+			struct ecmxf_rings *put[ECMXF_PUMP_CMDS]);
+void ecmxf_pump_cancel(struct ecmxf_dev *edev,
+		       struct ecmxf_rings *put[ECMXF_PUMP_CMDS]);
 bool ecmxf_pump_busy(const struct ecmxf_dev *edev);
 bool ecmxf_pump_answer_waits(struct ecmxf_dev *edev);
 u64 ecmxf_pump_deadline(struct ecmxf_dev *edev);

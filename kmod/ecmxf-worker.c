@@ -712,7 +712,8 @@ static void ecmxf_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
  * rings references of finished pump commands (or NULL), for the caller
  * to drop after unlocking.
  */
-static void ecmxf_collect(struct ecmxf_dev *edev, struct ecmxf_rings *put[2])
+static void ecmxf_collect(struct ecmxf_dev *edev,
+			  struct ecmxf_rings *put[ECMXF_PUMP_CMDS])
 {
 	struct ecmxf_req *req = edev->cur_req;
 
@@ -736,10 +737,12 @@ static void ecmxf_collect(struct ecmxf_dev *edev, struct ecmxf_rings *put[2])
 }
 
 /* Drop the pump's references to the rings; the lock not held. */
-static void ecmxf_rings_put2(struct ecmxf_rings *put[2])
+static void ecmxf_rings_put_all(struct ecmxf_rings *put[ECMXF_PUMP_CMDS])
 {
-	ecmxf_rings_put(put[0]);
-	ecmxf_rings_put(put[1]);
+	unsigned int i;
+
+	for (i = 0; i < ECMXF_PUMP_CMDS; i++)
+		ecmxf_rings_put(put[i]);
 }
 
 /*
@@ -751,7 +754,7 @@ static int ecmxf_reset_link(struct ecmxf_dev *edev)
 {
 	unsigned int size = ecmxf_engine_data_size(&edev->e);
 	enum ecmxf_check check = edev->e.check;
-	struct ecmxf_rings *pumped[2];
+	struct ecmxf_rings *pumped[ECMXF_PUMP_CMDS];
 	int ret;
 
 	mutex_lock(&edev->lock);
@@ -759,7 +762,7 @@ static int ecmxf_reset_link(struct ecmxf_dev *edev)
 	ecmxf_pump_cancel(edev, pumped);
 	ecmxf_rings_stop(edev, -ECONNRESET);
 	mutex_unlock(&edev->lock);
-	ecmxf_rings_put2(pumped);
+	ecmxf_rings_put_all(pumped);
 
 	ecmxf_engine_reinit(edev, size, check);
 	ecmxf_watch_link_reset(edev);
@@ -854,7 +857,7 @@ static int ecmxf_worker_fn(void *data)
 {
 	struct ecmxf_dev *edev = data;
 	struct ecmxf_req *reset, *req;
-	struct ecmxf_rings *pump, *finished[2];
+	struct ecmxf_rings *pump, *finished[ECMXF_PUMP_CMDS];
 	u64 now, int1_at;
 	bool slot_free, pump_ok, waits;
 	int ret;
@@ -929,7 +932,7 @@ static int ecmxf_worker_fn(void *data)
 		}
 
 		/*
-		 * A working counter read left to the next FIFO command needs
+		 * A pump command's answer left to the next FIFO command needs
 		 * no exchange of its own; INT1 meanwhile is for that command
 		 * (the pump's turn at the top of the loop), not a refresh.
 		 */
@@ -954,7 +957,7 @@ static int ecmxf_worker_fn(void *data)
 		ecmxf_collect(edev, finished);
 		mutex_unlock(&edev->lock);
 		/* the pump's references, after the lock (see &ecmxf_dev.lock) */
-		ecmxf_rings_put2(finished);
+		ecmxf_rings_put_all(finished);
 	}
 
 	/* the device is going away: nothing in flight survives */
@@ -968,7 +971,7 @@ static int ecmxf_worker_fn(void *data)
 	ecmxf_cancel_async(edev, -ENODEV);
 	ecmxf_pump_cancel(edev, finished);
 	mutex_unlock(&edev->lock);
-	ecmxf_rings_put2(finished);
+	ecmxf_rings_put_all(finished);
 	/* the last events, after every command of the watcher ended */
 	ecmxf_watch_stop(edev);
 	return 0;

@@ -142,6 +142,8 @@ private:
 	/// the status block's out_skipped at the last cycle
 	std::uint32_t outSkipped_ = 0;
 	std::uint32_t pumpFailures_ = 0;
+	/// the status block's pump_ops at the last cycle
+	std::uint32_t pumpOps_ = 0;
 };
 
 RingPath::RingPath(Device &dev, ProcessImage &image, const CyclicConfig &cfg,
@@ -178,9 +180,10 @@ void RingPath::start()
 	ecmxf_ring_setup rs{};
 	rs.out_entries = pow2AtLeast(std::max<std::uint64_t>(16, 2ull * rxDepth));
 	rs.in_entries = pow2AtLeast(std::max<std::uint64_t>(32, 4 * perCycle + txDepth));
-	// CyclicConfig::wkcAnswerNextCycle: the pump's read answered by its
-	// next cycle's FIFO command
-	rs.flags = ECMXF_RING_F_POLL_IN | (cfg_.wkcAnswerNextCycle ? ECMXF_RING_F_WKC_NEXT : 0u);
+	// CyclicConfig::wkcAnswerNextCycle / fifoAnswerNextCycle: the pump's
+	// read / its FIFO command answered by its next cycle's FIFO command
+	rs.flags = ECMXF_RING_F_POLL_IN | (cfg_.wkcAnswerNextCycle ? ECMXF_RING_F_WKC_NEXT : 0u) |
+		   (cfg_.fifoAnswerNextCycle ? ECMXF_RING_F_FIFO_NEXT : 0u);
 	// the pump's timer: once per cycle (INT1 wakes it earlier)
 	rs.poll_us = static_cast<std::uint32_t>(std::clamp<std::int64_t>(period / 1000, 50, 100000));
 	rs.rx_fill = rxFill;
@@ -188,7 +191,7 @@ void RingPath::start()
 	rs.wkc_us = static_cast<std::uint32_t>(std::clamp<std::int64_t>(wkcUs, cfg_.wkcEvery ? 1 : 0, 10'000'000));
 
 	rings_->setup(rs);
-	wkcReads_ = outDropped_ = inDropped_ = txOverflows_ = rxRefusals_ = pumpFailures_ = outSkipped_ = 0;
+	wkcReads_ = outDropped_ = inDropped_ = txOverflows_ = rxRefusals_ = pumpFailures_ = outSkipped_ = pumpOps_ = 0;
 
 	dev_.pdo().fifoClear(FifoSelect::Both);
 	// INT1 on every TxPDO frame (TxFIFO high mark 1) and when the RxFIFO
@@ -250,6 +253,9 @@ void RingPath::exchange(CycleResult &r, bool) noexcept
 	}
 	ecmxf_ring_status st{};
 	if (in_.status(st)) {
+		// the pump's commands answered since the last cycle
+		r.commands = (st.pump_ops - pumpOps_) + (st.wkc_reads - wkcReads_);
+		pumpOps_ = st.pump_ops;
 		if (st.wkc_reads != wkcReads_) {
 			wkcReads_ = st.wkc_reads;
 			r.wkcRead = true;

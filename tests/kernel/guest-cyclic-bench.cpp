@@ -8,10 +8,11 @@
 //          rings; the pump in the kernel's worker sends the commands);
 //       2. ioctl: a loop of synchronous ECMXF_IOC_CMD ECAT_PDO_DATA_FIFO_OP
 //          (one output frame pushed, the inputs popped) per cycle;
-//       writes the figures to /tmp/ecmxf-cbench-kernel; then the rings
-//       with a working counter read every cycle, answered within the
-//       pump's cycle and by its next one (ECMXF_RING_F_WKC_NEXT):
-//       the kernel's SPI exchanges per cycle
+//       writes the figures to /tmp/ecmxf-cbench-kernel; then the
+//       kernel's SPI exchanges per cycle over the rings, with no working
+//       counter read and with one every cycle, the pump's answers fetched
+//       within its cycle or by its next FIFO command
+//       (ECMXF_RING_F_FIFO_NEXT, ECMXF_RING_F_WKC_NEXT)
 //   ecmxf-guest-cyclic-bench spidev <N> <spidev URI>
 //       3. spidev: the library's Cyclic over SpidevChannel (the same
 //          FIFO commands, from userspace, each cycle's answer fetched by
@@ -152,8 +153,9 @@ ecmxf::CyclicConfig config()
 	cc.rxFill = 4;
 	cc.wkcEvery = 10;
 	cc.commandTimeout = 1s;
-	// spidev: the FIFO command's answer comes with the next cycle's
-	// exchange, one exchange per cycle (the rings ignore it)
+	// the FIFO command's answer comes with the next cycle's exchange, one
+	// exchange per cycle (spidev: the library's; the rings: the kernel
+	// pump's, ECMXF_RING_F_FIFO_NEXT)
 	cc.fifoAnswerNextCycle = true;
 	return cc;
 }
@@ -244,15 +246,29 @@ Figures ioctlPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
 	return f;
 }
 
-/// The rings with the working counter read every cycle, its answer within
-/// the pump's cycle or (wkcAnswerNextCycle: ECMXF_RING_F_WKC_NEXT) with the
-/// pump's next FIFO command: the kernel's SPI exchanges per cycle.
-void ringsWkcEveryCycle(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
+/// The kernel's SPI exchanges per cycle over the rings: no working counter
+/// read or one every cycle, the pump's answers fetched within its cycle or
+/// by its next FIFO command (fifoAnswerNextCycle: ECMXF_RING_F_FIFO_NEXT,
+/// wkcAnswerNextCycle: ECMXF_RING_F_WKC_NEXT).
+void ringsExchanges(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
 {
-	for (const bool next : { false, true }) {
+	struct Mode {
+		unsigned wkcEvery;
+		bool wkcNext, fifoNext;
+		const char *name;
+	};
+	static constexpr Mode kModes[] = {
+		{ 0, false, false, "no WKC read, FIFO answer within the pump's cycle" },
+		{ 0, false, true, "no WKC read, FIFO answer by the next FIFO command (ECMXF_RING_F_FIFO_NEXT)" },
+		{ 1, false, false, "WKC read every cycle, answers within the pump's cycle" },
+		{ 1, true, false, "WKC read every cycle, its answer by the next FIFO command (ECMXF_RING_F_WKC_NEXT)" },
+		{ 1, true, true, "WKC read every cycle, both answers by the next FIFO command (both flags)" },
+	};
+	for (const Mode &mode : kModes) {
 		ecmxf::CyclicConfig cc = config();
-		cc.wkcEvery = 1;
-		cc.wkcAnswerNextCycle = next;
+		cc.wkcEvery = mode.wkcEvery;
+		cc.wkcAnswerNextCycle = mode.wkcNext;
+		cc.fifoAnswerNextCycle = mode.fifoNext;
 		ecmxf::Cyclic cyc(dev, image, cc);
 		cyc.start();
 		const auto once = [&] {
@@ -269,16 +285,19 @@ void ringsWkcEveryCycle(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned
 		const ecmxf::CyclicStats s1 = cyc.stats();
 		const double cycles = static_cast<double>(s1.cycles - s0.cycles);
 		const auto per = [&](std::uint64_t v) { return cycles > 0 ? static_cast<double>(v) / cycles : 0.0; };
-		// polls: packets sent again because the guest's chip had not
-		// answered yet (the bridge is slower than a chip under TCG)
-		std::printf("bench: cyclic rings, working counter read every cycle, answered %s: %.2f SPI exchanges "
-			    "per cycle (the kernel's counters), %.2f of them polls, %.2f without; %llu reads, %llu not "
-			    "the expected count, %llu late\n",
-			    next ? "by the next FIFO command (ECMXF_RING_F_WKC_NEXT)" : "within the pump's cycle",
-			    per(k1.exchanges - k0.exchanges), per(k1.polls - k0.polls),
-			    per((k1.exchanges - k0.exchanges) - (k1.polls - k0.polls)),
+		const std::uint64_t sent = k1.exchanges - k0.exchanges;
+		const std::uint64_t cmds = s1.commands - s0.commands;
+		// polls: packets sent again, to fetch an answer (a repeat runs as
+		// INFO_UPDATE) or because the guest's chip had not answered yet
+		// (the bridge is slower than a chip under TCG)
+		std::printf("bench: cyclic rings, %s: %.2f SPI exchanges per cycle (the kernel's counters), %.2f of "
+			    "them polls; %.2f pump commands per cycle, %.2f exchanges per command; %llu WKC reads, %llu "
+			    "not the expected count, %llu failed cycles, %llu late\n",
+			    mode.name, per(sent), per(k1.polls - k0.polls), per(cmds),
+			    cmds ? static_cast<double>(sent) / static_cast<double>(cmds) : 0.0,
 			    static_cast<unsigned long long>(s1.wkcReads - s0.wkcReads),
 			    static_cast<unsigned long long>(s1.wkcMismatches - s0.wkcMismatches),
+			    static_cast<unsigned long long>(s1.failedCycles - s0.failedCycles),
 			    static_cast<unsigned long long>(s1.lateCycles - s0.lateCycles));
 		cyc.stop();
 	}
@@ -372,7 +391,7 @@ int main(int argc, char **argv)
 			const Figures ring = cyclicPath(*dev, image, "rings", n, true);
 			const Figures ioc = ioctlPath(*dev, image, n);
 			save(ring, ioc);
-			ringsWkcEveryCycle(*dev, image, n);
+			ringsExchanges(*dev, image, n);
 			std::printf("bench: cyclic rings/ioctl: syscalls per cycle %.2f, CPU per cycle %.2f (application "
 				    "only), %.2f (with the kernel worker)\n",
 				    ratio(ring.syscalls, ioc.syscalls), ratio(ring.appCpuUs, ioc.appCpuUs),

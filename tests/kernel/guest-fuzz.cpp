@@ -871,7 +871,7 @@ void genRingSetup(Rng &r, ecmxf_ring_setup &rs, Shape s)
 	std::memset(&rs, 0, sizeof(rs));
 	rs.out_entries = 1u << (1 + r.below(r.chance(900) ? 6 : 12));
 	rs.in_entries = 1u << (1 + r.below(r.chance(900) ? 6 : 12));
-	rs.flags = static_cast<std::uint32_t>(r.below(8)); // POLL_OUT, POLL_IN, WKC_NEXT
+	rs.flags = static_cast<std::uint32_t>(r.below(16)); // POLL_OUT, POLL_IN, WKC_NEXT, FIFO_NEXT
 	rs.poll_us = r.chance(300) ? 0 : static_cast<std::uint32_t>(r.chance(900) ? 500 + r.below(5000) : 50 + r.below(100'000));
 	rs.rx_fill = static_cast<std::uint32_t>(r.below(8));
 	rs.wkc_us = r.chance(500) ? 0 : static_cast<std::uint32_t>(r.below(1'000'000));

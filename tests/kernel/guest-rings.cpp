@@ -218,7 +218,7 @@ void claimChecks(const std::string &path, int holder, std::uint32_t outEntries)
 	eq("holder: RING_SETUP with a reserved field set: EINVAL", ioc(holder, ECMXF_IOC_RING_SETUP, &rs).err,
 	   EINVAL);
 	rs.reserved[1] = 0;
-	for (std::uint32_t f : { 1u << 3, 0x80u, 1u << 31 }) {
+	for (std::uint32_t f : { 1u << 4, 0x80u, 1u << 31 }) {
 		rs.flags = f | ECMXF_RING_F_WKC_NEXT;
 		eq("holder: RING_SETUP with an unknown flag " + std::to_string(f) + ": EINVAL",
 		   ioc(holder, ECMXF_IOC_RING_SETUP, &rs).err, EINVAL);
@@ -588,7 +588,7 @@ struct Strict {
 
 /// run-lockstep: the bridge runs a lock-step bus (bridge --lockstep); the
 /// application is clocked by its inputs and keeps a few frames in flight.
-int runLockstep(const std::string &path, unsigned hz, unsigned cycles)
+int runLockstep(const std::string &path, unsigned hz, unsigned cycles, bool fifoNext)
 {
 	const auto bus = std::chrono::nanoseconds(1'000'000'000LL / hz);
 	constexpr unsigned kInFlight = 8; // output frames ahead of the inputs
@@ -627,8 +627,10 @@ int runLockstep(const std::string &path, unsigned hz, unsigned cycles)
 	cc.rxFill = kInFlight; // the pump keeps up to this many in the RxFIFO
 	cc.wkcEvery = 10;
 	// the pump's read answered by its next FIFO command
-	// (ECMXF_RING_F_WKC_NEXT); the other run reads within the cycle
+	// (ECMXF_RING_F_WKC_NEXT); the other run reads within the cycle.
+	// fifoNext: the FIFO command's answer too (ECMXF_RING_F_FIFO_NEXT)
 	cc.wkcAnswerNextCycle = true;
+	cc.fifoAnswerNextCycle = fifoNext;
 	cc.onInputFrame = &Strict::onFrame;
 	cc.context = &chk;
 	ecmxf::Cyclic cyc(*dev, image, cc);
@@ -652,6 +654,7 @@ int runLockstep(const std::string &path, unsigned hz, unsigned cycles)
 	const std::uint64_t chipUs0 = bridgeStat("chip-time-us");
 	const std::uint64_t skip0 = ringSkipped();
 	const ecmxf::LinkCounters k0 = kt->counters();
+	const std::uint64_t cmds0 = cyc.stats().commands;
 	const auto t0 = kt->now();
 
 	std::uint32_t seq = 0;
@@ -763,6 +766,24 @@ int runLockstep(const std::string &path, unsigned hz, unsigned cycles)
 						    (k0.badNotReady + k0.badStart + k0.badEnd + k0.badCheck +
 						     k0.badLength)),
 		    static_cast<unsigned long long>(wkcReads));
+	// the kernel's SPI exchanges per pump command: two per FIFO command
+	// answered within the pump's cycle (the second, which fetches the
+	// answer, repeats the packet and counts as a poll), one with
+	// ECMXF_RING_F_FIFO_NEXT (the read rides an exchange of its own either
+	// way, answered by the next FIFO command). Polls also count packets
+	// sent again while the guest's chip had not answered yet.
+	const std::uint64_t cmds = s.commands - cmds0;
+	const std::uint64_t sent = k1.exchanges - k0.exchanges;
+	const double perCmd = cmds ? static_cast<double>(sent) / static_cast<double>(cmds) : 0.0;
+	std::printf("guest-test: info lock-step %u Hz: %llu pump commands, %llu exchanges (%llu polls): %.2f per "
+		    "command%s\n",
+		    hz, static_cast<unsigned long long>(cmds), static_cast<unsigned long long>(sent),
+		    static_cast<unsigned long long>(k1.polls - k0.polls), perCmd,
+		    fifoNext ? " (ECMXF_RING_F_FIFO_NEXT)" : "");
+	ok(cmds >= pushed / 4, "the status block counted the pump's commands (" + std::to_string(cmds) + ")");
+	if (fifoNext)
+		ok(perCmd <= 1.5, "ECMXF_RING_F_FIFO_NEXT: at most 1.5 exchanges per pump command (" +
+					  std::to_string(perCmd) + ")");
 	eq("waitInputs failures (no inputs within 10 s)", waitFailures, 0);
 	eq("cycles with an error", s.failedCycles, 0);
 	eq("bus cycles run = output frames sent (after the drain)", busNow, pushed);
@@ -803,14 +824,15 @@ int main(int argc, char **argv)
 			std::printf("guest-test: rings: %d failure(s)\n", gFailures);
 			return rc;
 		}
-		if (argc == 5 && std::string_view(argv[1]) == "run-lockstep") {
+		if ((argc == 5 || (argc == 6 && std::string_view(argv[5]) == "fifo-next")) &&
+		    std::string_view(argv[1]) == "run-lockstep") {
 			const int rc = runLockstep(argv[2], static_cast<unsigned>(std::atoi(argv[3])),
-						   static_cast<unsigned>(std::atoi(argv[4])));
+						   static_cast<unsigned>(std::atoi(argv[4])), argc == 6);
 			std::printf("guest-test: rings (lock-step): %d failure(s)\n", gFailures);
 			return rc;
 		}
 		std::fprintf(stderr, "usage: ecmxf-guest-rings --network | run DEV HZ CYCLES SCALE | "
-				     "run-lockstep DEV HZ CYCLES\n");
+				     "run-lockstep DEV HZ CYCLES [fifo-next]\n");
 		return 2;
 	} catch (const std::exception &e) {
 		std::printf("guest-test: FAIL exception: %s\n", e.what());

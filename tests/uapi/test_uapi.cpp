@@ -245,7 +245,7 @@ TEST_CASE("uAPI flag bits do not overlap and ring mmap offsets are page aligned"
 	CHECK(ECMXF_RESET_ASYNC_CLEAR_BUSY == 1u);
 	CHECK(ECMXF_RESET_ASYNC_SKIP_LINK == 2u);
 	CHECK(ECMXF_RESET_ASYNC_ABANDON == 4u);
-	CHECK(disjointBits({ ECMXF_RING_F_POLL_OUT, ECMXF_RING_F_POLL_IN }));
+	CHECK(disjointBits({ ECMXF_RING_F_POLL_OUT, ECMXF_RING_F_POLL_IN, ECMXF_RING_F_WKC_NEXT, ECMXF_RING_F_FIFO_NEXT }));
 	CHECK(disjointBits({ ECMXF_RING_S_ACTIVE, ECMXF_RING_S_ERROR }));
 
 	// mmap offsets must be multiples of the largest page size in use

@@ -12,7 +12,7 @@
 
 /* Written down by hand, like the numbers in uapi_layout.def */
 #define UAPI_WANT_MAGIC		0xE9
-#define UAPI_WANT_VERSION	3
+#define UAPI_WANT_VERSION	4
 
 /* The dir argument of UAPI_IOCTL() in uapi_layout.def */
 #define UAPI_DIR_NONE		_IOC_NONE

@@ -24,7 +24,7 @@
 namespace ecmxf {
 
 /// The ABI version this library was built against (ECMXF_UAPI_VERSION).
-inline constexpr std::uint32_t kKernelUapiVersion = 3;
+inline constexpr std::uint32_t kKernelUapiVersion = 4;
 
 /// Throws ecmxf::Error (EPROTO) naming @p path and both versions when the
 /// running module's ABI version @p running differs from

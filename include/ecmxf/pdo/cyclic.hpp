@@ -131,8 +131,13 @@ struct CyclicConfig {
 	/// destructor fetch the last answer and drop it (its input frames
 	/// reach neither the image nor onInputFrame). Over a link that does not
 	/// pipeline (it runs a command to its end) the answer is taken within
-	/// the cycle. Over the kernel module's link (its PDO rings) this
-	/// changes nothing: cycle() sends no command there.
+	/// the cycle. Over the kernel module's link (its PDO rings) cycle()
+	/// sends no command: this sets ECMXF_RING_F_FIFO_NEXT, and the pump's
+	/// FIFO command is answered by its next one (one exchange per pump
+	/// cycle, not two). The input frames then reach the input ring, and
+	/// the image, one pump period later, and output frames the chip
+	/// refuses with a command error are dropped (counted in the ring's
+	/// dropped count), not sent again.
 	bool fifoAnswerNextCycle = false;
 	/// The bus cycle (ECAT_INIT_OP's SYNC0 cycle, or 1 ms free run): with
 	/// it, TxPDO frames lost to a TxFIFO overflow are estimated; zero: not
@@ -166,7 +171,9 @@ struct CycleResult {
 	/// freed, safe to keep.
 	const char *message = "";
 
-	/// Commands sent (ECAT_PDO_DATA_FIFO_OP, ECAT_PDO_WC_GET).
+	/// Commands sent (ECAT_PDO_DATA_FIFO_OP, ECAT_PDO_WC_GET); over the
+	/// kernel's PDO rings, those of the kernel's pump answered since the
+	/// previous cycle (the status block's pump_ops and wkc_reads).
 	unsigned commands = 0;
 	/// RxPDO frames sent to the RxFIFO (copies of the output frame).
 	unsigned framesPushed = 0;

@@ -38,10 +38,12 @@
  * command may carry its result fetch (%ECMXF_CMD_F_FETCH, &struct
  * ecmxf_cmd.fetch in what were its reserved words), and the rings' working
  * counter read may leave its answer to the next pump cycle
- * (%ECMXF_RING_F_WKC_NEXT).  Userspace built
- * against another version must refuse to run: compare the value first.
+ * (%ECMXF_RING_F_WKC_NEXT).  Version 4: the pump's FIFO command may leave
+ * its answer to the next pump cycle (%ECMXF_RING_F_FIFO_NEXT).  Userspace
+ * built against another version must refuse to run: compare the value
+ * first.
  */
-#define ECMXF_UAPI_VERSION		3
+#define ECMXF_UAPI_VERSION		4
 
 /**
  * ECMXF_DATA_SIZE_MAX - the largest packet data section (bytes), and the
@@ -426,6 +428,16 @@ struct ecmxf_reset {
  * later.
  */
 #define ECMXF_RING_F_WKC_NEXT	(1U << 2)
+/*
+ * ECMXF_RING_F_FIFO_NEXT: the pump's FIFO command leaves its answer to the
+ * exchange of the next FIFO command, which it rides in: one SPI exchange
+ * per pump cycle instead of two.  The input frames a command pops reach
+ * the input ring one pump cycle (@poll_us, or the next INT1) later, and
+ * its output frames leave the output ring when it is built: a command
+ * the chip refuses (command error) or whose answer is lost drops them
+ * (the ring's dropped count), never sends them again after newer ones.
+ */
+#define ECMXF_RING_F_FIFO_NEXT	(1U << 3)
 
 /* bits of the ring's flags word (in ring memory, written by the kernel) */
 #define ECMXF_RING_S_ACTIVE	(1U << 0)	/* the pump is moving frames */
