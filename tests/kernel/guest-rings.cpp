@@ -239,12 +239,13 @@ void claimChecks(const std::string &path, int holder, std::uint32_t outEntries)
 	eq("holder: poll() for POLLIN with the rings running and no completion: nothing", ::poll(&p, 1, 200), 0);
 }
 
-int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
+int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale, bool fifoNext)
 {
 	const auto bus = std::chrono::nanoseconds(1'000'000'000LL / hz);
 	const auto period = bus * scale; // guest time per bus cycle
-	std::printf("guest-test: info rings: %u cycles at %u Hz (chip time), application period %lld us (scale %u)\n",
-		    cycles, hz, static_cast<long long>(period.count() / 1000), scale);
+	std::printf("guest-test: info rings: %u cycles at %u Hz (chip time), application period %lld us (scale %u)%s\n",
+		    cycles, hz, static_cast<long long>(period.count() / 1000), scale,
+		    fifoNext ? ", ECMXF_RING_F_FIFO_NEXT" : "");
 
 	auto dev = ecmxf::Device::open(path);
 	auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->link());
@@ -270,6 +271,7 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale)
 	cc.busCycle = 0ns; // the library's clock is the guest's: no estimate
 	cc.rxFill = 4;
 	cc.wkcEvery = 10;
+	cc.fifoAnswerNextCycle = fifoNext;
 	cc.onInputFrame = &Echo::onFrame;
 	cc.context = &echo;
 	ecmxf::Cyclic cyc(*dev, image, cc);
@@ -818,9 +820,11 @@ int main(int argc, char **argv)
 			std::fputs(kNetwork, stdout);
 			return 0;
 		}
-		if (argc == 6 && std::string_view(argv[1]) == "run") {
+		if ((argc == 6 || (argc == 7 && std::string_view(argv[6]) == "fifo-next")) &&
+		    std::string_view(argv[1]) == "run") {
 			const int rc = run(argv[2], static_cast<unsigned>(std::atoi(argv[3])),
-					   static_cast<unsigned>(std::atoi(argv[4])), static_cast<unsigned>(std::atoi(argv[5])));
+					   static_cast<unsigned>(std::atoi(argv[4])), static_cast<unsigned>(std::atoi(argv[5])),
+					   argc == 7);
 			std::printf("guest-test: rings: %d failure(s)\n", gFailures);
 			return rc;
 		}
@@ -831,7 +835,7 @@ int main(int argc, char **argv)
 			std::printf("guest-test: rings (lock-step): %d failure(s)\n", gFailures);
 			return rc;
 		}
-		std::fprintf(stderr, "usage: ecmxf-guest-rings --network | run DEV HZ CYCLES SCALE | "
+		std::fprintf(stderr, "usage: ecmxf-guest-rings --network | run DEV HZ CYCLES SCALE [fifo-next] | "
 				     "run-lockstep DEV HZ CYCLES [fifo-next]\n");
 		return 2;
 	} catch (const std::exception &e) {

@@ -10,7 +10,8 @@
 #    command);
 #  - ratio mode: 2 000 bus cycles at each rate with the chip's clock
 #    scaled by K (bridge --time-scale), the application timer-clocked:
-#    every loss counted; the claim and ring-overflow checks.
+#    every loss counted; the claim and ring-overflow checks; the 8 kHz run
+#    with ECMXF_RING_F_FIFO_NEXT.
 # Afterwards the default bridge again.
 rings_bridge() {
 	spidev=$(basename "$(readlink /sys/class/ecmxf/ecmxf0/device)")
@@ -33,7 +34,8 @@ rings_lockstep() {
 }
 # the ratio-mode run; with "monitor", `ecmxf-util monitor` listens and must
 # report the input ring's overflow (which the run provokes) as a PDO_LOSS
-# event with the kernel's count
+# event with the kernel's count; with "fifo-next" the pump runs with
+# ECMXF_RING_F_FIFO_NEXT
 rings_with() {
 	hz=$1 scale=$2
 	rings_bridge --time-scale "$scale"
@@ -42,7 +44,10 @@ rings_with() {
 		rmon=$!
 		wait_for /tmp/rings-mon.err listening 30 || fail "ecmxf-util monitor did not subscribe"
 	fi
-	/bin/ecmxf-guest-rings run /dev/ecmxf0 "$hz" 2000 "$scale" || fail "ecmxf-guest-rings at $hz Hz"
+	mode=
+	[ "${3:-}" = fifo-next ] && mode=fifo-next
+	# shellcheck disable=SC2086 # $mode: an optional mode word
+	/bin/ecmxf-guest-rings run /dev/ecmxf0 "$hz" 2000 "$scale" $mode || fail "ecmxf-guest-rings at $hz Hz $mode"
 	bridge_ctl state
 	if [ "${3:-}" = monitor ]; then
 		# the run overflowed the input ring: events up to the kernel's
@@ -97,7 +102,7 @@ echo 10000 >/sys/module/ecmxf/parameters/pump_timeout_ms || fail "setting pump_t
 rings_lockstep 1000
 rings_lockstep 8000 fifo-next
 rings_with 1000 5 monitor
-rings_with 8000 40
+rings_with 8000 40 fifo-next
 echo 500 >/sys/module/ecmxf/parameters/pump_timeout_ms
 # the rings rebound the device: a new worker, which starts at 50 again
 # (chrt must be applied again after every probe, driver.rst)
