@@ -66,20 +66,39 @@ static enum ecmxf_perm ecmxf_hdr_perm(const struct ecmxf_cmd_hdr *h)
 }
 
 /*
+ * The result fetch @f of the %ECMXF_CMD_F_FETCH command @h: @h is async
+ * and @f its *_GET partner in the command table, with no data.
+ */
+static int ecmxf_check_fetch(const struct ecmxf_cmd_header *h,
+			     const struct ecmxf_cmd_header *f)
+{
+	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(h->code);
+
+	if (!ci || !ecmxf_cmd_is_async(h->code, h->param) ||
+	    ci->partner != f->code)
+		return -EINVAL;
+	if (f->padding || f->reserved || f->len)
+		return -EINVAL;
+	return 0;
+}
+
+/*
  * Checks of a command that do not depend on the device state.  @allowed:
- * the %ECMXF_CMD_F_* input flags of the ioctl; @reserved must be zero
- * unless %ECMXF_CMD_F_FETCH made it the fetch's header.
+ * the %ECMXF_CMD_F_* input flags of the ioctl; @fetch is the result
+ * fetch's header with %ECMXF_CMD_F_FETCH, else must be zero.
  */
 static int ecmxf_check_cmd(const struct ecmxf_cmd_header *h, u32 tx_len,
 			   u64 tx_ptr, u32 rx_size, u64 rx_ptr, u32 flags,
-			   u32 allowed, const void *reserved,
-			   size_t reserved_size)
+			   u32 allowed, const struct ecmxf_cmd_header *fetch)
 {
 	if (h->padding || h->reserved || (flags & ~allowed))
 		return -EINVAL;
-	if (!(flags & ECMXF_CMD_F_FETCH) &&
-	    memchr_inv(reserved, 0, reserved_size))
+	if (flags & ECMXF_CMD_F_FETCH) {
+		if (ecmxf_check_fetch(h, fetch))
+			return -EINVAL;
+	} else if (memchr_inv(fetch, 0, sizeof(*fetch))) {
 		return -EINVAL;
+	}
 	if (tx_len > ECMXF_DATA_MAX || (tx_len && !tx_ptr) ||
 	    (rx_size && !rx_ptr))
 		return -EINVAL;
@@ -98,23 +117,6 @@ static int ecmxf_check_cmd(const struct ecmxf_cmd_header *h, u32 tx_len,
 	default:
 		break;
 	}
-	return 0;
-}
-
-/*
- * The result fetch @f of the %ECMXF_CMD_F_FETCH command @h: @h is async
- * and @f its *_GET partner in the command table, with no data.
- */
-static int ecmxf_check_fetch(const struct ecmxf_cmd_header *h,
-			     const struct ecmxf_cmd_header *f)
-{
-	const struct ecmxf_cmd_info *ci = ecmxf_cmd_lookup(h->code);
-
-	if (!ci || !ecmxf_cmd_is_async(h->code, h->param) ||
-	    ci->partner != f->code)
-		return -EINVAL;
-	if (f->padding || f->reserved || f->len)
-		return -EINVAL;
 	return 0;
 }
 
@@ -299,10 +301,8 @@ static long ecmxf_ioc_cmd(struct ecmxf_client *c, void __user *argp)
 	ret = ecmxf_check_cmd(&cmd.hdr, cmd.tx_len, cmd.tx_ptr, cmd.rx_size,
 			      cmd.rx_ptr, cmd.flags,
 			      ECMXF_CMD_F_NO_AUTO_CLEAR | ECMXF_CMD_F_FETCH,
-			      &cmd.fetch, sizeof(cmd.fetch));
+			      &cmd.fetch);
 	fetch = cmd.flags & ECMXF_CMD_F_FETCH;
-	if (!ret && fetch)
-		ret = ecmxf_check_fetch(&cmd.hdr, &cmd.fetch);
 	if (ret)
 		return ret;
 	req = ecmxf_req_new(c, ECMXF_REQ_SYNC, &cmd.hdr, cmd.tx_ptr,
@@ -345,13 +345,16 @@ static long ecmxf_ioc_submit(struct ecmxf_client *c, void __user *argp)
 {
 	struct ecmxf_submit sub;
 	struct ecmxf_req *req;
+	bool fetch;
 	int ret;
 
 	if (copy_from_user(&sub, argp, sizeof(sub)))
 		return -EFAULT;
 	ret = ecmxf_check_cmd(&sub.hdr, sub.tx_len, sub.tx_ptr, 0, 0,
-			      sub.flags, ECMXF_CMD_F_NO_AUTO_CLEAR,
-			      sub.reserved, sizeof(sub.reserved));
+			      sub.flags,
+			      ECMXF_CMD_F_NO_AUTO_CLEAR | ECMXF_CMD_F_FETCH,
+			      &sub.fetch);
+	fetch = sub.flags & ECMXF_CMD_F_FETCH;
 	if (ret)
 		return ret;
 	/* the answer travels in the completion record, never to a pointer */
@@ -359,7 +362,7 @@ static long ecmxf_ioc_submit(struct ecmxf_client *c, void __user *argp)
 		return -EINVAL;
 	req = ecmxf_req_new(c, ECMXF_REQ_SUBMIT, &sub.hdr, sub.tx_ptr,
 			    sub.tx_len, sub.rx_size, sub.timeout_us, sub.flags,
-			    NULL);
+			    fetch ? &sub.fetch : NULL);
 	if (IS_ERR(req))
 		return PTR_ERR(req);
 	req->cookie = sub.cookie;
@@ -671,22 +674,26 @@ static struct ecmxf_req *ecmxf_take_done(struct ecmxf_client *c)
 /*
  * Deliver one completion record to @buf, the response data inline (the
  * rest of the data array zeroed): read() writes nothing but its buffer.
- * On a fault the record goes back to the head of the list.
+ * The outcome is the result fetch's once it ran (ecmxf_done()).  On a
+ * fault the record goes back to the head of the list.
  */
 static int ecmxf_deliver(struct ecmxf_client *c, struct ecmxf_req *req,
 			 char __user *buf)
 {
 	struct ecmxf_completion __user *u = (void __user *)buf;
+	const struct ecmxf_xfer *ans = req->fetched ? &req->fx : &req->x;
+	u32 flags = req->fetched ? ECMXF_CMD_F_FETCHED : 0;
 	struct ecmxf_dev *edev = c->edev;
 	struct ecmxf_rsp_header rsp;
-	u32 n = req->x.rx_len;
+	u32 n = ans->rx_len;
 
 	/* field by field: the whole record is too large for the stack */
-	ecmxf_rsp_to_user(&rsp, &req->x.rsp);
+	ecmxf_rsp_to_user(&rsp, &ans->rsp);
 	if (put_user(req->cookie, &u->cookie) ||
 	    put_user(req->x.status, &u->status) ||
 	    put_user(n, &u->rx_len) ||
 	    copy_to_user(&u->rsp, &rsp, sizeof(rsp)) ||
+	    put_user(flags, &u->flags) ||
 	    clear_user(u->reserved, sizeof(u->reserved)) ||
 	    (n && copy_to_user(u->data, req->rx, n)) ||
 	    clear_user(u->data + n, sizeof(u->data) - n)) {

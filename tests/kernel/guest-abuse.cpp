@@ -635,9 +635,33 @@ ecmxf_cmd sdoWithFetch(const std::vector<std::uint8_t> &req, std::uint8_t *rx, s
 	return c;
 }
 
+/// ECAT_SDO_REQ (an upload of @p req) with its ECAT_SDO_GET fetch, as a
+/// SUBMIT (the completion record brings the fetch's answer).
+ecmxf_submit sdoSubmitWithFetch(const std::vector<std::uint8_t> &req, std::uint64_t cookie)
+{
+	ecmxf_submit s = subOf(kSdoReq, cookie);
+	s.tx_ptr = ptr(req.data());
+	s.tx_len = static_cast<std::uint32_t>(req.size());
+	s.rx_size = 64;
+	s.flags = ECMXF_CMD_F_FETCH;
+	s.fetch.code = kSdoGet;
+	return s;
+}
+
+/// The parts of a command that ECMXF_CMD_F_FETCH's checks look at, in an
+/// ecmxf_cmd or an ecmxf_submit.
+struct FetchParts {
+	ecmxf_cmd_header &hdr;
+	ecmxf_cmd_header &fetch;
+	std::uint32_t &flags;
+	__u64 &txPtr;
+	std::uint32_t &txLen;
+};
+
 /// ECMXF_CMD_F_FETCH: an async command with its result fetch in one
-/// ECMXF_IOC_CMD; what it returns, and the headers it refuses.
-void argsCmdFetch(int fd)
+/// ECMXF_IOC_CMD, or one ECMXF_IOC_SUBMIT; what they return, and the
+/// headers they refuse.
+void argsFetch(int fd)
 {
 	std::uint8_t rx[64];
 	const std::vector<std::uint8_t> good = sdoUploadReq(0x2001, 2);
@@ -662,34 +686,60 @@ void argsCmdFetch(int fd)
 	expectTrue("  F_FETCHED clear", (c.flags & ECMXF_CMD_F_FETCHED) == 0, std::to_string(c.flags));
 	expectEq("  rx_len", c.rx_len, 0);
 
-	// headers it refuses
-	const std::pair<const char *, std::function<void(ecmxf_cmd &)>> bad[] = {
+	// the same two as SUBMITs: the completion records tell the same
+	ecmxf_submit s = sdoSubmitWithFetch(good, 0xF1);
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT SDO_REQ upload 0x2001:00 with its SDO_GET (F_FETCH)", r.ret, r.err, 0);
+	s = sdoSubmitWithFetch(missing, 0xF2);
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT SDO_REQ upload of a missing object with its fetch", r.ret, r.err, 0);
+	ecmxf_completion rec[2];
+	std::memset(rec, 0xA5, sizeof(rec));
+	long n = ::read(fd, &rec[0], kRec);
+	expectEq("read(): the first record", n, static_cast<long>(kRec));
+	n = ::read(fd, &rec[1], kRec);
+	expectEq("read(): the second record", n, static_cast<long>(kRec));
+	const ecmxf_completion &up = rec[0].cookie == 0xF1 ? rec[0] : rec[1];
+	const ecmxf_completion &miss = rec[0].cookie == 0xF1 ? rec[1] : rec[0];
+	expectEq("  the upload's cookie", up.cookie, 0xF1);
+	expectStatus("  the upload's status", up.status, 0);
+	expectEq("  the upload's flags: F_FETCHED", up.flags, ECMXF_CMD_F_FETCHED);
+	expectEq("  the upload's rsp.code: the fetch's answer", up.rsp.code, kSdoGet);
+	expectEq("  the upload's rx_len", up.rx_len, 2);
+	expectEq("  the upload's value (50000)", up.data[0] | up.data[1] << 8, 50000);
+	expectEq("  the missing object's cookie", miss.cookie, 0xF2);
+	expectStatus("  the missing object's status (the command's)", miss.status, -EREMOTEIO);
+	expectEq("  the missing object's flags: none", miss.flags, 0);
+	expectEq("  the missing object's rx_len", miss.rx_len, 0);
+
+	// headers they refuse, through either ioctl
+	const std::pair<const char *, std::function<void(FetchParts)>> bad[] = {
 		{ "whose fetch is not the partner (STATE_GET for SDO_REQ)",
-		  [](ecmxf_cmd &k) { k.fetch.code = ECMXF_CMD_ECAT_STATE_GET; } },
-		{ "whose fetch is the command itself", [](ecmxf_cmd &k) { k.fetch.code = kSdoReq; } },
+		  [](FetchParts k) { k.fetch.code = ECMXF_CMD_ECAT_STATE_GET; } },
+		{ "whose fetch is the command itself", [](FetchParts k) { k.fetch.code = kSdoReq; } },
 		{ "on an immediate command (FW_VERSION_GET)",
-		  [](ecmxf_cmd &k) {
+		  [](FetchParts k) {
 			  k.hdr.code = kFwVersionGet;
-			  k.tx_len = 0;
+			  k.txPtr = 0;
+			  k.txLen = 0;
 			  k.fetch.code = kFwVersionGet;
 		  } },
-		{ "fetch.padding 1", [](ecmxf_cmd &k) { k.fetch.padding = 1; } },
-		{ "fetch.reserved 1", [](ecmxf_cmd &k) { k.fetch.reserved = 1; } },
-		{ "fetch.len 4 (a fetch carries no data)", [](ecmxf_cmd &k) { k.fetch.len = 4; } },
-		{ "with the output flag F_FETCHED", [](ecmxf_cmd &k) { k.flags |= ECMXF_CMD_F_FETCHED; } },
+		{ "fetch.padding 1", [](FetchParts k) { k.fetch.padding = 1; } },
+		{ "fetch.reserved 1", [](FetchParts k) { k.fetch.reserved = 1; } },
+		{ "fetch.len 4 (a fetch carries no data)", [](FetchParts k) { k.fetch.len = 4; } },
+		{ "with the output flag F_FETCHED", [](FetchParts k) { k.flags |= ECMXF_CMD_F_FETCHED; } },
+		{ "a fetch header without F_FETCH", [](FetchParts k) { k.flags = 0; } },
 	};
 	for (const auto &[what, spoil] : bad) {
 		c = sdoWithFetch(good, rx, sizeof(rx));
-		spoil(c);
+		spoil(FetchParts{ c.hdr, c.fetch, c.flags, c.tx_ptr, c.tx_len });
 		r = ioc(fd, ECMXF_IOC_CMD, &c);
 		expectErr(std::string("CMD F_FETCH ") + what, r.ret, r.err, EINVAL);
+		s = sdoSubmitWithFetch(good, 0xF3);
+		spoil(FetchParts{ s.hdr, s.fetch, s.flags, s.tx_ptr, s.tx_len });
+		r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+		expectErr(std::string("SUBMIT F_FETCH ") + what, r.ret, r.err, EINVAL);
 	}
-	ecmxf_submit s = subOf(kSdoReq, 1);
-	s.tx_ptr = ptr(good.data());
-	s.tx_len = static_cast<std::uint32_t>(good.size());
-	s.flags = ECMXF_CMD_F_FETCH;
-	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
-	expectErr("SUBMIT F_FETCH (ECMXF_IOC_CMD only)", r.ret, r.err, EINVAL);
 
 	expectWorks("after the fetch commands", fd);
 }
@@ -705,12 +755,10 @@ void argsSubmitFields(int fd)
 	s.hdr.reserved = 1;
 	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
 	expectErr("SUBMIT hdr.reserved 1", r.ret, r.err, EINVAL);
-	for (unsigned i = 0; i < 6; i++) {
-		s = subOf(kSlvCntGet, 1);
-		s.reserved[i] = 0x100;
-		r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
-		expectErr("SUBMIT reserved[" + std::to_string(i) + "]", r.ret, r.err, EINVAL);
-	}
+	s = subOf(kSlvCntGet, 1);
+	s.fetch.reserved = 0x100;
+	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
+	expectErr("SUBMIT fetch.reserved without F_FETCH", r.ret, r.err, EINVAL);
 	s = subOf(kSlvCntGet, 1);
 	s.flags = 4;
 	r = ioc(fd, ECMXF_IOC_SUBMIT, &s);
@@ -857,6 +905,7 @@ void argsBadPointers(int fd)
 		   std::all_of(rec[0].data + 20, rec[0].data + sizeof(rec[0].data), [](std::uint8_t b) { return b == 0; }));
 	expectTrue("  reserved zeroed", std::all_of(std::begin(rec[0].reserved), std::end(rec[0].reserved),
 						     [](std::uint32_t w) { return w == 0; }));
+	expectEq("  flags 0 (no result fetch)", rec[0].flags, 0);
 	// a record that asks for less than the answer: -EMSGSIZE, the first bytes
 	s = subOf(kFwVersionGet, 0x5152);
 	s.rx_size = 8;
@@ -1044,7 +1093,7 @@ void partArgs()
 		argsIoctlNumbers(f.get());
 		argsDevinfoCounters(f.get());
 		argsCmdFields(f.get());
-		argsCmdFetch(f.get());
+		argsFetch(f.get());
 		argsSubmitFields(f.get());
 		argsReset(f.get());
 		argsBadPointers(f.get());
@@ -1089,7 +1138,6 @@ struct PermRow {
 	std::vector<std::uint8_t> data;
 	std::uint32_t reset = 0; // ECMXF_IOC_RESET flags instead of a command
 	std::uint32_t resetParam = 0;
-	bool cmdOnly = false; // ECMXF_IOC_CMD only (a result fetch)
 };
 
 constexpr std::uint8_t kPdoDataFifoOp = ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP, kPdoDataOp = ECMXF_CMD_ECAT_PDO_DATA_OP,
@@ -1146,7 +1194,6 @@ std::vector<PermRow> permRows(int wmax)
 		PermRow &f = cmd(std::move(what), p, run, kSdoReq, 0, sdoUploadReq(0x2001, 2));
 		f.cmd.flags = ECMXF_CMD_F_FETCH;
 		f.cmd.fetch.code = kSdoGet;
-		f.cmdOnly = true;
 		return f;
 	};
 	fetchRow("SDO_REQ upload with its SDO_GET fetch", Perm::Chip, true);
@@ -1184,6 +1231,8 @@ Res sendRow(int fd, const PermRow &row, bool submit)
 	s.tx_ptr = c.tx_ptr;
 	s.tx_len = c.tx_len;
 	s.timeout_us = c.timeout_us;
+	s.flags = c.flags;
+	s.fetch = c.fetch;
 	s.cookie = 0xC0DE;
 	return ioc(fd, ECMXF_IOC_SUBMIT, &s);
 }
@@ -1200,7 +1249,7 @@ void permCheck(int fd, const std::string &who, int wmax, const std::function<int
 		const std::string what = who + ": " + row.what;
 		Res r = sendRow(fd, row, false);
 		expectErr(what, r.ret, r.err, want);
-		if (want == 0 || row.reset || row.cmdOnly)
+		if (want == 0 || row.reset)
 			continue;
 		r = sendRow(fd, row, true);
 		expectErr(what + " (SUBMIT)", r.ret, r.err, want);

@@ -700,6 +700,17 @@ void *argPtr(Ctx &c, const void *s, std::size_t n, std::size_t roOff)
 	return q;
 }
 
+/// Sometimes a result fetch (ECMXF_CMD_F_FETCH) for @p hdr: the *_GET
+/// partner of an async *_REQ is its code plus one; any code otherwise.
+void genFetch(Rng &r, const ecmxf_cmd_header &hdr, ecmxf_cmd_header &fetch, std::uint32_t &flags, Shape s)
+{
+	if (!r.chance(60))
+		return;
+	flags |= ECMXF_CMD_F_FETCH;
+	genHeader(r, fetch, s);
+	fetch.code = static_cast<std::uint8_t>(r.chance(700) ? hdr.code + 1 : r.below(256));
+}
+
 void actCmd(Ctx &c)
 {
 	Rng &r = c.rng;
@@ -716,13 +727,7 @@ void actCmd(Ctx &c)
 		cmd.rx_ptr = cmd.rx_size || r.chance(500) ? genPtr(r, c.arena, cmd.rx_size) : 0;
 		cmd.timeout_us = genTimeout(r);
 		cmd.flags = genFlags(r, s);
-		// with its result fetch (ECMXF_CMD_F_FETCH): the *_GET partner of
-		// an async *_REQ is its code plus one; any code otherwise
-		if (r.chance(60)) {
-			cmd.flags |= ECMXF_CMD_F_FETCH;
-			genHeader(r, cmd.fetch, s);
-			cmd.fetch.code = static_cast<std::uint8_t>(r.chance(700) ? cmd.hdr.code + 1 : r.below(256));
-		}
+		genFetch(r, cmd.hdr, cmd.fetch, cmd.flags, s);
 		if (r.chance(100))
 			r.fill(&cmd.rsp, sizeof(cmd.rsp)); // output fields: ignored
 		const unsigned m = mutRate(s);
@@ -766,13 +771,17 @@ void actSubmit(Ctx &c)
 		sub.reserved_ptr = r.chance(950) ? 0 : genPtr(r, c.arena, sub.rx_size);
 		sub.timeout_us = genTimeout(r);
 		sub.flags = genFlags(r, s);
+		genFetch(r, sub.hdr, sub.fetch, sub.flags, s);
 		sub.cookie = r.next();
 		const unsigned m = mutRate(s);
 		mut(r, sub.tx_len, m);
 		mut(r, sub.rx_size, m);
 		mut(r, sub.tx_ptr, m / 4);
 		mut(r, sub.reserved_ptr, m / 4);
-		mut(r, sub.reserved, m);
+		// the fetch header's words that must be zero
+		mut(r, sub.fetch.padding, m);
+		mut(r, sub.fetch.reserved, m);
+		mut(r, sub.fetch.len, m);
 	}
 	keepFormat(r, sub.hdr);
 	const int fd = slotFd(r);
@@ -1191,6 +1200,8 @@ void actRead(Ctx &c)
 			std::memcpy(&cp, c.big.data() + o, rec);
 			if (!zero(cp.reserved, sizeof(cp.reserved)) || cp.rsp.padding)
 				failure("completion record: reserved fields not zero");
+			if (cp.flags & ~ECMXF_CMD_F_FETCHED)
+				failure("completion record: flags 0x%x (only ECMXF_CMD_F_FETCHED is defined)", cp.flags);
 		}
 	}
 }

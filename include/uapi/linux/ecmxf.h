@@ -39,7 +39,9 @@
  * ecmxf_cmd.fetch in what were its reserved words), and the rings' working
  * counter read may leave its answer to the next pump cycle
  * (%ECMXF_RING_F_WKC_NEXT).  Version 4: the pump's FIFO command may leave
- * its answer to the next pump cycle (%ECMXF_RING_F_FIFO_NEXT).  Userspace
+ * its answer to the next pump cycle (%ECMXF_RING_F_FIFO_NEXT), and
+ * %ECMXF_IOC_SUBMIT takes a result fetch too (&struct ecmxf_submit.fetch,
+ * &struct ecmxf_completion.flags in what were reserved words).  Userspace
  * built against another version must refuse to run: compare the value
  * first.
  */
@@ -145,8 +147,8 @@ struct ecmxf_rsp_header {
  * async-command error or command error bit, leave the bit set instead of
  * clearing it with the next packet's control byte.
  *
- * ECMXF_CMD_F_FETCH (%ECMXF_IOC_CMD only): the command is async and
- * &struct ecmxf_cmd.fetch is the header of the command that fetches its
+ * ECMXF_CMD_F_FETCH: the command is async and &struct ecmxf_cmd.fetch
+ * (&struct ecmxf_submit.fetch) is the header of the command that fetches its
  * result, its *_GET partner (ECAT_SDO_GET for ECAT_SDO_REQ, ...; no data).
  * The kernel sends the fetch as the poll of the running command, so the
  * exchange that sees the command end also brings the result: no separate
@@ -154,7 +156,8 @@ struct ecmxf_rsp_header {
  * and its header's fields), checked with the command's.
  *
  * ECMXF_CMD_F_FETCHED (output only; rejected as input): set by the kernel
- * when the fetch ran: @rsp, @rx_len, @status and the data are the fetch's.
+ * (in &struct ecmxf_cmd.flags, &struct ecmxf_completion.flags) when the
+ * fetch ran: @rsp, @rx_len, @status and the data are the fetch's.
  * Clear after a %ECMXF_CMD_F_FETCH command: the command itself failed
  * (@status, @rsp are its own) and the fetch was not sent.
  */
@@ -220,10 +223,13 @@ struct ecmxf_cmd {
  *	(0..%ECMXF_DATA_SIZE_MAX); a longer answer completes with -EMSGSIZE and
  *	its first @rx_size bytes
  * @timeout_us: as &struct ecmxf_cmd.timeout_us, counted from the submit
- * @flags: %ECMXF_CMD_F_* bits (%ECMXF_CMD_F_NO_AUTO_CLEAR; the fetch
- *	flags are %ECMXF_IOC_CMD's)
+ * @flags: %ECMXF_CMD_F_* input bits (%ECMXF_CMD_F_NO_AUTO_CLEAR,
+ *	%ECMXF_CMD_F_FETCH)
  * @cookie: any value; returned in &struct ecmxf_completion.cookie
- * @reserved: must be zero
+ * @fetch: with %ECMXF_CMD_F_FETCH, the header of the async command's
+ *	result fetch, as &struct ecmxf_cmd.fetch (the completion record then
+ *	carries the fetch's outcome, &struct ecmxf_completion.flags); else
+ *	must be zero
  *
  * The first 56 bytes are laid out as in &struct ecmxf_cmd.
  */
@@ -236,7 +242,7 @@ struct ecmxf_submit {
 	__u32 timeout_us;
 	__u32 flags;
 	__aligned_u64 cookie;
-	__u32 reserved[6];
+	struct ecmxf_cmd_header fetch;
 };
 
 /**
@@ -245,6 +251,8 @@ struct ecmxf_submit {
  * @status: 0 or negative errno, as &struct ecmxf_cmd.status
  * @rx_len: response data bytes in @data (at most the submit's rx_size)
  * @rsp: the response header that answered the command
+ * @flags: %ECMXF_CMD_F_FETCHED when the submit's result fetch ran: @rsp,
+ *	@rx_len, @data and @status are then the fetch's; else 0
  * @reserved: zeroed by the kernel
  * @data: the response data; bytes past @rx_len are zero
  *
@@ -257,7 +265,8 @@ struct ecmxf_completion {
 	__s32 status;
 	__u32 rx_len;
 	struct ecmxf_rsp_header rsp;
-	__u32 reserved[6];
+	__u32 flags;
+	__u32 reserved[5];
 	__u8 data[ECMXF_DATA_SIZE_MAX];
 };
 
