@@ -375,6 +375,7 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 	u32 deltas[7] = { 1, 0, 0, 0, 0, c->skipped, 0 };
 	struct ecmxf_pump_result res;
 	__poll_t wake = 0;
+	bool successor;
 	u32 stored;
 	int avail, err;
 
@@ -424,8 +425,15 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 		}
 	}
 	ecmxf_status_update(r, h, 0, deltas);
-	/* more queued either way: again at once (if this one moved any) */
-	if ((res.taken || res.popped) && (h->tx_fifo_cnt || avail > 0))
+	/*
+	 * more queued either way: again at once (if this one moved any).
+	 * The TxPDO frames queued then are for the command that went out
+	 * after this one, if it is still in flight (%ECMXF_RING_F_FIFO_NEXT):
+	 * it pops them.
+	 */
+	successor = edev->pump.fifo[c == &edev->pump.fifo[0]].busy;
+	if ((res.taken || res.popped) &&
+	    ((h->tx_fifo_cnt && !successor) || avail > 0))
 		r->again = true;
 	if (wake)
 		ecmxf_rings_wake(edev, wake);

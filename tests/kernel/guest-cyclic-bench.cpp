@@ -199,9 +199,10 @@ Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *n
 				    static_cast<unsigned long long>(st.int0Timeouts));
 		}
 	f.late = static_cast<long>(s.lateCycles);
-	std::printf("bench: cyclic %s: %llu cycles, %.2f commands per cycle from userspace, %u failed, %llu late\n", name,
+	std::printf("bench: cyclic %s: %llu cycles, %.2f commands per cycle (%s), %u failed, %llu late\n", name,
 		    static_cast<unsigned long long>(s.cycles),
-		    s.cycles ? static_cast<double>(s.commands) / static_cast<double>(s.cycles) : 0.0, errors,
+		    s.cycles ? static_cast<double>(s.commands) / static_cast<double>(s.cycles) : 0.0,
+		    wantRings ? "the kernel pump's" : "from userspace", errors,
 		    static_cast<unsigned long long>(s.lateCycles));
 	cyc.stop();
 	return f;
