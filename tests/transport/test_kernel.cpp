@@ -106,16 +106,16 @@ ecmxf::Command cmd(std::uint8_t code, std::uint8_t param = 0)
 
 } // namespace
 
-TEST_CASE("the kernel ABI version check accepts version 3 only and names both versions otherwise",
+TEST_CASE("the kernel ABI version check accepts version 4 only and names both versions otherwise",
 	  "[transport][kernel]")
 {
-	CHECK(ecmxf::kKernelUapiVersion == 3);
-	CHECK_NOTHROW(ecmxf::checkKernelUapiVersion("/dev/ecmxf0", 3));
-	for (std::uint32_t other : { 1u, 2u, 4u }) {
+	CHECK(ecmxf::kKernelUapiVersion == 4);
+	CHECK_NOTHROW(ecmxf::checkKernelUapiVersion("/dev/ecmxf0", 4));
+	for (std::uint32_t other : { 1u, 2u, 3u, 5u }) {
 		const ecmxf::Error e = thrown([other] { ecmxf::checkKernelUapiVersion("/dev/ecmxf0", other); });
 		CHECK_THAT(e.what(), Equals("/dev/ecmxf0: the ecmxf kernel module speaks ABI version " +
 					    std::to_string(other) +
-					    ", this library ABI version 3 (<linux/ecmxf.h>); use a matching library and module"));
+					    ", this library ABI version 4 (<linux/ecmxf.h>); use a matching library and module"));
 		CHECK(e.errnoValue() == EPROTO);
 	}
 }
