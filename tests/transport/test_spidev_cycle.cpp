@@ -81,6 +81,24 @@ Steady runSteady(test::FakeSpidev &b, ecmxf::SpidevChannel &ch, ecmxf::Device &d
 	return st;
 }
 
+/// The rig's chip configuration, busy for @p t after each packet (0: INT0
+/// never drops, so no edge comes).
+ecmxf::sim::ChipConfig busyFor(std::chrono::nanoseconds t)
+{
+	ecmxf::sim::ChipConfig cfg = test::SpidevRig::defaultConfig();
+	cfg.processingTime = t;
+	return cfg;
+}
+
+/// The first wait for "ready" (the level: nothing is known yet), then one
+/// exchange of a zeroed packet.
+void firstExchange(test::SpidevRig &r)
+{
+	std::vector<std::uint8_t> mosi(r.chip.packetSize()), miso(mosi.size());
+	REQUIRE(r.transport->waitReady(1ms));
+	r.transport->exchange(mosi, miso);
+}
+
 } // namespace
 
 TEST_CASE("spidev INT0: the ready edge after an exchange is waited for with one ppoll and one read, "
@@ -150,12 +168,8 @@ TEST_CASE("spidev INT0: the coarse clock follows the ready edges and sleeps with
 TEST_CASE("spidev INT0: a chip that does not go busy (no edge) is found ready by one level read after the grace",
 	  "[transport][spidev][rt]")
 {
-	ecmxf::sim::ChipConfig cfg = test::SpidevRig::defaultConfig();
-	cfg.processingTime = 0ns; // INT0 never drops: no edge
-	test::SpidevRig r(true, false, cfg);
-	std::vector<std::uint8_t> mosi(r.chip.packetSize()), miso(mosi.size());
-	REQUIRE(r.transport->waitReady(1ms));
-	r.transport->exchange(mosi, miso);
+	test::SpidevRig r(true, false, busyFor(0ns)); // INT0 never drops: no edge
+	firstExchange(r);
 	const auto t0 = r.chip.now();
 	const unsigned lines = r.backend->calls.ioctlLine;
 	REQUIRE(r.transport->waitReady(5ms));
@@ -168,12 +182,8 @@ TEST_CASE("spidev INT0: a chip that does not go busy (no edge) is found ready by
 TEST_CASE("spidev INT0: after a sleep with no edge queued, the level is read at once (no grace)",
 	  "[transport][spidev][rt]")
 {
-	ecmxf::sim::ChipConfig cfg = test::SpidevRig::defaultConfig();
-	cfg.processingTime = 0ns; // INT0 never drops: no edge
-	test::SpidevRig r(true, false, cfg);
-	std::vector<std::uint8_t> mosi(r.chip.packetSize()), miso(mosi.size());
-	REQUIRE(r.transport->waitReady(1ms));
-	r.transport->exchange(mosi, miso);
+	test::SpidevRig r(true, false, busyFor(0ns)); // INT0 never drops: no edge
+	firstExchange(r);
 	r.transport->sleepFor(700us); // the rest of a cycle
 	const auto t0 = r.chip.now();
 	const Calls before = r.backend->calls;
@@ -186,11 +196,8 @@ TEST_CASE("spidev INT0: after a sleep with no edge queued, the level is read at 
 	CHECK(r.transport->stats().int0Unsignalled == 1);
 	// a chip still busy after the sleep: the level says so, the edge is
 	// then waited for as usual
-	ecmxf::sim::ChipConfig slow = test::SpidevRig::defaultConfig();
-	slow.processingTime = 2ms;
-	test::SpidevRig s(true, false, slow);
-	REQUIRE(s.transport->waitReady(1ms));
-	s.transport->exchange(mosi, miso);
+	test::SpidevRig s(true, false, busyFor(2ms));
+	firstExchange(s);
 	s.transport->sleepFor(500us);
 	const auto t1 = s.chip.now();
 	REQUIRE(s.transport->waitReady(5ms));
@@ -204,9 +211,7 @@ TEST_CASE("spidev INT0 stuck busy after an exchange: one level read after the gr
 	  "[transport][spidev][rt]")
 {
 	test::SpidevRig r;
-	std::vector<std::uint8_t> mosi(r.chip.packetSize()), miso(mosi.size());
-	REQUIRE(r.transport->waitReady(1ms));
-	r.transport->exchange(mosi, miso);
+	firstExchange(r);
 	r.chip.faults().int0StuckBusy = true;
 	const auto t0 = r.chip.now();
 	const Calls before = r.backend->calls;
