@@ -21,8 +21,11 @@
 //
 // The process runs as an RT application would (ecmxf::applyRealtime():
 // memory locked, SCHED_FIFO 49, below the kernel worker's 50), on CPU 0
-// with the kernel's worker and the bridge (no path pays TCG's
-// cross-vCPU wake-ups). Each path:
+// with the kernel's worker, the bridge (at SCHED_FIFO 48: the chip is no
+// process that the guest's other tasks delay) and the interrupts of INT0
+// and INT1 with their threads (/proc/irq/N/smp_affinity, as the PREEMPT_RT
+// recipe of process-data.rst): no path pays TCG's cross-vCPU wake-ups.
+// Each path:
 // the bus up (2 x EST-584 + digital I/O, 1 ms SYNC0), 100
 // cycles of warm-up, N cycles at a 1 ms period measured (this process's
 // CPU time from getrusage(), the kernel worker's from its
@@ -32,8 +35,11 @@
 // on the caller's stack, bench-proc.hpp). The spidev run ends with the
 // three paths' call-site tables side by side (the kernel run leaves its
 // tables in /tmp/ecmxf-cbench-sites) and the late cycles of rings and
-// spidev. Every line starts with "bench:". Timings under TCG are
-// emulated: only ratios within one run mean something.
+// spidev: of the measured cycles after the first (which waits for the
+// bench's own /proc reading), by cause (woke a period or more late, or
+// cycle() ran past the next boundary), each late cycle listed. Every line
+// starts with "bench:". Timings under TCG are emulated: only ratios within
+// one run mean something.
 
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
@@ -58,6 +64,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdint>
@@ -66,6 +73,7 @@
 #include <cstring>
 #include <exception>
 #include <fstream>
+#include <sstream>
 #include <functional>
 #include <map>
 #include <array>
@@ -91,6 +99,8 @@ constexpr unsigned kTraced = 200;
 constexpr unsigned kStride = 7;
 /// the bench's SCHED_FIFO priority: below the ecmxf0 worker's 50
 constexpr int kPriority = 49;
+/// the bridge's (the chip's): below this process
+constexpr int kBridgePriority = 48;
 
 using ecmxf::ktest::cpuUs;
 using ecmxf::ktest::taskCpuUs;
@@ -101,7 +111,8 @@ struct Figures {
 	double appCpuUs = 0;  ///< this process, per cycle
 	double workerCpuUs = 0; ///< the kernel's worker, per cycle
 	double wallUs = 0;    ///< per cycle
-	long late = -1;       ///< late cycles (Cyclic's count), -1: not counted
+	long late = -1;       ///< late measured cycles (lateCycles()), -1: not counted
+	long lateWoke = 0;    ///< of those, the ones that woke a period or more late
 	/// the traced cycles' system calls by call site
 	ecmxf::ktest::SiteCounts sites;
 };
@@ -133,6 +144,105 @@ Figures measure(const char *name, unsigned n, const std::function<void()> &once)
 		    "the kernel worker, %.0f us wall per cycle (%u cycles, 1 ms period)\n",
 		    name, f.syscalls, f.appCpuUs, f.workerCpuUs, f.wallUs, n);
 	return f;
+}
+
+/// One cycle of this process as the bench saw it.
+struct CycleMark {
+	double wakeUs; ///< cycle() began this long after its boundary
+	double workUs; ///< cycle() took this long
+	bool late;     ///< waitNextCycle() found the next boundary past
+};
+
+/// The late cycles among the measured ones of @p marks (the warm-up's
+/// left out, and the first measured cycle, whose wake-up waits for the
+/// bench's own /proc reading), by cause: woke a period or more after its
+/// boundary (the process was not run: the same for every path), or
+/// cycle() ran past the next boundary (the path's own time). Prints the
+/// percentiles of both times and each late cycle.
+void lateCycles(const char *name, const std::vector<CycleMark> &marks, Figures &f)
+{
+	if (marks.size() <= kWarmup + 1)
+		return;
+	std::vector<double> wake, work;
+	f.late = f.lateWoke = 0;
+	for (std::size_t i = kWarmup + 1; i < marks.size(); i++) {
+		const CycleMark &m = marks[i];
+		wake.push_back(m.wakeUs);
+		work.push_back(m.workUs);
+		if (!m.late)
+			continue;
+		f.late++;
+		if (m.wakeUs >= 1000.0)
+			f.lateWoke++;
+		std::printf("bench: cyclic %s: late cycle %zu: woke %.0f us after its boundary, cycle() %.0f us\n", name,
+			    i - kWarmup, m.wakeUs, m.workUs);
+	}
+	std::sort(wake.begin(), wake.end());
+	std::sort(work.begin(), work.end());
+	const auto pct = [](const std::vector<double> &v, double p) {
+		return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
+	};
+	std::printf("bench: cyclic %s: wake-up after the boundary p50 %.0f p99 %.0f max %.0f us; cycle() p50 %.0f "
+		    "p99 %.0f max %.0f us\n",
+		    name, pct(wake, 0.5), pct(wake, 0.99), wake.back(), pct(work, 0.5), pct(work, 0.99), work.back());
+	std::printf("bench: cyclic %s: %ld late of the %zu measured cycles after the first: %ld woke a period or more "
+		    "late, %ld ran cycle() past the next boundary\n",
+		    name, f.late, marks.size() - kWarmup - 1, f.lateWoke, f.late - f.lateWoke);
+}
+
+/// Routes every interrupt of the virtual controller's lines (INT0/INT1:
+/// /proc/interrupts rows naming ecmxf) to CPU @p cpu, as the PREEMPT_RT
+/// recipe does on a board (process-data.rst, "Real time"): their threads
+/// (gpiolib's edge thread for a spidev application's line request) then
+/// run beside the application. Returns the interrupts routed, as text.
+std::string routeIrqs(unsigned cpu)
+{
+	std::ifstream f("/proc/interrupts");
+	std::string routed;
+	for (std::string line; std::getline(f, line);) {
+		if (line.find("ecmxf") == std::string::npos)
+			continue;
+		const long irq = std::strtol(line.c_str(), nullptr, 10);
+		if (irq <= 0)
+			continue;
+		std::ofstream a("/proc/irq/" + std::to_string(irq) + "/smp_affinity");
+		a << std::hex << (1u << cpu) << '\n';
+		a.flush();
+		routed += " " + std::to_string(irq) + (a ? "" : " (refused)");
+	}
+	return routed.empty() ? " none" : routed;
+}
+
+/// The CPU each interrupt thread last ran on (/proc/PID/stat field 39) and
+/// the CPUs it may run on.
+std::string irqThreadCpus()
+{
+	std::string out;
+	DIR *d = ::opendir("/proc");
+	if (!d)
+		return out;
+	while (dirent *e = ::readdir(d)) {
+		if (std::strtol(e->d_name, nullptr, 10) <= 0)
+			continue;
+		std::ifstream f("/proc/" + std::string(e->d_name) + "/stat");
+		std::string st;
+		std::getline(f, st);
+		const std::size_t a = st.find('('), b = st.rfind(')');
+		if (a == std::string::npos || b == std::string::npos || st.compare(a + 1, 4, "irq/") != 0)
+			continue;
+		std::istringstream rest(st.substr(b + 2));
+		std::string field;
+		for (int i = 3; i <= 39 && rest >> field; i++) {
+		}
+		std::ifstream ps("/proc/" + std::string(e->d_name) + "/status");
+		std::string allowed;
+		for (std::string l; std::getline(ps, l);)
+			if (l.rfind("Cpus_allowed_list:", 0) == 0)
+				allowed = l.substr(l.find_first_not_of(" \t", 18));
+		out += " " + st.substr(a + 1, b - a - 1) + " on CPU " + field + " (allowed " + allowed + ");";
+	}
+	::closedir(d);
+	return out.empty() ? " none" : out;
 }
 
 /// The bus up on the default network, 1 ms SYNC0; the process image.
@@ -169,12 +279,30 @@ Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *n
 		std::exit(1);
 	}
 	cyc.start();
+	const auto epoch = std::chrono::steady_clock::now();
 	unsigned errors = 0;
 	const ecmxf::LinkCounters k0 = dev.link().counters();
+	// each cycle of this process (warm-up and measured, not the traced
+	// child's): when it began, how long cycle() took, whether it was late
+	std::vector<CycleMark> marks;
+	marks.reserve(kWarmup + n);
+	std::uint64_t tick = 0; // the boundary this cycle was for, as Cyclic's
 	Figures f = measure(name, n, [&] {
+		const bool record = marks.size() < kWarmup + n;
+		const auto t0 = record ? std::chrono::steady_clock::now() : epoch;
+		const std::uint64_t late0 = cyc.stats().lateCycles;
 		errors += cyc.cycle().error != 0;
+		const auto t1 = record ? std::chrono::steady_clock::now() : epoch;
 		(void)cyc.waitNextCycle();
+		if (record) {
+			const auto us = [](auto d) { return std::chrono::duration<double, std::micro>(d).count(); };
+			const bool late = cyc.stats().lateCycles != late0;
+			marks.push_back({ us(t0 - epoch) - static_cast<double>(tick) * 1000.0, us(t1 - t0), late });
+			// a late cycle's successor is for the next boundary ahead
+			tick = late ? static_cast<std::uint64_t>(us(t1 - epoch) / 1000.0) + 1 : tick + 1;
+		}
 	});
+	lateCycles(name, marks, f);
 	const ecmxf::CyclicStats &s = cyc.stats();
 	// what the link (the kernel's, for the rings: its pump's) exchanged
 	// per cycle, in this process's cycles (not the traced child's)
@@ -198,7 +326,6 @@ Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *n
 				    static_cast<unsigned long long>(st.int0Unsignalled),
 				    static_cast<unsigned long long>(st.int0Timeouts));
 		}
-	f.late = static_cast<long>(s.lateCycles);
 	std::printf("bench: cyclic %s: %llu cycles, %.2f commands per cycle (%s), %u failed, %llu late\n", name,
 		    static_cast<unsigned long long>(s.cycles),
 		    s.cycles ? static_cast<double>(s.commands) / static_cast<double>(s.cycles) : 0.0,
@@ -309,8 +436,8 @@ void save(const Figures &ring, const Figures &ioc)
 	std::FILE *f = std::fopen(kResultFile, "w");
 	if (!f)
 		return;
-	std::fprintf(f, "%f %f %f %f %f %f %ld\n", ring.syscalls, ring.appCpuUs, ring.workerCpuUs, ioc.syscalls,
-		     ioc.appCpuUs, ioc.workerCpuUs, ring.late);
+	std::fprintf(f, "%f %f %f %f %f %f %ld %ld\n", ring.syscalls, ring.appCpuUs, ring.workerCpuUs, ioc.syscalls,
+		     ioc.appCpuUs, ioc.workerCpuUs, ring.late, ring.lateWoke);
 	std::fclose(f);
 	std::FILE *t = std::fopen(kSitesFile, "w");
 	if (!t)
@@ -386,12 +513,27 @@ int main(int argc, char **argv)
 				    (!worker || !ecmxf::ktest::pinToCpu(worker, 0));
 		std::printf("bench: cyclic: %s\n", pinned ? "this process, the ecmxf0 worker and the bridge on CPU 0"
 							  : "not pinned (sched_setaffinity failed, or no bridge found)");
+		// the chip answers and raises INT0 in its own time, whatever
+		// else the host runs: the bridge that stands in for it runs
+		// at SCHED_FIFO, below this process and the worker (they
+		// preempt it, it waits for nothing of theirs), above the
+		// guest's CFS tasks, which otherwise delay an answer or a
+		// ready edge by milliseconds (that cost only the path whose
+		// application thread waits for the chip: spidev's)
+		sched_param bsp{};
+		bsp.sched_priority = kBridgePriority;
+		const bool bridgeRt = bridge && !::sched_setscheduler(static_cast<pid_t>(bridge), SCHED_FIFO, &bsp);
+		std::printf("bench: cyclic: the bridge %s SCHED_FIFO %d\n", bridgeRt ? "at" : "could not be set to",
+			    kBridgePriority);
 		auto dev = ecmxf::Device::open(argv[3]);
+		// after the open: a spidev Device requests INT0/INT1 in it
+		std::printf("bench: cyclic: interrupts of INT0/INT1 routed to CPU 0:%s\n", routeIrqs(0).c_str());
 		ecmxf::ProcessImage image = bringUp(*dev);
 		if (mode == "kernel") {
 			const Figures ring = cyclicPath(*dev, image, "rings", n, true);
 			const Figures ioc = ioctlPath(*dev, image, n);
 			save(ring, ioc);
+			std::printf("bench: cyclic: interrupt threads:%s\n", irqThreadCpus().c_str());
 			ringsExchanges(*dev, image, n);
 			std::printf("bench: cyclic rings/ioctl: syscalls per cycle %.2f, CPU per cycle %.2f (application "
 				    "only), %.2f (with the kernel worker)\n",
@@ -403,16 +545,18 @@ int main(int argc, char **argv)
 			const Figures sp = cyclicPath(*dev, image, "spidev (library, FIFO commands)", n, false);
 			std::FILE *f = std::fopen(kResultFile, "r");
 			Figures ring, ioc;
-			if (!f || std::fscanf(f, "%lf %lf %lf %lf %lf %lf %ld", &ring.syscalls, &ring.appCpuUs,
+			if (!f || std::fscanf(f, "%lf %lf %lf %lf %lf %lf %ld %ld", &ring.syscalls, &ring.appCpuUs,
 					      &ring.workerCpuUs, &ioc.syscalls, &ioc.appCpuUs, &ioc.workerCpuUs,
-					      &ring.late) != 7) {
+					      &ring.late, &ring.lateWoke) != 8) {
 				std::printf("bench: no kernel figures in %s: no ratios\n", kResultFile);
 				return 0;
 			}
 			std::fclose(f);
 			printSites(sp);
-			std::printf("bench: cyclic late cycles: rings %ld, spidev %ld (of %u + %u warm-up)\n", ring.late,
-				    sp.late, n, kWarmup);
+			std::printf("bench: cyclic: interrupt threads:%s\n", irqThreadCpus().c_str());
+			std::printf("bench: cyclic late cycles of %u measured: rings %ld (%ld woke a period or more late), "
+				    "spidev %ld (%ld woke a period or more late)\n",
+				    n - 1, ring.late, ring.lateWoke, sp.late, sp.lateWoke);
 			std::printf("bench: cyclic rings/spidev: syscalls per cycle %.2f, CPU per cycle %.2f (with the "
 				    "kernel worker)\n",
 				    ratio(ring.syscalls, sp.syscalls),

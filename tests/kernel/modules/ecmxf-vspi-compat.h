@@ -35,4 +35,17 @@
 	}
 #endif
 
+/*
+ * VSPI_IRQ_MOVE_PCNTXT - the status flag that lets an interrupt's affinity
+ * change at once, from the writer of /proc/irq/N/smp_affinity. Without it,
+ * x86 (GENERIC_PENDING_IRQ) defers the change to the next interrupt's
+ * acknowledgment by an APIC, which a software irq_chip never gets. 6.13
+ * dropped the flag (only IRQCHIP_MOVE_DEFERRED chips defer there).
+ */
+#if LINUX_VERSION_CODE >= KERNEL_VERSION(6, 13, 0)
+#define VSPI_IRQ_MOVE_PCNTXT 0
+#else
+#define VSPI_IRQ_MOVE_PCNTXT IRQ_MOVE_PCNTXT
+#endif
+
 #endif /* ECMXF_VSPI_COMPAT_H */

@@ -414,11 +414,26 @@ static int vspi_irq_set_type(struct irq_data *d, unsigned int type)
 	return 0;
 }
 
+/*
+ * The lines' interrupts are raised by the bridge's ioctl on whatever CPU it
+ * runs: no CPU to route. Accepting a mask lets /proc/irq/N/smp_affinity
+ * place a line's interrupt thread (gpiolib's edge thread, a threaded
+ * handler) as a board's GPIO interrupt can be placed (the cyclic bench keeps
+ * it on the application's CPU).
+ */
+static int vspi_irq_set_affinity(struct irq_data *d,
+				 const struct cpumask *mask, bool force)
+{
+	irq_data_update_effective_affinity(d, mask);
+	return IRQ_SET_MASK_OK;
+}
+
 static const struct irq_chip vspi_irq_chip = {
 	.name = VSPI_NAME,
 	.irq_mask = vspi_irq_mask,
 	.irq_unmask = vspi_irq_unmask,
 	.irq_set_type = vspi_irq_set_type,
+	.irq_set_affinity = vspi_irq_set_affinity,
 	.flags = IRQCHIP_IMMUTABLE | IRQCHIP_SKIP_SET_WAKE,
 	GPIOCHIP_IRQ_RESOURCE_HELPERS,
 };
@@ -426,6 +441,8 @@ static const struct irq_chip vspi_irq_chip = {
 static int vspi_add_gpio(struct device *dev, struct vspi *v)
 {
 	struct gpio_irq_chip *girq;
+	unsigned int line;
+	int ret;
 
 	v->gc.label = VSPI_NAME;
 	v->gc.parent = dev;
@@ -441,7 +458,22 @@ static int vspi_add_gpio(struct device *dev, struct vspi *v)
 	girq->handler = handle_simple_irq;
 	girq->default_type = IRQ_TYPE_NONE;
 
-	return devm_gpiochip_add_data(dev, &v->gc, v);
+	ret = devm_gpiochip_add_data(dev, &v->gc, v);
+	if (ret)
+		return ret;
+	/*
+	 * Map both lines now (a line request finds the mapping) so that their
+	 * affinity can move at once (vspi_irq_set_affinity()).
+	 */
+	for (line = 0; line < VSPI_NLINES; line++) {
+		unsigned int irq = irq_create_mapping(girq->domain, line);
+
+		if (!irq)
+			return -ENOMEM;
+		if (VSPI_IRQ_MOVE_PCNTXT)
+			irq_set_status_flags(irq, VSPI_IRQ_MOVE_PCNTXT);
+	}
+	return 0;
 }
 
 /* ---- the platform device that holds it all --------------------------- */
