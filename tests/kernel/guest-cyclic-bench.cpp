@@ -35,9 +35,10 @@
 // on the caller's stack, bench-proc.hpp). The spidev run ends with the
 // three paths' call-site tables side by side (the kernel run leaves its
 // tables in /tmp/ecmxf-cbench-sites) and the late cycles of rings and
-// spidev: of the measured cycles after the first (which waits for the
-// bench's own /proc reading), by cause (woke a period or more late, or
-// cycle() ran past the next boundary), each late cycle listed. Every line
+// spidev. Those are counted over a run of their own (from start() again,
+// 100 cycles of warm-up, ECMXF_BENCH_LATE_N cycles, default 10 000: a
+// thousand have too few to compare), by cause (woke a period or more
+// late, or cycle() ran past the next boundary), each listed. Every line
 // starts with "bench:". Timings under TCG are emulated: only ratios within
 // one run mean something.
 
@@ -93,6 +94,8 @@ constexpr const char *kResultFile = "/tmp/ecmxf-cbench-kernel";
 /// the kernel paths' system calls by call site, for the side-by-side table
 constexpr const char *kSitesFile = "/tmp/ecmxf-cbench-sites";
 constexpr unsigned kWarmup = 100;
+/// the cycles whose late ones are counted (ECMXF_BENCH_LATE_N)
+constexpr unsigned kLateCycles = 10000;
 constexpr unsigned kTraced = 200;
 /// one traced cycle in this many (the others bring the exchange back to
 /// its steady state; 7: every phase of a working counter read every 10)
@@ -111,7 +114,7 @@ struct Figures {
 	double appCpuUs = 0;  ///< this process, per cycle
 	double workerCpuUs = 0; ///< the kernel's worker, per cycle
 	double wallUs = 0;    ///< per cycle
-	long late = -1;       ///< late measured cycles (lateCycles()), -1: not counted
+	long late = -1;       ///< late cycles (lateRun()), -1: not counted
 	long lateWoke = 0;    ///< of those, the ones that woke a period or more late
 	/// the traced cycles' system calls by call site
 	ecmxf::ktest::SiteCounts sites;
@@ -153,19 +156,34 @@ struct CycleMark {
 	bool late;     ///< waitNextCycle() found the next boundary past
 };
 
-/// The late cycles among the measured ones of @p marks (the warm-up's
-/// left out, and the first measured cycle, whose wake-up waits for the
-/// bench's own /proc reading), by cause: woke a period or more after its
-/// boundary (the process was not run: the same for every path), or
-/// cycle() ran past the next boundary (the path's own time). Prints the
-/// percentiles of both times and each late cycle.
-void lateCycles(const char *name, const std::vector<CycleMark> &marks, Figures &f)
+/// The late cycles of @p cyc over @p n cycles after the warm-up, from
+/// start() again (no bench work between its cycles), by cause: woke a
+/// period or more after its boundary (the process was not run: the same
+/// for every path), or cycle() ran past the next boundary (the path's own
+/// time). Prints the percentiles of both times and each late cycle.
+void lateRun(ecmxf::Cyclic &cyc, const char *name, unsigned n, Figures &f)
 {
-	if (marks.size() <= kWarmup + 1)
-		return;
+	cyc.stop();
+	cyc.start();
+	const auto epoch = std::chrono::steady_clock::now();
+	const auto us = [](auto d) { return std::chrono::duration<double, std::micro>(d).count(); };
+	std::vector<CycleMark> marks;
+	marks.reserve(kWarmup + n);
+	std::uint64_t tick = 0; // the boundary this cycle is for, as Cyclic's
+	for (unsigned i = 0; i < kWarmup + n; i++) {
+		const auto t0 = std::chrono::steady_clock::now();
+		const std::uint64_t late0 = cyc.stats().lateCycles;
+		(void)cyc.cycle();
+		const auto t1 = std::chrono::steady_clock::now();
+		(void)cyc.waitNextCycle();
+		const bool late = cyc.stats().lateCycles != late0;
+		marks.push_back({ us(t0 - epoch) - static_cast<double>(tick) * 1000.0, us(t1 - t0), late });
+		// a late cycle's successor is for the next boundary ahead
+		tick = late ? static_cast<std::uint64_t>(us(t1 - epoch) / 1000.0) + 1 : tick + 1;
+	}
 	std::vector<double> wake, work;
 	f.late = f.lateWoke = 0;
-	for (std::size_t i = kWarmup + 1; i < marks.size(); i++) {
+	for (std::size_t i = kWarmup; i < marks.size(); i++) {
 		const CycleMark &m = marks[i];
 		wake.push_back(m.wakeUs);
 		work.push_back(m.workUs);
@@ -177,17 +195,19 @@ void lateCycles(const char *name, const std::vector<CycleMark> &marks, Figures &
 		std::printf("bench: cyclic %s: late cycle %zu: woke %.0f us after its boundary, cycle() %.0f us\n", name,
 			    i - kWarmup, m.wakeUs, m.workUs);
 	}
+	if (wake.empty())
+		return;
 	std::sort(wake.begin(), wake.end());
 	std::sort(work.begin(), work.end());
 	const auto pct = [](const std::vector<double> &v, double p) {
 		return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
 	};
 	std::printf("bench: cyclic %s: wake-up after the boundary p50 %.0f p99 %.0f max %.0f us; cycle() p50 %.0f "
-		    "p99 %.0f max %.0f us\n",
-		    name, pct(wake, 0.5), pct(wake, 0.99), wake.back(), pct(work, 0.5), pct(work, 0.99), work.back());
-	std::printf("bench: cyclic %s: %ld late of the %zu measured cycles after the first: %ld woke a period or more "
-		    "late, %ld ran cycle() past the next boundary\n",
-		    name, f.late, marks.size() - kWarmup - 1, f.lateWoke, f.late - f.lateWoke);
+		    "p99 %.0f max %.0f us (%u cycles)\n",
+		    name, pct(wake, 0.5), pct(wake, 0.99), wake.back(), pct(work, 0.5), pct(work, 0.99), work.back(), n);
+	std::printf("bench: cyclic %s: %ld late of %u cycles: %ld woke a period or more late, %ld ran cycle() past the "
+		    "next boundary\n",
+		    name, f.late, n, f.lateWoke, f.late - f.lateWoke);
 }
 
 /// Routes every interrupt of the virtual controller's lines (INT0/INT1:
@@ -271,7 +291,8 @@ ecmxf::CyclicConfig config()
 }
 
 /// The library's Cyclic; one cycle = cycle() + waitNextCycle().
-Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *name, unsigned n, bool wantRings)
+Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *name, unsigned n, unsigned lateN,
+		   bool wantRings)
 {
 	ecmxf::Cyclic cyc(dev, image, config());
 	if (cyc.usesKernelRings() != wantRings) {
@@ -279,30 +300,12 @@ Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *n
 		std::exit(1);
 	}
 	cyc.start();
-	const auto epoch = std::chrono::steady_clock::now();
 	unsigned errors = 0;
 	const ecmxf::LinkCounters k0 = dev.link().counters();
-	// each cycle of this process (warm-up and measured, not the traced
-	// child's): when it began, how long cycle() took, whether it was late
-	std::vector<CycleMark> marks;
-	marks.reserve(kWarmup + n);
-	std::uint64_t tick = 0; // the boundary this cycle was for, as Cyclic's
 	Figures f = measure(name, n, [&] {
-		const bool record = marks.size() < kWarmup + n;
-		const auto t0 = record ? std::chrono::steady_clock::now() : epoch;
-		const std::uint64_t late0 = cyc.stats().lateCycles;
 		errors += cyc.cycle().error != 0;
-		const auto t1 = record ? std::chrono::steady_clock::now() : epoch;
 		(void)cyc.waitNextCycle();
-		if (record) {
-			const auto us = [](auto d) { return std::chrono::duration<double, std::micro>(d).count(); };
-			const bool late = cyc.stats().lateCycles != late0;
-			marks.push_back({ us(t0 - epoch) - static_cast<double>(tick) * 1000.0, us(t1 - t0), late });
-			// a late cycle's successor is for the next boundary ahead
-			tick = late ? static_cast<std::uint64_t>(us(t1 - epoch) / 1000.0) + 1 : tick + 1;
-		}
 	});
-	lateCycles(name, marks, f);
 	const ecmxf::CyclicStats &s = cyc.stats();
 	// what the link (the kernel's, for the rings: its pump's) exchanged
 	// per cycle, in this process's cycles (not the traced child's)
@@ -331,6 +334,7 @@ Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *n
 		    s.cycles ? static_cast<double>(s.commands) / static_cast<double>(s.cycles) : 0.0,
 		    wantRings ? "the kernel pump's" : "from userspace", errors,
 		    static_cast<unsigned long long>(s.lateCycles));
+	lateRun(cyc, name, lateN, f);
 	cyc.stop();
 	return f;
 }
@@ -493,6 +497,9 @@ int main(int argc, char **argv)
 		}
 		const std::string_view mode = argv[1];
 		const auto n = static_cast<unsigned>(std::strtoul(argv[2], nullptr, 10));
+		// the late cycles: few in 1000, too few to compare two paths
+		const char *ln = std::getenv("ECMXF_BENCH_LATE_N");
+		const auto lateN = ln ? static_cast<unsigned>(std::strtoul(ln, nullptr, 10)) : kLateCycles;
 		// what an RT application does (CyclicConfig::realtime): memory
 		// locked, SCHED_FIFO just below the kernel's link worker (50),
 		// for all three paths alike
@@ -530,7 +537,7 @@ int main(int argc, char **argv)
 		std::printf("bench: cyclic: interrupts of INT0/INT1 routed to CPU 0:%s\n", routeIrqs(0).c_str());
 		ecmxf::ProcessImage image = bringUp(*dev);
 		if (mode == "kernel") {
-			const Figures ring = cyclicPath(*dev, image, "rings", n, true);
+			const Figures ring = cyclicPath(*dev, image, "rings", n, lateN, true);
 			const Figures ioc = ioctlPath(*dev, image, n);
 			save(ring, ioc);
 			std::printf("bench: cyclic: interrupt threads:%s\n", irqThreadCpus().c_str());
@@ -542,7 +549,7 @@ int main(int argc, char **argv)
 			return 0;
 		}
 		if (mode == "spidev") {
-			const Figures sp = cyclicPath(*dev, image, "spidev (library, FIFO commands)", n, false);
+			const Figures sp = cyclicPath(*dev, image, "spidev (library, FIFO commands)", n, lateN, false);
 			std::FILE *f = std::fopen(kResultFile, "r");
 			Figures ring, ioc;
 			if (!f || std::fscanf(f, "%lf %lf %lf %lf %lf %lf %ld %ld", &ring.syscalls, &ring.appCpuUs,
@@ -554,9 +561,9 @@ int main(int argc, char **argv)
 			std::fclose(f);
 			printSites(sp);
 			std::printf("bench: cyclic: interrupt threads:%s\n", irqThreadCpus().c_str());
-			std::printf("bench: cyclic late cycles of %u measured: rings %ld (%ld woke a period or more late), "
-				    "spidev %ld (%ld woke a period or more late)\n",
-				    n - 1, ring.late, ring.lateWoke, sp.late, sp.lateWoke);
+			std::printf("bench: cyclic late cycles of %u: rings %ld (%ld woke a period or more late), spidev %ld "
+				    "(%ld woke a period or more late)\n",
+				    lateN, ring.late, ring.lateWoke, sp.late, sp.lateWoke);
 			std::printf("bench: cyclic rings/spidev: syscalls per cycle %.2f, CPU per cycle %.2f (with the "
 				    "kernel worker)\n",
 				    ratio(ring.syscalls, sp.syscalls),
