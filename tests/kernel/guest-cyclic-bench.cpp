@@ -14,6 +14,8 @@
 //       within its cycle or by its next FIFO command
 //       (ECMXF_RING_F_FIFO_NEXT, ECMXF_RING_F_WKC_NEXT)
 //   ecmxf-guest-cyclic-bench spidev <N> <spidev URI>
+//       first its system calls with each FIFO command's answer fetched
+//       within its cycle (two exchanges a cycle); then
 //       3. spidev: the library's Cyclic over SpidevChannel (the same
 //          FIFO commands, from userspace, each cycle's answer fetched by
 //          the next cycle's exchange: CyclicConfig::fifoAnswerNextCycle);
@@ -275,7 +277,7 @@ ecmxf::ProcessImage bringUp(ecmxf::Device &dev)
 	return ecmxf::ProcessImage(m.pdos());
 }
 
-ecmxf::CyclicConfig config()
+ecmxf::CyclicConfig config(bool fifoNext = true)
 {
 	ecmxf::CyclicConfig cc;
 	cc.period = 1ms;
@@ -286,19 +288,23 @@ ecmxf::CyclicConfig config()
 	// the FIFO command's answer comes with the next cycle's exchange, one
 	// exchange per cycle (spidev: the library's; the rings: the kernel
 	// pump's, ECMXF_RING_F_FIFO_NEXT)
-	cc.fifoAnswerNextCycle = true;
+	cc.fifoAnswerNextCycle = fifoNext;
 	return cc;
 }
 
 /// The library's Cyclic; one cycle = cycle() + waitNextCycle().
 Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *name, unsigned n, unsigned lateN,
-		   bool wantRings)
+		   bool wantRings, bool fifoNext = true)
 {
-	ecmxf::Cyclic cyc(dev, image, config());
+	ecmxf::Cyclic cyc(dev, image, config(fifoNext));
 	if (cyc.usesKernelRings() != wantRings) {
 		std::printf("bench: FAIL %s: the Cyclic %s the kernel rings\n", name, wantRings ? "does not use" : "uses");
 		std::exit(1);
 	}
+	// over spidev: its INT0 counters, from here
+	auto *const el = dynamic_cast<ecmxf::EngineLink *>(&dev.link());
+	auto *const sc = el ? dynamic_cast<ecmxf::SpidevChannel *>(&el->channel()) : nullptr;
+	const ecmxf::SpidevStats st0 = sc ? sc->stats() : ecmxf::SpidevStats{};
 	cyc.start();
 	unsigned errors = 0;
 	const ecmxf::LinkCounters k0 = dev.link().counters();
@@ -318,23 +324,22 @@ Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *n
 		    name, per(k0.exchanges, k1.exchanges), per(k0.polls, k1.polls), per(k0.retries, k1.retries),
 		    per(k0.badNotReady, k1.badNotReady));
 	// over spidev: how INT0 was waited for
-	if (auto *el = dynamic_cast<ecmxf::EngineLink *>(&dev.link()))
-		if (auto *sc = dynamic_cast<ecmxf::SpidevChannel *>(&el->channel())) {
-			const ecmxf::SpidevStats &st = sc->stats();
-			std::printf("bench: cyclic %s: INT0 over the whole run: %llu exchanges, %llu ready edges, %llu level "
-				    "reads (%llu found ready with no edge), %llu timeouts\n",
-				    name, static_cast<unsigned long long>(st.exchanges),
-				    static_cast<unsigned long long>(st.int0Edges),
-				    static_cast<unsigned long long>(st.int0LevelReads),
-				    static_cast<unsigned long long>(st.int0Unsignalled),
-				    static_cast<unsigned long long>(st.int0Timeouts));
-		}
+	if (sc) {
+		const ecmxf::SpidevStats &st = sc->stats();
+		const auto d = [](std::uint64_t a, std::uint64_t b) { return static_cast<unsigned long long>(b - a); };
+		std::printf("bench: cyclic %s: INT0 in this process's cycles (warm-up and measured): %llu exchanges, "
+			    "%llu ready edges, %llu level reads (%llu found ready with no edge), %llu timeouts\n",
+			    name, d(st0.exchanges, st.exchanges), d(st0.int0Edges, st.int0Edges),
+			    d(st0.int0LevelReads, st.int0LevelReads), d(st0.int0Unsignalled, st.int0Unsignalled),
+			    d(st0.int0Timeouts, st.int0Timeouts));
+	}
 	std::printf("bench: cyclic %s: %llu cycles, %.2f commands per cycle (%s), %u failed, %llu late\n", name,
 		    static_cast<unsigned long long>(s.cycles),
 		    s.cycles ? static_cast<double>(s.commands) / static_cast<double>(s.cycles) : 0.0,
 		    wantRings ? "the kernel pump's" : "from userspace", errors,
 		    static_cast<unsigned long long>(s.lateCycles));
-	lateRun(cyc, name, lateN, f);
+	if (lateN)
+		lateRun(cyc, name, lateN, f);
 	cyc.stop();
 	return f;
 }
@@ -549,6 +554,10 @@ int main(int argc, char **argv)
 			return 0;
 		}
 		if (mode == "spidev") {
+			// the pipelined engine without fifoAnswerNextCycle: the FIFO
+			// command's answer within its cycle, two exchanges a cycle
+			// (system calls only)
+			(void)cyclicPath(*dev, image, "spidev (answers within the cycle)", n, 0, false, false);
 			const Figures sp = cyclicPath(*dev, image, "spidev (library, FIFO commands)", n, lateN, false);
 			std::FILE *f = std::fopen(kResultFile, "r");
 			Figures ring, ioc;
