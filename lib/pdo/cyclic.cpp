@@ -526,6 +526,12 @@ int Cyclic::waitNextCycle() noexcept
 	return 0;
 }
 
+std::chrono::nanoseconds Cyclic::boundary() const noexcept
+{
+	const Impl &m = *impl_;
+	return m.epoch + nanoseconds(static_cast<std::int64_t>(m.tick) * m.cfg.period.count());
+}
+
 int Cyclic::waitInputs(std::chrono::nanoseconds timeout) noexcept
 {
 	if (!impl_->started)

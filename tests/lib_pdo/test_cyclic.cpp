@@ -354,16 +354,29 @@ TEST_CASE("Cyclic: waitNextCycle paces on the transport's virtual clock", "[lib]
 	ecmxf::CyclicConfig c = config(4);
 	c.period = 2ms;
 	ecmxf::Cyclic cyc(*bus.dev, image, c);
+	CHECK(cyc.boundary() == 0ns); // never started
 	cyc.start();
 	const auto t0 = bus.dev->link().now();
+	CHECK(cyc.boundary() == t0); // the first cycle's
 	runCycles(cyc, 500);
 	CHECK(bus.dev->link().now() - t0 == 1000ms);
+	CHECK(cyc.boundary() == t0 + 1000ms);
 	CHECK(cyc.stats().lateCycles == 0);
 	// late by more than a period: skip to the next boundary ahead
 	bus.run(5ms + 300us);
 	REQUIRE(cyc.waitNextCycle() == 0);
 	CHECK(cyc.stats().lateCycles == 1);
 	CHECK(bus.dev->link().now() - t0 == 1006ms);
+	CHECK(cyc.boundary() == t0 + 1006ms);
+	// start() again: the boundaries count from the new start
+	cyc.stop();
+	bus.run(700us);
+	cyc.start();
+	const auto t1 = bus.dev->link().now();
+	CHECK(cyc.boundary() == t1);
+	REQUIRE(cyc.waitNextCycle() == 0);
+	CHECK(cyc.boundary() == t1 + 2ms);
+	CHECK(bus.dev->link().now() == t1 + 2ms);
 }
 
 TEST_CASE("Cyclic: errors come back in the result with a static text", "[lib][pdo][cyclic]")

@@ -267,6 +267,12 @@ public:
 	/// when the transport failed. Allocates nothing, throws nothing.
 	int waitNextCycle() noexcept;
 
+	/// The cycle boundary the last waitNextCycle() waited for (after
+	/// start(): the start, the first cycle's boundary), on the transport's
+	/// clock (Link::now()): how late this cycle began is now() minus it. 0
+	/// before the first start().
+	[[nodiscard]] std::chrono::nanoseconds boundary() const noexcept;
+
 	/// Waits until at least one TxPDO frame that cycle() has not taken yet
 	/// is there (then cycle() returns it), at most @p timeout on the
 	/// transport's clock: for an application clocked by its inputs (one
