@@ -163,25 +163,22 @@ struct CycleMark {
 /// period or more after its boundary (the process was not run: the same
 /// for every path), or cycle() ran past the next boundary (the path's own
 /// time). Prints the percentiles of both times and each late cycle.
-void lateRun(ecmxf::Cyclic &cyc, const char *name, unsigned n, Figures &f)
+void lateRun(ecmxf::Cyclic &cyc, ecmxf::Link &link, const char *name, unsigned n, Figures &f)
 {
 	cyc.stop();
 	cyc.start();
-	const auto epoch = std::chrono::steady_clock::now();
-	const auto us = [](auto d) { return std::chrono::duration<double, std::micro>(d).count(); };
+	const auto us = [](std::chrono::nanoseconds d) { return static_cast<double>(d.count()) / 1000.0; };
 	std::vector<CycleMark> marks;
 	marks.reserve(kWarmup + n);
-	std::uint64_t tick = 0; // the boundary this cycle is for, as Cyclic's
 	for (unsigned i = 0; i < kWarmup + n; i++) {
-		const auto t0 = std::chrono::steady_clock::now();
+		// the link's clock is the one Cyclic paces on
+		const auto t0 = link.now();
 		const std::uint64_t late0 = cyc.stats().lateCycles;
 		(void)cyc.cycle();
-		const auto t1 = std::chrono::steady_clock::now();
+		const auto t1 = link.now();
+		marks.push_back({ us(t0 - cyc.boundary()), us(t1 - t0), false });
 		(void)cyc.waitNextCycle();
-		const bool late = cyc.stats().lateCycles != late0;
-		marks.push_back({ us(t0 - epoch) - static_cast<double>(tick) * 1000.0, us(t1 - t0), late });
-		// a late cycle's successor is for the next boundary ahead
-		tick = late ? static_cast<std::uint64_t>(us(t1 - epoch) / 1000.0) + 1 : tick + 1;
+		marks.back().late = cyc.stats().lateCycles != late0;
 	}
 	std::vector<double> wake, work;
 	f.late = f.lateWoke = 0;
@@ -339,7 +336,7 @@ Figures cyclicPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, const char *n
 		    wantRings ? "the kernel pump's" : "from userspace", errors,
 		    static_cast<unsigned long long>(s.lateCycles));
 	if (lateN)
-		lateRun(cyc, name, lateN, f);
+		lateRun(cyc, dev.link(), name, lateN, f);
 	cyc.stop();
 	return f;
 }
