@@ -56,25 +56,35 @@ inline double cpuUs()
 	return us(ru.ru_utime) + us(ru.ru_stime);
 }
 
-/// The pid of the first task whose /proc/PID/comm is @p comm, or 0.
-inline long pidOf(const std::string &comm)
+/// Calls @p fn(pid, comm) for the tasks of /proc (comm: /proc/PID/comm)
+/// until it returns true.
+inline void forEachTask(const std::function<bool(long, const std::string &)> &fn)
 {
 	DIR *d = ::opendir("/proc");
 	if (!d)
-		return 0;
-	long found = 0;
+		return;
 	while (dirent *e = ::readdir(d)) {
 		const long pid = std::strtol(e->d_name, nullptr, 10);
 		if (pid <= 0)
 			continue;
 		std::ifstream f("/proc/" + std::string(e->d_name) + "/comm");
 		std::string name;
-		if (std::getline(f, name) && name == comm) {
-			found = pid;
+		if (std::getline(f, name) && fn(pid, name))
 			break;
-		}
 	}
 	::closedir(d);
+}
+
+/// The pid of the first task whose /proc/PID/comm is @p comm, or 0.
+inline long pidOf(const std::string &comm)
+{
+	long found = 0;
+	forEachTask([&](long pid, const std::string &name) {
+		if (name != comm)
+			return false;
+		found = pid;
+		return true;
+	});
 	return found;
 }
 

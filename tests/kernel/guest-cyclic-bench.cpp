@@ -237,30 +237,28 @@ std::string routeIrqs(unsigned cpu)
 std::string irqThreadCpus()
 {
 	std::string out;
-	DIR *d = ::opendir("/proc");
-	if (!d)
-		return out;
-	while (dirent *e = ::readdir(d)) {
-		if (std::strtol(e->d_name, nullptr, 10) <= 0)
-			continue;
-		std::ifstream f("/proc/" + std::string(e->d_name) + "/stat");
+	ecmxf::ktest::forEachTask([&](long pid, const std::string &comm) {
+		if (comm.rfind("irq/", 0) != 0)
+			return false;
+		const std::string dir = "/proc/" + std::to_string(pid);
+		std::ifstream f(dir + "/stat");
 		std::string st;
 		std::getline(f, st);
-		const std::size_t a = st.find('('), b = st.rfind(')');
-		if (a == std::string::npos || b == std::string::npos || st.compare(a + 1, 4, "irq/") != 0)
-			continue;
+		const std::size_t b = st.rfind(')'); // after the comm, which may hold any byte
+		if (b == std::string::npos)
+			return false;
 		std::istringstream rest(st.substr(b + 2));
 		std::string field;
 		for (int i = 3; i <= 39 && rest >> field; i++) {
 		}
-		std::ifstream ps("/proc/" + std::string(e->d_name) + "/status");
+		std::ifstream ps(dir + "/status");
 		std::string allowed;
 		for (std::string l; std::getline(ps, l);)
 			if (l.rfind("Cpus_allowed_list:", 0) == 0)
 				allowed = l.substr(l.find_first_not_of(" \t", 18));
-		out += " " + st.substr(a + 1, b - a - 1) + " on CPU " + field + " (allowed " + allowed + ");";
-	}
-	::closedir(d);
+		out += " " + comm + " on CPU " + field + " (allowed " + allowed + ");";
+		return false;
+	});
 	return out.empty() ? " none" : out;
 }
 
