@@ -6,7 +6,10 @@
 #   1. a from-scratch build of kmod/ecmxf.ko with W=1 (extra compiler
 #      warnings, kernel-doc on every compiled .c) and C=2 (sparse on
 #      every file);
-#   2. scripts/kernel-doc over lib/core/*.[ch], kmod/*.[ch] and the uAPI
+#   2. the ECM-SK's protocol core (lib/core/ecmsk-*.c), which the module
+#      does not use yet, built the same way as a module of its own in a
+#      temporary folder, so that it stays kernel-compilable;
+#   3. scripts/kernel-doc over lib/core/*.[ch], kmod/*.[ch] and the uAPI
 #      header include/uapi/linux/ecmxf.h, with its extra warnings
 #      (-Wall; -v on kernels up to 6.2, whose kernel-doc has no -Wall).
 #
@@ -62,7 +65,41 @@ n=$(grep -Ec "$bad" "$log" || true)
 [ "$n" -eq 0 ] || die "W=1/sparse: $n warning(s)"
 echo "kmod-check.sh: W=1 + sparse (C=2) clean${kvars:+ ($kvars)}, $(since "$t")"
 
-# 2. kernel-doc, headers included.
+# 2. the ECM-SK's core: W=1 + sparse as a module of its own.
+t=$(now)
+sk=$(mktemp -d)
+trap 'rm -f "$log"; rm -rf "$sk"' EXIT
+for f in lib/core/ecmsk-*.c; do
+	ln -s "$(pwd)/$f" "$sk/$(basename "$f")"
+done
+cat >"$sk/ecmsk-check-main.c" <<'EOF_C'
+// SPDX-License-Identifier: GPL-2.0-only
+/* Only a carrier for the ECM-SK core's objects (scripts/kmod-check.sh). */
+#include <linux/module.h>
+
+MODULE_DESCRIPTION("ecmxf: kernel build check of the ECM-SK protocol core");
+MODULE_LICENSE("GPL");
+EOF_C
+{
+	echo "obj-m += ecmsk-check.o"
+	printf 'ecmsk-check-y := ecmsk-check-main.o'
+	for f in lib/core/ecmsk-*.c; do
+		printf ' %s' "$(basename "$f" .c).o"
+	done
+	echo
+	echo "ccflags-y += -I$(pwd)/lib/core -I$(pwd)/include/uapi"
+} >"$sk/Kbuild"
+# shellcheck disable=SC2086
+if ! "$make" -C "$kdir" M="$sk" $kvars W=1 C=2 modules >"$log" 2>&1; then
+	cat "$log"
+	die "the ECM-SK core: build failed"
+fi
+cat "$log"
+n=$(grep -Ec "$bad" "$log" || true)
+[ "$n" -eq 0 ] || die "the ECM-SK core: W=1/sparse: $n warning(s)"
+echo "kmod-check.sh: the ECM-SK core (lib/core/ecmsk-*.c): W=1 + sparse (C=2) clean${kvars:+ ($kvars)}, $(since "$t")"
+
+# 3. kernel-doc, headers included.
 t=$(now)
 kdoc=
 for k in "$kdir/scripts/kernel-doc" /usr/src/linux-headers-*-common/scripts/kernel-doc; do

@@ -28,7 +28,7 @@
 #include <thread>
 #include <vector>
 
-#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/cia402/cia402_axis.hpp>
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
@@ -41,7 +41,7 @@
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sim/slaves.hpp>
 #include <ecmxf/link/sim_channel.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 #include "ecmxf-demo-sk.hpp"
 

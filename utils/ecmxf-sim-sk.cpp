@@ -27,7 +27,7 @@
 
 #include <ecmxf/link/unix_channel.hpp>
 #include <ecmxf/sim/network.hpp>
-#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sim/sk_board.hpp>
 #include <ecmxf/sk/sim_channel.hpp>
 
 #include "ecmxf-sim-server.hpp"

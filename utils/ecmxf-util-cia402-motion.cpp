@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/cia402/cia402_axis.hpp>
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>

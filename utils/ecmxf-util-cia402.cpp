@@ -10,7 +10,7 @@
 #include <memory>
 #include <string>
 
-#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>

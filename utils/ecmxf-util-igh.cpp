@@ -19,8 +19,8 @@
 
 #include <ecmxf/bus/bus.hpp>
 #include <ecmxf/bus/slave_access.hpp>
-#include <ecmxf/bus/status.hpp>
-#include <ecmxf/chip/types_chip.hpp>
+#include <ecmxf/model/status.hpp>
+#include <ecmxf/model/types_chip.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
 

@@ -13,7 +13,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/bus/bus.hpp>
 #include <ecmxf/chip/chip.hpp>
-#include <ecmxf/bus/status.hpp>
+#include <ecmxf/model/status.hpp>
 
 namespace ecmxf_util {
 

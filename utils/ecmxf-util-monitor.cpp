@@ -36,7 +36,7 @@
 #include <ecmxf/sim/chip.hpp>
 
 #include <thread>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 namespace ecmxf_util {
 

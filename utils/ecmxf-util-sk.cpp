@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/sk/board.hpp>
-#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sim/sk_board.hpp>
 #include <ecmxf/sk/uri.hpp>
 
 namespace ecmxf_util {

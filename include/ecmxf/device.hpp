@@ -32,11 +32,8 @@
 #include <vector>
 
 #include <ecmxf/export.hpp>
+#include <ecmxf/error.hpp>
 #include <ecmxf/link/link.hpp>
-#include <ecmxf/bus/types_bus.hpp>
-#include <ecmxf/chip/types_chip.hpp>
-#include <ecmxf/cia402/types_cia402.hpp>
-#include <ecmxf/pdo/types_pdo.hpp>
 
 namespace ecmxf {
 
@@ -71,6 +68,21 @@ struct Command {
 	/// (100 ms for immediate commands, e.g. 10 s for ECAT_INIT_OP).
 	std::chrono::microseconds timeout{ 0 };
 };
+
+/// A command for Device::transact(): the header fields of Command without
+/// anything that allocates (the data section is a separate span).
+struct RawCommand {
+	std::uint8_t code = 0;               ///< command code (0x0C)
+	std::uint8_t param = 0;              ///< command parameter (0x0D)
+	std::array<std::uint8_t, 4> data{};  ///< parametric data 0..3 (0x04..0x07)
+	/// Data length field (0x0E); negative: the payload size.
+	std::int32_t len = -1;
+	std::uint16_t reserved = 0;          ///< reserved word (0x08)
+	std::uint8_t control = 0;            ///< control byte (0x0A)
+	/// Zero selects the command table's default (see Command::timeout).
+	std::chrono::microseconds timeout{ 0 };
+};
+
 
 /// The answer to a command.
 struct Response {
@@ -212,7 +224,7 @@ public:
 	[[nodiscard]] ProcessData pdo() noexcept;
 	// ==== end typed commands
 
-	// ==== packet trace (lib/trace/trace.cpp)
+	// ==== packet trace (lib/device/device.cpp; the writer lib/link/trace_writer.cpp)
 	/// Starts recording every exchange to the file @p path (created or
 	/// truncated), in the text format of Documentation/trace.rst
 	/// (include/ecmxf/trace/trace.hpp decodes it): over an engine link each
@@ -227,7 +239,6 @@ public:
 	void stopTrace();
 	/// Is a trace being recorded?
 	[[nodiscard]] bool tracing() const noexcept;
-	friend class TraceAccess; // lib/trace/trace.cpp reaches the device's trace slot
 	// ==== end trace
 
 	/// The latest valid response header of any exchange (ECAT state,

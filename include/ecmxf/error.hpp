@@ -16,6 +16,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include <ecmxf/export.hpp>
 
@@ -49,6 +50,12 @@ public:
 	/// presence...), for failures the chip reported; std::nullopt for
 	/// timeouts, transport and caller errors.
 	[[nodiscard]] std::optional<std::uint8_t> errorStatus() const noexcept { return errorStatus_; }
+
+	/// Throws a copy of this error, of the same type with the same fields,
+	/// whose message is @p prefix followed by this one's: how a caller
+	/// adds its context ("SDO upload 0x6064:00 from slave 0: ...") without
+	/// knowing which error it caught. Each derived error overrides it.
+	[[noreturn]] virtual void rethrowWithPrefix(std::string_view prefix) const;
 
 private:
 	int errno_;

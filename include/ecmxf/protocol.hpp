@@ -21,6 +21,11 @@
 namespace ecmxf {
 
 /// Library version, "MAJOR.MINOR.PATCH".
+/// The first line of every packet trace file (Documentation/trace.rst):
+/// the links write it (Device::startTrace()), decodeTrace()
+/// (<ecmxf/trace/trace.hpp>) checks it.
+inline constexpr std::string_view kTraceMagic = "ecmxf-trace 1";
+
 [[nodiscard]] ECMXF_EXPORT std::string_view version() noexcept;
 
 /// Check word types (ECM status bits 1-0, CRC_TYPE_SET parameter).

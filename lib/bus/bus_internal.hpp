@@ -7,7 +7,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 #include <cstdint>
 #include <string>

@@ -13,7 +13,7 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/protocol.hpp>
 #include <ecmxf/bus/bus.hpp>
-#include <ecmxf/bus/status.hpp>
+#include <ecmxf/model/status.hpp>
 
 #include <algorithm>
 #include <cerrno>
@@ -175,12 +175,7 @@ DatagramResult SlaveAccess::rawDatagram(const Datagram &dg) const
 
 namespace {
 
-std::string quoted(std::string_view s)
-{
-	std::string q(1, '"');
-	q.append(s).push_back('"');
-	return q;
-}
+using detail::quoted;
 
 std::string foeFailure(Device &d)
 {

@@ -11,7 +11,7 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/link.hpp>
 #include <ecmxf/protocol.hpp>
-#include <ecmxf/bus/status.hpp>
+#include <ecmxf/model/status.hpp>
 
 #include <algorithm>
 #include <cerrno>

@@ -13,11 +13,11 @@
 #include <cerrno>
 #include <string>
 
-#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/link.hpp>
 
-#include "device/lib_text.hpp"
+#include "base/text.hpp"
 #include "device/runner.hpp"
 #include "ecmxf-proto.h"
 

@@ -22,22 +22,11 @@
 #include <utility>
 
 #include "ecmxf-proto.h"
-#include "device/lib_text.hpp"
+#include "base/text.hpp"
 #include "link/outcome.hpp"
-#include "trace/trace_writer.hpp"
+#include "link/trace_writer.hpp"
 
 namespace ecmxf {
-
-// ---------------------------------------------------------------------------
-// Error: the out-of-line parts
-// ---------------------------------------------------------------------------
-
-Error::Error(const std::string &message, int errnoValue, std::optional<std::uint8_t> errorStatus)
-	: std::runtime_error(message), errno_(errnoValue), errorStatus_(errorStatus)
-{
-}
-
-Error::~Error() = default;
 
 namespace {
 
@@ -70,7 +59,7 @@ public:
 	// allocation (the Response) and transact() none
 	std::array<std::uint8_t, ECMXF_DATA_MAX> rxData{};
 	microseconds minTimeout{ 0 };
-	/// The packet trace being recorded (lib/trace/trace.cpp), or null; the
+	/// The packet trace being recorded (lib/link/trace_writer.cpp), or null; the
 	/// link writes to it.
 	std::unique_ptr<detail::TraceWriter> trace;
 
@@ -254,17 +243,29 @@ const Link &Device::link() const noexcept
 }
 
 // ---------------------------------------------------------------------------
-// The trace slot for lib/trace/trace.cpp
+// The packet trace (the writer: lib/link/trace_writer.cpp)
 // ---------------------------------------------------------------------------
 
-std::unique_ptr<detail::TraceWriter> &TraceAccess::slot(Device &d) noexcept
+void Device::startTrace(std::string_view path)
 {
-	return d.impl_->trace;
+	auto w = std::make_unique<detail::TraceWriter>(path);
+	link().attachTrace(w.get()); // the link writes its first record (its format)
+	auto old = std::exchange(impl_->trace, std::move(w));
+	if (old)
+		old->close();
 }
 
-const std::unique_ptr<detail::TraceWriter> &TraceAccess::slot(const Device &d) noexcept
+void Device::stopTrace()
 {
-	return d.impl_->trace;
+	link().attachTrace(nullptr);
+	auto w = std::exchange(impl_->trace, nullptr);
+	if (w)
+		w->close();
+}
+
+bool Device::tracing() const noexcept
+{
+	return impl_->trace != nullptr;
 }
 
 } // namespace ecmxf

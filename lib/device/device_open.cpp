@@ -1,17 +1,12 @@
 // SPDX-License-Identifier: MIT
-// Device::open(): device URIs (include/ecmxf/device_uri.hpp) and the
-// transport each one names.
+// Device URIs (include/ecmxf/device_uri.hpp): parseDeviceUri(). Opening the
+// link each one names is Device::open() (lib/open/device_open.cpp).
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/device_uri.hpp>
-#include <ecmxf/bus/status.hpp>
-#include <ecmxf/chip/chip.hpp>
+#include <ecmxf/model/status.hpp>
 #include <ecmxf/error.hpp>
-#include <ecmxf/link/engine_link.hpp>
-#include <ecmxf/link/kernel_link.hpp>
-#include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/link/spidev_channel.hpp>
-#include <ecmxf/link/unix_channel.hpp>
 
 #include <cerrno>
 #include <cstdint>
@@ -23,18 +18,13 @@
 #include <utility>
 #include <vector>
 
+#include "base/text.hpp"
+
 namespace ecmxf {
 
 namespace {
 
-std::string quoted(std::string_view s)
-{
-	// built by append: GCC 12 warns falsely (-Wrestrict, PR 105651) about
-	// "literal" + std::string at -O3
-	std::string q(1, '"');
-	q.append(s).push_back('"');
-	return q;
-}
+using detail::quoted;
 
 /// Error(EINVAL): cannot open "<uri>": <what>; accepted: <forms>.
 [[noreturn]] void bad(std::string_view uri, const std::string &what)
@@ -70,38 +60,6 @@ GpioLineSpec gpioLine(std::string_view uri, std::string_view key, std::string_vi
 		bad(uri, m);
 	}
 	return GpioLineSpec{ std::string(chip), static_cast<unsigned>(*line) };
-}
-
-/// check= of sim: and unix: URIs: CRC_TYPE_SET, as a production setup
-/// switches the chip after power-on. A unix: server's chip keeps its state:
-/// when it does not answer in the power-on format, it may speak another
-/// check type (an earlier client set it): CRC_TYPE_SET is then sent in
-/// each other type in turn.
-void switchCheck(Device &dev, CheckType want, std::string_view uri, bool unix)
-{
-	std::string m = "cannot open ";
-	m.append(quoted(uri)).append(": switching the chip to the ").append(checkTypeName(want));
-	m.append(" check word: ");
-	try {
-		dev.chip().setCheckType(want);
-		return;
-	} catch (const Error &e) {
-		if (!unix)
-			throw Error(m + e.what(), e.errnoValue());
-		for (const CheckType t : { want, CheckType::Crc32, CheckType::Crc8, CheckType::Ccitt }) {
-			if (t == CheckType::Fixed)
-				continue; // tried first
-			try {
-				dev.assumeFormat(dev.dataSize(), t);
-				dev.chip().setCheckType(want);
-				return;
-			} catch (const Error &) {
-				// not this one either
-			}
-		}
-		dev.assumeFormat(dev.dataSize(), CheckType::Fixed);
-		throw Error(m + e.what(), e.errnoValue());
-	}
 }
 
 } // namespace
@@ -225,43 +183,6 @@ DeviceUri parseDeviceUri(std::string_view uri)
 		pos = amp + 1;
 	}
 	return u;
-}
-
-std::unique_ptr<Device> Device::open(std::string_view uri)
-{
-	const DeviceUri u = parseDeviceUri(uri);
-	std::unique_ptr<Link> link;
-	switch (u.kind) {
-	case DeviceUri::Kind::Sim:
-		try {
-			link = std::make_unique<EngineLink>(std::make_unique<SimChannel>(u.path));
-		} catch (const Error &) {
-			throw;
-		} catch (const std::exception &ex) {
-			std::string m = "cannot open ";
-			m.append(quoted(uri)).append(": ").append(ex.what());
-			throw Error(m, EINVAL);
-		}
-		break;
-	case DeviceUri::Kind::Kernel:
-		link = std::make_unique<KernelLink>(u.path);
-		break;
-	case DeviceUri::Kind::Spidev:
-		link = std::make_unique<EngineLink>(std::make_unique<SpidevChannel>(u.spidev));
-		break;
-	case DeviceUri::Kind::Unix:
-		link = std::make_unique<EngineLink>(std::make_unique<UnixChannel>(u.path));
-		break;
-	}
-	auto dev = std::make_unique<Device>(std::move(link));
-	if (u.kind == DeviceUri::Kind::Spidev && (u.dataSize || u.checkType))
-		dev->assumeFormat(u.dataSize.value_or(static_cast<std::uint16_t>(kDataDefault)),
-				  u.checkType.value_or(CheckType::Fixed));
-	if (!u.trace.empty())
-		dev->startTrace(u.trace);
-	if (u.kind != DeviceUri::Kind::Spidev && u.checkType)
-		switchCheck(*dev, *u.checkType, uri, u.kind == DeviceUri::Kind::Unix);
-	return dev;
 }
 
 } // namespace ecmxf

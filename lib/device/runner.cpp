@@ -5,15 +5,15 @@
 #include "device/runner.hpp"
 
 #include <ecmxf/protocol.hpp>
-#include <ecmxf/bus/status.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/status.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 #include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <string_view>
 
-#include "device/lib_text.hpp"
+#include "base/text.hpp"
 #include "ecmxf-proto.h"
 
 namespace ecmxf::detail {
@@ -178,14 +178,11 @@ void rethrowWithPrefix(const std::string &prefix)
 {
 	try {
 		throw;
-	} catch (const AlStatusError &e) {
-		throw AlStatusError(std::string(prefix).append(e.what()), e.errnoValue(), e.slave(), e.requested(),
-				    e.reached(), e.alStatusCode(), e.errorStatus());
-	} catch (const SdoError &e) {
-		throw SdoError(std::string(prefix).append(e.what()), e.errnoValue(), e.abortCode(), e.errorStatus());
 	} catch (const Error &e) {
-		throw Error(std::string(prefix).append(e.what()), e.errnoValue(), e.errorStatus());
+		e.rethrowWithPrefix(prefix);
+		throw; // not reached: rethrowWithPrefix() throws (a virtual call is not taken as noreturn)
 	}
+	// a non-ecmxf exception has passed as it is
 }
 
 std::chrono::microseconds hostTimeout(std::chrono::microseconds chipTimeout, std::uint8_t code)
@@ -218,56 +215,9 @@ void invalid(const std::string &what, const std::string &why)
 	throw Error(what + ": " + why, EINVAL);
 }
 
-std::string hex(std::uint64_t v, int digits)
-{
-	char buf[32];
-	std::snprintf(buf, sizeof(buf), "0x%0*" PRIX64, digits, v);
-	return buf;
-}
-
 std::string slaveText(unsigned slave)
 {
 	return "slave " + std::to_string(slave);
-}
-
-std::uint16_t le16(const std::vector<std::uint8_t> &d, std::size_t off)
-{
-	std::uint16_t v = 0;
-	for (std::size_t i = 0; i < 2 && off + i < d.size(); i++)
-		v = static_cast<std::uint16_t>(v | d[off + i] << (8 * i));
-	return v;
-}
-
-std::uint32_t le32(const std::vector<std::uint8_t> &d, std::size_t off)
-{
-	std::uint32_t v = 0;
-	for (std::size_t i = 0; i < 4 && off + i < d.size(); i++)
-		v |= static_cast<std::uint32_t>(d[off + i]) << (8 * i);
-	return v;
-}
-
-void put16(std::vector<std::uint8_t> &d, std::uint16_t v)
-{
-	d.push_back(static_cast<std::uint8_t>(v));
-	d.push_back(static_cast<std::uint8_t>(v >> 8));
-}
-
-void put32(std::vector<std::uint8_t> &d, std::uint32_t v)
-{
-	put16(d, static_cast<std::uint16_t>(v));
-	put16(d, static_cast<std::uint16_t>(v >> 16));
-}
-
-void put16At(std::vector<std::uint8_t> &d, std::size_t off, std::uint32_t v)
-{
-	d[off] = static_cast<std::uint8_t>(v);
-	d[off + 1] = static_cast<std::uint8_t>(v >> 8);
-}
-
-void put32At(std::vector<std::uint8_t> &d, std::size_t off, std::uint32_t v)
-{
-	for (std::size_t i = 0; i < 4; i++)
-		d[off + i] = static_cast<std::uint8_t>(v >> (8 * i));
 }
 
 } // namespace ecmxf::detail

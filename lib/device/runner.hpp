@@ -36,6 +36,8 @@
 #include <string>
 #include <vector>
 
+#include "base/text.hpp"
+
 namespace ecmxf::detail {
 
 /// A command with @p code and @p param.
@@ -79,19 +81,7 @@ void needData(const std::string &what, const Response &r, std::size_t n);
 /// Error(@p what + ": " + @p why, EINVAL).
 [[noreturn]] void invalid(const std::string &what, const std::string &why);
 
-/// "0x1D" style: @p v in hex with @p digits digits.
-std::string hex(std::uint64_t v, int digits);
 /// "slave 5".
 std::string slaveText(unsigned slave);
-
-/// Little-endian reads from @p d at @p off (0 for missing bytes).
-std::uint16_t le16(const std::vector<std::uint8_t> &d, std::size_t off = 0);
-std::uint32_t le32(const std::vector<std::uint8_t> &d, std::size_t off = 0);
-/// Little-endian appends to @p d.
-void put16(std::vector<std::uint8_t> &d, std::uint16_t v);
-void put32(std::vector<std::uint8_t> &d, std::uint32_t v);
-/// Little-endian writes into @p d at @p off (which must hold them).
-void put16At(std::vector<std::uint8_t> &d, std::size_t off, std::uint32_t v);
-void put32At(std::vector<std::uint8_t> &d, std::size_t off, std::uint32_t v);
 
 } // namespace ecmxf::detail

@@ -4,7 +4,8 @@
 
 #include <ecmxf/events/events.hpp>
 
-#include "device/lib_text.hpp"
+#include "base/text.hpp"
+#include "link/wire_header.hpp"
 #include "ecmxf-events.h"
 
 namespace ecmxf {

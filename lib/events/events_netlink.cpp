@@ -19,7 +19,7 @@
 #include <memory>
 #include <string>
 
-#include "device/os.hpp"
+#include "base/os.hpp"
 #include "uapi/linux/ecmxf_netlink.h"
 
 namespace ecmxf {

@@ -17,9 +17,10 @@
 #include <utility>
 
 #include "ecmxf-proto.h"
-#include "device/lib_text.hpp"
+#include "base/text.hpp"
+#include "link/wire_header.hpp"
 #include "link/outcome.hpp"
-#include "trace/trace_writer.hpp"
+#include "link/trace_writer.hpp"
 
 namespace ecmxf {
 

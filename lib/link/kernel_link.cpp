@@ -25,11 +25,12 @@
 #include <string_view>
 
 #include "ecmxf-proto.h"
-#include "device/lib_text.hpp"
-#include "device/os.hpp"
+#include "base/text.hpp"
+#include "link/wire_header.hpp"
+#include "base/os.hpp"
 #include "link/outcome.hpp"
 #include "link/pdo_rings.hpp"
-#include "trace/trace_writer.hpp"
+#include "link/trace_writer.hpp"
 #include "uapi/linux/ecmxf.h"
 
 namespace ecmxf {

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "ecmxf-proto.h"
-#include "device/lib_text.hpp"
+#include "base/text.hpp"
 #include "link/outcome.hpp"
 #include "link/pdo_rings.hpp"
 

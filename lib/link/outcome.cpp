@@ -10,7 +10,7 @@
 #include <string>
 
 #include "ecmxf-proto.h"
-#include "device/lib_text.hpp"
+#include "base/text.hpp"
 #include "link/outcome.hpp"
 
 namespace ecmxf::detail {

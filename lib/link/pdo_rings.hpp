@@ -9,8 +9,8 @@
 #include <chrono>
 #include <string>
 
-#include "device/os.hpp"
-#include "pdo/pdo_ring.hpp"
+#include "base/os.hpp"
+#include "link/pdo_ring.hpp"
 #include "uapi/linux/ecmxf.h"
 
 namespace ecmxf::detail {

@@ -23,8 +23,8 @@
 #include <thread>
 #include <utility>
 
-#include "device/lib_text.hpp"
-#include "device/os.hpp"
+#include "base/text.hpp"
+#include "base/os.hpp"
 
 namespace ecmxf {
 

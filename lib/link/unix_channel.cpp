@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "device/lib_text.hpp"
-#include "device/os.hpp"
+#include "base/text.hpp"
+#include "base/os.hpp"
 
 namespace ecmxf {
 

@@ -12,7 +12,7 @@
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/bus/bus.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 #include <ecmxf/chip/chip.hpp>
 #include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/error.hpp>
@@ -34,7 +34,7 @@
 #include "ecmxf-pump.h"
 #include "link/pdo_rings.hpp"
 #include "pdo/cyclic_path.hpp"
-#include "pdo/pdo_ring.hpp"
+#include "link/pdo_ring.hpp"
 
 namespace ecmxf {
 

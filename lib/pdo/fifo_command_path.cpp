@@ -34,7 +34,8 @@
 #include <vector>
 
 #include "ecmxf-proto.h"
-#include "device/lib_text.hpp"
+#include "base/text.hpp"
+#include "link/wire_header.hpp"
 #include "ecmxf-pump.h"
 #include "pdo/cyclic_path.hpp"
 

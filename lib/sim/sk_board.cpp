@@ -10,7 +10,7 @@
 // firmware writes at PRE-OP -> SAFE-OP), DC, a CiA-402 enable sequence,
 // the cyclic FIFO and homing. Documentation/ecm-sk.rst, "The simulator".
 
-#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sim/sk_board.hpp>
 
 #include <algorithm>
 #include <array>

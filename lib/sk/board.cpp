@@ -9,7 +9,7 @@
 #include <cerrno>
 #include <cstdio>
 
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/spidev_channel.hpp>
 #include <ecmxf/link/unix_channel.hpp>
@@ -90,8 +90,8 @@ struct Board::Link {
 	std::uint16_t lastFull = 0;
 };
 
-Board::Board(std::unique_ptr<ByteChannel> channel, LinkOptions options)
-	: channel_(std::move(channel)), link_(std::make_unique<Link>())
+Board::Board(std::pair<std::unique_ptr<ByteChannel>, SimBoard *> channel, LinkOptions options)
+	: channel_(std::move(channel.first)), link_(std::make_unique<Link>()), sim_(channel.second)
 {
 	if (!channel_)
 		throw Error("ECM-SK: no channel", EINVAL);
@@ -112,6 +112,28 @@ Board::Board(std::unique_ptr<ByteChannel> channel, LinkOptions options)
 	link_->miso.assign(link_->l.g.frame_size, 0);
 }
 
+namespace {
+
+// The simulated board behind @p c, known while its type is (simulator()
+// then needs no downcast of the channel).
+std::pair<std::unique_ptr<ByteChannel>, SimBoard *> withBoard(std::unique_ptr<SimBoardChannel> c)
+{
+	SimBoard *b = c ? &c->board() : nullptr;
+	return { std::move(c), b };
+}
+
+} // namespace
+
+Board::Board(std::unique_ptr<SimBoardChannel> channel, LinkOptions options)
+	: Board(withBoard(std::move(channel)), options)
+{
+}
+
+Board::Board(std::unique_ptr<ByteChannel> channel, LinkOptions options)
+	: Board(std::pair<std::unique_ptr<ByteChannel>, SimBoard *>(std::move(channel), nullptr), options)
+{
+}
+
 Board::~Board() = default;
 
 bool Board::isSkUri(std::string_view uri) noexcept
@@ -129,7 +151,7 @@ std::unique_ptr<Board> Board::open(std::string_view uri)
 	switch (u.kind) {
 	case SkUri::Kind::Sim:
 		try {
-			ch = std::make_unique<SimBoardChannel>(u.path, u.board);
+			return std::make_unique<Board>(std::make_unique<SimBoardChannel>(u.path, u.board), o);
 		} catch (const Error &) {
 			throw;
 		} catch (const std::exception &e) {
@@ -148,8 +170,7 @@ std::unique_ptr<Board> Board::open(std::string_view uri)
 
 SimBoard *Board::simulator() noexcept
 {
-	auto *c = dynamic_cast<SimBoardChannel *>(channel_.get());
-	return c ? &c->board() : nullptr;
+	return sim_;
 }
 
 unsigned Board::slotSize() const noexcept { return link_->l.g.slot_size; }

@@ -36,7 +36,7 @@
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/link/sim_channel.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 #include "ecmxf-proto.h"
 

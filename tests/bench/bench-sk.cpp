@@ -22,7 +22,7 @@
 #include <time.h>
 
 #include <ecmxf/sk/board.hpp>
-#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sim/sk_board.hpp>
 #include <ecmxf/sk/sim_channel.hpp>
 
 #include "ecmsk-proto.h"

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include <ecmxf/error.hpp>
-#include <ecmxf/pdo/pdo_mapping.hpp>
+#include <ecmxf/model/pdo_mapping.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 
 #include "fuzz.h"

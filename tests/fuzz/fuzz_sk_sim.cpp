@@ -22,7 +22,7 @@
 #include <vector>
 
 #include <ecmxf/sim/network.hpp>
-#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sim/sk_board.hpp>
 
 #include "ecmsk-proto.h"
 #include "fuzz.h"

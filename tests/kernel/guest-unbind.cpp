@@ -71,7 +71,7 @@
 
 #include "bridge-ctl.hpp"
 #include "uapi/linux/ecmxf.h"
-#include "../../lib/pdo/pdo_ring.hpp"
+#include "../../lib/link/pdo_ring.hpp"
 
 using namespace std::chrono_literals;
 

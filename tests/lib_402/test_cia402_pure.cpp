@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/error.hpp>
 
 using namespace std::chrono_literals;

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/chip/chip402.hpp>
 #include <ecmxf/error.hpp>

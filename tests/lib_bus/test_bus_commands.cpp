@@ -20,7 +20,7 @@
 #include <ecmxf/bus/bus.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/sim/chip.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 #include "rig.hpp"
 

@@ -18,7 +18,7 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/sim/chip.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 #include "rig.hpp"
 

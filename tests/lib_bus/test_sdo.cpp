@@ -17,7 +17,7 @@
 #include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/sim/chip.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 #include "rig.hpp"
 

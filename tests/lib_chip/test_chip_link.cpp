@@ -12,7 +12,7 @@
 #include <chrono>
 #include <span>
 
-#include <ecmxf/bus/status.hpp>
+#include <ecmxf/model/status.hpp>
 #include <ecmxf/link/link.hpp>
 
 using namespace chiptest;

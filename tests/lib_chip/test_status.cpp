@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-// The status decoders of include/ecmxf/bus/status.hpp against the bit tables of
+// The status decoders of include/ecmxf/model/status.hpp against the bit tables of
 // manual ver. 050 (table 2, response header; ECM_CMD_ECAT_INT_SET_ENABLE).
 
 #include <catch2/catch.hpp>
 
-#include <ecmxf/bus/status.hpp>
+#include <ecmxf/model/status.hpp>
 
 using namespace ecmxf;
 

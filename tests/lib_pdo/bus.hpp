@@ -19,7 +19,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
-#include <ecmxf/pdo/pdo_mapping.hpp>
+#include <ecmxf/model/pdo_mapping.hpp>
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sim/slaves.hpp>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The userspace side of the kernel's PDO rings (lib/pdo/pdo_ring.hpp) against
+// The userspace side of the kernel's PDO rings (lib/link/pdo_ring.hpp) against
 // a fake kernel in another thread: the memory is laid out from reported
 // offsets as ecmxf.ko reports them (Documentation/uapi.rst), the fake
 // kernel follows the same acquire/release protocol. No frame may be lost,
@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "pdo/pdo_ring.hpp"
+#include "link/pdo_ring.hpp"
 
 using ecmxf::detail::PdoRingView;
 

@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sim/slaves.hpp>
 #include <ecmxf/sk/board.hpp>
-#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sim/sk_board.hpp>
 #include <ecmxf/sk/sim_channel.hpp>
 
 using namespace ecmxf::sk;

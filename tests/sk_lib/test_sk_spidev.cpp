@@ -13,7 +13,7 @@
 #include <ecmxf/link/spidev_channel.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sk/board.hpp>
-#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sim/sk_board.hpp>
 #include <ecmxf/sk/sim_channel.hpp>
 #include <ecmxf/sk/uri.hpp>
 

@@ -26,7 +26,7 @@
 #include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/trace/trace.hpp>
 
-#include "trace/trace_writer.hpp"
+#include "link/trace_writer.hpp"
 #include "../common/thrown.hpp"
 
 using Catch::Matchers::Contains;

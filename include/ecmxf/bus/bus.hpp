@@ -6,7 +6,7 @@
  *
  * Slaves are 0-based bus positions as the chip numbers them (0..127);
  * kAllSlaves (0xFF) selects all where the manual allows it. Types in
- * <ecmxf/bus/types_bus.hpp>; Documentation/commands-bus.rst.
+ * <ecmxf/model/types_bus.hpp>; Documentation/commands-bus.rst.
  *
  * A Bus is a view: it holds a reference to a Device (not owning it,
  * cheap to copy) and runs its commands through the device's command
@@ -20,7 +20,7 @@
 #include <vector>
 
 #include <ecmxf/export.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 namespace ecmxf {
 

@@ -33,8 +33,8 @@
 #include <vector>
 
 #include <ecmxf/export.hpp>
-#include <ecmxf/pdo/pdo_mapping.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/pdo_mapping.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 namespace ecmxf {
 

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include <ecmxf/export.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 namespace ecmxf {
 

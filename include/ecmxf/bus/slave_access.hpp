@@ -28,8 +28,8 @@
 #include <vector>
 
 #include <ecmxf/export.hpp>
-#include <ecmxf/chip/types_chip.hpp>
-#include <ecmxf/pdo/types_pdo.hpp>
+#include <ecmxf/model/types_chip.hpp>
+#include <ecmxf/model/types_pdo.hpp>
 
 namespace ecmxf {
 

@@ -22,7 +22,7 @@
 
 #include <ecmxf/export.hpp>
 #include <ecmxf/device.hpp> // ResponseHeader
-#include <ecmxf/chip/types_chip.hpp>
+#include <ecmxf/model/types_chip.hpp>
 
 namespace ecmxf {
 

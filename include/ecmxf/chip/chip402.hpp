@@ -19,7 +19,7 @@
 #include <cstdint>
 
 #include <ecmxf/export.hpp>
-#include <ecmxf/cia402/types_cia402.hpp>
+#include <ecmxf/model/types_cia402.hpp>
 
 namespace ecmxf {
 

@@ -18,7 +18,7 @@
 #include <cstdint>
 
 #include <ecmxf/export.hpp>
-#include <ecmxf/chip/types_chip.hpp>
+#include <ecmxf/model/types_chip.hpp>
 
 namespace ecmxf {
 

@@ -41,7 +41,7 @@
 #include <string_view>
 #include <vector>
 
-#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/export.hpp>
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/pdo/process_image.hpp>

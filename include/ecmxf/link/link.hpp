@@ -290,7 +290,7 @@ public:
 	/// the link's kind: SPI packets (engine link) or request/response
 	/// (kernel link); writes the link's first record (its format) at once.
 	/// The writer outlives the link's use of it. Internal type:
-	/// lib/trace/trace_writer.hpp.
+	/// lib/link/trace_writer.hpp.
 	virtual void attachTrace(detail::TraceWriter *trace) noexcept = 0;
 };
 

@@ -44,7 +44,7 @@
 
 #include <ecmxf/export.hpp>
 #include <ecmxf/pdo/realtime.hpp>
-#include <ecmxf/pdo/types_pdo.hpp>
+#include <ecmxf/model/types_pdo.hpp>
 
 namespace ecmxf {
 

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include <ecmxf/export.hpp>
-#include <ecmxf/pdo/types_pdo.hpp>
+#include <ecmxf/model/types_pdo.hpp>
 
 namespace ecmxf {
 

@@ -40,7 +40,7 @@
 #include <vector>
 
 #include <ecmxf/export.hpp>
-#include <ecmxf/pdo/pdo_mapping.hpp>
+#include <ecmxf/model/pdo_mapping.hpp>
 
 namespace ecmxf {
 

@@ -25,6 +25,7 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <ecmxf/export.hpp>
@@ -33,6 +34,7 @@
 namespace ecmxf::sk {
 
 class SimBoard;
+class SimBoardChannel;
 
 /// EtherCAT states as the board reports them (Current State).
 enum class State : std::uint8_t { Init = 0x01, PreOp = 0x02, SafeOp = 0x04, Op = 0x08 };
@@ -107,6 +109,9 @@ public:
 	/// Runs over @p channel with @p options. Throws ecmxf::Error (EINVAL)
 	/// for a bad slot size or extension bits.
 	Board(std::unique_ptr<ByteChannel> channel, LinkOptions options = {});
+	/// Runs over the in-process simulated board of @p channel, which
+	/// simulator() then gives.
+	Board(std::unique_ptr<SimBoardChannel> channel, LinkOptions options = {});
 	~Board();
 	Board(const Board &) = delete;
 	Board &operator=(const Board &) = delete;
@@ -217,6 +222,7 @@ public:
 	[[nodiscard]] const std::string &lastError() const noexcept { return lastError_; }
 
 private:
+	Board(std::pair<std::unique_ptr<ByteChannel>, SimBoard *> channel, LinkOptions options);
 	struct Link;
 	void xfer();
 	void transact();
@@ -229,6 +235,7 @@ private:
 	std::unique_ptr<ByteChannel> channel_;
 	std::unique_ptr<Link> link_;
 	std::string lastError_;
+	SimBoard *sim_ = nullptr; ///< the simulated board behind channel_, if any
 };
 
 } // namespace ecmxf::sk

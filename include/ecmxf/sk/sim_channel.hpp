@@ -17,7 +17,7 @@
 
 #include <ecmxf/export.hpp>
 #include <ecmxf/link/byte_channel.hpp>
-#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sim/sk_board.hpp>
 
 namespace ecmxf::sk {
 

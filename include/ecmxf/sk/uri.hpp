@@ -24,7 +24,7 @@
 
 #include <ecmxf/export.hpp>
 #include <ecmxf/link/spidev_channel.hpp>
-#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sim/sk_board.hpp>
 
 namespace ecmxf::sk {
 

@@ -29,11 +29,9 @@
 #include <string_view>
 
 #include <ecmxf/export.hpp>
+#include <ecmxf/protocol.hpp> // kTraceMagic
 
 namespace ecmxf {
-
-/// The first line of every trace file.
-inline constexpr std::string_view kTraceMagic = "ecmxf-trace 1";
 
 /// How decodeTrace() prints.
 struct TraceDecodeOptions {

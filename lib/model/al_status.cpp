@@ -1,16 +1,16 @@
 // SPDX-License-Identifier: MIT
 // EtherCAT states and AL status codes in words: stateName(), alStatusText()
-// (the AKD2G table, seed 003) and AlStatusError. The bus layer's helpers
-// are lib/bus/bus_helpers.cpp.
+// (the AKD2G table, seed 003) and AlStatusError. The shared vocabulary of
+// both masters (Documentation/architecture.rst, "model").
 
-#include "bus/bus_internal.hpp"
-
+#include <ecmxf/model/types_bus.hpp>
 #include <ecmxf/protocol.hpp>
 
 #include <cerrno>
 #include <cinttypes>
 #include <cstdio>
 
+#include "base/text.hpp"
 #include "ecmxf-proto.h"
 
 namespace ecmxf {
@@ -36,7 +36,7 @@ std::string stateName(State s)
 	for (const auto &n : kStateNames)
 		if (n.state == s)
 			return n.name;
-	return bus::hex(static_cast<std::uint8_t>(s), 2);
+	return detail::hex(static_cast<std::uint8_t>(s), 2);
 }
 
 namespace {
@@ -69,10 +69,7 @@ constexpr struct {
 
 std::string_view alStatusText(std::uint16_t code) noexcept
 {
-	for (const auto &e : kAlStatusTexts)
-		if (e.code == code)
-			return e.text;
-	return "unknown AL status code";
+	return detail::textOf(kAlStatusTexts, code, "unknown AL status code");
 }
 
 AlStatusError::AlStatusError(const std::string &message, int errnoValue, std::uint8_t slave, State requested,
@@ -83,5 +80,11 @@ AlStatusError::AlStatusError(const std::string &message, int errnoValue, std::ui
 }
 
 AlStatusError::~AlStatusError() = default;
+
+void AlStatusError::rethrowWithPrefix(std::string_view prefix) const
+{
+	throw AlStatusError(std::string(prefix).append(what()), errnoValue(), slave(), requested(), reached(),
+			    alStatusCode(), errorStatus());
+}
 
 } // namespace ecmxf

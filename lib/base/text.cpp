@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Internal message words shared by Device and the command transports
-// (lib/device/lib_text.hpp).
+// (lib/base/text.hpp).
 
-#include "device/lib_text.hpp"
+#include "base/text.hpp"
 
 #include <ecmxf/protocol.hpp>
 
@@ -17,6 +17,13 @@ std::string commandName(std::uint8_t code)
 		return std::string(info->name);
 	char buf[32];
 	std::snprintf(buf, sizeof(buf), "command 0x%02X", code);
+	return buf;
+}
+
+std::string hex(std::uint64_t v, int digits)
+{
+	char buf[32];
+	std::snprintf(buf, sizeof(buf), "0x%0*" PRIX64, digits, v);
 	return buf;
 }
 

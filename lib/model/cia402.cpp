@@ -4,7 +4,7 @@
 // path to a requested state, the steppers for the state machine, the PP
 // set-point handshake and homing (Documentation/cia402.rst).
 
-#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/model/cia402.hpp>
 
 #include <cerrno>
 #include <cstdio>

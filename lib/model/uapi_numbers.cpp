@@ -4,8 +4,8 @@
 // protocol core uses and tests/uapi checks against the manuals. Here the
 // C++ names are pinned to it, so that the two cannot drift. No code.
 
-#include <ecmxf/bus/types_bus.hpp>
-#include <ecmxf/chip/types_chip.hpp>
+#include <ecmxf/model/types_bus.hpp>
+#include <ecmxf/model/types_chip.hpp>
 
 #include "ecmxf-proto.h"
 

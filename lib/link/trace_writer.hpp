@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Internal: the writer of packet traces (Documentation/trace.rst) and the
-// seam through which lib/trace/trace.cpp reaches a Device's trace slot.
+// Internal: the writer of packet traces (Documentation/trace.rst), fed by
+// the links; a Device owns the one it records to (Device::startTrace()).
 #pragma once
 
 #include <cstddef>
@@ -11,7 +11,6 @@
 #include <string>
 #include <string_view>
 
-#include <ecmxf/device.hpp>
 #include <ecmxf/link/link.hpp>
 
 namespace ecmxf {
@@ -57,15 +56,5 @@ private:
 };
 
 } // namespace detail
-
-/// What lib/trace/trace.cpp needs of a Device (friend of Device; the functions
-/// are defined in lib/device/device.cpp, where Device::Impl is complete).
-class TraceAccess
-{
-public:
-	/// The device's trace slot (null: not tracing).
-	static std::unique_ptr<detail::TraceWriter> &slot(Device &d) noexcept;
-	static const std::unique_ptr<detail::TraceWriter> &slot(const Device &d) noexcept;
-};
 
 } // namespace ecmxf

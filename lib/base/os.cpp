@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The OS resources as objects (lib/device/os.hpp).
+// The OS resources as objects (lib/base/os.hpp).
 
 #include <ecmxf/error.hpp>
 
@@ -9,7 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "device/os.hpp"
+#include "base/os.hpp"
 
 namespace ecmxf::detail {
 

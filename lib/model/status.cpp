@@ -3,8 +3,8 @@
 // check types, master series and FoE error codes (include/ecmxf/bus/status.hpp;
 // bit meanings from manual ver. 050, table 2 and ECM_CMD_ECAT_INT_SET_ENABLE).
 
-#include <ecmxf/bus/status.hpp>
-#include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/model/status.hpp>
+#include <ecmxf/model/types_bus.hpp>
 
 #include <cstdio>
 
