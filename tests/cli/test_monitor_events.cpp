@@ -11,6 +11,8 @@
 #include <chrono>
 #include <string>
 
+#include <ecmxf/model/types_bus.hpp>
+
 #include "ecmxf-util-monitor.hpp"
 
 using ecmxf::ResponseHeader;
