@@ -69,7 +69,9 @@ echo "kmod-check.sh: W=1 + sparse (C=2) clean${kvars:+ ($kvars)}, $(since "$t")"
 t=$(now)
 sk=$(mktemp -d)
 trap 'rm -f "$log"; rm -rf "$sk"' EXIT
-for f in lib/core/ecmsk-*.c; do
+# the SK core and what it uses of the XF core (the CRC-8)
+sk_src="lib/core/ecmsk-*.c lib/core/ecmxf-crc.c"
+for f in $sk_src; do
 	ln -s "$(pwd)/$f" "$sk/$(basename "$f")"
 done
 cat >"$sk/ecmsk-check-main.c" <<'EOF_C'
@@ -83,7 +85,7 @@ EOF_C
 {
 	echo "obj-m += ecmsk-check.o"
 	printf 'ecmsk-check-y := ecmsk-check-main.o'
-	for f in lib/core/ecmsk-*.c; do
+	for f in $sk_src; do
 		printf ' %s' "$(basename "$f" .c).o"
 	done
 	echo
