@@ -122,6 +122,18 @@ bool DriveBase::homeSwitchAt(double userPos) const
 	return homeSwitch_ && userPos - homeShift_ >= *homeSwitch_;
 }
 
+void DriveBase::addDeviceObjects(std::uint32_t &deviceType, std::string &name,
+				 std::string *hwVersion, std::string *swVersion)
+{
+	od_.var(0x1000, "Device type", DataType::U32, Access::RO, &deviceType).def(deviceType);
+	od_.var(0x1001, "Error register", DataType::U8, Access::RO, &errorRegister_).map(TxPdo);
+	od_.string(0x1008, "Device name", &name);
+	if (hwVersion)
+		od_.string(0x1009, "Hardware version", hwVersion);
+	if (swVersion)
+		od_.string(0x100A, "Software version", swVersion);
+}
+
 void DriveBase::onPowerOn()
 {
 	st_ = Cia402State::NotReadyToSwitchOn;

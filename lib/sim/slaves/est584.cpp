@@ -123,11 +123,7 @@ void Est584::buildDictionary(std::uint32_t maxSpeed, std::uint16_t window)
 	auto &od = od_;
 
 	// ---- communication area (CiA 301) ----
-	od.var(0x1000, "Device type", DT::U32, A::RO, &deviceType_).def(0x00030192);
-	od.var(0x1001, "Error register", DT::U8, A::RO, &errorRegister_).map(TxPdo);
-	od.string(0x1008, "Device name", &name_);
-	od.string(0x1009, "Hardware version", &hwVersion_);
-	od.string(0x100A, "Software version", &swVersion_);
+	addDeviceObjects(deviceType_, name_, &hwVersion_, &swVersion_);
 	for (std::uint8_t s = 1; s <= 4; s++) // 4.1/4.2: "save"/"load" at 0x1010:04
 		od.sub(0x1010, s, "Store parameters", DT::U32, A::RW)
 			.def(1)

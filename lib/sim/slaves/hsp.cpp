@@ -80,9 +80,7 @@ void Hsp::buildDictionary()
 	using DT = DataType;
 	using A = Access;
 	auto &od = od_;
-	od.var(0x1000, "Device type", DT::U32, A::RO, &deviceType_).def(0x00020192);
-	od.var(0x1001, "Error register", DT::U8, A::RO, &errorRegister_).map(TxPdo);
-	od.string(0x1008, "Device name", &name_);
+	addDeviceObjects(deviceType_, name_);
 	addIdentityObjects();
 	if (channels_ == 2)
 		buildChannel2();

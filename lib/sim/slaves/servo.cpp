@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <deque>
+#include <functional>
 #include <stdexcept>
 
 #include "slaves/drive.hpp"
@@ -163,33 +164,26 @@ void Servo::buildDictionary(std::uint32_t maxSpeed, std::uint32_t window)
 	using A = Access;
 	auto &od = od_;
 
-	od.var(0x1000, "Device type", DT::U32, A::RO, &deviceType_).def(0x00020192);
-	od.var(0x1001, "Error register", DT::U8, A::RO, &errorRegister_).map(TxPdo);
-	od.string(0x1008, "Device name", &name_);
-	od.string(0x1009, "Hardware version", &hwVersion_);
-	od.string(0x100A, "Software version", &swVersion_);
+	addDeviceObjects(deviceType_, name_, &hwVersion_, &swVersion_);
 	// CiA 301: "save" to 0x1010:01 stores, "load" to 0x1011:01 restores the
 	// defaults at the next power-on.
-	od.sub(0x1010, 1, "Save all parameters", DT::U32, A::RW)
-		.def(1)
-		.asCommand()
-		.onCheck([this](std::uint64_t v) -> std::uint32_t {
-			if (v != kSave)
-				return abort::CannotTransfer;
-			saveParameters();
-			log("parameters saved");
-			return 0;
-		});
-	od.sub(0x1011, 1, "Restore default parameters", DT::U32, A::RW)
-		.def(1)
-		.asCommand()
-		.onCheck([this](std::uint64_t v) -> std::uint32_t {
-			if (v != kLoad)
-				return abort::CannotTransfer;
-			restoreDefaults(false);
-			log("defaults restored (next power-on)");
-			return 0;
-		});
+	auto command = [&](std::uint16_t idx, const char *name, std::uint32_t word,
+			   std::function<void()> action, const char *done) {
+		od.sub(idx, 1, name, DT::U32, A::RW)
+			.def(1)
+			.asCommand()
+			.onCheck([this, word, action, done](std::uint64_t v) -> std::uint32_t {
+				if (v != word)
+					return abort::CannotTransfer;
+				action();
+				log(done);
+				return 0;
+			});
+	};
+	command(0x1010, "Save all parameters", kSave, [this] { saveParameters(); },
+		"parameters saved");
+	command(0x1011, "Restore default parameters", kLoad, [this] { restoreDefaults(false); },
+		"defaults restored (next power-on)");
 	addIdentityObjects();
 
 	// RxPDO 13 bytes, TxPDO 15 bytes by default; three more free PDOs each.
