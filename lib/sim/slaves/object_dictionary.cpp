@@ -74,23 +74,27 @@ std::size_t storageBytes(DataType t)
 	return t == DataType::Bool ? 1 : bitSize(t) / 8;
 }
 
-template <typename T> std::uint64_t loadAs(const void *p)
+// Calls @p f with a value of the unsigned type as wide as a bound value of
+// type @p t (nothing for String). The raw value of a signed type is its bits,
+// zero-extended, so the unsigned type of its width loads and stores it alike.
+template <typename F> void withStorageType(DataType t, F &&f)
 {
-	T v;
-	std::memcpy(&v, p, sizeof v);
-	if constexpr (std::is_signed_v<T>)
-		return static_cast<std::uint64_t>(static_cast<std::make_unsigned_t<T>>(v));
-	else
-		return static_cast<std::uint64_t>(v);
-}
-
-template <typename T> void storeAs(void *p, std::uint64_t raw)
-{
-	using U = std::make_unsigned_t<T>;
-	const U u = static_cast<U>(raw);
-	T v;
-	std::memcpy(&v, &u, sizeof v);
-	std::memcpy(p, &v, sizeof v);
+	switch (storageBytes(t)) {
+	case 1:
+		f(std::uint8_t{});
+		break;
+	case 2:
+		f(std::uint16_t{});
+		break;
+	case 4:
+		f(std::uint32_t{});
+		break;
+	case 8:
+		f(std::uint64_t{});
+		break;
+	default:
+		break;
+	}
 }
 
 } // namespace
@@ -99,66 +103,24 @@ std::uint64_t loadRaw(const Binding &b)
 {
 	if (!b.ptr)
 		return 0;
-	switch (b.type) {
-	case DataType::Bool:
-		return loadAs<std::uint8_t>(b.ptr) & 1u;
-	case DataType::I8:
-		return loadAs<std::int8_t>(b.ptr);
-	case DataType::U8:
-		return loadAs<std::uint8_t>(b.ptr);
-	case DataType::I16:
-		return loadAs<std::int16_t>(b.ptr);
-	case DataType::U16:
-		return loadAs<std::uint16_t>(b.ptr);
-	case DataType::I32:
-		return loadAs<std::int32_t>(b.ptr);
-	case DataType::U32:
-		return loadAs<std::uint32_t>(b.ptr);
-	case DataType::I64:
-		return loadAs<std::int64_t>(b.ptr);
-	case DataType::U64:
-		return loadAs<std::uint64_t>(b.ptr);
-	case DataType::String:
-		return 0;
-	}
-	return 0;
+	std::uint64_t raw = 0;
+	withStorageType(b.type, [&](auto u) {
+		std::memcpy(&u, b.ptr, sizeof u);
+		raw = u;
+	});
+	return b.type == DataType::Bool ? raw & 1u : raw;
 }
 
 void storeRaw(const Binding &b, std::uint64_t raw)
 {
 	if (!b.ptr)
 		return;
-	switch (b.type) {
-	case DataType::Bool:
-		storeAs<std::uint8_t>(b.ptr, raw & 1u);
-		break;
-	case DataType::I8:
-		storeAs<std::int8_t>(b.ptr, raw);
-		break;
-	case DataType::U8:
-		storeAs<std::uint8_t>(b.ptr, raw);
-		break;
-	case DataType::I16:
-		storeAs<std::int16_t>(b.ptr, raw);
-		break;
-	case DataType::U16:
-		storeAs<std::uint16_t>(b.ptr, raw);
-		break;
-	case DataType::I32:
-		storeAs<std::int32_t>(b.ptr, raw);
-		break;
-	case DataType::U32:
-		storeAs<std::uint32_t>(b.ptr, raw);
-		break;
-	case DataType::I64:
-		storeAs<std::int64_t>(b.ptr, raw);
-		break;
-	case DataType::U64:
-		storeAs<std::uint64_t>(b.ptr, raw);
-		break;
-	case DataType::String:
-		break;
-	}
+	if (b.type == DataType::Bool)
+		raw &= 1u;
+	withStorageType(b.type, [&](auto u) {
+		u = static_cast<decltype(u)>(raw);
+		std::memcpy(b.ptr, &u, sizeof u);
+	});
 }
 
 std::int64_t rawToSigned(DataType t, std::uint64_t raw)
