@@ -21,9 +21,7 @@ using Result = CmdResult;
 
 Result error()
 {
-	Result r;
-	r.cmdError = true;
-	return r;
+	return CmdResult::error();
 }
 
 Result ret(unsigned v)

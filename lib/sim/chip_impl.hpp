@@ -166,6 +166,14 @@ struct CmdResult {
 	std::uint8_t ret = 0;		///< return value (header 0x0D)
 	std::size_t len = 0;		///< data bytes in the response
 	bool cmdError = false;		///< bad parameter: error status bit 7
+
+	/// A command refused for a bad parameter: error status bit 7, no data.
+	[[nodiscard]] static CmdResult error()
+	{
+		CmdResult r;
+		r.cmdError = true;
+		return r;
+	}
 };
 
 class Chip::Impl
@@ -264,6 +272,11 @@ public:
 	bool startFoe(std::span<const std::uint8_t> in, std::size_t cmdLen);
 	bool startRecvMailbox(const ecmxf_cmd_hdr &h);
 	std::uint32_t sdoCheck(std::size_t pos) const;
+	/// sdoCheck(), else the forced abort @p forced (0: none).
+	std::uint32_t sdoCheck(std::size_t pos, std::uint32_t forced) const;
+	/// What every SDO job starts with: the last abort code cleared, the
+	/// fault plan's one-shot forced abort taken (0: none).
+	std::uint32_t startSdoAborts();
 	void pollEmergencies();
 	void logEmergency(std::size_t pos, const Emergency &e);
 	void pollEmergency(std::size_t pos);
