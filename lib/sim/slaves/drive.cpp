@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace ecmxf::sim::slaves {
 
@@ -134,6 +135,24 @@ void DriveBase::addDeviceObjects(std::uint32_t &deviceType, std::string &name,
 		od_.string(0x100A, "Software version", swVersion);
 }
 
+void DriveBase::addCia402Objects()
+{
+	od_.var(0x603F, "Error code", DataType::U16, Access::RO, &errorCode_).map(TxPdo);
+	od_.var(0x6040, "Controlword", DataType::U16, Access::RW, &controlword_).map(RxPdo);
+	od_.var(0x6041, "Statusword", DataType::U16, Access::RO, &statusword_).map(TxPdo);
+	od_.var(0x6060, "Modes of operation", DataType::I8, Access::RW, &modeOfOperation_)
+		.def(mode::CSP)
+		.map(RxPdo)
+		.onCheck([this](std::uint64_t v) { return checkMode(v); });
+	od_.var(0x6061, "Modes of operation display", DataType::I8, Access::RO, &modeDisplay_).map(TxPdo);
+	od_.var(0x6064, "Position actual value", DataType::I32, Access::RO, &positionActual_).map(TxPdo);
+	od_.var(0x606C, "Velocity actual value", DataType::I32, Access::RO, &velocityActual_).map(TxPdo);
+	od_.var(0x607A, "Target position", DataType::I32, Access::RW, &targetPosition_).map(RxPdo);
+	od_.var(0x60FF, "Target velocity", DataType::I32, Access::RW, &targetVelocity_).map(RxPdo);
+	od_.var(0x6502, "Supported drive modes", DataType::U32, Access::RO, &supportedModes_)
+		.def(drv_.supportedModes);
+}
+
 void DriveBase::onPowerOn()
 {
 	st_ = Cia402State::NotReadyToSwitchOn;
@@ -225,57 +244,42 @@ void DriveBase::step(std::chrono::nanoseconds dtNs, bool)
 	using S = Cia402State;
 	using C = Cia402Command;
 	const S before = st_;
-	switch (st_) {
-	case S::NotReadyToSwitchOn:
+	// the transitions a controlword command makes alone (the appendix's numbers)
+	static constexpr struct {
+		S from;
+		C cmd;
+		S to;
+	} kTransitions[] = {
+		{ S::SwitchOnDisabled, C::Shutdown, S::ReadyToSwitchOn },	 // 2
+		{ S::ReadyToSwitchOn, C::SwitchOn, S::SwitchedOn },		 // 3
+		{ S::ReadyToSwitchOn, C::EnableOperation, S::OperationEnabled }, // 3 + 4
+		{ S::ReadyToSwitchOn, C::DisableVoltage, S::SwitchOnDisabled },	 // 7
+		{ S::ReadyToSwitchOn, C::QuickStop, S::SwitchOnDisabled },	 // 7
+		{ S::SwitchedOn, C::EnableOperation, S::OperationEnabled },	 // 4
+		{ S::SwitchedOn, C::Shutdown, S::ReadyToSwitchOn },		 // 6
+		{ S::SwitchedOn, C::DisableVoltage, S::SwitchOnDisabled },	 // 10
+		{ S::SwitchedOn, C::QuickStop, S::SwitchOnDisabled },		 // 10
+		{ S::OperationEnabled, C::SwitchOn, S::SwitchedOn },		 // 5
+		{ S::OperationEnabled, C::Shutdown, S::ReadyToSwitchOn },	 // 8
+		{ S::OperationEnabled, C::DisableVoltage, S::SwitchOnDisabled }, // 9
+		{ S::OperationEnabled, C::QuickStop, S::QuickStopActive },	 // 11
+		{ S::QuickStopActive, C::DisableVoltage, S::SwitchOnDisabled },	 // 12
+	};
+	const auto *t = std::find_if(std::begin(kTransitions), std::end(kTransitions),
+				     [&](const auto &e) { return e.from == st_ && e.cmd == cmd; });
+	if (t != std::end(kTransitions)) {
+		st_ = t->to;
+	} else if (st_ == S::NotReadyToSwitchOn) {
 		st_ = S::SwitchOnDisabled; // 1: self-test done
-		break;
-	case S::SwitchOnDisabled:
-		if (cmd == C::Shutdown)
-			st_ = S::ReadyToSwitchOn; // 2
-		break;
-	case S::ReadyToSwitchOn:
-		if (cmd == C::SwitchOn)
-			st_ = S::SwitchedOn; // 3
-		else if (cmd == C::EnableOperation)
-			st_ = S::OperationEnabled; // 3 + 4
-		else if (cmd == C::DisableVoltage || cmd == C::QuickStop)
-			st_ = S::SwitchOnDisabled; // 7
-		break;
-	case S::SwitchedOn:
-		if (cmd == C::EnableOperation)
-			st_ = S::OperationEnabled; // 4
-		else if (cmd == C::Shutdown)
-			st_ = S::ReadyToSwitchOn; // 6
-		else if (cmd == C::DisableVoltage || cmd == C::QuickStop)
-			st_ = S::SwitchOnDisabled; // 10
-		break;
-	case S::OperationEnabled:
-		if (cmd == C::SwitchOn)
-			st_ = S::SwitchedOn; // 5
-		else if (cmd == C::Shutdown)
-			st_ = S::ReadyToSwitchOn; // 8
-		else if (cmd == C::DisableVoltage)
-			st_ = S::SwitchOnDisabled; // 9
-		else if (cmd == C::QuickStop)
-			st_ = S::QuickStopActive; // 11
-		break;
-	case S::QuickStopActive:
-		if (cmd == C::DisableVoltage)
-			st_ = S::SwitchOnDisabled; // 12
-		else if (cmd == C::EnableOperation && quickStopStays())
-			st_ = S::OperationEnabled; // 16
-		break;
-	case S::FaultReactionActive:
-		break; // 14 when the reaction is complete (below)
-	case S::Fault:
-		if (resetEdge) {
-			st_ = S::SwitchOnDisabled; // 15
-			errorCode_ = 0;
-			errorRegister_ = 0;
-			pushEmergency(Emergency{ 0x0000, 0x00, {} });
-		}
-		break;
+	} else if (st_ == S::QuickStopActive && cmd == C::EnableOperation && quickStopStays()) {
+		st_ = S::OperationEnabled; // 16
+	} else if (st_ == S::Fault && resetEdge) {
+		st_ = S::SwitchOnDisabled; // 15
+		errorCode_ = 0;
+		errorRegister_ = 0;
+		pushEmergency(Emergency{ 0x0000, 0x00, {} });
 	}
+	// FAULT REACTION ACTIVE: 14 when the reaction is complete (below)
 
 	if (st_ == S::OperationEnabled && (before != S::OperationEnabled || modeChanged))
 		enableOperation();

@@ -95,18 +95,8 @@ void Hsp::buildDictionary()
 		addPdoAssignment(true, { 0x1600 });
 		addPdoAssignment(false, { 0x1A00 });
 	}
-	od.var(0x603F, "Error code", DT::U16, A::RO, &errorCode_).map(TxPdo);
-	od.var(0x6040, "Controlword", DT::U16, A::RW, &controlword_).map(RxPdo);
-	od.var(0x6041, "Statusword", DT::U16, A::RO, &statusword_).map(TxPdo);
-	od.var(0x6060, "Modes of operation", DT::I8, A::RW, &modeOfOperation_)
-		.def(mode::CSP)
-		.map(RxPdo)
-		.onCheck([this](std::uint64_t v) { return checkMode(v); });
-	od.var(0x6061, "Modes of operation display", DT::I8, A::RO, &modeDisplay_).map(TxPdo);
-	od.var(0x6064, "Position actual value", DT::I32, A::RO, &positionActual_).map(TxPdo);
+	addCia402Objects();
 	od.var(0x6065, "Following error window", DT::U32, A::RW, &followingWindow_).def(100000);
-	od.var(0x606C, "Velocity actual value", DT::I32, A::RO, &velocityActual_).map(TxPdo);
-	od.var(0x607A, "Target position", DT::I32, A::RW, &targetPosition_).map(RxPdo);
 	od.var(0x607C, "Home offset", DT::I32, A::RW, &homeOffset_).map(RxPdo);
 	od.var(0x607F, "Max profile velocity", DT::U32, A::RW, &maxProfileVelocity_).def(4'000'000);
 	od.var(0x6083, "Profile acceleration", DT::U32, A::RW, &profileAcceleration_).def(4'000'000);
@@ -123,8 +113,6 @@ void Hsp::buildDictionary()
 	od.sub(0x6099, 2, "Homing speed (zero search)", DT::U32, A::RW, &homingSpeedSlow_).def(1000);
 	od.var(0x609A, "Homing acceleration", DT::U32, A::RW, &homingAcceleration_).def(100000);
 	od.var(0x60FD, "Digital inputs", DT::U32, A::RO, &digitalInputs_).map(TxPdo);
-	od.var(0x60FF, "Target velocity", DT::I32, A::RW, &targetVelocity_).map(RxPdo);
-	od.var(0x6502, "Supported drive modes", DT::U32, A::RO, &supportedModes_).def(drv_.supportedModes);
 }
 
 void Hsp::buildChannel2()

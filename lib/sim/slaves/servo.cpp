@@ -200,23 +200,14 @@ void Servo::buildDictionary(std::uint32_t maxSpeed, std::uint32_t window)
 	addPdoAssignment(true, { 0x1600 });
 	addPdoAssignment(false, { 0x1A00 });
 
-	od.var(0x603F, "Error code", DT::U16, A::RO, &errorCode_).map(TxPdo);
-	od.var(0x6040, "Controlword", DT::U16, A::RW, &controlword_).map(RxPdo);
-	od.var(0x6041, "Statusword", DT::U16, A::RO, &statusword_).map(TxPdo);
+	addCia402Objects();
 	od.var(0x605A, "Quick stop option code", DT::I16, A::RW, &quickStopOption_).def(5).store();
-	od.var(0x6060, "Modes of operation", DT::I8, A::RW, &modeOfOperation_)
-		.def(mode::CSP)
-		.map(RxPdo)
-		.onCheck([this](std::uint64_t v) { return checkMode(v); });
-	od.var(0x6061, "Modes of operation display", DT::I8, A::RO, &modeDisplay_).map(TxPdo);
 	od.var(0x6062, "Position demand value", DT::I32, A::RO, &positionDemand_).map(TxPdo);
-	od.var(0x6064, "Position actual value", DT::I32, A::RO, &positionActual_).map(TxPdo);
 	od.var(0x6065, "Following error window", DT::U32, A::RW, &followingWindow_)
 		.def(window)
 		.range(1, 0xFFFFFFFF)
 		.store();
 	od.var(0x606B, "Velocity demand value", DT::I32, A::RO, &velocityDemand_).map(TxPdo);
-	od.var(0x606C, "Velocity actual value", DT::I32, A::RO, &velocityActual_).map(TxPdo);
 	od.var(0x6071, "Target torque", DT::I16, A::RW, &targetTorque_).map(RxPdo);
 	od.var(0x6072, "Max torque", DT::U16, A::RW, &maxTorque_)
 		.def(3000)
@@ -224,7 +215,6 @@ void Servo::buildDictionary(std::uint32_t maxSpeed, std::uint32_t window)
 		.map(RxPdo)
 		.store();
 	od.var(0x6077, "Torque actual value", DT::I16, A::RO, &torqueActual_).map(TxPdo);
-	od.var(0x607A, "Target position", DT::I32, A::RW, &targetPosition_).map(RxPdo);
 	od.var(0x607F, "Max profile velocity", DT::U32, A::RW, &maxProfileVelocity_)
 		.def(maxSpeed)
 		.map(RxPdo)
@@ -236,9 +226,6 @@ void Servo::buildDictionary(std::uint32_t maxSpeed, std::uint32_t window)
 	od.var(0x60B0, "Position offset", DT::I32, A::RW, &positionOffset_).map(RxPdo);
 	od.var(0x60F4, "Following error actual value", DT::I32, A::RO, &followingError_)
 		.map(TxPdo);
-	od.var(0x60FF, "Target velocity", DT::I32, A::RW, &targetVelocity_).map(RxPdo);
-	od.var(0x6502, "Supported drive modes", DT::U32, A::RO, &supportedModes_)
-		.def(drv_.supportedModes);
 }
 
 std::uint32_t Servo::foeRead(const std::string &name, std::vector<std::uint8_t> &out)
