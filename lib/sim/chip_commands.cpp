@@ -71,9 +71,11 @@ Chip::Impl::Result Chip::Impl::immediate(const ecmxf_cmd_hdr &h, std::span<const
 		return bytes(4);
 	}
 	case ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP:
-		return fifoDataOp(h, in, out);
 	case ECMXF_CMD_ECAT_PDO_DATA_OP:
-		return pdoDataOp(h, in, out);
+		if (!layoutValid_) // no process data before the layout is built
+			return error();
+		return h.code == ECMXF_CMD_ECAT_PDO_DATA_OP ? pdoDataOp(h, in, out)
+							    : fifoDataOp(h, in, out);
 	case ECMXF_CMD_ECAT_PDO_CONFIG_GET: {
 		const std::size_t n = std::min(pdoCfg_.size(), out.size());
 		std::memcpy(out.data(), pdoCfg_.data(), n);
@@ -366,21 +368,19 @@ bool Chip::Impl::startAsync(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t
 	case ECMXF_CMD_ECAT_RECONFIG_OP:
 		if (!initialized_)
 			return false;
-		startJob(h.code, 10 * kMs + n * 500 * kUs, [this] {
+		startJobOnce(h.code, 10 * kMs + n * 500 * kUs, [this] {
 			buildLayout();
 			// ver. 050: "after command 2 the header's ECAT state is 1;
 			// use command 57 for the slaves' real state"
 			ecatState_ = ECMXF_ECAT_INIT;
 			opReached_ = false;
-			return AsyncJob::Step::Done;
 		});
 		return true;
 	case ECMXF_CMD_ECAT_INIT_DC_OP:
 		if (!initialized_)
 			return false;
-		startJob(h.code, 20 * kMs, [this] {
+		startJobOnce(h.code, 20 * kMs, [this] {
 			applyDc();
-			return AsyncJob::Step::Done;
 		});
 		return true;
 	case ECMXF_CMD_ECAT_PDO_CONFIG_SET:
@@ -402,7 +402,7 @@ bool Chip::Impl::startAsync(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t
 		const std::uint16_t aa = le16(&in[2]);
 		const std::uint32_t s0 = le32(&in[4]), s1 = le32(&in[8]);
 		const auto shift = static_cast<std::int32_t>(le32(&in[12]));
-		startJob(h.code, kMs, [this, sel, aa, s0, s1, shift] {
+		startJobOnce(h.code, kMs, [this, sel, aa, s0, s1, shift] {
 			for (std::size_t p = 0; p < slaves_.size(); p++) {
 				if (sel != 0xFF && p != sel)
 					continue;
@@ -413,22 +413,19 @@ bool Chip::Impl::startAsync(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t
 				s.dcShift = shift;
 			}
 			// applied to the slaves by ECAT_INIT_DC_OP (manual ver. 050)
-			return AsyncJob::Step::Done;
 		});
 		return true;
 	}
 	case ECMXF_CMD_ECAT_STATE_UPDATE:
-		startJob(h.code, 200 * kUs + n * 10 * kUs, [this] {
+		startJobOnce(h.code, 200 * kUs + n * 10 * kUs, [this] {
 			refreshStates();
-			return AsyncJob::Step::Done;
 		});
 		return true;
 	case ECMXF_CMD_ECAT_CONFIG_MAP:
 		if (!initialized_)
 			return false;
-		startJob(h.code, 5 * kMs + n * 200 * kUs, [this] {
+		startJobOnce(h.code, 5 * kMs + n * 200 * kUs, [this] {
 			buildLayout();
-			return AsyncJob::Step::Done;
 		});
 		return true;
 	case ECMXF_CMD_RAW_ECAT_FUNC_REQ:

@@ -50,8 +50,6 @@ Chip::Impl::Result Chip::Impl::fifoDataOp(const ecmxf_cmd_hdr &h, std::span<cons
 					  std::span<std::uint8_t> out)
 {
 	Result r;
-	if (!layoutValid_)
-		return Result::error();
 	const unsigned op = h.data[0];
 	if (op & 0x01) {
 		const std::size_t frames = h.param;
@@ -89,8 +87,6 @@ Chip::Impl::Result Chip::Impl::pdoDataOp(const ecmxf_cmd_hdr &h, std::span<const
 					 std::span<std::uint8_t> out)
 {
 	Result r;
-	if (!layoutValid_)
-		return Result::error();
 	const unsigned op = h.data[0];
 	// bit 2: bits 0/1 are valid; without it both read and write happen
 	const bool valid = op & 0x04;

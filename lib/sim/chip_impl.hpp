@@ -220,6 +220,8 @@ public:
 	/// Start an async command; false = bad parameters (command error).
 	bool startAsync(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t> in);
 	void startJob(std::uint8_t code, Nanos firstStep, std::function<AsyncJob::Step()> step);
+	/// A job that runs @p work once, @p after from now, and is done.
+	void startJobOnce(std::uint8_t code, Nanos after, std::function<void()> work);
 	void stepJob();
 	void endJob(bool ok);
 
@@ -258,6 +260,8 @@ public:
 	bool fifoBudgetOk(std::size_t rx, std::size_t tx) const;
 	void rxPopped(std::size_t before);
 	void txPushed(std::size_t before);
+	// PDO_DATA_FIFO_OP and PDO_DATA_OP, once the layout is valid (the
+	// caller, immediate(), refuses them before)
 	Result fifoDataOp(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t> in,
 			  std::span<std::uint8_t> out);
 	Result pdoDataOp(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t> in,
