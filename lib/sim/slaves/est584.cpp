@@ -64,13 +64,8 @@ Est584::Est584(unsigned position, const SlaveOptions &opts)
 	: DriveBase(BaseConfig{}, DriveConfig{})
 {
 	OptionReader o("EST-584", opts);
-	cfg_.typeName = "EST-584";
-	cfg_.identity.vendorId = model::kVendorId;
-	cfg_.identity.productCode = model::kEst584Product;
-	cfg_.identity.revision = model::kEst584Revision;
-	o.common(position, cfg_.identity, cfg_.alias, "EST-584");
-	cfg_.mailboxLatency = std::chrono::microseconds(
-		o.integer("mailbox_latency_us", 0, 10'000'000).value_or(1000));
+	identify(o, position, model::kEst584Product, model::kEst584Revision, "EST-584");
+	readMailboxLatency(o, 1000);
 	cfg_.coe = true;
 	cfg_.clampOnRange = true;
 	cfg_.maxEntriesPerPdo = 8;

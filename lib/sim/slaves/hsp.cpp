@@ -53,14 +53,9 @@ private:
 Hsp::Hsp(unsigned position, const SlaveOptions &opts) : DriveBase(BaseConfig{}, DriveConfig{})
 {
 	OptionReader o("hsp", opts);
-	cfg_.typeName = "hsp";
-	cfg_.identity.vendorId = model::kVendorId;
-	cfg_.identity.productCode = kHspProduct;
-	cfg_.identity.revision = kHspRevision;
-	o.common(position, cfg_.identity, cfg_.alias, "HSP");
+	identify(o, position, kHspProduct, kHspRevision, "HSP");
 	channels_ = static_cast<unsigned>(o.integer("channels", 1, 2).value_or(1));
-	cfg_.mailboxLatency = std::chrono::microseconds(
-		o.integer("mailbox_latency_us", 0, 10'000'000).value_or(500));
+	readMailboxLatency(o, 500);
 	cfg_.coe = true;
 	cfg_.siiGroup = "Pulse";
 	cfg_.siiOrder = "HSP";

@@ -117,13 +117,8 @@ private:
 Servo::Servo(unsigned position, const SlaveOptions &opts) : DriveBase(BaseConfig{}, DriveConfig{})
 {
 	OptionReader o("servo", opts);
-	cfg_.typeName = "servo";
-	cfg_.identity.vendorId = model::kVendorId;
-	cfg_.identity.productCode = model::kServoProduct;
-	cfg_.identity.revision = model::kServoRevision;
-	o.common(position, cfg_.identity, cfg_.alias, "AKD2G-like servo");
-	cfg_.mailboxLatency = std::chrono::microseconds(
-		o.integer("mailbox_latency_us", 0, 10'000'000).value_or(500));
+	identify(o, position, model::kServoProduct, model::kServoRevision, "AKD2G-like servo");
+	readMailboxLatency(o, 500);
 	cfg_.coe = true;
 	cfg_.foe = true;
 	cfg_.bootMailbox = true;

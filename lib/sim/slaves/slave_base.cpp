@@ -5,10 +5,14 @@
 
 #include "slaves/slave_base.hpp"
 
+#include <ecmxf/sim/slaves.hpp>
+
 #include <algorithm>
 #include <bit>
 #include <cstring>
 #include <stdexcept>
+
+#include "slaves/options.hpp"
 
 namespace ecmxf::sim::slaves {
 
@@ -181,6 +185,22 @@ void SlaveBase::addPdoAssignment(bool rx, const std::vector<std::uint16_t> &defa
 				return m && m->rx == rx ? 0 : abort::ValueRange;
 			});
 	}
+}
+
+void SlaveBase::identify(OptionReader &o, unsigned position, std::uint32_t product,
+			 std::uint32_t revision, const std::string &defaultName)
+{
+	cfg_.typeName = o.type();
+	cfg_.identity.vendorId = model::kVendorId;
+	cfg_.identity.productCode = product;
+	cfg_.identity.revision = revision;
+	o.common(position, cfg_.identity, cfg_.alias, defaultName);
+}
+
+void SlaveBase::readMailboxLatency(OptionReader &o, std::int64_t defaultUs)
+{
+	cfg_.mailboxLatency = std::chrono::microseconds(
+		o.integer("mailbox_latency_us", 0, 10'000'000).value_or(defaultUs));
 }
 
 void SlaveBase::finishSetup()
