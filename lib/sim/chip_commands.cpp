@@ -39,6 +39,15 @@ Result bytes(std::size_t len, unsigned v = 0)
 	return r;
 }
 
+/// A 0/1 switch command: @p param sets @p flag (others are refused).
+Result setSwitch(bool &flag, unsigned param)
+{
+	if (param > 1)
+		return error();
+	flag = param == 1;
+	return ret(0);
+}
+
 /// Copy @p src into @p out (clipped to the data section).
 Result copyOut(const std::vector<std::uint8_t> &src, std::span<std::uint8_t> out, unsigned v = 0)
 {
@@ -158,10 +167,7 @@ Chip::Impl::Result Chip::Impl::immediate(const ecmxf_cmd_hdr &h, std::span<const
 	case ECMXF_CMD_ECAT_SLV_CNT_GET:
 		return ret(static_cast<unsigned>(nSlaves));
 	case ECMXF_CMD_FIFO_ENABLE:
-		if (h.param > 1)
-			return error();
-		fifoEnabled_ = h.param == 1;
-		return ret(0);
+		return setSwitch(fifoEnabled_, h.param);
 	case ECMXF_CMD_FIFO_PACK_SIZE_GET:
 		if (h.param > 1)
 			return error();
@@ -339,10 +345,7 @@ Chip::Impl::Result Chip::Impl::immediate(const ecmxf_cmd_hdr &h, std::span<const
 	case ECMXF_CMD_FOE_FUNC_GET:
 		return copyOut(foeResult_, out);
 	case ECMXF_CMD_ENABLE_LRW:
-		if (h.param > 1)
-			return error();
-		lrw_ = h.param == 1;
-		return ret(0);
+		return setSwitch(lrw_, h.param);
 	case ECMXF_CMD_RECV_MAILBOX:
 		if (h.param != 1)
 			return error();

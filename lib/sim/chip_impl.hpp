@@ -281,6 +281,9 @@ public:
 	/// What every SDO job starts with: the last abort code cleared, the
 	/// fault plan's one-shot forced abort taken (0: none).
 	std::uint32_t startSdoAborts();
+	/// The last step of a mailbox job: @p abortCode kept for the
+	/// queries, the job failed unless it is 0.
+	AsyncJob::Step endMailboxJob(std::uint32_t abortCode);
 	void pollEmergencies();
 	void logEmergency(std::size_t pos, const Emergency &e);
 	void pollEmergency(std::size_t pos);

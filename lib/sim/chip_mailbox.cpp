@@ -87,6 +87,12 @@ std::uint32_t Chip::Impl::startSdoAborts()
 	return forced;
 }
 
+AsyncJob::Step Chip::Impl::endMailboxJob(std::uint32_t abortCode)
+{
+	abortCode_ = abortCode;
+	return abortCode ? AsyncJob::Step::Failed : AsyncJob::Step::Done;
+}
+
 Nanos Chip::Impl::sdoTime(std::size_t pos, std::size_t bytes) const
 {
 	Nanos lat = slaves_[pos].slave->mailboxLatency().count();
@@ -145,8 +151,7 @@ bool Chip::Impl::startSdo(std::span<const std::uint8_t> in)
 					 sdoData_.assign(data.begin(), data.begin() + static_cast<long>(n));
 				 }
 			 }
-			 abortCode_ = ab;
-			 return ab ? Step::Failed : Step::Done;
+			 return endMailboxJob(ab);
 		 });
 	return true;
 }
@@ -192,8 +197,7 @@ bool Chip::Impl::startPdoConfigSet(std::span<const std::uint8_t> in)
 		std::uint32_t ab = sdoCheck(pos, forced);
 		for (std::size_t i = 0; !ab && i < w.size(); i++)
 			ab = slaves_[pos].slave->sdoDownload(w[i].index, w[i].sub, false, w[i].data);
-		abortCode_ = ab;
-		return ab ? Step::Failed : Step::Done;
+		return endMailboxJob(ab);
 	});
 	return true;
 }
@@ -453,8 +457,7 @@ bool Chip::Impl::startFoe(std::span<const std::uint8_t> in, std::size_t cmdLen)
 			} else if (!code) {
 				code = s.foeWrite(name, std::span<const std::uint8_t>(flash_.data() + addr, flen));
 			}
-			abortCode_ = code;
-			return code ? Step::Failed : Step::Done;
+			return endMailboxJob(code);
 		});
 		return true;
 	}
