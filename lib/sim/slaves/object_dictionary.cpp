@@ -6,64 +6,55 @@
 #include "slaves/object_dictionary.hpp"
 
 #include <cstring>
+#include <iterator>
 #include <stdexcept>
 
 namespace ecmxf::sim::slaves {
 
+namespace {
+
+/// What a DataType is, in the enum's order: its size in bits (strings: 0),
+/// its CoE data type index, whether it is signed.
+struct TypeInfo {
+	unsigned bits;
+	std::uint8_t coeIndex;
+	bool isSigned;
+};
+constexpr TypeInfo kTypes[] = {
+	{ 1, 0x01, false },  // Bool
+	{ 8, 0x02, true },   // I8
+	{ 16, 0x03, true },  // I16
+	{ 32, 0x04, true },  // I32
+	{ 8, 0x05, false },  // U8
+	{ 16, 0x06, false }, // U16
+	{ 32, 0x07, false }, // U32
+	{ 64, 0x15, true },  // I64
+	{ 64, 0x1B, false }, // U64
+	{ 0, 0x09, false },  // String (VISIBLE_STRING)
+};
+static_assert(std::size(kTypes) == static_cast<std::size_t>(DataType::String) + 1);
+
+TypeInfo typeInfo(DataType t)
+{
+	const auto i = static_cast<std::size_t>(t);
+	return i < std::size(kTypes) ? kTypes[i] : TypeInfo{ 0, 0, false };
+}
+
+} // namespace
+
 unsigned bitSize(DataType t)
 {
-	switch (t) {
-	case DataType::Bool:
-		return 1;
-	case DataType::I8:
-	case DataType::U8:
-		return 8;
-	case DataType::I16:
-	case DataType::U16:
-		return 16;
-	case DataType::I32:
-	case DataType::U32:
-		return 32;
-	case DataType::I64:
-	case DataType::U64:
-		return 64;
-	case DataType::String:
-		return 0;
-	}
-	return 0;
+	return typeInfo(t).bits;
 }
 
 std::uint8_t dataTypeIndex(DataType t)
 {
-	switch (t) {
-	case DataType::Bool:
-		return 0x01;
-	case DataType::I8:
-		return 0x02;
-	case DataType::I16:
-		return 0x03;
-	case DataType::I32:
-		return 0x04;
-	case DataType::U8:
-		return 0x05;
-	case DataType::U16:
-		return 0x06;
-	case DataType::U32:
-		return 0x07;
-	case DataType::String:
-		return 0x09;
-	case DataType::I64:
-		return 0x15;
-	case DataType::U64:
-		return 0x1B;
-	}
-	return 0;
+	return typeInfo(t).coeIndex;
 }
 
 bool isSigned(DataType t)
 {
-	return t == DataType::I8 || t == DataType::I16 || t == DataType::I32 ||
-	       t == DataType::I64;
+	return typeInfo(t).isSigned;
 }
 
 namespace {
