@@ -226,19 +226,11 @@ Chip::Impl::Result Chip::Impl::immediate(const ecmxf_cmd_hdr &h, std::span<const
 		}
 		return ret(0);
 	case ECMXF_CMD_FIFO_SET_TX_CNT:
-		if (h.param == 0 || !fifoBudgetOk(rxDepth_, h.param))
-			return error();
-		txDepth_ = h.param;
-		rebuildFifos();
-		return ret(0);
+		return h.param == 0 ? error() : setFifoDepths(rxDepth_, h.param);
 	case ECMXF_CMD_FIFO_GET_TX_CNT:
 		return ret(static_cast<unsigned>(txDepth_));
 	case ECMXF_CMD_FIFO_SET_RX_CNT:
-		if (h.param == 0 || !fifoBudgetOk(h.param, txDepth_))
-			return error();
-		rxDepth_ = h.param;
-		rebuildFifos();
-		return ret(0);
+		return h.param == 0 ? error() : setFifoDepths(h.param, txDepth_);
 	case ECMXF_CMD_FIFO_GET_RX_CNT:
 		return ret(static_cast<unsigned>(rxDepth_));
 	case ECMXF_CMD_FW_VERSION_GET: {
@@ -360,6 +352,16 @@ Chip::Impl::Result Chip::Impl::immediate(const ecmxf_cmd_hdr &h, std::span<const
 bool Chip::Impl::fifoBudgetOk(std::size_t rx, std::size_t tx) const
 {
 	return rx * rxSize_ + tx * txSize_ <= kFifoBudget;
+}
+
+Chip::Impl::Result Chip::Impl::setFifoDepths(std::size_t rx, std::size_t tx)
+{
+	if (!fifoBudgetOk(rx, tx))
+		return error();
+	rxDepth_ = rx;
+	txDepth_ = tx;
+	rebuildFifos();
+	return ret(0);
 }
 
 bool Chip::Impl::startAsync(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t> in)

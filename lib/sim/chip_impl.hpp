@@ -30,6 +30,7 @@
 #include <ecmxf/sim/network.hpp>
 
 #include "ecmxf-proto.h"
+#include "le.hpp"
 #include "periph.hpp"
 
 namespace ecmxf::sim {
@@ -40,29 +41,6 @@ using Nanos = std::int64_t;
 inline constexpr Nanos kUs = 1'000;
 inline constexpr Nanos kMs = 1'000'000;
 inline constexpr Nanos kSec = 1'000'000'000;
-
-/// Little-endian helpers for the packet and datagram layouts.
-inline std::uint16_t le16(const std::uint8_t *p)
-{
-	return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
-}
-inline std::uint32_t le32(const std::uint8_t *p)
-{
-	return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
-	       (static_cast<std::uint32_t>(p[2]) << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
-}
-inline void put16(std::uint8_t *p, std::uint16_t v)
-{
-	p[0] = static_cast<std::uint8_t>(v);
-	p[1] = static_cast<std::uint8_t>(v >> 8);
-}
-inline void put32(std::uint8_t *p, std::uint32_t v)
-{
-	p[0] = static_cast<std::uint8_t>(v);
-	p[1] = static_cast<std::uint8_t>(v >> 8);
-	p[2] = static_cast<std::uint8_t>(v >> 16);
-	p[3] = static_cast<std::uint8_t>(v >> 24);
-}
 
 /// A FIFO of fixed-size PDO frames in one preallocated buffer.
 class FrameFifo
@@ -258,6 +236,9 @@ public:
 	// ---- FIFOs (chip_fifo.cpp) ----
 	void rebuildFifos();
 	bool fifoBudgetOk(std::size_t rx, std::size_t tx) const;
+	/// FIFO_SET_RX_CNT/FIFO_SET_TX_CNT: both depths (frames) within the
+	/// budget, the FIFOs rebuilt; refused over it.
+	Result setFifoDepths(std::size_t rx, std::size_t tx);
 	void rxPopped(std::size_t before);
 	void txPushed(std::size_t before);
 	// PDO_DATA_FIFO_OP and PDO_DATA_OP, once the layout is valid (the
