@@ -28,25 +28,12 @@ Cia402Command decodeControlword(std::uint16_t cw)
 
 std::uint16_t cia402StateBits(Cia402State s)
 {
-	switch (s) {
-	case Cia402State::NotReadyToSwitchOn:
-		return 0x00;
-	case Cia402State::SwitchOnDisabled:
-		return 0x40;
-	case Cia402State::ReadyToSwitchOn:
-		return 0x21;
-	case Cia402State::SwitchedOn:
-		return 0x23;
-	case Cia402State::OperationEnabled:
-		return 0x27;
-	case Cia402State::QuickStopActive:
-		return 0x07;
-	case Cia402State::FaultReactionActive:
-		return 0x0F;
-	case Cia402State::Fault:
-		return 0x08;
-	}
-	return 0;
+	// in the enum's order: NOT READY, SWITCH ON DISABLED, READY, SWITCHED
+	// ON, OPERATION ENABLED, QUICK STOP, FAULT REACTION, FAULT
+	static constexpr std::uint16_t kBits[] = { 0x00, 0x40, 0x21, 0x23, 0x27, 0x07, 0x0F, 0x08 };
+	static_assert(std::size(kBits) == static_cast<std::size_t>(Cia402State::Fault) + 1);
+	const auto i = static_cast<std::size_t>(s);
+	return i < std::size(kBits) ? kBits[i] : 0;
 }
 
 bool profileStep(double &pos, double &vel, double target, double vmax, double acc, double dec,

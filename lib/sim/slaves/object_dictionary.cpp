@@ -13,13 +13,7 @@ namespace ecmxf::sim::slaves {
 
 namespace {
 
-/// What a DataType is, in the enum's order: its size in bits (strings: 0),
-/// its CoE data type index, whether it is signed.
-struct TypeInfo {
-	unsigned bits;
-	std::uint8_t coeIndex;
-	bool isSigned;
-};
+// The data types in the enum's order.
 constexpr TypeInfo kTypes[] = {
 	{ 1, 0x01, false },  // Bool
 	{ 8, 0x02, true },   // I8
@@ -34,27 +28,12 @@ constexpr TypeInfo kTypes[] = {
 };
 static_assert(std::size(kTypes) == static_cast<std::size_t>(DataType::String) + 1);
 
+} // namespace
+
 TypeInfo typeInfo(DataType t)
 {
 	const auto i = static_cast<std::size_t>(t);
 	return i < std::size(kTypes) ? kTypes[i] : TypeInfo{ 0, 0, false };
-}
-
-} // namespace
-
-unsigned bitSize(DataType t)
-{
-	return typeInfo(t).bits;
-}
-
-std::uint8_t dataTypeIndex(DataType t)
-{
-	return typeInfo(t).coeIndex;
-}
-
-bool isSigned(DataType t)
-{
-	return typeInfo(t).isSigned;
 }
 
 namespace {
@@ -62,7 +41,17 @@ namespace {
 // Bytes a bound value occupies in memory (Bool is stored as a byte).
 std::size_t storageBytes(DataType t)
 {
-	return t == DataType::Bool ? 1 : bitSize(t) / 8;
+	return t == DataType::Bool ? 1 : typeInfo(t).bits / 8;
+}
+
+// Calls @p f with a value of the first of U, Us... that is @p bytes wide
+// (none: nothing).
+template <typename U, typename... Us, typename F> void withWidth(std::size_t bytes, F &&f)
+{
+	if (bytes == sizeof(U))
+		f(U{});
+	else if constexpr (sizeof...(Us) > 0)
+		withWidth<Us...>(bytes, f);
 }
 
 // Calls @p f with a value of the unsigned type as wide as a bound value of
@@ -70,22 +59,7 @@ std::size_t storageBytes(DataType t)
 // zero-extended, so the unsigned type of its width loads and stores it alike.
 template <typename F> void withStorageType(DataType t, F &&f)
 {
-	switch (storageBytes(t)) {
-	case 1:
-		f(std::uint8_t{});
-		break;
-	case 2:
-		f(std::uint16_t{});
-		break;
-	case 4:
-		f(std::uint32_t{});
-		break;
-	case 8:
-		f(std::uint64_t{});
-		break;
-	default:
-		break;
-	}
+	withWidth<std::uint8_t, std::uint16_t, std::uint32_t, std::uint64_t>(storageBytes(t), f);
 }
 
 } // namespace
@@ -116,8 +90,8 @@ void storeRaw(const Binding &b, std::uint64_t raw)
 
 std::int64_t rawToSigned(DataType t, std::uint64_t raw)
 {
-	const unsigned bits = bitSize(t);
-	if (!isSigned(t) || bits == 0 || bits >= 64)
+	const unsigned bits = typeInfo(t).bits;
+	if (!typeInfo(t).isSigned || bits == 0 || bits >= 64)
 		return static_cast<std::int64_t>(raw);
 	const std::uint64_t sign = std::uint64_t{ 1 } << (bits - 1);
 	const std::uint64_t mask = (std::uint64_t{ 1 } << bits) - 1;
@@ -351,7 +325,7 @@ std::uint32_t ObjectDictionary::downloadOne(Entry &e, std::span<const std::uint8
 	std::uint64_t raw = readLe(data);
 	std::uint32_t rangeAbort = 0;
 	if (e.hasRange) {
-		const std::int64_t v = isSigned(e.type) ? rawToSigned(e.type, raw)
+		const std::int64_t v = typeInfo(e.type).isSigned ? rawToSigned(e.type, raw)
 							: static_cast<std::int64_t>(raw);
 		if (v > e.max) {
 			rangeAbort = abort::ValueTooHigh;

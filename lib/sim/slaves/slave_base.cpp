@@ -251,7 +251,7 @@ void SlaveBase::finishSetup()
 			for (const PdoEntry &e : p.entries) {
 				const Entry *oe = od_.find(e.index, e.subindex);
 				sp.entries.push_back({ e.index, e.subindex,
-						       oe ? dataTypeIndex(oe->type) : std::uint8_t{ 0 },
+						       oe ? typeInfo(oe->type).coeIndex : std::uint8_t{ 0 },
 						       e.bits });
 			}
 			(rx ? d.rxPdos : d.txPdos).push_back(sp);
@@ -676,7 +676,7 @@ std::uint32_t SlaveBase::checkMapEntry(bool rx, std::uint32_t value) const
 	if (index < 0x0008) // gap (index 0) or dummy data-type entry
 		return bits > 0 ? 0 : abort::NotMappable;
 	const Entry *e = od_.find(index, sub);
-	if (!e || !(e->pdo & (rx ? RxPdo : TxPdo)) || bitSize(e->type) != bits)
+	if (!e || !(e->pdo & (rx ? RxPdo : TxPdo)) || typeInfo(e->type).bits != bits)
 		return abort::NotMappable;
 	return 0;
 }
@@ -737,7 +737,7 @@ void SlaveBase::rebuildMapping()
 				s.bits = bits;
 				if (index >= 0x0008) {
 					Entry *e = od_.find(index, sub);
-					if (e && bitSize(e->type) == bits)
+					if (e && typeInfo(e->type).bits == bits)
 						s.bind = e->bind;
 					else
 						valid = false;
