@@ -661,6 +661,14 @@ void Chip::Impl::startJob(std::uint8_t code, Nanos firstStep, std::function<Asyn
 	job_.step = std::move(step);
 }
 
+void Chip::Impl::startJobOnce(std::uint8_t code, Nanos after, std::function<void()> work)
+{
+	startJob(code, after, [work = std::move(work)] {
+		work();
+		return AsyncJob::Step::Done;
+	});
+}
+
 void Chip::Impl::stepJob()
 {
 	const AsyncJob::Step r = job_.step();

@@ -79,22 +79,19 @@ std::uint16_t command(std::uint8_t cur, std::uint8_t target)
 
 std::uint8_t Chip::Impl::state402(std::uint16_t sw)
 {
-	if ((sw & 0x4F) == 0x00)
-		return kNotReady;
-	if ((sw & 0x4F) == 0x40)
-		return kSwitchOnDisabled;
-	if ((sw & 0x6F) == 0x21)
-		return kReadyToSwitchOn;
-	if ((sw & 0x6F) == 0x23)
-		return kSwitchedOn;
-	if ((sw & 0x6F) == 0x27)
-		return kOperationEnabled;
-	if ((sw & 0x6F) == 0x07)
-		return kQuickStopActive;
-	if ((sw & 0x4F) == 0x0F)
-		return kFaultReaction;
-	if ((sw & 0x4F) == 0x08)
-		return kFault;
+	// statusword mask, its value in the state, the state (first match wins)
+	static constexpr struct {
+		std::uint16_t mask, bits;
+		std::uint8_t state;
+	} kStates[] = {
+		{ 0x4F, 0x00, kNotReady },	   { 0x4F, 0x40, kSwitchOnDisabled },
+		{ 0x6F, 0x21, kReadyToSwitchOn },  { 0x6F, 0x23, kSwitchedOn },
+		{ 0x6F, 0x27, kOperationEnabled }, { 0x6F, 0x07, kQuickStopActive },
+		{ 0x4F, 0x0F, kFaultReaction },	   { 0x4F, 0x08, kFault },
+	};
+	for (const auto &s : kStates)
+		if ((sw & s.mask) == s.bits)
+			return s.state;
 	return static_cast<std::uint8_t>(sw & 0x6F); // not a CiA-402 state
 }
 
@@ -141,24 +138,18 @@ void Chip::Impl::apply402()
 Chip::Impl::Result Chip::Impl::cmd402(const ecmxf_cmd_hdr &h, std::span<std::uint8_t> out)
 {
 	Result r;
-	if (h.param >= motors_.size()) {
-		r.cmdError = true;
-		return r;
-	}
+	if (h.param >= motors_.size())
+		return Result::error();
 	Motor &m = motors_[h.param];
 	switch (h.code) {
 	case ECMXF_CMD_402_CONFIG_SET: {
 		const std::size_t slave = h.data[3];
-		if (!initialized_ || slave >= slaves_.size()) {
-			r.cmdError = true;
-			return r;
-		}
+		if (!initialized_ || slave >= slaves_.size())
+			return Result::error();
 		const SlaveRec &s = slaves_[slave];
 		if (static_cast<std::size_t>(h.data[0]) + 2 > s.outLen ||
-		    static_cast<std::size_t>(h.data[1]) + 2 > s.inLen) {
-			r.cmdError = true; // offsets outside the slave's process data
-			return r;
-		}
+		    static_cast<std::size_t>(h.data[1]) + 2 > s.inLen)
+			return Result::error(); // offsets outside the slave's process data
 		m.configured = true;
 		m.slave = static_cast<std::uint8_t>(slave);
 		m.cwOff = h.data[0];
@@ -171,47 +162,36 @@ Chip::Impl::Result Chip::Impl::cmd402(const ecmxf_cmd_hdr &h, std::span<std::uin
 	case ECMXF_CMD_402_STATE_SET: {
 		const std::uint8_t t = h.data[0];
 		if (!m.configured || (t != kSwitchOnDisabled && t != kReadyToSwitchOn && t != kSwitchedOn &&
-				      t != kOperationEnabled && t != kQuickStopActive)) {
-			r.cmdError = true;
-			return r;
-		}
+				      t != kOperationEnabled && t != kQuickStopActive))
+			return Result::error();
 		m.target = t;
 		return r;
 	}
 	case ECMXF_CMD_402_STATE_GET:
-		if (!m.configured) {
-			r.cmdError = true;
-			return r;
-		}
+		if (!m.configured)
+			return Result::error();
 		r.ret = state402(statusword(m));
 		return r;
 	case ECMXF_CMD_402_CTL_SET:
-		if (!m.configured || h.data[1] != 0x5A || h.data[3] >= slaves_.size()) {
-			r.cmdError = true;
-			return r;
-		}
+		if (!m.configured || h.data[1] != 0x5A || h.data[3] >= slaves_.size())
+			return Result::error();
 		m.ctl = h.data[0];
 		m.slave = h.data[3];
 		motorTotal_ = h.data[2];
 		return r;
 	case ECMXF_CMD_402_CTL_GET:
-		if (!m.configured) {
-			r.cmdError = true;
-			return r;
-		}
+		if (!m.configured)
+			return Result::error();
 		r.ret = m.ctl;
 		return r;
 	case ECMXF_CMD_402_GET_STATUSWORD:
-		if (!m.configured) {
-			r.cmdError = true;
-			return r;
-		}
+		if (!m.configured)
+			return Result::error();
 		put16(out.data(), statusword(m));
 		r.len = 2;
 		return r;
 	default:
-		r.cmdError = true;
-		return r;
+		return Result::error();
 	}
 }
 

@@ -21,9 +21,7 @@ using Result = CmdResult;
 
 Result error()
 {
-	Result r;
-	r.cmdError = true;
-	return r;
+	return CmdResult::error();
 }
 
 Result ret(unsigned v)
@@ -39,6 +37,15 @@ Result bytes(std::size_t len, unsigned v = 0)
 	r.ret = static_cast<std::uint8_t>(v);
 	r.len = len;
 	return r;
+}
+
+/// A 0/1 switch command: @p param sets @p flag (others are refused).
+Result setSwitch(bool &flag, unsigned param)
+{
+	if (param > 1)
+		return error();
+	flag = param == 1;
+	return ret(0);
 }
 
 /// Copy @p src into @p out (clipped to the data section).
@@ -73,9 +80,11 @@ Chip::Impl::Result Chip::Impl::immediate(const ecmxf_cmd_hdr &h, std::span<const
 		return bytes(4);
 	}
 	case ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP:
-		return fifoDataOp(h, in, out);
 	case ECMXF_CMD_ECAT_PDO_DATA_OP:
-		return pdoDataOp(h, in, out);
+		if (!layoutValid_) // no process data before the layout is built
+			return error();
+		return h.code == ECMXF_CMD_ECAT_PDO_DATA_OP ? pdoDataOp(h, in, out)
+							    : fifoDataOp(h, in, out);
 	case ECMXF_CMD_ECAT_PDO_CONFIG_GET: {
 		const std::size_t n = std::min(pdoCfg_.size(), out.size());
 		std::memcpy(out.data(), pdoCfg_.data(), n);
@@ -158,10 +167,7 @@ Chip::Impl::Result Chip::Impl::immediate(const ecmxf_cmd_hdr &h, std::span<const
 	case ECMXF_CMD_ECAT_SLV_CNT_GET:
 		return ret(static_cast<unsigned>(nSlaves));
 	case ECMXF_CMD_FIFO_ENABLE:
-		if (h.param > 1)
-			return error();
-		fifoEnabled_ = h.param == 1;
-		return ret(0);
+		return setSwitch(fifoEnabled_, h.param);
 	case ECMXF_CMD_FIFO_PACK_SIZE_GET:
 		if (h.param > 1)
 			return error();
@@ -220,19 +226,11 @@ Chip::Impl::Result Chip::Impl::immediate(const ecmxf_cmd_hdr &h, std::span<const
 		}
 		return ret(0);
 	case ECMXF_CMD_FIFO_SET_TX_CNT:
-		if (h.param == 0 || !fifoBudgetOk(rxDepth_, h.param))
-			return error();
-		txDepth_ = h.param;
-		rebuildFifos();
-		return ret(0);
+		return h.param == 0 ? error() : setFifoDepths(rxDepth_, h.param);
 	case ECMXF_CMD_FIFO_GET_TX_CNT:
 		return ret(static_cast<unsigned>(txDepth_));
 	case ECMXF_CMD_FIFO_SET_RX_CNT:
-		if (h.param == 0 || !fifoBudgetOk(h.param, txDepth_))
-			return error();
-		rxDepth_ = h.param;
-		rebuildFifos();
-		return ret(0);
+		return h.param == 0 ? error() : setFifoDepths(h.param, txDepth_);
 	case ECMXF_CMD_FIFO_GET_RX_CNT:
 		return ret(static_cast<unsigned>(rxDepth_));
 	case ECMXF_CMD_FW_VERSION_GET: {
@@ -339,10 +337,7 @@ Chip::Impl::Result Chip::Impl::immediate(const ecmxf_cmd_hdr &h, std::span<const
 	case ECMXF_CMD_FOE_FUNC_GET:
 		return copyOut(foeResult_, out);
 	case ECMXF_CMD_ENABLE_LRW:
-		if (h.param > 1)
-			return error();
-		lrw_ = h.param == 1;
-		return ret(0);
+		return setSwitch(lrw_, h.param);
 	case ECMXF_CMD_RECV_MAILBOX:
 		if (h.param != 1)
 			return error();
@@ -359,6 +354,16 @@ bool Chip::Impl::fifoBudgetOk(std::size_t rx, std::size_t tx) const
 	return rx * rxSize_ + tx * txSize_ <= kFifoBudget;
 }
 
+Chip::Impl::Result Chip::Impl::setFifoDepths(std::size_t rx, std::size_t tx)
+{
+	if (!fifoBudgetOk(rx, tx))
+		return error();
+	rxDepth_ = rx;
+	txDepth_ = tx;
+	rebuildFifos();
+	return ret(0);
+}
+
 bool Chip::Impl::startAsync(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t> in)
 {
 	const auto n = static_cast<Nanos>(slaves_.size());
@@ -368,21 +373,19 @@ bool Chip::Impl::startAsync(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t
 	case ECMXF_CMD_ECAT_RECONFIG_OP:
 		if (!initialized_)
 			return false;
-		startJob(h.code, 10 * kMs + n * 500 * kUs, [this] {
+		startJobOnce(h.code, 10 * kMs + n * 500 * kUs, [this] {
 			buildLayout();
 			// ver. 050: "after command 2 the header's ECAT state is 1;
 			// use command 57 for the slaves' real state"
 			ecatState_ = ECMXF_ECAT_INIT;
 			opReached_ = false;
-			return AsyncJob::Step::Done;
 		});
 		return true;
 	case ECMXF_CMD_ECAT_INIT_DC_OP:
 		if (!initialized_)
 			return false;
-		startJob(h.code, 20 * kMs, [this] {
+		startJobOnce(h.code, 20 * kMs, [this] {
 			applyDc();
-			return AsyncJob::Step::Done;
 		});
 		return true;
 	case ECMXF_CMD_ECAT_PDO_CONFIG_SET:
@@ -404,7 +407,7 @@ bool Chip::Impl::startAsync(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t
 		const std::uint16_t aa = le16(&in[2]);
 		const std::uint32_t s0 = le32(&in[4]), s1 = le32(&in[8]);
 		const auto shift = static_cast<std::int32_t>(le32(&in[12]));
-		startJob(h.code, kMs, [this, sel, aa, s0, s1, shift] {
+		startJobOnce(h.code, kMs, [this, sel, aa, s0, s1, shift] {
 			for (std::size_t p = 0; p < slaves_.size(); p++) {
 				if (sel != 0xFF && p != sel)
 					continue;
@@ -415,22 +418,19 @@ bool Chip::Impl::startAsync(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t
 				s.dcShift = shift;
 			}
 			// applied to the slaves by ECAT_INIT_DC_OP (manual ver. 050)
-			return AsyncJob::Step::Done;
 		});
 		return true;
 	}
 	case ECMXF_CMD_ECAT_STATE_UPDATE:
-		startJob(h.code, 200 * kUs + n * 10 * kUs, [this] {
+		startJobOnce(h.code, 200 * kUs + n * 10 * kUs, [this] {
 			refreshStates();
-			return AsyncJob::Step::Done;
 		});
 		return true;
 	case ECMXF_CMD_ECAT_CONFIG_MAP:
 		if (!initialized_)
 			return false;
-		startJob(h.code, 5 * kMs + n * 200 * kUs, [this] {
+		startJobOnce(h.code, 5 * kMs + n * 200 * kUs, [this] {
 			buildLayout();
-			return AsyncJob::Step::Done;
 		});
 		return true;
 	case ECMXF_CMD_RAW_ECAT_FUNC_REQ:

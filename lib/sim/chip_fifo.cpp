@@ -50,17 +50,11 @@ Chip::Impl::Result Chip::Impl::fifoDataOp(const ecmxf_cmd_hdr &h, std::span<cons
 					  std::span<std::uint8_t> out)
 {
 	Result r;
-	if (!layoutValid_) {
-		r.cmdError = true;
-		return r;
-	}
 	const unsigned op = h.data[0];
 	if (op & 0x01) {
 		const std::size_t frames = h.param;
-		if (frames * rxSize_ > in.size() || (frames && rxSize_ == 0)) {
-			r.cmdError = true;
-			return r;
-		}
+		if (frames * rxSize_ > in.size() || (frames && rxSize_ == 0))
+			return Result::error();
 		bool all = true;
 		for (std::size_t f = 0; f < frames; f++) {
 			if (!rxFifo_.push(in.data() + f * rxSize_)) {
@@ -93,10 +87,6 @@ Chip::Impl::Result Chip::Impl::pdoDataOp(const ecmxf_cmd_hdr &h, std::span<const
 					 std::span<std::uint8_t> out)
 {
 	Result r;
-	if (!layoutValid_) {
-		r.cmdError = true;
-		return r;
-	}
 	const unsigned op = h.data[0];
 	// bit 2: bits 0/1 are valid; without it both read and write happen
 	const bool valid = op & 0x04;

@@ -30,6 +30,7 @@
 #include <ecmxf/sim/network.hpp>
 
 #include "ecmxf-proto.h"
+#include "le.hpp"
 #include "periph.hpp"
 
 namespace ecmxf::sim {
@@ -40,29 +41,6 @@ using Nanos = std::int64_t;
 inline constexpr Nanos kUs = 1'000;
 inline constexpr Nanos kMs = 1'000'000;
 inline constexpr Nanos kSec = 1'000'000'000;
-
-/// Little-endian helpers for the packet and datagram layouts.
-inline std::uint16_t le16(const std::uint8_t *p)
-{
-	return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
-}
-inline std::uint32_t le32(const std::uint8_t *p)
-{
-	return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
-	       (static_cast<std::uint32_t>(p[2]) << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
-}
-inline void put16(std::uint8_t *p, std::uint16_t v)
-{
-	p[0] = static_cast<std::uint8_t>(v);
-	p[1] = static_cast<std::uint8_t>(v >> 8);
-}
-inline void put32(std::uint8_t *p, std::uint32_t v)
-{
-	p[0] = static_cast<std::uint8_t>(v);
-	p[1] = static_cast<std::uint8_t>(v >> 8);
-	p[2] = static_cast<std::uint8_t>(v >> 16);
-	p[3] = static_cast<std::uint8_t>(v >> 24);
-}
 
 /// A FIFO of fixed-size PDO frames in one preallocated buffer.
 class FrameFifo
@@ -166,6 +144,14 @@ struct CmdResult {
 	std::uint8_t ret = 0;		///< return value (header 0x0D)
 	std::size_t len = 0;		///< data bytes in the response
 	bool cmdError = false;		///< bad parameter: error status bit 7
+
+	/// A command refused for a bad parameter: error status bit 7, no data.
+	[[nodiscard]] static CmdResult error()
+	{
+		CmdResult r;
+		r.cmdError = true;
+		return r;
+	}
 };
 
 class Chip::Impl
@@ -212,6 +198,8 @@ public:
 	/// Start an async command; false = bad parameters (command error).
 	bool startAsync(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t> in);
 	void startJob(std::uint8_t code, Nanos firstStep, std::function<AsyncJob::Step()> step);
+	/// A job that runs @p work once, @p after from now, and is done.
+	void startJobOnce(std::uint8_t code, Nanos after, std::function<void()> work);
 	void stepJob();
 	void endJob(bool ok);
 
@@ -248,8 +236,13 @@ public:
 	// ---- FIFOs (chip_fifo.cpp) ----
 	void rebuildFifos();
 	bool fifoBudgetOk(std::size_t rx, std::size_t tx) const;
+	/// FIFO_SET_RX_CNT/FIFO_SET_TX_CNT: both depths (frames) within the
+	/// budget, the FIFOs rebuilt; refused over it.
+	Result setFifoDepths(std::size_t rx, std::size_t tx);
 	void rxPopped(std::size_t before);
 	void txPushed(std::size_t before);
+	// PDO_DATA_FIFO_OP and PDO_DATA_OP, once the layout is valid (the
+	// caller, immediate(), refuses them before)
 	Result fifoDataOp(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t> in,
 			  std::span<std::uint8_t> out);
 	Result pdoDataOp(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t> in,
@@ -264,6 +257,14 @@ public:
 	bool startFoe(std::span<const std::uint8_t> in, std::size_t cmdLen);
 	bool startRecvMailbox(const ecmxf_cmd_hdr &h);
 	std::uint32_t sdoCheck(std::size_t pos) const;
+	/// sdoCheck(), else the forced abort @p forced (0: none).
+	std::uint32_t sdoCheck(std::size_t pos, std::uint32_t forced) const;
+	/// What every SDO job starts with: the last abort code cleared, the
+	/// fault plan's one-shot forced abort taken (0: none).
+	std::uint32_t startSdoAborts();
+	/// The last step of a mailbox job: @p abortCode kept for the
+	/// queries, the job failed unless it is 0.
+	AsyncJob::Step endMailboxJob(std::uint32_t abortCode);
 	void pollEmergencies();
 	void logEmergency(std::size_t pos, const Emergency &e);
 	void pollEmergency(std::size_t pos);

@@ -73,6 +73,26 @@ std::uint32_t Chip::Impl::sdoCheck(std::size_t pos) const
 	return 0;
 }
 
+std::uint32_t Chip::Impl::sdoCheck(std::size_t pos, std::uint32_t forced) const
+{
+	const std::uint32_t ab = sdoCheck(pos);
+	return ab ? ab : forced;
+}
+
+std::uint32_t Chip::Impl::startSdoAborts()
+{
+	abortCode_ = 0;
+	const std::uint32_t forced = faults_.forcedSdoAbort;
+	faults_.forcedSdoAbort = 0;
+	return forced;
+}
+
+AsyncJob::Step Chip::Impl::endMailboxJob(std::uint32_t abortCode)
+{
+	abortCode_ = abortCode;
+	return abortCode ? AsyncJob::Step::Failed : AsyncJob::Step::Done;
+}
+
 Nanos Chip::Impl::sdoTime(std::size_t pos, std::size_t bytes) const
 {
 	Nanos lat = slaves_[pos].slave->mailboxLatency().count();
@@ -100,14 +120,12 @@ bool Chip::Impl::startSdo(std::span<const std::uint8_t> in)
 			return false;
 		wdata.assign(in.begin() + 12, in.begin() + 12 + static_cast<long>(len));
 	}
-	abortCode_ = 0;
+	const std::uint32_t forced = startSdoAborts();
 	// SDO_GET returns what the last read brought back (both manuals): a
 	// read clears it (empty while it runs and after it failed), a write
 	// leaves it alone
 	if (op == 1)
 		sdoData_.clear();
-	const std::uint32_t forced = faults_.forcedSdoAbort;
-	faults_.forcedSdoAbort = 0;
 	// a read's size is the length field (0: one mailbox round trip)
 	Nanos dur = reachable(pos) ? sdoTime(pos, len) : tmo;
 	const bool late = dur > tmo;
@@ -133,8 +151,7 @@ bool Chip::Impl::startSdo(std::span<const std::uint8_t> in)
 					 sdoData_.assign(data.begin(), data.begin() + static_cast<long>(n));
 				 }
 			 }
-			 abortCode_ = ab;
-			 return ab ? Step::Failed : Step::Done;
+			 return endMailboxJob(ab);
 		 });
 	return true;
 }
@@ -173,19 +190,14 @@ bool Chip::Impl::startPdoConfigSet(std::span<const std::uint8_t> in)
 		w.push_back({ assign, static_cast<std::uint8_t>(i + 1), le(map[i], 2) });
 	w.push_back({ assign, 0, { static_cast<std::uint8_t>(count) } });
 
-	abortCode_ = 0;
-	const std::uint32_t forced = faults_.forcedSdoAbort;
-	faults_.forcedSdoAbort = 0;
+	const std::uint32_t forced = startSdoAborts();
 	const Nanos dur = (reachable(pos) ? sdoTime(pos, 4) : kDefaultSdoTimeout) *
 			  (reachable(pos) ? static_cast<Nanos>(w.size()) : 1);
 	startJob(ECMXF_CMD_ECAT_PDO_CONFIG_SET, dur, [this, pos, w = std::move(w), forced] {
-		std::uint32_t ab = sdoCheck(pos);
-		if (!ab && forced)
-			ab = forced;
+		std::uint32_t ab = sdoCheck(pos, forced);
 		for (std::size_t i = 0; !ab && i < w.size(); i++)
 			ab = slaves_[pos].slave->sdoDownload(w[i].index, w[i].sub, false, w[i].data);
-		abortCode_ = ab;
-		return ab ? Step::Failed : Step::Done;
+		return endMailboxJob(ab);
 	});
 	return true;
 }
@@ -198,9 +210,7 @@ bool Chip::Impl::startPdoConfigReq(std::span<const std::uint8_t> in)
 	const std::uint16_t assign = le16(&in[2]);
 	if (pos >= slaves_.size())
 		return false;
-	abortCode_ = 0;
-	const std::uint32_t forced = faults_.forcedSdoAbort;
-	faults_.forcedSdoAbort = 0;
+	const std::uint32_t forced = startSdoAborts();
 	const Nanos first = reachable(pos) ? sdoTime(pos, 4) : kDefaultSdoTimeout;
 	startJob(ECMXF_CMD_ECAT_PDO_CONFIG_REQ, first,
 		 [this, pos, assign, forced, phase = 0, ok = false]() mutable {
@@ -208,9 +218,7 @@ bool Chip::Impl::startPdoConfigReq(std::span<const std::uint8_t> in)
 				 return ok ? Step::Done : Step::Failed;
 			 // read everything now; the job stays busy for the time the
 			 // transfers take on the bus
-			 std::uint32_t ab = sdoCheck(pos);
-			 if (!ab && forced)
-				 ab = forced;
+			 std::uint32_t ab = sdoCheck(pos, forced);
 			 Slave &s = *slaves_[pos].slave;
 			 std::vector<std::uint8_t> v;
 			 auto read = [&](std::uint16_t idx, std::uint8_t sub) -> std::uint32_t {
@@ -449,8 +457,7 @@ bool Chip::Impl::startFoe(std::span<const std::uint8_t> in, std::size_t cmdLen)
 			} else if (!code) {
 				code = s.foeWrite(name, std::span<const std::uint8_t>(flash_.data() + addr, flen));
 			}
-			abortCode_ = code;
-			return code ? Step::Failed : Step::Done;
+			return endMailboxJob(code);
 		});
 		return true;
 	}
@@ -543,10 +550,8 @@ Chip::Impl::Result Chip::Impl::coeEmergency(const ecmxf_cmd_hdr &h, std::span<st
 {
 	Result r;
 	const std::size_t n = h.param;
-	if (n == 0 || n > 8 || 12 * n > out.size()) {
-		r.cmdError = true;
-		return r;
-	}
+	if (n == 0 || n > 8 || 12 * n > out.size())
+		return Result::error();
 	pollEmergencies();
 	for (std::size_t i = 0; i < n; i++) {
 		std::uint8_t *e = out.data() + 12 * i;
@@ -604,10 +609,8 @@ Chip::Impl::Result Chip::Impl::recvMailboxRead(const ecmxf_cmd_hdr &h, std::span
 	Result r;
 	const std::size_t start = h.data[1] * 64u + h.data[0];
 	const std::size_t len = h.data[3] * 64u + h.data[2];
-	if (len > out.size()) {
-		r.cmdError = true;
-		return r;
-	}
+	if (len > out.size())
+		return Result::error();
 	for (std::size_t i = 0; i < len; i++)
 		out[i] = start + i < mbxRead_.size() ? mbxRead_[start + i] : 0;
 	r.len = len;
@@ -619,10 +622,8 @@ Chip::Impl::Result Chip::Impl::mbxStat(const ecmxf_cmd_hdr &h, std::span<const s
 {
 	Result r;
 	const std::size_t n = (slaves_.size() + 7) / 8;
-	if (n > out.size() || h.param > 2) {
-		r.cmdError = true;
-		return r;
-	}
+	if (n > out.size() || h.param > 2)
+		return Result::error();
 	switch (h.param) {
 	case 0: // which slaves have data in their receive mailbox
 		pollEmergencies();

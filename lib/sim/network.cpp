@@ -23,6 +23,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "slaves/factory.hpp"
 
@@ -70,6 +71,17 @@ const char *const kDefaultNetwork = "name 2x EST-584 + digital I/O\n"
 				    "slave EST-584\n"
 				    "slave EST-584\n"
 				    "slave dio\n";
+
+/// The KEY=VALUE word @p w of a line at @p where: its key lower-cased and its
+/// value; "<where>: <what> '<w>' is not <form>" where it is not one.
+std::pair<std::string, std::string> keyValue(const std::string &w, const std::string &where,
+					     const char *what, const char *form)
+{
+	const auto eq = w.find('=');
+	if (eq == std::string::npos || eq == 0)
+		throw std::invalid_argument(where + ": " + what + " '" + w + "' is not " + form);
+	return { lower(w.substr(0, eq)), w.substr(eq + 1) };
+}
 
 } // namespace
 
@@ -122,17 +134,13 @@ Network Network::fromText(const std::string &text, const std::string &origin)
 				throw std::invalid_argument(where + ": 'chip' needs KEY=VALUE options (" +
 							    std::string(kChipOptions) + ")");
 			for (std::size_t i = 1; i < w.size(); i++) {
-				const auto eq = w[i].find('=');
-				if (eq == std::string::npos || eq == 0)
-					throw std::invalid_argument(where + ": chip option '" + w[i] +
-								    "' is not KEY=VALUE");
-				const std::string key = lower(w[i].substr(0, eq));
+				const auto [key, value] = keyValue(w[i], where, "chip option", "KEY=VALUE");
 				for (const auto &kv : net.chipOptions())
 					if (kv.first == key)
 						throw std::invalid_argument(where + ": chip option '" + key +
 									    "' given twice");
 				try {
-					net.setChipOption(key, w[i].substr(eq + 1));
+					net.setChipOption(key, value);
 				} catch (const std::invalid_argument &e) {
 					throw std::invalid_argument(where + ": " + e.what());
 				}
@@ -147,12 +155,7 @@ Network Network::fromText(const std::string &text, const std::string &origin)
 		std::map<std::string, std::string> opts;
 		unsigned long count = 1;
 		for (std::size_t i = 2; i < w.size(); i++) {
-			const auto eq = w[i].find('=');
-			if (eq == std::string::npos || eq == 0)
-				throw std::invalid_argument(where + ": option '" + w[i] +
-							    "' is not key=value");
-			const std::string key = lower(w[i].substr(0, eq));
-			const std::string value = w[i].substr(eq + 1);
+			const auto [key, value] = keyValue(w[i], where, "option", "key=value");
 			if (key == "count") {
 				std::size_t used = 0;
 				try {

@@ -11,9 +11,11 @@
 
 #include "periph.hpp"
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 
+#include "le.hpp"
 #include "periph_blocks.hpp"
 
 namespace ecmxf::sim {
@@ -83,27 +85,34 @@ using Reply = Peripherals::Reply;
 constexpr Reply kOk{};
 constexpr Reply kBad{ 0, 0, true };
 
-std::uint32_t le32(std::span<const std::uint8_t> d, std::size_t off)
-{
-	return static_cast<std::uint32_t>(d[off]) | static_cast<std::uint32_t>(d[off + 1]) << 8 |
-	       static_cast<std::uint32_t>(d[off + 2]) << 16 |
-	       static_cast<std::uint32_t>(d[off + 3]) << 24;
-}
-
-// Reply with @p n little-endian bytes of @p v in the data section.
+// Reply with @p n (2 or 4) little-endian bytes of @p v in the data section.
 Reply put(std::span<std::uint8_t> out, std::uint32_t v, std::size_t n)
 {
 	if (out.size() < n)
 		return kBad;
-	for (std::size_t i = 0; i < n; i++)
-		out[i] = static_cast<std::uint8_t>(v >> (8 * i));
+	if (n == 2)
+		put16(out.data(), static_cast<std::uint16_t>(v));
+	else
+		put32(out.data(), v);
 	return Reply{ 0, n, false };
 }
 
 // Lines 0..15 from command data 0 and 1.
 std::uint32_t mask16(const ecmxf_cmd_hdr &h)
 {
-	return std::uint32_t{ h.data[0] } | std::uint32_t{ h.data[1] } << 8;
+	return le16(h.data);
+}
+
+// The lines a GPIO_CONFIG_SET command names: data0/1 lines 0..15, or in an
+// "Ext" one (@p ext) data0 bits 0..3 lines 16..19; nothing where that names
+// lines 20..23, which do not exist.
+std::optional<std::uint32_t> configLines(const ecmxf_cmd_hdr &h, bool ext)
+{
+	if (!ext)
+		return mask16(h);
+	if ((h.data[0] & 0xF0u) != 0)
+		return std::nullopt;
+	return std::uint32_t{ h.data[0] } << 16;
 }
 
 void checkLine(unsigned line, const char *what)
@@ -142,13 +151,10 @@ Reply Peripherals::State::gpioConfig(const ecmxf_cmd_hdr &h)
 	{
 		if (h.data[2] > 3 || h.data[3] > 2)
 			return kBad;
-		std::uint32_t mask = mask16(h);
-		if (h.param == kCfgSetModeExt) {
-			if ((h.data[0] & 0xF0u) != 0)
-				return kBad; // lines 20..23 do not exist
-			mask = std::uint32_t{ h.data[0] } << 16;
-		}
-		gpio.setMode(mask, static_cast<GpioMode>(h.data[2]),
+		const auto mask = configLines(h, h.param == kCfgSetModeExt);
+		if (!mask)
+			return kBad;
+		gpio.setMode(*mask, static_cast<GpioMode>(h.data[2]),
 			     static_cast<GpioPull>(h.data[3]));
 		return kOk;
 	}
@@ -157,13 +163,10 @@ Reply Peripherals::State::gpioConfig(const ecmxf_cmd_hdr &h)
 	{
 		if (h.data[2] > 1)
 			return kBad;
-		std::uint32_t mask = mask16(h);
-		if (h.param == kCfgDebounceExt) {
-			if ((h.data[0] & 0xF0u) != 0)
-				return kBad;
-			mask = std::uint32_t{ h.data[0] } << 16;
-		}
-		gpio.setDebounce(mask, h.data[2] != 0);
+		const auto mask = configLines(h, h.param == kCfgDebounceExt);
+		if (!mask)
+			return kBad;
+		gpio.setDebounce(*mask, h.data[2] != 0);
 		return kOk;
 	}
 	case kCfgDebounceClock: // data0 bits 0..3 cycle, bit 4 clock 0 = 192M, 1 = 10K
@@ -222,7 +225,7 @@ Reply Peripherals::State::qeiFunc(const ecmxf_cmd_hdr &h, std::span<const std::u
 	case kEncOpen: { // data section: u32 mode 0x000/0x100/0x200/0x300
 		if (data.size() < 4)
 			return kBad;
-		const std::uint32_t mode = le32(data, 0);
+		const std::uint32_t mode = le32(&data[0]);
 		if ((mode & ~0x300u) != 0)
 			return kBad;
 		qei.open(static_cast<QeiMode>(mode >> 8));
@@ -248,7 +251,7 @@ Reply Peripherals::State::dacFunc(const ecmxf_cmd_hdr &h, std::span<const std::u
 	case kDacOpen: { // data section: u32 trigger mode
 		if (data.size() < 4)
 			return kBad;
-		const std::uint32_t m = le32(data, 0);
+		const std::uint32_t m = le32(&data[0]);
 		switch (m) {
 		case 0x0000:
 		case 0x0010:
@@ -268,7 +271,7 @@ Reply Peripherals::State::dacFunc(const ecmxf_cmd_hdr &h, std::span<const std::u
 	case kDacSetDelay: { // data section: u32 0..1023, unit 1/96 us
 		if (data.size() < 4)
 			return kBad;
-		const std::uint32_t t = le32(data, 0);
+		const std::uint32_t t = le32(&data[0]);
 		if (t > Dac::kMaxDelay)
 			return kBad;
 		dac.setDelay(t);
@@ -277,7 +280,7 @@ Reply Peripherals::State::dacFunc(const ecmxf_cmd_hdr &h, std::span<const std::u
 	case kDacSetData: { // data section: u32 0..4095 = 0..3.3 V
 		if (data.size() < 4)
 			return kBad;
-		const std::uint32_t v = le32(data, 0);
+		const std::uint32_t v = le32(&data[0]);
 		if (v > Dac::kMaxData)
 			return kBad;
 		dac.setData(static_cast<std::uint16_t>(v));
@@ -301,7 +304,7 @@ Reply Peripherals::State::adcFunc(const ecmxf_cmd_hdr &h, std::span<const std::u
 		return kBad;
 	switch (h.param) {
 	case kAdcOpen: { // u32 0x000 single-ended, 0x100 differential
-		const std::uint32_t m = le32(data, 0);
+		const std::uint32_t m = le32(&data[0]);
 		if (m != 0x000 && m != 0x100)
 			return kBad;
 		adc.open(m == 0x100);
@@ -311,27 +314,27 @@ Reply Peripherals::State::adcFunc(const ecmxf_cmd_hdr &h, std::span<const std::u
 		adc.close();
 		return kOk;
 	case kAdcConfigModule: { // 0x0 module ("reserved, 0"), 0x4 trigger (0 = software), 0x8 channel ("reserved, 0")
-		const std::uint32_t module = le32(data, 0), trig = le32(data, 4), ch = le32(data, 8);
+		const std::uint32_t module = le32(&data[0]), trig = le32(&data[4]), ch = le32(&data[8]);
 		if (module >= Adc::kModules || trig != 0 || ch >= Adc::kChannels)
 			return kBad;
 		adc.configModule(module, ch);
 		return kOk;
 	}
 	case kAdcGetValidFlag: { // u32 module mask (manual: 0x1000); reply u32 flags
-		const std::uint32_t mask = le32(data, 0);
+		const std::uint32_t mask = le32(&data[0]);
 		if ((mask & ~kModuleMask) != 0)
 			return kBad;
 		return put(out, adc.valid() & mask, 4);
 	}
 	case kAdcStartConv: { // u32 module mask (manual: 0x1000)
-		const std::uint32_t mask = le32(data, 0);
+		const std::uint32_t mask = le32(&data[0]);
 		if ((mask & ~kModuleMask) != 0)
 			return kBad;
 		adc.start(mask);
 		return kOk;
 	}
 	case kAdcGetConvData: { // u32 module number (manual: 12); reply u32 0..4095
-		const std::uint32_t module = le32(data, 0);
+		const std::uint32_t module = le32(&data[0]);
 		if (module >= Adc::kModules)
 			return kBad;
 		if (out.size() < 4)
@@ -354,7 +357,7 @@ Reply Peripherals::State::mdioOp(const ecmxf_cmd_hdr &h, std::span<std::uint8_t>
 	switch (h.param) {
 	case kMdioWrite:
 		mdio.write(phy, reg,
-			   static_cast<std::uint16_t>(h.data[2] | static_cast<unsigned>(h.data[3]) << 8));
+			   le16(&h.data[2]));
 		return kOk;
 	case kMdioRead:
 		return put(out, mdio.read(phy, reg), 2);

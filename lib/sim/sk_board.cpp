@@ -21,6 +21,7 @@
 #include <ecmxf/sim/network.hpp>
 
 #include "ecmsk-proto.h"
+#include "le.hpp"
 
 namespace ecmxf::sk {
 
@@ -896,10 +897,7 @@ struct SimBoard::Impl {
 			if (state == ECMSK_STATE_PREOP) {
 				std::vector<std::uint8_t> m;
 				if (s.s->sdoUpload(0x6502, 0, false, m) == 0 && m.size() == 4) {
-					const std::uint32_t modes = static_cast<std::uint32_t>(m[0]) |
-								    static_cast<std::uint32_t>(m[1]) << 8 |
-								    static_cast<std::uint32_t>(m[2]) << 16 |
-								    static_cast<std::uint32_t>(m[3]) << 24;
+					const std::uint32_t modes = sim::le32(m.data());
 					if (!(modes & (1u << (c.target - 1))))
 						return no();
 				}

@@ -67,11 +67,7 @@ Dio::Dio(unsigned position, const SlaveOptions &opts) : SlaveBase(BaseConfig{})
 	const auto nOut = static_cast<std::size_t>(o.integer("outputs", 0, kMaxBytes).value_or(1));
 	const auto nIn = static_cast<std::size_t>(o.integer("inputs", 0, kMaxBytes).value_or(1));
 	loopback_ = o.boolean("loopback").value_or(false);
-	cfg_.typeName = "dio";
-	cfg_.identity.vendorId = model::kVendorId;
-	cfg_.identity.productCode = model::kDioProduct;
-	cfg_.identity.revision = model::kDioRevision;
-	o.common(position, cfg_.identity, cfg_.alias,
+	identify(o, position, model::kDioProduct, model::kDioRevision,
 		 "Digital I/O " + std::to_string(nOut * 8) + " out / " + std::to_string(nIn * 8) +
 			 " in");
 	o.finish();

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace ecmxf::sim::slaves {
 
@@ -27,25 +28,12 @@ Cia402Command decodeControlword(std::uint16_t cw)
 
 std::uint16_t cia402StateBits(Cia402State s)
 {
-	switch (s) {
-	case Cia402State::NotReadyToSwitchOn:
-		return 0x00;
-	case Cia402State::SwitchOnDisabled:
-		return 0x40;
-	case Cia402State::ReadyToSwitchOn:
-		return 0x21;
-	case Cia402State::SwitchedOn:
-		return 0x23;
-	case Cia402State::OperationEnabled:
-		return 0x27;
-	case Cia402State::QuickStopActive:
-		return 0x07;
-	case Cia402State::FaultReactionActive:
-		return 0x0F;
-	case Cia402State::Fault:
-		return 0x08;
-	}
-	return 0;
+	// in the enum's order: NOT READY, SWITCH ON DISABLED, READY, SWITCHED
+	// ON, OPERATION ENABLED, QUICK STOP, FAULT REACTION, FAULT
+	static constexpr std::uint16_t kBits[] = { 0x00, 0x40, 0x21, 0x23, 0x27, 0x07, 0x0F, 0x08 };
+	static_assert(std::size(kBits) == static_cast<std::size_t>(Cia402State::Fault) + 1);
+	const auto i = static_cast<std::size_t>(s);
+	return i < std::size(kBits) ? kBits[i] : 0;
 }
 
 bool profileStep(double &pos, double &vel, double target, double vmax, double acc, double dec,
@@ -120,6 +108,36 @@ bool DriveBase::quickStopStays() const
 bool DriveBase::homeSwitchAt(double userPos) const
 {
 	return homeSwitch_ && userPos - homeShift_ >= *homeSwitch_;
+}
+
+void DriveBase::addDeviceObjects(std::uint32_t &deviceType, std::string &name,
+				 std::string *hwVersion, std::string *swVersion)
+{
+	od_.var(0x1000, "Device type", DataType::U32, Access::RO, &deviceType).def(deviceType);
+	od_.var(0x1001, "Error register", DataType::U8, Access::RO, &errorRegister_).map(TxPdo);
+	od_.string(0x1008, "Device name", &name);
+	if (hwVersion)
+		od_.string(0x1009, "Hardware version", hwVersion);
+	if (swVersion)
+		od_.string(0x100A, "Software version", swVersion);
+}
+
+void DriveBase::addCia402Objects()
+{
+	od_.var(0x603F, "Error code", DataType::U16, Access::RO, &errorCode_).map(TxPdo);
+	od_.var(0x6040, "Controlword", DataType::U16, Access::RW, &controlword_).map(RxPdo);
+	od_.var(0x6041, "Statusword", DataType::U16, Access::RO, &statusword_).map(TxPdo);
+	od_.var(0x6060, "Modes of operation", DataType::I8, Access::RW, &modeOfOperation_)
+		.def(mode::CSP)
+		.map(RxPdo)
+		.onCheck([this](std::uint64_t v) { return checkMode(v); });
+	od_.var(0x6061, "Modes of operation display", DataType::I8, Access::RO, &modeDisplay_).map(TxPdo);
+	od_.var(0x6064, "Position actual value", DataType::I32, Access::RO, &positionActual_).map(TxPdo);
+	od_.var(0x606C, "Velocity actual value", DataType::I32, Access::RO, &velocityActual_).map(TxPdo);
+	od_.var(0x607A, "Target position", DataType::I32, Access::RW, &targetPosition_).map(RxPdo);
+	od_.var(0x60FF, "Target velocity", DataType::I32, Access::RW, &targetVelocity_).map(RxPdo);
+	od_.var(0x6502, "Supported drive modes", DataType::U32, Access::RO, &supportedModes_)
+		.def(drv_.supportedModes);
 }
 
 void DriveBase::onPowerOn()
@@ -213,57 +231,42 @@ void DriveBase::step(std::chrono::nanoseconds dtNs, bool)
 	using S = Cia402State;
 	using C = Cia402Command;
 	const S before = st_;
-	switch (st_) {
-	case S::NotReadyToSwitchOn:
+	// the transitions a controlword command makes alone (the appendix's numbers)
+	static constexpr struct {
+		S from;
+		C cmd;
+		S to;
+	} kTransitions[] = {
+		{ S::SwitchOnDisabled, C::Shutdown, S::ReadyToSwitchOn },	 // 2
+		{ S::ReadyToSwitchOn, C::SwitchOn, S::SwitchedOn },		 // 3
+		{ S::ReadyToSwitchOn, C::EnableOperation, S::OperationEnabled }, // 3 + 4
+		{ S::ReadyToSwitchOn, C::DisableVoltage, S::SwitchOnDisabled },	 // 7
+		{ S::ReadyToSwitchOn, C::QuickStop, S::SwitchOnDisabled },	 // 7
+		{ S::SwitchedOn, C::EnableOperation, S::OperationEnabled },	 // 4
+		{ S::SwitchedOn, C::Shutdown, S::ReadyToSwitchOn },		 // 6
+		{ S::SwitchedOn, C::DisableVoltage, S::SwitchOnDisabled },	 // 10
+		{ S::SwitchedOn, C::QuickStop, S::SwitchOnDisabled },		 // 10
+		{ S::OperationEnabled, C::SwitchOn, S::SwitchedOn },		 // 5
+		{ S::OperationEnabled, C::Shutdown, S::ReadyToSwitchOn },	 // 8
+		{ S::OperationEnabled, C::DisableVoltage, S::SwitchOnDisabled }, // 9
+		{ S::OperationEnabled, C::QuickStop, S::QuickStopActive },	 // 11
+		{ S::QuickStopActive, C::DisableVoltage, S::SwitchOnDisabled },	 // 12
+	};
+	const auto *t = std::find_if(std::begin(kTransitions), std::end(kTransitions),
+				     [&](const auto &e) { return e.from == st_ && e.cmd == cmd; });
+	if (t != std::end(kTransitions)) {
+		st_ = t->to;
+	} else if (st_ == S::NotReadyToSwitchOn) {
 		st_ = S::SwitchOnDisabled; // 1: self-test done
-		break;
-	case S::SwitchOnDisabled:
-		if (cmd == C::Shutdown)
-			st_ = S::ReadyToSwitchOn; // 2
-		break;
-	case S::ReadyToSwitchOn:
-		if (cmd == C::SwitchOn)
-			st_ = S::SwitchedOn; // 3
-		else if (cmd == C::EnableOperation)
-			st_ = S::OperationEnabled; // 3 + 4
-		else if (cmd == C::DisableVoltage || cmd == C::QuickStop)
-			st_ = S::SwitchOnDisabled; // 7
-		break;
-	case S::SwitchedOn:
-		if (cmd == C::EnableOperation)
-			st_ = S::OperationEnabled; // 4
-		else if (cmd == C::Shutdown)
-			st_ = S::ReadyToSwitchOn; // 6
-		else if (cmd == C::DisableVoltage || cmd == C::QuickStop)
-			st_ = S::SwitchOnDisabled; // 10
-		break;
-	case S::OperationEnabled:
-		if (cmd == C::SwitchOn)
-			st_ = S::SwitchedOn; // 5
-		else if (cmd == C::Shutdown)
-			st_ = S::ReadyToSwitchOn; // 8
-		else if (cmd == C::DisableVoltage)
-			st_ = S::SwitchOnDisabled; // 9
-		else if (cmd == C::QuickStop)
-			st_ = S::QuickStopActive; // 11
-		break;
-	case S::QuickStopActive:
-		if (cmd == C::DisableVoltage)
-			st_ = S::SwitchOnDisabled; // 12
-		else if (cmd == C::EnableOperation && quickStopStays())
-			st_ = S::OperationEnabled; // 16
-		break;
-	case S::FaultReactionActive:
-		break; // 14 when the reaction is complete (below)
-	case S::Fault:
-		if (resetEdge) {
-			st_ = S::SwitchOnDisabled; // 15
-			errorCode_ = 0;
-			errorRegister_ = 0;
-			pushEmergency(Emergency{ 0x0000, 0x00, {} });
-		}
-		break;
+	} else if (st_ == S::QuickStopActive && cmd == C::EnableOperation && quickStopStays()) {
+		st_ = S::OperationEnabled; // 16
+	} else if (st_ == S::Fault && resetEdge) {
+		st_ = S::SwitchOnDisabled; // 15
+		errorCode_ = 0;
+		errorRegister_ = 0;
+		pushEmergency(Emergency{ 0x0000, 0x00, {} });
 	}
+	// FAULT REACTION ACTIVE: 14 when the reaction is complete (below)
 
 	if (st_ == S::OperationEnabled && (before != S::OperationEnabled || modeChanged))
 		enableOperation();

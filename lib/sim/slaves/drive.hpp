@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <ecmxf/sim/slaves.hpp>
@@ -98,6 +99,16 @@ protected:
 	void onAlChange(AlState from, AlState to, bool error) override;
 	void onPowerOn() override;
 
+	/// The CiA-301 objects every drive model has: 0x1000 device type (bound to
+	/// @p deviceType, its value the default), 0x1001 error register, 0x1008
+	/// device name and, where given, 0x1009/0x100A hardware and software
+	/// versions.
+	void addDeviceObjects(std::uint32_t &deviceType, std::string &name,
+			      std::string *hwVersion = nullptr, std::string *swVersion = nullptr);
+	/// The CiA-402 objects every drive model has alike: 0x603F, 0x6040,
+	/// 0x6041, 0x6060 (default CSP, checked by checkMode()), 0x6061, 0x6064,
+	/// 0x606C, 0x607A, 0x60FF and 0x6502 (drv_.supportedModes).
+	void addCia402Objects();
 	/// Check hook for 0x6060: supported mode or abort 0x06090030.
 	[[nodiscard]] std::uint32_t checkMode(std::uint64_t raw) const;
 	/// The following error window in force (0x6065).

@@ -64,13 +64,8 @@ Est584::Est584(unsigned position, const SlaveOptions &opts)
 	: DriveBase(BaseConfig{}, DriveConfig{})
 {
 	OptionReader o("EST-584", opts);
-	cfg_.typeName = "EST-584";
-	cfg_.identity.vendorId = model::kVendorId;
-	cfg_.identity.productCode = model::kEst584Product;
-	cfg_.identity.revision = model::kEst584Revision;
-	o.common(position, cfg_.identity, cfg_.alias, "EST-584");
-	cfg_.mailboxLatency = std::chrono::microseconds(
-		o.integer("mailbox_latency_us", 0, 10'000'000).value_or(1000));
+	identify(o, position, model::kEst584Product, model::kEst584Revision, "EST-584");
+	readMailboxLatency(o, 1000);
 	cfg_.coe = true;
 	cfg_.clampOnRange = true;
 	cfg_.maxEntriesPerPdo = 8;
@@ -123,11 +118,7 @@ void Est584::buildDictionary(std::uint32_t maxSpeed, std::uint16_t window)
 	auto &od = od_;
 
 	// ---- communication area (CiA 301) ----
-	od.var(0x1000, "Device type", DT::U32, A::RO, &deviceType_).def(0x00030192);
-	od.var(0x1001, "Error register", DT::U8, A::RO, &errorRegister_).map(TxPdo);
-	od.string(0x1008, "Device name", &name_);
-	od.string(0x1009, "Hardware version", &hwVersion_);
-	od.string(0x100A, "Software version", &swVersion_);
+	addDeviceObjects(deviceType_, name_, &hwVersion_, &swVersion_);
 	for (std::uint8_t s = 1; s <= 4; s++) // 4.1/4.2: "save"/"load" at 0x1010:04
 		od.sub(0x1010, s, "Store parameters", DT::U32, A::RW)
 			.def(1)
@@ -213,24 +204,14 @@ void Est584::buildDictionary(std::uint32_t maxSpeed, std::uint16_t window)
 	od.var(0x2155, "Input level", DT::U16, A::RO).def(0);
 
 	// ---- CiA 402, 4.3.2 and the mode sections ----
-	od.var(0x603F, "Error code", DT::U16, A::RO, &errorCode_).map(TxPdo);
-	od.var(0x6040, "Controlword", DT::U16, A::RW, &controlword_).map(RxPdo);
-	od.var(0x6041, "Statusword", DT::U16, A::RO, &statusword_).map(TxPdo);
+	addCia402Objects();
 	od.var(0x605A, "Quick stop option code", DT::I16, A::RW, &quickStopOption_).def(5);
-	od.var(0x6060, "Modes of operation", DT::I8, A::RW, &modeOfOperation_)
-		.def(mode::CSP)
-		.map(RxPdo)
-		.onCheck([this](std::uint64_t v) { return checkMode(v); });
-	od.var(0x6061, "Modes of operation display", DT::I8, A::RO, &modeDisplay_).map(TxPdo);
 	od.var(0x6062, "Position demand value", DT::I32, A::RO, &positionDemand_).map(TxPdo);
-	od.var(0x6064, "Position actual value", DT::I32, A::RO, &positionActual_).map(TxPdo);
 	od.var(0x6065, "Following error window", DT::U32, A::RW, &followingWindow_)
 		.def(window)
 		.range(1, 60000)
 		.onAfter([this] { window2030_ = static_cast<std::uint16_t>(followingWindow_); });
 	od.var(0x606B, "Velocity demand value", DT::I32, A::RO, &velocityDemand_).map(TxPdo);
-	od.var(0x606C, "Velocity actual value", DT::I32, A::RO, &velocityActual_).map(TxPdo);
-	od.var(0x607A, "Target position", DT::I32, A::RW, &targetPosition_).map(RxPdo);
 	od.var(0x607C, "Home offset", DT::I32, A::RW, &homeOffset_).map(RxPdo);
 	od.var(0x607F, "Max profile velocity", DT::U32, A::RW, &maxProfileVelocity_)
 		.def(maxSpeed)
@@ -269,9 +250,6 @@ void Est584::buildDictionary(std::uint32_t maxSpeed, std::uint16_t window)
 	od.var(0x60F4, "Following error actual value", DT::I32, A::RO, &followingError_)
 		.map(TxPdo);
 	od.var(0x60FD, "Digital inputs", DT::U32, A::RO, &digitalInputs_).map(TxPdo);
-	od.var(0x60FF, "Target velocity", DT::I32, A::RW, &targetVelocity_).map(RxPdo);
-	od.var(0x6502, "Supported drive modes", DT::U32, A::RO, &supportedModes_)
-		.def(drv_.supportedModes);
 }
 
 } // namespace

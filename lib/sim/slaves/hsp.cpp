@@ -53,14 +53,9 @@ private:
 Hsp::Hsp(unsigned position, const SlaveOptions &opts) : DriveBase(BaseConfig{}, DriveConfig{})
 {
 	OptionReader o("hsp", opts);
-	cfg_.typeName = "hsp";
-	cfg_.identity.vendorId = model::kVendorId;
-	cfg_.identity.productCode = kHspProduct;
-	cfg_.identity.revision = kHspRevision;
-	o.common(position, cfg_.identity, cfg_.alias, "HSP");
+	identify(o, position, kHspProduct, kHspRevision, "HSP");
 	channels_ = static_cast<unsigned>(o.integer("channels", 1, 2).value_or(1));
-	cfg_.mailboxLatency = std::chrono::microseconds(
-		o.integer("mailbox_latency_us", 0, 10'000'000).value_or(500));
+	readMailboxLatency(o, 500);
 	cfg_.coe = true;
 	cfg_.siiGroup = "Pulse";
 	cfg_.siiOrder = "HSP";
@@ -80,9 +75,7 @@ void Hsp::buildDictionary()
 	using DT = DataType;
 	using A = Access;
 	auto &od = od_;
-	od.var(0x1000, "Device type", DT::U32, A::RO, &deviceType_).def(0x00020192);
-	od.var(0x1001, "Error register", DT::U8, A::RO, &errorRegister_).map(TxPdo);
-	od.string(0x1008, "Device name", &name_);
+	addDeviceObjects(deviceType_, name_);
 	addIdentityObjects();
 	if (channels_ == 2)
 		buildChannel2();
@@ -97,18 +90,8 @@ void Hsp::buildDictionary()
 		addPdoAssignment(true, { 0x1600 });
 		addPdoAssignment(false, { 0x1A00 });
 	}
-	od.var(0x603F, "Error code", DT::U16, A::RO, &errorCode_).map(TxPdo);
-	od.var(0x6040, "Controlword", DT::U16, A::RW, &controlword_).map(RxPdo);
-	od.var(0x6041, "Statusword", DT::U16, A::RO, &statusword_).map(TxPdo);
-	od.var(0x6060, "Modes of operation", DT::I8, A::RW, &modeOfOperation_)
-		.def(mode::CSP)
-		.map(RxPdo)
-		.onCheck([this](std::uint64_t v) { return checkMode(v); });
-	od.var(0x6061, "Modes of operation display", DT::I8, A::RO, &modeDisplay_).map(TxPdo);
-	od.var(0x6064, "Position actual value", DT::I32, A::RO, &positionActual_).map(TxPdo);
+	addCia402Objects();
 	od.var(0x6065, "Following error window", DT::U32, A::RW, &followingWindow_).def(100000);
-	od.var(0x606C, "Velocity actual value", DT::I32, A::RO, &velocityActual_).map(TxPdo);
-	od.var(0x607A, "Target position", DT::I32, A::RW, &targetPosition_).map(RxPdo);
 	od.var(0x607C, "Home offset", DT::I32, A::RW, &homeOffset_).map(RxPdo);
 	od.var(0x607F, "Max profile velocity", DT::U32, A::RW, &maxProfileVelocity_).def(4'000'000);
 	od.var(0x6083, "Profile acceleration", DT::U32, A::RW, &profileAcceleration_).def(4'000'000);
@@ -125,8 +108,6 @@ void Hsp::buildDictionary()
 	od.sub(0x6099, 2, "Homing speed (zero search)", DT::U32, A::RW, &homingSpeedSlow_).def(1000);
 	od.var(0x609A, "Homing acceleration", DT::U32, A::RW, &homingAcceleration_).def(100000);
 	od.var(0x60FD, "Digital inputs", DT::U32, A::RO, &digitalInputs_).map(TxPdo);
-	od.var(0x60FF, "Target velocity", DT::I32, A::RW, &targetVelocity_).map(RxPdo);
-	od.var(0x6502, "Supported drive modes", DT::U32, A::RO, &supportedModes_).def(drv_.supportedModes);
 }
 
 void Hsp::buildChannel2()

@@ -6,64 +6,34 @@
 #include "slaves/object_dictionary.hpp"
 
 #include <cstring>
+#include <iterator>
 #include <stdexcept>
 
 namespace ecmxf::sim::slaves {
 
-unsigned bitSize(DataType t)
-{
-	switch (t) {
-	case DataType::Bool:
-		return 1;
-	case DataType::I8:
-	case DataType::U8:
-		return 8;
-	case DataType::I16:
-	case DataType::U16:
-		return 16;
-	case DataType::I32:
-	case DataType::U32:
-		return 32;
-	case DataType::I64:
-	case DataType::U64:
-		return 64;
-	case DataType::String:
-		return 0;
-	}
-	return 0;
-}
+namespace {
 
-std::uint8_t dataTypeIndex(DataType t)
-{
-	switch (t) {
-	case DataType::Bool:
-		return 0x01;
-	case DataType::I8:
-		return 0x02;
-	case DataType::I16:
-		return 0x03;
-	case DataType::I32:
-		return 0x04;
-	case DataType::U8:
-		return 0x05;
-	case DataType::U16:
-		return 0x06;
-	case DataType::U32:
-		return 0x07;
-	case DataType::String:
-		return 0x09;
-	case DataType::I64:
-		return 0x15;
-	case DataType::U64:
-		return 0x1B;
-	}
-	return 0;
-}
+// The data types in the enum's order.
+constexpr TypeInfo kTypes[] = {
+	{ 1, 0x01, false },  // Bool
+	{ 8, 0x02, true },   // I8
+	{ 16, 0x03, true },  // I16
+	{ 32, 0x04, true },  // I32
+	{ 8, 0x05, false },  // U8
+	{ 16, 0x06, false }, // U16
+	{ 32, 0x07, false }, // U32
+	{ 64, 0x15, true },  // I64
+	{ 64, 0x1B, false }, // U64
+	{ 0, 0x09, false },  // String (VISIBLE_STRING)
+};
+static_assert(std::size(kTypes) == static_cast<std::size_t>(DataType::String) + 1);
 
-bool isSigned(DataType t)
+} // namespace
+
+TypeInfo typeInfo(DataType t)
 {
-	return t == DataType::I8 || t == DataType::I16 || t == DataType::I32 ||
-	       t == DataType::I64;
+	const auto i = static_cast<std::size_t>(t);
+	return i < std::size(kTypes) ? kTypes[i] : TypeInfo{ 0, 0, false };
 }
 
 namespace {
@@ -71,26 +41,25 @@ namespace {
 // Bytes a bound value occupies in memory (Bool is stored as a byte).
 std::size_t storageBytes(DataType t)
 {
-	return t == DataType::Bool ? 1 : bitSize(t) / 8;
+	return t == DataType::Bool ? 1 : typeInfo(t).bits / 8;
 }
 
-template <typename T> std::uint64_t loadAs(const void *p)
+// Calls @p f with a value of the first of U, Us... that is @p bytes wide
+// (none: nothing).
+template <typename U, typename... Us, typename F> void withWidth(std::size_t bytes, F &&f)
 {
-	T v;
-	std::memcpy(&v, p, sizeof v);
-	if constexpr (std::is_signed_v<T>)
-		return static_cast<std::uint64_t>(static_cast<std::make_unsigned_t<T>>(v));
-	else
-		return static_cast<std::uint64_t>(v);
+	if (bytes == sizeof(U))
+		f(U{});
+	else if constexpr (sizeof...(Us) > 0)
+		withWidth<Us...>(bytes, f);
 }
 
-template <typename T> void storeAs(void *p, std::uint64_t raw)
+// Calls @p f with a value of the unsigned type as wide as a bound value of
+// type @p t (nothing for String). The raw value of a signed type is its bits,
+// zero-extended, so the unsigned type of its width loads and stores it alike.
+template <typename F> void withStorageType(DataType t, F &&f)
 {
-	using U = std::make_unsigned_t<T>;
-	const U u = static_cast<U>(raw);
-	T v;
-	std::memcpy(&v, &u, sizeof v);
-	std::memcpy(p, &v, sizeof v);
+	withWidth<std::uint8_t, std::uint16_t, std::uint32_t, std::uint64_t>(storageBytes(t), f);
 }
 
 } // namespace
@@ -99,72 +68,30 @@ std::uint64_t loadRaw(const Binding &b)
 {
 	if (!b.ptr)
 		return 0;
-	switch (b.type) {
-	case DataType::Bool:
-		return loadAs<std::uint8_t>(b.ptr) & 1u;
-	case DataType::I8:
-		return loadAs<std::int8_t>(b.ptr);
-	case DataType::U8:
-		return loadAs<std::uint8_t>(b.ptr);
-	case DataType::I16:
-		return loadAs<std::int16_t>(b.ptr);
-	case DataType::U16:
-		return loadAs<std::uint16_t>(b.ptr);
-	case DataType::I32:
-		return loadAs<std::int32_t>(b.ptr);
-	case DataType::U32:
-		return loadAs<std::uint32_t>(b.ptr);
-	case DataType::I64:
-		return loadAs<std::int64_t>(b.ptr);
-	case DataType::U64:
-		return loadAs<std::uint64_t>(b.ptr);
-	case DataType::String:
-		return 0;
-	}
-	return 0;
+	std::uint64_t raw = 0;
+	withStorageType(b.type, [&](auto u) {
+		std::memcpy(&u, b.ptr, sizeof u);
+		raw = u;
+	});
+	return b.type == DataType::Bool ? raw & 1u : raw;
 }
 
 void storeRaw(const Binding &b, std::uint64_t raw)
 {
 	if (!b.ptr)
 		return;
-	switch (b.type) {
-	case DataType::Bool:
-		storeAs<std::uint8_t>(b.ptr, raw & 1u);
-		break;
-	case DataType::I8:
-		storeAs<std::int8_t>(b.ptr, raw);
-		break;
-	case DataType::U8:
-		storeAs<std::uint8_t>(b.ptr, raw);
-		break;
-	case DataType::I16:
-		storeAs<std::int16_t>(b.ptr, raw);
-		break;
-	case DataType::U16:
-		storeAs<std::uint16_t>(b.ptr, raw);
-		break;
-	case DataType::I32:
-		storeAs<std::int32_t>(b.ptr, raw);
-		break;
-	case DataType::U32:
-		storeAs<std::uint32_t>(b.ptr, raw);
-		break;
-	case DataType::I64:
-		storeAs<std::int64_t>(b.ptr, raw);
-		break;
-	case DataType::U64:
-		storeAs<std::uint64_t>(b.ptr, raw);
-		break;
-	case DataType::String:
-		break;
-	}
+	if (b.type == DataType::Bool)
+		raw &= 1u;
+	withStorageType(b.type, [&](auto u) {
+		u = static_cast<decltype(u)>(raw);
+		std::memcpy(b.ptr, &u, sizeof u);
+	});
 }
 
 std::int64_t rawToSigned(DataType t, std::uint64_t raw)
 {
-	const unsigned bits = bitSize(t);
-	if (!isSigned(t) || bits == 0 || bits >= 64)
+	const unsigned bits = typeInfo(t).bits;
+	if (!typeInfo(t).isSigned || bits == 0 || bits >= 64)
 		return static_cast<std::int64_t>(raw);
 	const std::uint64_t sign = std::uint64_t{ 1 } << (bits - 1);
 	const std::uint64_t mask = (std::uint64_t{ 1 } << bits) - 1;
@@ -398,7 +325,7 @@ std::uint32_t ObjectDictionary::downloadOne(Entry &e, std::span<const std::uint8
 	std::uint64_t raw = readLe(data);
 	std::uint32_t rangeAbort = 0;
 	if (e.hasRange) {
-		const std::int64_t v = isSigned(e.type) ? rawToSigned(e.type, raw)
+		const std::int64_t v = typeInfo(e.type).isSigned ? rawToSigned(e.type, raw)
 							: static_cast<std::int64_t>(raw);
 		if (v > e.max) {
 			rangeAbort = abort::ValueTooHigh;

@@ -41,10 +41,13 @@ enum class DataType : std::uint8_t {
 	String, // 0x0009 VISIBLE_STRING
 };
 
-/// Size of a value of @p t in bits (strings: 0, their size is their length).
-[[nodiscard]] unsigned bitSize(DataType t);
-/// ETG.1000.6 data type index (for the SII PDO categories).
-[[nodiscard]] std::uint8_t dataTypeIndex(DataType t);
+/// What a data type is.
+struct TypeInfo {
+	unsigned bits;		///< size in bits (strings: 0, their size is their length)
+	std::uint8_t coeIndex;	///< ETG.1000.6 data type index (the SII PDO categories)
+	bool isSigned;
+};
+[[nodiscard]] TypeInfo typeInfo(DataType t);
 
 /// Access rights of an entry.
 enum class Access : std::uint8_t {
@@ -73,7 +76,6 @@ struct Binding {
 void storeRaw(const Binding &b, std::uint64_t raw);
 /// Sign-extend @p raw per @p t (for range checks of signed types).
 [[nodiscard]] std::int64_t rawToSigned(DataType t, std::uint64_t raw);
-[[nodiscard]] bool isSigned(DataType t);
 
 /// One sub-index.
 struct Entry {

@@ -35,6 +35,9 @@ public:
 	void common(unsigned position, Identity &identity, std::uint16_t &alias,
 		    const std::string &defaultName);
 
+	/// The model type the options are for.
+	[[nodiscard]] const std::string &type() const { return type_; }
+
 	/// Throws std::invalid_argument if an option was not read by the model,
 	/// listing the ones it knows.
 	void finish() const;

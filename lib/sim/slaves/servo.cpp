@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <deque>
+#include <functional>
 #include <stdexcept>
 
 #include "slaves/drive.hpp"
@@ -116,13 +117,8 @@ private:
 Servo::Servo(unsigned position, const SlaveOptions &opts) : DriveBase(BaseConfig{}, DriveConfig{})
 {
 	OptionReader o("servo", opts);
-	cfg_.typeName = "servo";
-	cfg_.identity.vendorId = model::kVendorId;
-	cfg_.identity.productCode = model::kServoProduct;
-	cfg_.identity.revision = model::kServoRevision;
-	o.common(position, cfg_.identity, cfg_.alias, "AKD2G-like servo");
-	cfg_.mailboxLatency = std::chrono::microseconds(
-		o.integer("mailbox_latency_us", 0, 10'000'000).value_or(500));
+	identify(o, position, model::kServoProduct, model::kServoRevision, "AKD2G-like servo");
+	readMailboxLatency(o, 500);
 	cfg_.coe = true;
 	cfg_.foe = true;
 	cfg_.bootMailbox = true;
@@ -163,33 +159,26 @@ void Servo::buildDictionary(std::uint32_t maxSpeed, std::uint32_t window)
 	using A = Access;
 	auto &od = od_;
 
-	od.var(0x1000, "Device type", DT::U32, A::RO, &deviceType_).def(0x00020192);
-	od.var(0x1001, "Error register", DT::U8, A::RO, &errorRegister_).map(TxPdo);
-	od.string(0x1008, "Device name", &name_);
-	od.string(0x1009, "Hardware version", &hwVersion_);
-	od.string(0x100A, "Software version", &swVersion_);
+	addDeviceObjects(deviceType_, name_, &hwVersion_, &swVersion_);
 	// CiA 301: "save" to 0x1010:01 stores, "load" to 0x1011:01 restores the
 	// defaults at the next power-on.
-	od.sub(0x1010, 1, "Save all parameters", DT::U32, A::RW)
-		.def(1)
-		.asCommand()
-		.onCheck([this](std::uint64_t v) -> std::uint32_t {
-			if (v != kSave)
-				return abort::CannotTransfer;
-			saveParameters();
-			log("parameters saved");
-			return 0;
-		});
-	od.sub(0x1011, 1, "Restore default parameters", DT::U32, A::RW)
-		.def(1)
-		.asCommand()
-		.onCheck([this](std::uint64_t v) -> std::uint32_t {
-			if (v != kLoad)
-				return abort::CannotTransfer;
-			restoreDefaults(false);
-			log("defaults restored (next power-on)");
-			return 0;
-		});
+	auto command = [&](std::uint16_t idx, const char *name, std::uint32_t word,
+			   std::function<void()> action, const char *done) {
+		od.sub(idx, 1, name, DT::U32, A::RW)
+			.def(1)
+			.asCommand()
+			.onCheck([this, word, action, done](std::uint64_t v) -> std::uint32_t {
+				if (v != word)
+					return abort::CannotTransfer;
+				action();
+				log(done);
+				return 0;
+			});
+	};
+	command(0x1010, "Save all parameters", kSave, [this] { saveParameters(); },
+		"parameters saved");
+	command(0x1011, "Restore default parameters", kLoad, [this] { restoreDefaults(false); },
+		"defaults restored (next power-on)");
 	addIdentityObjects();
 
 	// RxPDO 13 bytes, TxPDO 15 bytes by default; three more free PDOs each.
@@ -206,23 +195,14 @@ void Servo::buildDictionary(std::uint32_t maxSpeed, std::uint32_t window)
 	addPdoAssignment(true, { 0x1600 });
 	addPdoAssignment(false, { 0x1A00 });
 
-	od.var(0x603F, "Error code", DT::U16, A::RO, &errorCode_).map(TxPdo);
-	od.var(0x6040, "Controlword", DT::U16, A::RW, &controlword_).map(RxPdo);
-	od.var(0x6041, "Statusword", DT::U16, A::RO, &statusword_).map(TxPdo);
+	addCia402Objects();
 	od.var(0x605A, "Quick stop option code", DT::I16, A::RW, &quickStopOption_).def(5).store();
-	od.var(0x6060, "Modes of operation", DT::I8, A::RW, &modeOfOperation_)
-		.def(mode::CSP)
-		.map(RxPdo)
-		.onCheck([this](std::uint64_t v) { return checkMode(v); });
-	od.var(0x6061, "Modes of operation display", DT::I8, A::RO, &modeDisplay_).map(TxPdo);
 	od.var(0x6062, "Position demand value", DT::I32, A::RO, &positionDemand_).map(TxPdo);
-	od.var(0x6064, "Position actual value", DT::I32, A::RO, &positionActual_).map(TxPdo);
 	od.var(0x6065, "Following error window", DT::U32, A::RW, &followingWindow_)
 		.def(window)
 		.range(1, 0xFFFFFFFF)
 		.store();
 	od.var(0x606B, "Velocity demand value", DT::I32, A::RO, &velocityDemand_).map(TxPdo);
-	od.var(0x606C, "Velocity actual value", DT::I32, A::RO, &velocityActual_).map(TxPdo);
 	od.var(0x6071, "Target torque", DT::I16, A::RW, &targetTorque_).map(RxPdo);
 	od.var(0x6072, "Max torque", DT::U16, A::RW, &maxTorque_)
 		.def(3000)
@@ -230,7 +210,6 @@ void Servo::buildDictionary(std::uint32_t maxSpeed, std::uint32_t window)
 		.map(RxPdo)
 		.store();
 	od.var(0x6077, "Torque actual value", DT::I16, A::RO, &torqueActual_).map(TxPdo);
-	od.var(0x607A, "Target position", DT::I32, A::RW, &targetPosition_).map(RxPdo);
 	od.var(0x607F, "Max profile velocity", DT::U32, A::RW, &maxProfileVelocity_)
 		.def(maxSpeed)
 		.map(RxPdo)
@@ -242,9 +221,6 @@ void Servo::buildDictionary(std::uint32_t maxSpeed, std::uint32_t window)
 	od.var(0x60B0, "Position offset", DT::I32, A::RW, &positionOffset_).map(RxPdo);
 	od.var(0x60F4, "Following error actual value", DT::I32, A::RO, &followingError_)
 		.map(TxPdo);
-	od.var(0x60FF, "Target velocity", DT::I32, A::RW, &targetVelocity_).map(RxPdo);
-	od.var(0x6502, "Supported drive modes", DT::U32, A::RO, &supportedModes_)
-		.def(drv_.supportedModes);
 }
 
 std::uint32_t Servo::foeRead(const std::string &name, std::vector<std::uint8_t> &out)

@@ -5,10 +5,14 @@
 
 #include "slaves/slave_base.hpp"
 
+#include <ecmxf/sim/slaves.hpp>
+
 #include <algorithm>
 #include <bit>
 #include <cstring>
 #include <stdexcept>
+
+#include "slaves/options.hpp"
 
 namespace ecmxf::sim::slaves {
 
@@ -183,6 +187,22 @@ void SlaveBase::addPdoAssignment(bool rx, const std::vector<std::uint16_t> &defa
 	}
 }
 
+void SlaveBase::identify(OptionReader &o, unsigned position, std::uint32_t product,
+			 std::uint32_t revision, const std::string &defaultName)
+{
+	cfg_.typeName = o.type();
+	cfg_.identity.vendorId = model::kVendorId;
+	cfg_.identity.productCode = product;
+	cfg_.identity.revision = revision;
+	o.common(position, cfg_.identity, cfg_.alias, defaultName);
+}
+
+void SlaveBase::readMailboxLatency(OptionReader &o, std::int64_t defaultUs)
+{
+	cfg_.mailboxLatency = std::chrono::microseconds(
+		o.integer("mailbox_latency_us", 0, 10'000'000).value_or(defaultUs));
+}
+
 void SlaveBase::finishSetup()
 {
 	SiiDescription d;
@@ -231,7 +251,7 @@ void SlaveBase::finishSetup()
 			for (const PdoEntry &e : p.entries) {
 				const Entry *oe = od_.find(e.index, e.subindex);
 				sp.entries.push_back({ e.index, e.subindex,
-						       oe ? dataTypeIndex(oe->type) : std::uint8_t{ 0 },
+						       oe ? typeInfo(oe->type).coeIndex : std::uint8_t{ 0 },
 						       e.bits });
 			}
 			(rx ? d.rxPdos : d.txPdos).push_back(sp);
@@ -656,7 +676,7 @@ std::uint32_t SlaveBase::checkMapEntry(bool rx, std::uint32_t value) const
 	if (index < 0x0008) // gap (index 0) or dummy data-type entry
 		return bits > 0 ? 0 : abort::NotMappable;
 	const Entry *e = od_.find(index, sub);
-	if (!e || !(e->pdo & (rx ? RxPdo : TxPdo)) || bitSize(e->type) != bits)
+	if (!e || !(e->pdo & (rx ? RxPdo : TxPdo)) || typeInfo(e->type).bits != bits)
 		return abort::NotMappable;
 	return 0;
 }
@@ -717,7 +737,7 @@ void SlaveBase::rebuildMapping()
 				s.bits = bits;
 				if (index >= 0x0008) {
 					Entry *e = od_.find(index, sub);
-					if (e && bitSize(e->type) == bits)
+					if (e && typeInfo(e->type).bits == bits)
 						s.bind = e->bind;
 					else
 						valid = false;

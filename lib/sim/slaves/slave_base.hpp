@@ -30,6 +30,8 @@
 
 namespace ecmxf::sim::slaves {
 
+class OptionReader;
+
 /// ESC register addresses the models implement.
 namespace esc {
 inline constexpr std::uint16_t Type = 0x0000;
@@ -148,6 +150,13 @@ protected:
 	/// Build the SII image and go to the power-on state. Call at the end
 	/// of the most derived constructor.
 	void finishSetup();
+	/// The NEXTW identity of the model: the type name (@p o's), vendor,
+	/// @p product and @p revision, then the options every model takes
+	/// (OptionReader::common(), name default @p defaultName).
+	void identify(OptionReader &o, unsigned position, std::uint32_t product,
+		      std::uint32_t revision, const std::string &defaultName);
+	/// The mailbox latency option mailbox_latency_us (default @p defaultUs).
+	void readMailboxLatency(OptionReader &o, std::int64_t defaultUs);
 
 	/// Define the identity object 0x1018 (from the configured identity) and
 	/// the sync manager types 0x1C00 (mailbox out/in, process data out/in).
