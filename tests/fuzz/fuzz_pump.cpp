@@ -313,15 +313,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			require(ecmxf_pump_lost(&p, &pl) == pl.push && p.unconfirmed == pl.push, "lost");
 			continue;
 		}
-		ecmxf_rsp_hdr h{};
-		h.code = ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP;
-		h.ret = data[4];
-		h.rx_fifo_cnt = data[5];
-		h.tx_fifo_cnt = data[6];
-		h.err_status = data[7];
-		h.ecm_status = data[8];
-		const u32 rxLen = static_cast<u32>(data[9] | data[10] << 8);
-		h.len = static_cast<u16>(rxLen);
+		const ecmxf_rsp_hdr h = recordHeader(data);
+		const u32 rxLen = h.len;
 		const u32 before = p.unconfirmed;
 		ecmxf_pump_result res;
 		const int err = ecmxf_pump_answer(&p, &pl, &h, rxLen, &res);
