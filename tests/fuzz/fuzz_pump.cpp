@@ -214,7 +214,7 @@ void fuzzCycles(ecmxf_pump &p, u64 busNs, const uint8_t *data, size_t size)
 		ecmxf_pump_cycle_start(&c, level, data[3] & 1);
 		const u32 room = p.rx_fill > level ? p.rx_fill - level : 0;
 		const u32 maxCmds = 1 + maxReads + (perWrite ? room / perWrite + 1 : 0) + 1;
-		u32 rng = data[4] | data[5] << 8 | data[6] << 16 | static_cast<u32>(data[7]) << 24;
+		u32 rng = static_cast<u32>(data[4] | data[5] << 8 | data[6] << 16) | static_cast<u32>(data[7]) << 24;
 		u32 cmds = 0;
 		ecmxf_pump_plan pl;
 		bool withWkc = false;
