@@ -428,12 +428,14 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 		if (!fifoOp(r, pl, h, res, proto, withWkc))
 			return;
 		r.framesPushed += pl.push;
-		ecmxf_pump_est_pushed(&est_, &pl, h.rxFifoCnt, coreTime(clock().coarseNow()), est_.cycles);
+		// the chip ran the command, and made its answer, by now
+		const u64 at = coreTime(clock().coarseNow());
+		ecmxf_pump_est_pushed(&est_, &pl, h.rxFifoCnt, at, est_.cycles);
 		if (!takeFrames(r, h, res.popped, proto))
 			return;
 		std::uint32_t dropped = 0;
-		const bool overrun = ecmxf_pump_cycle_answer(&pump_, &cyc, &est_, &pl, &res, h.txFifoCnt,
-							     coreTime(clock().coarseNow()), &dropped);
+		const bool overrun =
+			ecmxf_pump_cycle_answer(&pump_, &cyc, &est_, &pl, &res, h.txFifoCnt, at, &dropped);
 		noteOverrun(r, overrun, dropped);
 	}
 	r.rxRefused = cyc.refused;
