@@ -16,11 +16,13 @@
  * FIFO command's exchange: two of them are then in flight (&struct
  * ecmxf_pump_slot.fifo), one exchange per pump cycle.
  *
- * What a command carries and what its answer means (the fill level, the
- * skipped frames, the refusals and losses, the EPROTO rules) is the
- * protocol core's pump (lib/core/ecmxf-pump.c), which the library's FIFO
- * path runs too; this file does the kernel's part: when to send, the
- * ring indices, the counters, the status block and the wake-ups.
+ * Every decision is the protocol core's (lib/core/ecmxf-pump.c and
+ * ecmxf-pump-sched.c, which the library's FIFO path runs too): which
+ * command goes next and when, the slot of a FIFO command and the frames
+ * in flight, what a command carries, which answer belongs to which
+ * command, what it frees, stores, drops and counts, whether to go again.
+ * This file is the adapter: the engine, the ring indices, the counters,
+ * the status block, the lock, the clock and the wake-ups.
  *
  * Locking: as ecmxf-ring.c.  The worker builds and submits the command
  * without &ecmxf_dev.lock and finishes it with the lock held.
@@ -47,14 +49,12 @@ MODULE_PARM_DESC(pump_timeout_ms,
  * ecmxf_pump_busy() - is one of the pump's commands in the engine?
  * @edev: the device, lock held
  *
- * Return: true while the FIFO command or the working counter read is in
+ * Return: true while a FIFO command or the working counter read is in
  * flight.
  */
 bool ecmxf_pump_busy(const struct ecmxf_dev *edev)
 {
-	const struct ecmxf_pump_slot *p = &edev->pump;
-
-	return p->fifo[0].busy || p->fifo[1].busy || p->wkc.busy;
+	return ecmxf_pump_flight_busy(&edev->pump.flight);
 }
 
 /* the time allowed for each pump command, in microseconds */
@@ -68,15 +68,11 @@ static u32 ecmxf_pump_timeout_us(void)
  * ecmxf_pump_answer_waits() - may the worker sleep with a command in flight?
  * @edev: the device; called by the worker without the lock
  *
- * With %ECMXF_RING_F_WKC_NEXT the working counter read's answer, with
- * %ECMXF_RING_F_FIFO_NEXT the FIFO command's, is left to the exchange of
- * the next FIFO command: the worker need not exchange for it alone while
- * that command is coming (the pump's timer runs, well within the time
- * the command is allowed, and its next tick, which may find nothing to
- * send, has not passed yet) and no reset waits.  The engine is the
- * worker's: whether the command is all it has in flight (no other pump
- * command, no file's request) is asked without the lock, which is taken
- * only then.
+ * The protocol core decides (ecmxf_pump_sched_waits()) for the command
+ * that, sent, is all the engine has in flight (the newest FIFO command,
+ * else the working counter read), when no reset waits and the pump's
+ * timer runs.  The engine is the worker's: whether the command is all it
+ * has in flight is asked without the lock, which is taken only then.
  *
  * Return: true when one of the pump's commands, sent, is all the engine
  * has in flight and may wait for the pump's next command.
@@ -84,22 +80,20 @@ static u32 ecmxf_pump_timeout_us(void)
 bool ecmxf_pump_answer_waits(struct ecmxf_dev *edev)
 {
 	struct ecmxf_pump_slot *p = &edev->pump;
-	struct ecmxf_pump_cmd *c = &p->fifo[p->newest];
-	u32 flag = ECMXF_RING_F_FIFO_NEXT;
+	unsigned int i = p->flight.newest;
 	struct ecmxf_rings *r;
 	bool waits;
 
-	if (!ecmxf_engine_waits_only(&edev->e, &c->x)) {
-		c = &p->wkc;
-		flag = ECMXF_RING_F_WKC_NEXT;
-		if (!ecmxf_engine_waits_only(&edev->e, &c->x))
+	if (!ecmxf_engine_waits_only(&edev->e, &p->cmd[i].x)) {
+		i = ECMXF_PUMP_SLOT_WKC;
+		if (!ecmxf_engine_waits_only(&edev->e, &p->cmd[i].x))
 			return false;
 	}
 	mutex_lock(&edev->lock);
 	r = edev->rings;
-	waits = c->busy && r && (r->setup_flags & flag) &&
-		r->poll_ns * 2 <= (u64)c->x.timeout_us * NSEC_PER_USEC &&
-		ktime_get_ns() < c->answer_by_ns &&
+	waits = r && ecmxf_pump_sched_waits(&r->sched, &p->flight, i,
+					    (u64)p->cmd[i].x.timeout_us *
+					    NSEC_PER_USEC, ktime_get_ns()) &&
 		list_empty(&edev->resets) && ecmxf_pump_deadline(edev);
 	mutex_unlock(&edev->lock);
 	return waits;
@@ -110,15 +104,10 @@ bool ecmxf_pump_answer_waits(struct ecmxf_dev *edev)
  * @edev: the device, lock held
  * @now: ktime_get_ns()
  *
- * Due when rings exist, the pump has not stopped and the chip's FIFO is
- * on (ECM status bit 6 in the last header); then the FIFO command, when
- * it is not in flight (with %ECMXF_RING_F_FIFO_NEXT: when the one in
- * flight has gone out and waits for its answer, which the new one will
- * fetch) and its timer expired, INT1 fired (the FIFO threshold flags) or
- * the last one left work; else the working counter read, when it is not
- * in flight and due.  The FIFO command goes first: it carries the process
- * data, and the read rides behind it (while one is in flight, the read
- * goes next).  The choice is kept for ecmxf_pump_submit().
+ * While rings exist and the pump has not stopped, the protocol core picks
+ * (ecmxf_pump_sched_pick()) from the last header, the timers, INT1 (the
+ * FIFO threshold flags) and the commands in flight.  A FIFO command is
+ * the exchange INT1 asks for.  The choice is kept for ecmxf_pump_submit().
  *
  * Return: the rings with a reference for the command, or NULL.
  */
@@ -126,31 +115,17 @@ struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now)
 {
 	struct ecmxf_rings *r = edev->rings;
 	struct ecmxf_pump_slot *p = &edev->pump;
-	struct ecmxf_pump_cmd *f = &p->fifo[p->newest];
-	bool fifo, wkc;
 
 	lockdep_assert_held(&edev->lock);
 	if (!r || r->stopped)
 		return NULL;
-	if (!(edev->last.ecm_status & ECMXF_STS_FIFO_EN))
+	p->pick = ecmxf_pump_sched_pick(&r->sched, &p->flight, &edev->last,
+					now, atomic_read(&edev->int1_flag),
+					ecmxf_engine_sent(&edev->e,
+							  &p->cmd[p->flight.newest].x));
+	if (p->pick == ECMXF_PUMP_PICK_NONE)
 		return NULL;
-	fifo = !f->busy ||
-	       ((r->setup_flags & ECMXF_RING_F_FIFO_NEXT) &&
-		!p->fifo[!p->newest].busy && ecmxf_engine_sent(&edev->e, &f->x));
-	fifo = fifo && (r->again || now >= r->next_tick_ns ||
-			atomic_read(&edev->int1_flag));
-	wkc = !p->wkc.busy && r->wkc_ns && now >= r->next_wkc_ns;
-	if (!fifo && !wkc)
-		return NULL;
-	/*
-	 * the read rides in the exchange that fetches the answer of the FIFO
-	 * command in flight; a FIFO command that could go in its place
-	 * (%ECMXF_RING_F_FIFO_NEXT) waits for that one exchange, else a
-	 * busy pump would never read
-	 */
-	p->take_wkc = wkc && (!fifo || f->busy);
-	/* this command is the exchange that INT1 asks for */
-	if (!p->take_wkc)
+	if (p->pick == ECMXF_PUMP_PICK_FIFO)
 		atomic_set(&edev->int1_flag, 0);
 	kref_get(&r->ref);
 	return r;
@@ -165,83 +140,59 @@ struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now)
 u64 ecmxf_pump_deadline(struct ecmxf_dev *edev)
 {
 	struct ecmxf_rings *r = edev->rings;
-	u64 t;
 
 	lockdep_assert_held(&edev->lock);
-	if (!r || r->stopped || !(edev->last.ecm_status & ECMXF_STS_FIFO_EN))
+	if (!r || r->stopped)
 		return 0;
-	t = r->next_tick_ns;
-	if (r->wkc_ns && r->next_wkc_ns < t)
-		t = r->next_wkc_ns;
-	return t ? t : 1;
+	return ecmxf_pump_sched_deadline(&r->sched, &edev->last);
 }
 
-/* Build the working counter read in @edev->pump.wkc.x. */
+/* Build the working counter read in its slot; its timer moves on. */
 static void ecmxf_pump_prepare_wkc(struct ecmxf_dev *edev,
 				   struct ecmxf_rings *r, u64 now)
 {
-	struct ecmxf_xfer *x = &edev->pump.wkc.x;
+	struct ecmxf_xfer *x = &edev->pump.cmd[ECMXF_PUMP_SLOT_WKC].x;
 
 	memset(x, 0, sizeof(*x));
 	x->rx_buf = r->wkc_buf;
 	x->rx_size = ECMXF_DATA_MAX;
 	x->status = -EINPROGRESS;
 	ecmxf_pump_wkc_cmd(&x->hdr);
-	/*
-	 * every wkc_ns from the first read on, not from whenever the worker
-	 * woke: late wake-ups must not stretch the period (a reader counting
-	 * reads over N periods sees N / period); after a gap of more than a
-	 * period, one read, no burst
-	 */
-	r->next_wkc_ns += r->wkc_ns;
-	if (r->next_wkc_ns <= now)
-		r->next_wkc_ns = now + r->wkc_ns;
+	ecmxf_pump_sched_wkc(&r->sched, now);
 }
 
 /*
- * Build the FIFO command @i of @edev->pump.fifo: what the protocol core
- * plans from what the output ring holds (up to the RxFIFO fill level and
- * the data section), popping TxPDO frames.  The frames of the other one,
- * when it is in flight, are in the RxFIFO for the plan, though no header
- * shows them yet.  Return: false when there is nothing to send.
+ * Build the FIFO command of slot @i as the protocol core plans it from
+ * what the output ring holds (the level counts the frames in flight):
+ * the skipped frames leave the ring (counted when the command finishes),
+ * the pushed ones are copied.  Return: false when there is nothing to
+ * send.
  */
 static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 			       unsigned int i)
 {
 	struct ecmxf_pump_slot *p = &edev->pump;
-	struct ecmxf_pump_cmd *c = &p->fifo[i];
-	const struct ecmxf_pump_cmd *o = &p->fifo[!i];
-	struct ecmxf_pump_plan *pl = &c->plan;
-	struct ecmxf_xfer *x = &c->x;
-	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
+	const struct ecmxf_pump_plan *pl = &p->flight.plan[i];
+	struct ecmxf_xfer *x = &p->cmd[i].x;
 	u32 level;
 	bool send;
 	int avail;
 
 	memset(x, 0, sizeof(*x));
-	memset(pl, 0, sizeof(*pl));
 	x->rx_buf = r->rx_buf[i];
 	x->rx_size = ECMXF_DATA_MAX;
 	x->tx_data = r->tx_buf[i];
 	x->status = -EINPROGRESS;
-	c->skipped = 0;
-	c->released = r->setup_flags & ECMXF_RING_F_FIFO_NEXT;
 
 	avail = ecmxf_ring_out_avail(r);
 	if (avail < 0)
 		return false;	/* ecmxf_pump_submit() stops the rings */
 	r->pump.data_size = ecmxf_engine_data_size(&edev->e);
-	level = ecmxf_pump_level(&r->pump, h) + (o->busy ? o->plan.push : 0);
-	send = ecmxf_pump_next(&r->pump, level, (u32)avail, ECMXF_PUMP_F_READ,
-			       pl);
-	/*
-	 * Fallen behind (the application produces faster than the chip
-	 * takes): the oldest frames are skipped.  Counted, never silent.
-	 */
-	if (pl->skip) {
-		ecmxf_ring_out_release(r, pl->skip, pl->skip);
-		c->skipped = pl->skip;
-	}
+	level = ecmxf_pump_sched_level(&r->pump, &p->flight,
+				       ecmxf_engine_last_header(&edev->e));
+	send = ecmxf_pump_sched_plan(&r->pump, &p->flight, i, level,
+				     (u32)avail, ECMXF_PUMP_F_READ);
+	ecmxf_ring_out_release(r, pl->skip, pl->skip);
 	if (!send)
 		return false;
 	ecmxf_ring_out_copy(r, r->tx_buf[i], pl->push);
@@ -264,28 +215,22 @@ static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 {
 	struct ecmxf_pump_slot *p = &edev->pump;
-	bool wkc = p->take_wkc;
-	struct ecmxf_pump_cmd *c = &p->wkc;
+	unsigned int i = ECMXF_PUMP_SLOT_WKC;
+	struct ecmxf_pump_cmd *c;
+	u32 freed, skipped;
 	int ret;
 
-	if (wkc) {
+	if (p->pick == ECMXF_PUMP_PICK_WKC) {
 		ecmxf_pump_prepare_wkc(edev, r, now);
 	} else {
-		/* the one in flight, if any, is the older */
-		if (p->fifo[p->newest].busy)
-			p->newest = !p->newest;
-		c = &p->fifo[p->newest];
-		r->again = false;
-		r->next_tick_ns = now + r->poll_ns;
-		if (!ecmxf_pump_prepare(edev, r, p->newest)) {
-			ret = -ENODATA;
-			if (ecmxf_ring_out_avail(r) < 0)
-				ret = -EFAULT;
+		i = ecmxf_pump_sched_fifo(&r->sched, &p->flight, now);
+		if (!ecmxf_pump_prepare(edev, r, i)) {
+			ret = ecmxf_ring_out_avail(r) < 0 ? -EFAULT : -ENODATA;
 			goto drop;
 		}
 	}
+	c = &p->cmd[i];
 	c->x.timeout_us = ecmxf_pump_timeout_us();
-	c->answer_by_ns = r->next_tick_ns;
 	if (!ecmxf_engine_can_submit(&edev->e, &c->x)) {
 		ret = -EBUSY;
 		goto drop;
@@ -295,11 +240,11 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 		goto drop;
 	mutex_lock(&edev->lock);
 	c->rings = r;
-	c->busy = true;
+	freed = ecmxf_pump_sched_sent(&p->flight, i, r->sched.next_tick_ns);
 	p->turn = false;
 	/* the command has its copy: the slots are the application's again */
-	if (!wkc && c->released && c->plan.push) {
-		ecmxf_ring_out_release(r, c->plan.push, 0);
+	if (freed) {
+		ecmxf_ring_out_release(r, freed, 0);
 		ecmxf_rings_wake(edev, EPOLLOUT | EPOLLWRNORM);
 	}
 	mutex_unlock(&edev->lock);
@@ -307,13 +252,11 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 drop:
 	mutex_lock(&edev->lock);
 	/* frames skipped for a command that did not go: counted all the same */
-	if (!wkc && c->skipped) {
-		edev->out_ring_skipped += c->skipped;
-		if (edev->rings == r && !r->stopped) {
-			r->cur.out_skipped += c->skipped;
-			ecmxf_rings_publish(r);
-		}
-		c->skipped = 0;
+	skipped = ecmxf_pump_sched_unsent(&p->flight, i);
+	edev->out_ring_skipped += skipped;
+	if (skipped && edev->rings == r && !r->stopped) {
+		r->cur.out_skipped += skipped;
+		ecmxf_rings_publish(r);
 	}
 	if (ret == -EFAULT && edev->rings == r)
 		ecmxf_rings_stop(edev, -EFAULT);
@@ -322,10 +265,10 @@ drop:
 	return ret;
 }
 
-/* Publish the header and the counters in the status block; lock held. */
+/* Publish the header and the counts in the status block; lock held. */
 static void ecmxf_status_update(struct ecmxf_rings *r,
 				const struct ecmxf_rsp_hdr *h, int err,
-				const u32 deltas[7])
+				const struct ecmxf_pump_acct *a)
 {
 	struct ecmxf_ring_status *st = &r->cur;
 
@@ -338,14 +281,29 @@ static void ecmxf_status_update(struct ecmxf_rings *r,
 	st->err_status = h->err_status;
 	st->ecm_status = h->ecm_status;
 	st->error = (u32)-err;
-	st->pump_ops += deltas[0];
-	st->rx_refusals += deltas[1];
-	st->tx_overflows += deltas[2];
-	st->rx_underruns += deltas[3];
-	st->out_underruns += deltas[4];
-	st->out_skipped += deltas[5];
-	st->pump_failures += deltas[6];
+	st->pump_ops += a->ops;
+	st->rx_refusals += a->refusals;
+	st->tx_overflows += a->tx_overruns;
+	st->rx_underruns += a->rx_underruns;
+	st->out_underruns += a->out_underruns;
+	st->out_skipped += a->skipped;
+	st->pump_failures += a->failures;
 	ecmxf_rings_publish(r);
+}
+
+/* Add the counts the core gave, wake the readers of the rings; lock held. */
+static void ecmxf_pump_count(struct ecmxf_dev *edev,
+			     const struct ecmxf_pump_acct *a, __poll_t wake)
+{
+	edev->rx_fifo_overruns += a->refusals;
+	edev->tx_fifo_overruns += a->tx_overruns;
+	edev->rx_fifo_underruns += a->rx_underruns;
+	edev->out_ring_underruns += a->out_underruns;
+	edev->pump_failures += a->failures;
+	if (a->wake_out)
+		wake |= EPOLLOUT | EPOLLWRNORM;
+	if (wake)
+		ecmxf_rings_wake(edev, wake);
 }
 
 /* The working counter arrived (a bad answer is not published); lock held. */
@@ -362,131 +320,75 @@ static void ecmxf_pump_wkc_done(struct ecmxf_rings *r,
 }
 
 /*
- * The FIFO command @c answered: move the frames, count; lock held.  Its
- * output frames leave the ring now, or left it when it was built
- * (@c->released): then only the refused ones are counted here.
+ * The FIFO command of slot @i answered: the core says what its answer
+ * frees, drops, stores and counts, and whether work is left; lock held.
  */
 static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
-				 struct ecmxf_rings *r,
-				 const struct ecmxf_pump_cmd *c)
+				 struct ecmxf_rings *r, unsigned int i,
+				 u32 skipped)
 {
-	const struct ecmxf_xfer *x = &c->x;
+	struct ecmxf_pump_slot *p = &edev->pump;
+	const struct ecmxf_xfer *x = &p->cmd[i].x;
 	const struct ecmxf_rsp_hdr *h = &x->rsp;
-	u32 deltas[7] = { 1, 0, 0, 0, 0, c->skipped, 0 };
-	struct ecmxf_pump_result res;
-	__poll_t wake = 0;
-	bool successor;
+	struct ecmxf_pump_acct a;
 	u32 stored;
-	int avail, err;
+	int err;
 
-	err = ecmxf_pump_answer(&r->pump, &c->plan, h, x->rx_len, &res);
-	if (err == -EREMOTEIO) {
-		/*
-		 * nothing was taken: the frames stay in the ring, or, gone
-		 * from it already, are dropped (newer ones have been sent)
-		 */
-		if (c->released && c->plan.push)
-			ecmxf_ring_out_release(r, 0, c->plan.push);
-		ecmxf_status_update(r, h, err, deltas);
-		return;
-	}
-	if (res.taken) {
-		ecmxf_ring_out_release(r, c->released ? 0 : res.taken,
-				       res.refused);
-		if (res.refused) {
-			/* the RxFIFO was full: some of them were refused */
-			edev->rx_fifo_overruns++;
-			deltas[1]++;
-		}
-		if (!c->released)
-			wake |= EPOLLOUT | EPOLLWRNORM;
-	}
-	if (err) {
-		/* -EPROTO: the input frames of the answer are lost */
-		ecmxf_status_update(r, h, err, deltas);
-		return;
-	}
-	if (res.popped) {
-		stored = ecmxf_ring_in_store(r, x->rx_buf, res.popped);
-		edev->in_ring_overruns += res.popped - stored;
-		wake |= EPOLLRDBAND;
-	}
-	if (res.tx_overrun) {
-		edev->tx_fifo_overruns++;
-		deltas[2]++;
-	}
-	avail = ecmxf_ring_out_avail(r);
-	if (res.rx_underrun) {
-		edev->rx_fifo_underruns++;
-		deltas[3]++;
-		if (!avail) {
-			edev->out_ring_underruns++;
-			deltas[4]++;
-		}
-	}
-	ecmxf_status_update(r, h, 0, deltas);
-	/*
-	 * more queued either way: again at once (if this one moved any).
-	 * The TxPDO frames queued then are for the command that went out
-	 * after this one, if it is still in flight (%ECMXF_RING_F_FIFO_NEXT):
-	 * it pops them.
-	 */
-	successor = edev->pump.fifo[c == &edev->pump.fifo[0]].busy;
-	if ((res.taken || res.popped) &&
-	    ((h->tx_fifo_cnt && !successor) || avail > 0))
-		r->again = true;
-	if (wake)
-		ecmxf_rings_wake(edev, wake);
+	err = ecmxf_pump_sched_answer(&r->pump, &p->flight, i, h, x->rx_len,
+				      &a);
+	a.skipped = skipped;
+	ecmxf_ring_out_release(r, a.free, a.dropped);
+	stored = ecmxf_ring_in_store(r, x->rx_buf, a.store);
+	edev->in_ring_overruns += a.store - stored;
+	ecmxf_pump_sched_left(&r->sched, &p->flight, i, h,
+			      ecmxf_ring_out_avail(r), &a);
+	ecmxf_status_update(r, h, err, &a);
+	ecmxf_pump_count(edev, &a, a.store ? EPOLLRDBAND : 0);
 }
 
 /*
- * The command failed after it may have reached the chip (no answer, bad
- * packets): its output frames are dropped and counted, never sent again,
- * because a second copy would reach the bus after newer frames; the input
- * frames its answer carried are lost.  Counted as a pump failure, not as
- * a refusal (the chip may well have taken the frames); lock held.
+ * The command of slot @i failed after it may have reached the chip (no
+ * answer, bad packets): the core counts the failure and the FIFO
+ * command's frames as lost; lock held.
  */
 static void ecmxf_pump_failed(struct ecmxf_dev *edev, struct ecmxf_rings *r,
-			      const struct ecmxf_pump_cmd *c)
+			      unsigned int i, u32 skipped)
 {
-	bool fifo = c != &edev->pump.wkc;
-	u32 deltas[7] = { 0, 0, 0, 0, 0, fifo ? c->skipped : 0, 1 };
-	u32 lost = fifo ? ecmxf_pump_lost(&r->pump, &c->plan) : 0;
+	struct ecmxf_pump_acct a;
 
-	edev->pump_failures++;
-	if (lost) {
-		ecmxf_ring_out_release(r, c->released ? 0 : lost, lost);
-		if (!c->released)
-			ecmxf_rings_wake(edev, EPOLLOUT | EPOLLWRNORM);
-	}
-	ecmxf_status_update(r, &c->x.rsp, c->x.status, deltas);
+	ecmxf_pump_sched_failed(&r->pump, &edev->pump.flight, i, &a);
+	a.skipped = skipped;
+	ecmxf_ring_out_release(r, a.free, a.dropped);
+	ecmxf_pump_count(edev, &a, 0);
+	ecmxf_status_update(r, &edev->pump.cmd[i].x.rsp,
+			    edev->pump.cmd[i].x.status, &a);
 }
 
-/* Finish @c if the engine finished it; lock held.  Return: its reference. */
+/* Finish slot @i if the engine finished it; lock held.  Return: its ref. */
 static struct ecmxf_rings *ecmxf_pump_finish(struct ecmxf_dev *edev,
-					     struct ecmxf_pump_cmd *c)
+					     unsigned int i)
 {
+	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_pump_cmd *c = &p->cmd[i];
 	struct ecmxf_rings *r = c->rings;
-	const struct ecmxf_xfer *x = &c->x;
-	bool fifo = c != &edev->pump.wkc;
+	u32 skipped;
+	int done;
 
-	if (!c->busy || x->status == -EINPROGRESS)
+	if (!p->flight.busy[i] || c->x.status == -EINPROGRESS)
 		return NULL;
-	c->busy = false;
+	done = ecmxf_pump_sched_finish(&p->flight, i, c->x.status, &skipped);
 	c->rings = NULL;
-	/* counted here; the status block's delta below reads it too */
-	if (fifo)
-		edev->out_ring_skipped += c->skipped;
-	if (r == edev->rings && !r->stopped) {
-		if (x->status == -ECONNRESET)
-			ecmxf_rings_stop(edev, x->status);
-		else if (x->status)
-			ecmxf_pump_failed(edev, r, c);
-		else if (!fifo)
-			ecmxf_pump_wkc_done(r, x);
-		else
-			ecmxf_pump_fifo_done(edev, r, c);
-	}
+	edev->out_ring_skipped += skipped;
+	if (r != edev->rings || r->stopped)
+		return r;
+	if (done == ECMXF_PUMP_DONE_STOP)
+		ecmxf_rings_stop(edev, c->x.status);
+	else if (done == ECMXF_PUMP_DONE_FAILED)
+		ecmxf_pump_failed(edev, r, i, skipped);
+	else if (i == ECMXF_PUMP_SLOT_WKC)
+		ecmxf_pump_wkc_done(r, &c->x);
+	else
+		ecmxf_pump_fifo_done(edev, r, i, skipped);
 	return r;
 }
 
@@ -504,24 +406,25 @@ static struct ecmxf_rings *ecmxf_pump_finish(struct ecmxf_dev *edev,
 void ecmxf_pump_collect(struct ecmxf_dev *edev,
 			struct ecmxf_rings *put[ECMXF_PUMP_CMDS])
 {
-	struct ecmxf_pump_slot *p = &edev->pump;
+	unsigned int newest = edev->pump.flight.newest;
 
 	lockdep_assert_held(&edev->lock);
-	put[0] = ecmxf_pump_finish(edev, &p->fifo[!p->newest]);
-	put[1] = ecmxf_pump_finish(edev, &p->fifo[p->newest]);
-	put[2] = ecmxf_pump_finish(edev, &p->wkc);
+	put[0] = ecmxf_pump_finish(edev, newest ^ 1U);
+	put[1] = ecmxf_pump_finish(edev, newest);
+	put[2] = ecmxf_pump_finish(edev, ECMXF_PUMP_SLOT_WKC);
 }
 
-/* Withdraw @c from the engine; lock held.  Return: its reference. */
+/* Withdraw slot @i from the engine; lock held.  Return: its reference. */
 static struct ecmxf_rings *ecmxf_pump_withdraw(struct ecmxf_dev *edev,
-					       struct ecmxf_pump_cmd *c)
+					       unsigned int i)
 {
+	struct ecmxf_pump_cmd *c = &edev->pump.cmd[i];
 	struct ecmxf_rings *r = c->rings;
 
-	if (!c->busy)
+	if (!edev->pump.flight.busy[i])
 		return NULL;
 	ecmxf_engine_cancel(&edev->e, &c->x);
-	c->busy = false;
+	ecmxf_pump_sched_cancel(&edev->pump.flight, i);
 	c->rings = NULL;
 	return r;
 }
@@ -536,10 +439,9 @@ static struct ecmxf_rings *ecmxf_pump_withdraw(struct ecmxf_dev *edev,
 void ecmxf_pump_cancel(struct ecmxf_dev *edev,
 		       struct ecmxf_rings *put[ECMXF_PUMP_CMDS])
 {
-	struct ecmxf_pump_slot *p = &edev->pump;
+	unsigned int i;
 
 	lockdep_assert_held(&edev->lock);
-	put[0] = ecmxf_pump_withdraw(edev, &p->fifo[0]);
-	put[1] = ecmxf_pump_withdraw(edev, &p->fifo[1]);
-	put[2] = ecmxf_pump_withdraw(edev, &p->wkc);
+	for (i = 0; i < ECMXF_PUMP_CMDS; i++)
+		put[i] = ecmxf_pump_withdraw(edev, i);
 }

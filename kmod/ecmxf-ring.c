@@ -188,8 +188,13 @@ int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
 		goto err;
 	r->status = r->in.mem + ECMXF_RING_STATUS_OFF;
 	r->setup_flags = rs->flags;
-	r->poll_ns = (u64)poll_us * NSEC_PER_USEC;
-	r->wkc_ns = (u64)rs->wkc_us * NSEC_PER_USEC;
+	ecmxf_pump_sched_init(&r->sched,
+			      ((rs->flags & ECMXF_RING_F_FIFO_NEXT) ?
+			       ECMXF_PUMP_S_FIFO_NEXT : 0) |
+			      ((rs->flags & ECMXF_RING_F_WKC_NEXT) ?
+			       ECMXF_PUMP_S_WKC_NEXT : 0),
+			      (u64)poll_us * NSEC_PER_USEC,
+			      (u64)rs->wkc_us * NSEC_PER_USEC);
 	ecmxf_pump_init(&r->pump, sizes[0], sizes[1], data_size, depths[0],
 			rs->rx_fill, depths[1]);
 	rs->out = r->out.off;

@@ -70,21 +70,18 @@ struct ecmxf_ring {
  * @cur: the status the kernel keeps; published into @status
  * @status_seq: the latch count last written to @status
  * @setup_flags: %ECMXF_RING_F_* of the setup
- * @poll_ns: pump timer period
- * @wkc_ns: working counter read period, 0 never
  * @pump: the protocol core's pump: frame sizes, fill level, TxFIFO depth
  *	and its bookkeeping of the frames pushed (worker only after setup)
+ * @sched: the protocol core's pump schedule: the timer period, the
+ *	working counter read period, the next ticks and whether the last
+ *	answer left work (worker only after setup)
  * @tx_buf: data sections of the pump's two FIFO commands
- *	(&ecmxf_pump_slot.fifo; %ECMXF_DATA_MAX each)
+ *	(&ecmxf_pump_slot.cmd 0 and 1; %ECMXF_DATA_MAX each)
  * @rx_buf: data sections of their answers (%ECMXF_DATA_MAX each)
  * @wkc_buf: data section of the working counter read's answer
  *	(%ECMXF_DATA_MAX: the two commands are in flight together)
  * @stopped: the pump stopped for good (%ECMXF_RING_S_ERROR); under
  *	&ecmxf_dev.lock
- * @next_tick_ns: next timer-driven pump command (worker only)
- * @next_wkc_ns: next working counter read (worker only)
- * @again: the last command left work (frames queued either way): pump
- *	again without waiting (worker only)
  */
 struct ecmxf_rings {
 	struct kref ref;
@@ -95,61 +92,46 @@ struct ecmxf_rings {
 	struct ecmxf_ring_status cur;
 	u32 status_seq;
 	u32 setup_flags;
-	u64 poll_ns;
-	u64 wkc_ns;
 	struct ecmxf_pump pump;
+	struct ecmxf_pump_sched sched;
 	u8 *tx_buf[2];
 	u8 *rx_buf[2];
 	u8 *wkc_buf;
 	bool stopped;
-	u64 next_tick_ns;
-	u64 next_wkc_ns;
-	bool again;
 };
 
 /**
  * struct ecmxf_pump_cmd - one of the PDO pump's commands in the engine
  * @x: the command
- * @rings: the rings it serves, a reference held while @busy
- * @busy: @x is in the engine
- * @plan: what a FIFO command pushes and pops
- * @skipped: output frames skipped when a FIFO command was built (not yet
- *	counted in &ecmxf_dev.out_ring_skipped)
- * @released: a FIFO command's output frames left the ring when it was
- *	built (%ECMXF_RING_F_FIFO_NEXT), not when it is answered
- * @answer_by_ns: the pump's next timer tick when @x was built: its answer
- *	may wait for the next FIFO command until then, not longer (that
- *	tick may find nothing to send)
+ * @rings: the rings it serves, a reference held while it is in flight
+ *	(&ecmxf_pump_flight.busy)
  */
 struct ecmxf_pump_cmd {
 	struct ecmxf_xfer x;
 	struct ecmxf_rings *rings;
-	bool busy;
-	struct ecmxf_pump_plan plan;
-	u32 skipped;
-	bool released;
-	u64 answer_by_ns;
 };
 
 /* the pump's commands: two FIFO commands and the working counter read */
-#define ECMXF_PUMP_CMDS	3
+#define ECMXF_PUMP_CMDS	ECMXF_PUMP_SLOTS
 
 /**
  * struct ecmxf_pump_slot - the PDO pump's commands (worker only)
- * @fifo: ECAT_PDO_DATA_FIFO_OP: one in flight, or two with
- *	%ECMXF_RING_F_FIFO_NEXT (the next one rides in the exchange that
- *	fetches the answer of the one before)
- * @wkc: ECAT_PDO_WC_GET; in flight beside @fifo, so that it rides in
- *	the exchange that fetches @fifo's answer (pipelining)
- * @newest: the @fifo built last (the other one, when busy, is older)
- * @take_wkc: what ecmxf_pump_take() chose for ecmxf_pump_submit(): @wkc
+ * @cmd: ECAT_PDO_DATA_FIFO_OP in 0 and 1 (one in flight, or two with
+ *	%ECMXF_RING_F_FIFO_NEXT: the next one rides in the exchange that
+ *	fetches the answer of the one before), ECAT_PDO_WC_GET in
+ *	%ECMXF_PUMP_SLOT_WKC (in flight beside a FIFO command, so that it
+ *	rides in the exchange that fetches its answer)
+ * @flight: the protocol core's record of them: in flight, their plans,
+ *	the newest FIFO command; written under &ecmxf_dev.lock when a
+ *	command goes into or leaves the engine
+ * @pick: what ecmxf_pump_take() chose for ecmxf_pump_submit()
+ *	(%ECMXF_PUMP_PICK_FIFO or %ECMXF_PUMP_PICK_WKC)
  * @turn: the pump goes before the files' commands when both are due
  */
 struct ecmxf_pump_slot {
-	struct ecmxf_pump_cmd fifo[2];
-	struct ecmxf_pump_cmd wkc;
-	unsigned int newest;
-	bool take_wkc;
+	struct ecmxf_pump_cmd cmd[ECMXF_PUMP_CMDS];
+	struct ecmxf_pump_flight flight;
+	int pick;
 	bool turn;
 };
 

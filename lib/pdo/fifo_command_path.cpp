@@ -3,11 +3,13 @@
 // through Device::transact() (sim:, spidev: and unix: devices; the kernel's
 // devices use its PDO rings, RingPath in cyclic.cpp).
 //
-// What each command carries and what its answer means is the protocol
-// core's pump (lib/core/ecmxf-pump.c), the policy the kernel's pump runs
-// too: this file copies the frames, runs the commands and reports the
-// cycle. Its own part is the level estimate: the RxFIFO count of the last
-// write, less one frame per bus cycle since.
+// Every decision is the protocol core's pump (lib/core/ecmxf-pump.c and
+// ecmxf-pump-sched.c), the policy the kernel's pump runs too: what each
+// command carries and what its answer means, the commands of a cycle
+// (ecmxf_pump_cycle_*), the RxFIFO estimate and the TxFIFO loss estimate
+// (ecmxf_pump_est_*), the FIFO commands in flight and which answer is
+// whose (ecmxf_pump_flight). This file copies the frames, runs the
+// commands, reads the clock and reports the cycle.
 //
 // Two ways to run a cycle: the synchronous one (exchange()), whose FIFO
 // commands are answered within the cycle, and, with
@@ -105,6 +107,12 @@ RawCommand rawCommand(const ecmxf_cmd_hdr &hdr, std::chrono::microseconds timeou
 	return c;
 }
 
+/// A time on the link's clock for the protocol core (never negative).
+u64 coreTime(nanoseconds t) noexcept
+{
+	return t.count() > 0 ? static_cast<u64>(t.count()) : 0;
+}
+
 /// The response header fields of CycleResult from @p h.
 void showHeader(CycleResult &r, const ResponseHeader &h) noexcept
 {
@@ -135,18 +143,17 @@ private:
 	void exchangeAhead(CycleResult &r, bool readWkc) noexcept;
 	/// Takes the answer to the FIFO command of set @p set (exchangeAhead())
 	/// into @p r; @p shown gets its header.
-	void takeAhead(CycleResult &r, int set, ResponseHeader &shown) noexcept;
-	/// The RxFIFO level to plan with: the count of the last answer taken
-	/// plus @p inFlight frames no header has shown yet, less about one
-	/// frame per bus cycle since the chip ran that command (one per
-	/// application cycle when the bus cycle is not configured).
-	[[nodiscard]] unsigned rxEstimate(unsigned inFlight) const noexcept;
+	void takeAhead(CycleResult &r, unsigned set, ResponseHeader &shown) noexcept;
 	/// @p n copies of the image's output frame at @p dst.
 	void copyOutputs(std::uint8_t *dst, unsigned n) const noexcept;
-	/// A full TxFIFO found by an answer (@p res, @p h) to a command the
-	/// chip ran at @p at: r.txOverflow and the estimate of the frames lost.
-	void noteOverrun(CycleResult &r, const ecmxf_pump_result &res, const ResponseHeader &h,
-			 nanoseconds at) const noexcept;
+	/// A full TxFIFO (the estimate's @p overrun, @p dropped) into @p r.
+	static void noteOverrun(CycleResult &r, bool overrun, std::uint32_t dropped) noexcept
+	{
+		if (overrun) {
+			r.txOverflow = true;
+			r.txDroppedEstimate = dropped;
+		}
+	}
 	/// One ECAT_PDO_DATA_FIFO_OP as @p pl plans it (copies of the output
 	/// frame, a read): false (and @p r failed) when the transport fails or
 	/// the chip refuses the command. @p res and @p proto (0 or the pump's
@@ -176,17 +183,15 @@ private:
 	ProcessImage &image_;
 	const CyclicConfig &cfg_;
 	std::vector<std::uint8_t> txBuf_, rxBuf_;
-	/// RxFIFO count after our last write, TxFIFO count after our last read
-	/// (the answers' headers), and when those answers came.
-	unsigned rxLevel_ = 0;
-	unsigned txLevel_ = 0;
-	nanoseconds rxTime_{ 0 }, txTime_{ 0 };
-	/// exchange() calls since start(), and the one whose command gave
-	/// rxLevel_ (for the level estimate without a bus cycle)
-	std::uint64_t cycles_ = 0, rxCycle_ = 0;
-	unsigned maxReads_ = 0;
 	/// the protocol core's pump: the plans and the answers' meaning
 	ecmxf_pump pump_{};
+	/// its RxFIFO and TxFIFO estimate (the counts of the last answers,
+	/// when the chip ran them, the cycles)
+	ecmxf_pump_est est_{};
+	/// its schedule and the FIFO commands in flight
+	/// (CyclicConfig::fifoAnswerNextCycle: the sets of ahead_)
+	ecmxf_pump_sched sched_{};
+	ecmxf_pump_flight flight_{};
 	/// The working counter read rides behind the cycle's first FIFO
 	/// command: over a link that pipelines, its answer is fetched by the
 	/// next exchange (the next cycle's first), so a cycle costs two
@@ -207,16 +212,14 @@ private:
 		std::array<RawResult, 2> res{};
 		std::vector<std::uint8_t> tx, rx;
 		std::array<std::uint8_t, 4> wkc{};
-		ecmxf_pump_plan plan{};
 		/// when the exchange that sent it ended (the chip ran it then:
 		/// its answer's header counts are of that time), and in which
 		/// cycle
 		nanoseconds sentAt{ 0 };
 		std::uint64_t cycle = 0;
 	};
+	/// (their plans and which is in flight: flight_)
 	std::array<Ahead, 2> ahead_{};
-	/// The set whose FIFO command's answer is not taken yet, or -1.
-	int aheadSet_ = -1;
 
 public:
 	~FifoCommandPath() override
@@ -230,7 +233,6 @@ FifoCommandPath::FifoCommandPath(Device &dev, ProcessImage &image, const CyclicC
 	: dev_(dev), image_(image), cfg_(cfg)
 {
 	readChip(dev, image, cfg);
-	maxReads_ = perRead ? txDepth / perRead + 2 : 0;
 	txBuf_.assign(dataCapacity, 0);
 	rxBuf_.assign(dataCapacity, 0);
 	if (cfg.fifoAnswerNextCycle)
@@ -240,6 +242,7 @@ FifoCommandPath::FifoCommandPath(Device &dev, ProcessImage &image, const CyclicC
 		}
 	ecmxf_pump_init(&pump_, static_cast<u32>(sizes.rxPdoBytes), static_cast<u32>(sizes.txPdoBytes),
 			static_cast<u32>(dataCapacity), rxDepth, rxFill, txDepth);
+	ecmxf_pump_sched_init(&sched_, cfg.fifoAnswerNextCycle ? ECMXF_PUMP_S_FIFO_NEXT : 0, 0, 0);
 }
 
 void FifoCommandPath::start()
@@ -247,15 +250,12 @@ void FifoCommandPath::start()
 	// a stop() that threw may have left a command in flight
 	dev_.link().settle();
 	wkcSet_ = -1;
-	aheadSet_ = -1;
+	flight_ = ecmxf_pump_flight{};
 	if (sizes.rxPdoBytes)
 		dev_.pdo().pdoWrite(image_.outputs());
 	dev_.pdo().fifoClear(FifoSelect::Both);
 	dev_.pdo().fifoEnable(true);
-	rxLevel_ = 0;
-	txLevel_ = 0;
-	cycles_ = rxCycle_ = 0;
-	rxTime_ = txTime_ = clock().now();
+	ecmxf_pump_est_start(&est_, coreTime(cfg_.busCycle), coreTime(clock().now()));
 }
 
 void FifoCommandPath::stop()
@@ -264,7 +264,7 @@ void FifoCommandPath::stop()
 	// input frames) is dropped: no cycle reports it
 	dev_.link().settle();
 	wkcSet_ = -1;
-	aheadSet_ = -1;
+	flight_ = ecmxf_pump_flight{};
 	dev_.pdo().fifoEnable(false);
 }
 
@@ -356,10 +356,11 @@ int FifoCommandPath::waitInputs(nanoseconds timeout) noexcept
 		Link &t = clock();
 		// fifoAnswerNextCycle: the answer in flight first; frames in it
 		// are the next cycle()'s
-		if (aheadSet_ >= 0) {
+		const unsigned newest = flight_.newest;
+		if (flight_.busy[newest]) {
 			dev_.link().settle();
-			const Ahead &a = ahead_[static_cast<std::size_t>(aheadSet_)];
-			if (a.plan.read && a.res[1].status == 0 && a.res[1].header.len >= sizes.txPdoBytes)
+			const Ahead &a = ahead_[newest];
+			if (flight_.plan[newest].read && a.res[1].status == 0 && a.res[1].header.len >= sizes.txPdoBytes)
 				return 0;
 		}
 		const nanoseconds deadline = t.now() + std::max(timeout, nanoseconds(0));
@@ -412,72 +413,35 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 		exchangeAhead(r, readWkc);
 		return;
 	}
-	const bool haveOut = sizes.rxPdoBytes > 0;
 	ResponseHeader h{};
 
-	// the RxFIFO level to plan with: the count from our last write, less
-	// about one frame per bus cycle since
-	cycles_++;
-	const unsigned level = haveOut ? rxEstimate(0) : 0;
-
-	// the writes, planned by the pump; the first command also reads and
-	// offers at least this cycle's outputs. The image is the only frame:
-	// as many copies as the plan wants.
-	bool first = true;
-	bool wkcCarried = false;
-	unsigned pushed = 0;
-	for (;;) {
-		ecmxf_pump_plan pl;
-		const unsigned flags = first ? ECMXF_PUMP_F_READ | ECMXF_PUMP_F_ONE : 0;
-		if (!ecmxf_pump_next(&pump_, level + pushed, haveOut ? pump_.rx_fill : 0, flags, &pl))
-			break;
+	// the cycle's commands as the pump plans them: the first writes (at
+	// least this cycle's outputs, up to the fill level of the estimate)
+	// and reads, read-only commands for a TxFIFO backlog, more writes.
+	// The image is the only frame: as many copies as the plan wants.
+	ecmxf_pump_cycle cyc;
+	ecmxf_pump_cycle_start(&cyc, ecmxf_pump_est_cycle(&est_, &pump_, 0, coreTime(clock().coarseNow())), readWkc);
+	ecmxf_pump_plan pl;
+	bool withWkc = false;
+	while (ecmxf_pump_cycle_next(&pump_, &cyc, &pl, &withWkc)) {
 		ecmxf_pump_result res;
 		int proto = 0;
-		const bool withWkc = first && readWkc;
-		wkcCarried |= withWkc;
 		if (!fifoOp(r, pl, h, res, proto, withWkc))
 			return;
 		r.framesPushed += pl.push;
-		if (pl.push) {
-			rxLevel_ = h.rxFifoCnt;
-			rxTime_ = clock().coarseNow();
-			rxCycle_ = cycles_;
-		}
-		if (pl.read) {
-			if (!takeFrames(r, h, res.popped, proto))
-				return;
-			const nanoseconds now = clock().coarseNow();
-			noteOverrun(r, res, h, now);
-			txTime_ = now;
-			txLevel_ = h.txFifoCnt;
-			// more queued than one answer holds: read on while the
-			// answer's count says so (a count that lags shows up as
-			// an empty read, or as frames left for the next cycle)
-			for (unsigned reads = 0; h.txFifoCnt > 0 && reads < maxReads_; reads++) {
-				ecmxf_pump_plan rd;
-				ecmxf_pump_next(&pump_, 0, 0, ECMXF_PUMP_F_READ, &rd);
-				ecmxf_pump_result more;
-				if (!fifoOp(r, rd, h, more, proto))
-					return;
-				if (!takeFrames(r, h, more.popped, proto))
-					return;
-				txLevel_ = h.txFifoCnt;
-				txTime_ = clock().coarseNow();
-				if (more.popped == 0)
-					break;
-			}
-		}
-		first = false;
-		pushed += pl.push;
-		// return value bit 0 clear: the RxFIFO was full, the newest
-		// frames were refused, and more would be too
-		if (res.refused) {
-			r.rxRefused = true;
-			break;
-		}
+		// the chip ran the command, and made its answer, by now
+		const u64 at = coreTime(clock().coarseNow());
+		ecmxf_pump_est_pushed(&est_, &pl, h.rxFifoCnt, at, est_.cycles);
+		if (!takeFrames(r, h, res.popped, proto))
+			return;
+		std::uint32_t dropped = 0;
+		const bool overrun =
+			ecmxf_pump_cycle_answer(&pump_, &cyc, &est_, &pl, &res, h.txFifoCnt, at, &dropped);
+		noteOverrun(r, overrun, dropped);
 	}
+	r.rxRefused = cyc.refused;
 
-	if (readWkc && !wkcCarried) {
+	if (ecmxf_pump_cycle_wkc_alone(&cyc)) {
 		// no FIFO command went out to carry it: on its own
 		ecmxf_cmd_hdr wh;
 		ecmxf_pump_wkc_cmd(&wh);
@@ -504,94 +468,58 @@ void FifoCommandPath::exchange(CycleResult &r, bool readWkc) noexcept
 	showHeader(r, h);
 }
 
-unsigned FifoCommandPath::rxEstimate(unsigned inFlight) const noexcept
+void FifoCommandPath::takeAhead(CycleResult &r, unsigned set, ResponseHeader &shown) noexcept
 {
-	std::uint64_t gone = cycles_ - rxCycle_;
-	// the link's coarse clock: an estimate needs no clock read (over
-	// spidev the end of the last sleep, or INT0's last ready edge)
-	if (cfg_.busCycle.count() > 0) {
-		const nanoseconds dt = dev_.link().coarseNow() - rxTime_;
-		gone = dt.count() > 0 ? static_cast<std::uint64_t>(dt / cfg_.busCycle) : 0;
-	}
-	const std::uint64_t have = std::uint64_t{ rxLevel_ } + inFlight;
-	return gone >= have ? 0u : static_cast<unsigned>(have - gone);
-}
-
-void FifoCommandPath::noteOverrun(CycleResult &r, const ecmxf_pump_result &res, const ResponseHeader &h,
-				  nanoseconds at) const noexcept
-{
-	// a full TxFIFO dropped its oldest (the pump: popped + left reached
-	// the depth)
-	if (!res.tx_overrun)
-		return;
-	r.txOverflow = true;
-	if (cfg_.busCycle.count() > 0) {
-		const unsigned queued = res.popped + h.txFifoCnt;
-		const std::uint64_t made = at > txTime_ ? static_cast<std::uint64_t>((at - txTime_) / cfg_.busCycle) : 0;
-		const std::uint64_t expected = txLevel_ + made;
-		r.txDroppedEstimate =
-			expected > queued ? static_cast<std::uint32_t>(std::min<std::uint64_t>(expected - queued, UINT32_MAX))
-					  : 0;
-	}
-}
-
-void FifoCommandPath::takeAhead(CycleResult &r, int set, ResponseHeader &shown) noexcept
-{
-	Ahead &a = ahead_[static_cast<std::size_t>(set)];
+	Ahead &a = ahead_[set];
 	const RawResult &res = a.res[1];
 	if (!res.linkFailure)
 		shown = res.header;
-	if (res.status) {
+	std::uint32_t skipped = 0;
+	if (ecmxf_pump_sched_finish(&flight_, set, res.status, &skipped) != ECMXF_PUMP_DONE_ANSWER) {
 		cycleFail(r, -res.status, fifoOpText(-res.status));
 		return;
 	}
+	const ecmxf_pump_plan &pl = flight_.plan[set];
 	const ResponseHeader &h = res.header;
 	const ecmxf_rsp_hdr rh = detail::wireHeader<ecmxf_rsp_hdr>(h);
 	ecmxf_pump_result pr;
-	const int proto = ecmxf_pump_answer(&pump_, &a.plan, &rh, h.len, &pr);
+	const int proto = ecmxf_pump_answer(&pump_, &pl, &rh, h.len, &pr);
 	if (proto == -EREMOTEIO) {
 		cycleFail(r, EREMOTEIO, fifoOpText(EREMOTEIO));
 		return;
 	}
-	r.framesPushed += a.plan.push;
-	if (a.plan.push) {
-		// the chip ran the command, and made its answer, when it was sent
-		rxLevel_ = h.rxFifoCnt;
-		rxTime_ = a.sentAt;
-		rxCycle_ = a.cycle;
-	}
-	if (a.plan.read) {
-		if (!takeFrames(r, h, pr.popped, proto, a.rx))
-			return;
-		noteOverrun(r, pr, h, a.sentAt);
-		txTime_ = a.sentAt;
-		txLevel_ = h.txFifoCnt;
-	}
-	if (pr.refused)
-		r.rxRefused = true;
+	r.framesPushed += pl.push;
+	// the chip ran the command, and made its answer, when it was sent
+	ecmxf_pump_est_pushed(&est_, &pl, h.rxFifoCnt, coreTime(a.sentAt), a.cycle);
+	if (!takeFrames(r, h, pr.popped, proto, a.rx))
+		return;
+	std::uint32_t dropped = 0;
+	noteOverrun(r, ecmxf_pump_est_popped(&est_, &pl, &pr, h.txFifoCnt, coreTime(a.sentAt), &dropped), dropped);
+	r.rxRefused = r.rxRefused || pr.refused > 0;
 }
 
 void FifoCommandPath::exchangeAhead(CycleResult &r, bool readWkc) noexcept
 {
-	const bool haveOut = sizes.rxPdoBytes > 0;
-	cycles_++;
-	const int prev = aheadSet_;
-	const int set = prev == 0 ? 1 : 0;
-	Ahead &a = ahead_[static_cast<std::size_t>(set)];
-
 	// the level: the last answer's count, plus the frames of the command
 	// still in flight (no header shows them yet), less the bus cycles
 	// since the chip ran the answered command
-	const unsigned inFlight = prev >= 0 ? ahead_[static_cast<std::size_t>(prev)].plan.push : 0;
-	const unsigned level = haveOut ? rxEstimate(inFlight) : 0;
+	const unsigned level =
+		ecmxf_pump_est_cycle(&est_, &pump_, ecmxf_pump_flight_pushed(&flight_), coreTime(clock().coarseNow()));
+	// the set: the one not in flight; the other one, if in flight, is the
+	// previous cycle's command, whose answer this cycle's exchange fetches
+	const unsigned set = ecmxf_pump_sched_fifo(&sched_, &flight_, 0);
+	const unsigned prev = set ^ 1U;
+	const bool prevInFlight = flight_.busy[prev];
+	Ahead &a = ahead_[set];
+	const ecmxf_pump_plan &pl = flight_.plan[set];
 
 	// one FIFO command: it reads and offers at least this cycle's outputs.
 	// The follow-up writes and reads of exchange() would need its answer:
 	// a backlog is left to the next cycles.
-	ecmxf_pump_next(&pump_, level, haveOut ? pump_.rx_fill : 0, ECMXF_PUMP_F_READ | ECMXF_PUMP_F_ONE, &a.plan);
-	copyOutputs(a.tx.data(), a.plan.push);
+	ecmxf_pump_cycle_ahead(&pump_, &flight_, set, level);
+	copyOutputs(a.tx.data(), pl.push);
 	ecmxf_cmd_hdr hdr;
-	const u32 len = ecmxf_pump_fifo_cmd(&pump_, &a.plan, false, &hdr);
+	const u32 len = ecmxf_pump_fifo_cmd(&pump_, &pl, false, &hdr);
 	std::array<RawRequest, 2> req{};
 	// a working counter read goes first: its answer comes back in the
 	// exchange that sends the FIFO command (two exchanges), and the FIFO
@@ -607,8 +535,8 @@ void FifoCommandPath::exchangeAhead(CycleResult &r, bool readWkc) noexcept
 	dev_.link().runBatch(std::span<const RawRequest>(req).subspan(first),
 			     std::span<RawResult>(a.res).subspan(first), true);
 	a.sentAt = clock().coarseNow();
-	a.cycle = cycles_;
-	aheadSet_ = set;
+	a.cycle = est_.cycles;
+	ecmxf_pump_sched_sent(&flight_, set, 0);
 	r.commands += static_cast<unsigned>(2 - first);
 
 	if (readWkc)
@@ -617,9 +545,8 @@ void FifoCommandPath::exchangeAhead(CycleResult &r, bool readWkc) noexcept
 	bool taken = false;
 	// the previous cycle's command: this batch's first exchange fetched
 	// its answer (the batch waits for every answer but the last)
-	if (prev >= 0) {
-		Ahead &p = ahead_[static_cast<std::size_t>(prev)];
-		if (p.res[1].status == -EINPROGRESS)
+	if (prevInFlight) {
+		if (ahead_[prev].res[1].status == -EINPROGRESS)
 			dev_.link().settle();
 		takeAhead(r, prev, shown);
 		taken = true;
@@ -627,7 +554,6 @@ void FifoCommandPath::exchangeAhead(CycleResult &r, bool readWkc) noexcept
 	// a link that does not pipeline ran it to its end (or it failed
 	// before it was sent): take it now
 	if (a.res[1].status != -EINPROGRESS) {
-		aheadSet_ = -1;
 		takeAhead(r, set, shown);
 		taken = true;
 	}
