@@ -248,7 +248,7 @@ void FifoCommandPath::start()
 	wkcSet_ = -1;
 	aheadSet_ = -1;
 	if (sizes.rxPdoBytes)
-		dev_.pdo().pdoWrite(image_.outputs());
+		dev_.pdo().write(image_.outputs());
 	dev_.pdo().fifoClear(FifoSelect::Both);
 	dev_.pdo().fifoEnable(true);
 	rxLevel_ = 0;
