@@ -155,22 +155,22 @@ int run(Demo &d)
 
 	// ---------------------------------------------------------------- 3
 	heading(3, "SDO (CoE mailbox) on slave 0");
-	const auto vendor = dev.sdo().sdoRead<std::uint32_t>(0, 0x1018, 1);
-	const auto product = dev.sdo().sdoRead<std::uint32_t>(0, 0x1018, 2);
-	const auto serial = dev.sdo().sdoRead<std::uint32_t>(0, 0x1018, 4);
+	const auto vendor = dev.sdo().read<std::uint32_t>(0, 0x1018, 1);
+	const auto product = dev.sdo().read<std::uint32_t>(0, 0x1018, 2);
+	const auto serial = dev.sdo().read<std::uint32_t>(0, 0x1018, 4);
 	d.sdoCount += 3;
 	std::printf("   read  0x1018 identity: vendor %s, product %s, serial %u\n", hex(vendor, 8).c_str(),
 		    hex(product, 8).c_str(), serial);
-	const auto pv0 = dev.sdo().sdoRead<std::uint32_t>(0, 0x6081, 0);
-	dev.sdo().sdoWrite<std::uint32_t>(0, 0x6081, 0, 120000);
-	const auto pv1 = dev.sdo().sdoRead<std::uint32_t>(0, 0x6081, 0);
+	const auto pv0 = dev.sdo().read<std::uint32_t>(0, 0x6081, 0);
+	dev.sdo().write<std::uint32_t>(0, 0x6081, 0, 120000);
+	const auto pv1 = dev.sdo().read<std::uint32_t>(0, 0x6081, 0);
 	d.sdoCount += 3;
 	std::printf("   0x6081 profile velocity: read %u, wrote 120000, read back %u\n", pv0, pv1);
 	if (pv1 != 120000)
 		d.fail("0x6081 read back " + std::to_string(pv1));
 	try {
 		d.sdoCount++;
-		(void)dev.sdo().sdoRead<std::uint32_t>(0, 0x2FFF, 0);
+		(void)dev.sdo().read<std::uint32_t>(0, 0x2FFF, 0);
 		d.fail("reading 0x2FFF did not abort");
 	} catch (const ecmxf::SdoError &e) {
 		std::printf("   read  0x2FFF (no such object): abort %s \"%s\"\n", hex(e.abortCode(), 8).c_str(),
@@ -181,7 +181,7 @@ int run(Demo &d)
 	}
 	try {
 		d.sdoCount++;
-		dev.sdo().sdoWrite<std::int32_t>(0, 0x6064, 0, 5);
+		dev.sdo().write<std::int32_t>(0, 0x6064, 0, 5);
 		d.fail("writing 0x6064 did not abort");
 	} catch (const ecmxf::SdoError &e) {
 		std::printf("   write 0x6064 (read-only):   abort %s \"%s\"\n", hex(e.abortCode(), 8).c_str(),

@@ -117,10 +117,10 @@ int cmdCia402(Globals &g, const Args &args)
 	ecmxf::Device &d = *dev;
 
 	if (!target) {
-		const auto sw = d.sdo().sdoRead<std::uint16_t>(position, 0x6041, 0);
-		const auto mode = d.sdo().sdoRead<std::int8_t>(position, 0x6061, 0);
-		const auto actPos = d.sdo().sdoRead<std::int32_t>(position, 0x6064, 0);
-		const auto actVel = d.sdo().sdoRead<std::int32_t>(position, 0x606C, 0);
+		const auto sw = d.sdo().read<std::uint16_t>(position, 0x6041, 0);
+		const auto mode = d.sdo().read<std::int8_t>(position, 0x6061, 0);
+		const auto actPos = d.sdo().read<std::int32_t>(position, 0x6064, 0);
+		const auto actVel = d.sdo().read<std::int32_t>(position, 0x606C, 0);
 		if (g.json) {
 			std::printf("{\"position\": %u, \"statusword\": %u, \"state\": %s, \"mode\": %d, "
 				    "\"mode_name\": %s, \"position_actual\": %d, \"velocity_actual\": %d}\n",
@@ -136,7 +136,7 @@ int cmdCia402(Globals &g, const Args &args)
 		return 0;
 	}
 
-	std::uint16_t sw = d.sdo().sdoRead<std::uint16_t>(position, 0x6041, 0);
+	std::uint16_t sw = d.sdo().read<std::uint16_t>(position, 0x6041, 0);
 	const auto initial = ecmxf::cia402StateFrom(sw);
 	if (!(faultResetOnly && initial != ecmxf::Cia402State::Fault &&
 	      initial != ecmxf::Cia402State::FaultReactionActive)) {
@@ -145,7 +145,7 @@ int cmdCia402(Globals &g, const Args &args)
 		stepper.request(*target, t.now());
 		// the caller's bits (modes, halt): as the drive has them now
 		const std::uint16_t keep = static_cast<std::uint16_t>(
-			d.sdo().sdoRead<std::uint16_t>(position, 0x6040, 0) & ~ecmxf::cia402::kCwStateBits);
+			d.sdo().read<std::uint16_t>(position, 0x6040, 0) & ~ecmxf::cia402::kCwStateBits);
 		std::uint16_t lastCw = 0xFFFF;
 		for (;;) {
 			const ecmxf::Cia402Step st = stepper.step(sw, t.now(), keep);
@@ -153,11 +153,11 @@ int cmdCia402(Globals &g, const Args &args)
 				break;
 			stepper.throwIfFailed();
 			if (st.controlword != lastCw) {
-				d.sdo().sdoWrite<std::uint16_t>(position, 0x6040, 0, st.controlword);
+				d.sdo().write<std::uint16_t>(position, 0x6040, 0, st.controlword);
 				lastCw = st.controlword;
 			}
 			t.sleepFor(std::chrono::milliseconds(1));
-			sw = d.sdo().sdoRead<std::uint16_t>(position, 0x6041, 0);
+			sw = d.sdo().read<std::uint16_t>(position, 0x6041, 0);
 		}
 	}
 	if (g.json) {

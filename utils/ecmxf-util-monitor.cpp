@@ -9,7 +9,8 @@
  * response header) and reads the slaves' AL status codes itself. On the
  * byte transports (sim:, unix:, spidev:) it polls the chip with INFO_UPDATE and
  * runs the same detector (ecmxf::EventDetector, lib/core/ecmxf-events.c)
- * over the headers, and asks the slaves itself.
+ * over the headers; the detector, made with the device, asks the slaves
+ * for their AL status codes as the kernel does (ecmxf::readSlaveStatus()).
  */
 #include "ecmxf-util-monitor.hpp"
 #include "ecmxf-util.hpp"
@@ -26,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include <ecmxf/bus/bus.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/events/events.hpp>
@@ -256,8 +258,7 @@ std::vector<std::string> ecmBitNames(std::uint8_t v)
 
 bool wantsSlaves(const ecmxf::Event &e)
 {
-	return e.type == ecmxf::EventType::State &&
-	       ((e.newValue & kStateError) || (e.newValue & 0x0F) < (e.oldValue & 0x0F));
+	return ecmxf::stateWentDown(e);
 }
 
 Event describe(const ecmxf::Event &ev)
@@ -393,13 +394,13 @@ Event describe(const ecmxf::Event &ev)
 	return e;
 }
 
-Detector::Detector(Thresholds th, std::chrono::nanoseconds wkcQuiet)
+Detector::Detector(Thresholds th, std::chrono::nanoseconds wkcQuiet, ecmxf::Device *device)
 	: det_([&] {
 		  ecmxf::EventDetector::Config c;
 		  c.txHigh = static_cast<std::uint8_t>(std::min(th.txHigh, 255u));
 		  c.rxLow = static_cast<std::uint8_t>(std::min(th.rxLow, 255u));
 		  c.wkcQuiet = wkcQuiet;
-		  return c;
+		  return device ? ecmxf::EventDetector(*device, c) : ecmxf::EventDetector(c);
 	  }())
 {
 }
@@ -464,10 +465,7 @@ extern "C" void onSigint(int)
 	gStop = 1;
 }
 
-constexpr std::uint8_t kStateSet = ECMXF_CMD_ECAT_STATE_SET;
 constexpr std::uint8_t kWarmReset = ECMXF_CMD_WARM_RESET;
-constexpr std::uint8_t kStateOp = ECMXF_ECAT_OP;
-constexpr std::uint8_t kStateError = ECMXF_ECAT_ERROR;
 
 std::uint64_t number(std::string_view opt, std::string_view text, std::uint64_t min, std::uint64_t max)
 {
@@ -514,20 +512,17 @@ SimAction parseSimAction(std::string_view text)
 	return a;
 }
 
-/// ECAT_INIT_OP for all slaves (FIFO off, no DC, SYNC0 1 ms), then
-/// STATE_SET PRE-OP, SAFE-OP, OP.
+/// ECAT_INIT_OP for all slaves (FIFO off, no DC on the slaves, SYNC0
+/// 1 ms, LRD + LWR), then every slave to PRE-OP, SAFE-OP, OP.
 void bringUp(ecmxf::Device &dev)
 {
-	ecmxf::Command c = simpleCommand(kInitOp);
-	c.payload = { 0xFF, 0x81, 0x00, 0x00, 0x40, 0x42, 0x0F, 0x00 }; // SYNC0 1'000'000 ns
-	c.payload.resize(16, 0);
-	c.len = 16;
-	dev.command(c);
-	for (const std::uint8_t st : { std::uint8_t{ 2 }, std::uint8_t{ 4 }, kStateOp }) {
-		ecmxf::Command s = simpleCommand(kStateSet, 0xFF);
-		s.data[0] = st;
-		dev.command(s);
-	}
+	ecmxf::InitConfig init;
+	init.dc.assignActivate = 0;
+	init.lrw = false;
+	const ecmxf::Bus bus = dev.bus();
+	bus.initNetwork(init);
+	for (const ecmxf::State st : { ecmxf::State::PreOp, ecmxf::State::SafeOp, ecmxf::State::Op })
+		bus.stateSet(ecmxf::kAllSlaves, st);
 }
 
 void runSimAction(ecmxf::Device &dev, const SimAction &a)
@@ -550,36 +545,6 @@ void runSimAction(ecmxf::Device &dev, const SimAction &a)
 		f.mosiBitErrors += static_cast<unsigned>(a.arg);
 	else if (a.action == "reset")
 		dev.command(simpleCommand(kWarmReset));
-}
-
-/// The slaves not in OP of a polled state event that went down or into
-/// ERROR: their state and AL status code (STATE_GET, SLV_INFO_GET 7), as
-/// the kernel reads them for its events.
-void readSlaves(ecmxf::Device &dev, ecmxf::Event &e)
-{
-	const unsigned count = dev.command(simpleCommand(kSlvCntGet)).ret;
-	e.haveSlaves = true;
-	e.slaveCount = count;
-	for (unsigned pos = 0; pos < count; pos++) {
-		const std::uint8_t st = dev.command(simpleCommand(kStateGet, static_cast<std::uint8_t>(pos))).ret;
-		if (st == kStateOp)
-			continue;
-		ecmxf::SlaveAlStatus s;
-		s.position = static_cast<std::uint16_t>(pos);
-		s.state = st;
-		// SLV_INFO_GET 7 of a slave that does not answer is a command
-		// error (sticky): ask only the ones that answer
-		if (st != kStateError) {
-			ecmxf::Command info = simpleCommand(kSlvInfoGet, static_cast<std::uint8_t>(pos));
-			info.data[0] = 7;
-			s.alStatus = le16(dev.command(info), "SLV_INFO_GET AL status code");
-			if (*s.alStatus && !e.alStatus) {
-				e.alStatus = s.alStatus;
-				e.alSlave = s.position;
-			}
-		}
-		e.slaves.push_back(s);
-	}
 }
 
 void print(const Globals &g, std::chrono::nanoseconds t, const monitor::Event &e)
@@ -738,7 +703,8 @@ int cmdMonitor(Globals &g, const Args &args)
 	const std::chrono::nanoseconds t0 = tr.now();
 	// a burst ends after 100 ms without new errors, as in the kernel, but
 	// never because a single poll saw none
-	monitor::Detector det(th, std::max<std::chrono::nanoseconds>(std::chrono::milliseconds(100), 2 * interval));
+	monitor::Detector det(th, std::max<std::chrono::nanoseconds>(std::chrono::milliseconds(100), 2 * interval),
+			      dev.get());
 	std::uint64_t events = 0;
 	std::size_t nextAction = 0;
 	std::stable_sort(actions.begin(), actions.end(),
@@ -775,9 +741,7 @@ int cmdMonitor(Globals &g, const Args &args)
 			nopAnswer = true;
 		}
 		for (std::size_t i = 0; i < evs.size(); i++) {
-			ecmxf::Event &e = evs[i];
-			if (monitor::wantsSlaves(e))
-				readSlaves(*dev, e);
+			const ecmxf::Event &e = evs[i];
 			monitor::Event line = monitor::describe(e);
 			if (nopAnswer && i + 1 == evs.size())
 				line.text = "the chip reset (NOP answer)";

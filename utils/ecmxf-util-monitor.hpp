@@ -51,16 +51,19 @@ struct Event {
 Event describe(const ecmxf::Event &e);
 
 /// Does a state event ask for the slaves' states and AL status codes: the
-/// state went down or into ERROR (the kernel's rule).
+/// state went down or into ERROR (the kernel's rule, ecmxf::stateWentDown()).
 bool wantsSlaves(const ecmxf::Event &e);
 
 /// The polled detector: ecmxf::EventDetector with @p th, and a WKC burst
-/// that ends after @p wkcQuiet without new errors.
+/// that ends after @p wkcQuiet without new errors; with a @p device, its
+/// state events that went down carry the slaves' AL status codes
+/// (ecmxf::readSlaveStatus(), read in update()).
 class Detector
 {
 public:
 	explicit Detector(Thresholds th = {},
-			  std::chrono::nanoseconds wkcQuiet = std::chrono::milliseconds(100));
+			  std::chrono::nanoseconds wkcQuiet = std::chrono::milliseconds(100),
+			  ecmxf::Device *device = nullptr);
 	/// The events of @p cur, polled at @p now (any monotonic origin); the
 	/// first header is the baseline.
 	std::vector<ecmxf::Event> update(const ecmxf::ResponseHeader &cur, std::chrono::nanoseconds now);

@@ -117,14 +117,14 @@ std::vector<PdoDef> readAssignment(Device &dev, std::uint8_t pos, std::uint16_t 
 	if (c.complete())
 		return c.pdos;
 	std::vector<PdoDef> pdos;
-	const auto n = dev.sdo().sdoRead<std::uint8_t>(pos, assign, 0);
+	const auto n = dev.sdo().read<std::uint8_t>(pos, assign, 0);
 	for (unsigned i = 1; i <= n; i++) {
 		PdoDef p;
-		p.index = dev.sdo().sdoRead<std::uint16_t>(pos, assign, static_cast<std::uint8_t>(i));
-		const auto m = dev.sdo().sdoRead<std::uint8_t>(pos, p.index, 0);
+		p.index = dev.sdo().read<std::uint16_t>(pos, assign, static_cast<std::uint8_t>(i));
+		const auto m = dev.sdo().read<std::uint8_t>(pos, p.index, 0);
 		for (unsigned j = 1; j <= m; j++)
 			p.entries.push_back(PdoMapEntry::fromValue(
-				dev.sdo().sdoRead<std::uint32_t>(pos, p.index, static_cast<std::uint8_t>(j))));
+				dev.sdo().read<std::uint32_t>(pos, p.index, static_cast<std::uint8_t>(j))));
 		pdos.push_back(std::move(p));
 	}
 	return pdos;
@@ -165,16 +165,16 @@ void readSiiPdos(Device &dev, std::uint8_t pos, std::vector<PdoDef> &rx, std::ve
 /// mappings, PDO list, count).
 void writeAssignmentSdo(Device &dev, std::uint8_t pos, std::uint16_t assign, const std::vector<PdoDef> &pdos)
 {
-	dev.sdo().sdoWrite<std::uint8_t>(pos, assign, 0, 0);
+	dev.sdo().write<std::uint8_t>(pos, assign, 0, 0);
 	for (const PdoDef &p : pdos) {
-		dev.sdo().sdoWrite<std::uint8_t>(pos, p.index, 0, 0);
+		dev.sdo().write<std::uint8_t>(pos, p.index, 0, 0);
 		for (std::size_t j = 0; j < p.entries.size(); j++)
-			dev.sdo().sdoWrite<std::uint32_t>(pos, p.index, static_cast<std::uint8_t>(j + 1), p.entries[j].value());
-		dev.sdo().sdoWrite<std::uint8_t>(pos, p.index, 0, static_cast<std::uint8_t>(p.entries.size()));
+			dev.sdo().write<std::uint32_t>(pos, p.index, static_cast<std::uint8_t>(j + 1), p.entries[j].value());
+		dev.sdo().write<std::uint8_t>(pos, p.index, 0, static_cast<std::uint8_t>(p.entries.size()));
 	}
 	for (std::size_t i = 0; i < pdos.size(); i++)
-		dev.sdo().sdoWrite<std::uint16_t>(pos, assign, static_cast<std::uint8_t>(i + 1), pdos[i].index);
-	dev.sdo().sdoWrite<std::uint8_t>(pos, assign, 0, static_cast<std::uint8_t>(pdos.size()));
+		dev.sdo().write<std::uint16_t>(pos, assign, static_cast<std::uint8_t>(i + 1), pdos[i].index);
+	dev.sdo().write<std::uint8_t>(pos, assign, 0, static_cast<std::uint8_t>(pdos.size()));
 }
 
 void writeAssignment(Device &dev, std::uint8_t pos, std::uint16_t assign, const std::vector<PdoDef> &pdos)
@@ -336,7 +336,7 @@ void Master::bringUp(const MasterConfig &config)
 	if (!config.startupSdos.empty())
 		step("start-up SDOs", [&] {
 			for (const StartupSdo &s : config.startupSdos)
-				dev_.sdo().sdoDownload(s.slave, s.index, s.sub, s.data);
+				dev_.sdo().download(s.slave, s.index, s.sub, s.data);
 		});
 	if (config.readPdoMapping)
 		step("PDO mapping", [&] { readPdoMapping(); });

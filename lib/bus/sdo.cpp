@@ -102,8 +102,8 @@ Response runSdo(const Sdo &sdo, const Command &c, const std::string &what, std::
 
 } // namespace
 
-std::vector<std::uint8_t> Sdo::sdoUpload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
-					    const SdoOptions &options) const
+std::vector<std::uint8_t> Sdo::upload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+				      const SdoOptions &options) const
 {
 	const std::string what = transferName(true, slave, index, sub);
 	checkCommon(what, slave, options);
@@ -126,8 +126,8 @@ std::vector<std::uint8_t> Sdo::sdoUpload(std::uint8_t slave, std::uint16_t index
 	return std::move(r.data);
 }
 
-void Sdo::sdoDownload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
-			 std::span<const std::uint8_t> data, const SdoOptions &options) const
+void Sdo::download(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+		   std::span<const std::uint8_t> data, const SdoOptions &options) const
 {
 	const std::string what = transferName(false, slave, index, sub);
 	checkCommon(what, slave, options);
@@ -142,22 +142,22 @@ void Sdo::sdoDownload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
 	runSdo(*this, c, what, slave, false);
 }
 
-std::string Sdo::sdoReadString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
-				  const SdoOptions &options) const
+std::string Sdo::readString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub,
+			    const SdoOptions &options) const
 {
-	const std::vector<std::uint8_t> b = sdoUpload(slave, index, sub, options);
+	const std::vector<std::uint8_t> b = upload(slave, index, sub, options);
 	std::string s(b.begin(), b.end());
 	while (!s.empty() && s.back() == '\0')
 		s.pop_back();
 	return s;
 }
 
-void Sdo::sdoWriteString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub, std::string_view value,
-			    const SdoOptions &options) const
+void Sdo::writeString(std::uint8_t slave, std::uint16_t index, std::uint8_t sub, std::string_view value,
+		      const SdoOptions &options) const
 {
-	sdoDownload(slave, index, sub,
-		    std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t *>(value.data()), value.size()),
-		    options);
+	download(slave, index, sub,
+		 std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t *>(value.data()), value.size()),
+		 options);
 }
 
 } // namespace ecmxf

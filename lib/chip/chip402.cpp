@@ -90,7 +90,7 @@ Chip402 Device::chip402() noexcept
 	return Chip402(*this);
 }
 
-void Chip402::chip402Configure(unsigned motor, const Chip402Config &config) const
+void Chip402::configure(unsigned motor, const Chip402Config &config) const
 {
 	const char *name = "402_CONFIG_SET";
 	checkMotor(name, motor);
@@ -111,7 +111,7 @@ void Chip402::chip402Configure(unsigned motor, const Chip402Config &config) cons
 	run(*dev_, c, name, motor, why);
 }
 
-void Chip402::chip402RequestState(unsigned motor, Cia402State target) const
+void Chip402::requestState(unsigned motor, Cia402State target) const
 {
 	const char *name = "402_STATE_SET";
 	checkMotor(name, motor);
@@ -129,7 +129,7 @@ void Chip402::chip402RequestState(unsigned motor, Cia402State target) const
 	run(*dev_, c, name, motor, notConfigured(motor));
 }
 
-Chip402State Chip402::chip402State(unsigned motor) const
+Chip402State Chip402::state(unsigned motor) const
 {
 	const char *name = "402_STATE_GET";
 	checkMotor(name, motor);
@@ -140,7 +140,7 @@ Chip402State Chip402::chip402State(unsigned motor) const
 	return s;
 }
 
-void Chip402::chip402SetControl(unsigned motor, const Chip402Control &control) const
+void Chip402::setControl(unsigned motor, const Chip402Control &control) const
 {
 	const char *name = "402_CTL_SET";
 	checkMotor(name, motor);
@@ -154,7 +154,7 @@ void Chip402::chip402SetControl(unsigned motor, const Chip402Control &control) c
 	run(*dev_, c, name, motor, why);
 }
 
-Chip402Flags Chip402::chip402Control(unsigned motor) const
+Chip402Flags Chip402::control(unsigned motor) const
 {
 	const char *name = "402_CTL_GET";
 	checkMotor(name, motor);
@@ -162,7 +162,7 @@ Chip402Flags Chip402::chip402Control(unsigned motor) const
 	return Chip402Flags::fromByte(r.ret);
 }
 
-std::uint16_t Chip402::chip402Statusword(unsigned motor) const
+std::uint16_t Chip402::statusword(unsigned motor) const
 {
 	const char *name = "402_GET_STATUSWORD";
 	checkMotor(name, motor);
@@ -176,19 +176,19 @@ std::uint16_t Chip402::chip402Statusword(unsigned motor) const
 	return static_cast<std::uint16_t>(r.data[0] | r.data[1] << 8);
 }
 
-Cia402State Chip402::chip402AwaitState(unsigned motor, Cia402State target, std::chrono::nanoseconds timeout,
-				      std::chrono::nanoseconds poll) const
+Cia402State Chip402::awaitState(unsigned motor, Cia402State target, std::chrono::nanoseconds timeout,
+				std::chrono::nanoseconds poll) const
 {
 	const char *name = "402_STATE_GET";
 	checkMotor(name, motor);
 	Link &t = dev_->link();
 	const auto start = t.now();
 	for (;;) {
-		const Chip402State s = chip402State(motor);
+		const Chip402State s = state(motor);
 		if (s.state == target)
 			return target;
 		if (t.now() - start >= timeout) {
-			const std::uint16_t sw = chip402Statusword(motor);
+			const std::uint16_t sw = statusword(motor);
 			std::string m("motor ");
 			m.append(std::to_string(motor)).append(": the chip's CiA-402 engine timed out after ");
 			const auto ns = timeout.count();

@@ -224,7 +224,7 @@ void Cia402Axis::setMode(std::int8_t mode, nanoseconds now)
 	if (mode_.bound())
 		mode_.set(mode);
 	else
-		dev_.sdo().sdoWrite<std::int8_t>(slave_, 0x6060, 0, mode); // SdoError on an abort
+		dev_.sdo().write<std::int8_t>(slave_, 0x6060, 0, mode); // SdoError on an abort
 	modeSet_ = mode;
 	modeKnown_ = true;
 	begin(Cia402Request::Mode, now);
@@ -234,7 +234,7 @@ void Cia402Axis::needEnabledIn(std::int8_t mode, std::string_view what) const
 {
 	std::int8_t m = modeDisplay();
 	if (!modeDisp_.bound() && !modeKnown_)
-		m = dev_.sdo().sdoRead<std::int8_t>(slave_, 0x6061, 0);
+		m = dev_.sdo().read<std::int8_t>(slave_, 0x6061, 0);
 	if (m != mode)
 		throw Error(slaveText(slave_) + std::string(what) + " needs mode " + modeName(mode) +
 				    "; the drive is in mode " + modeName(m) + " (setMode() first)",
@@ -252,7 +252,7 @@ void Cia402Axis::writeParam(std::uint16_t index, std::uint8_t sub, std::uint32_t
 		image_.output<std::uint32_t>(slave_, index, sub).set(value);
 		return;
 	}
-	dev_.sdo().sdoWrite<std::uint32_t>(slave_, index, sub, value);
+	dev_.sdo().write<std::uint32_t>(slave_, index, sub, value);
 }
 
 void Cia402Axis::moveTo(std::int32_t target, const PpMove &move, nanoseconds now)
@@ -299,7 +299,7 @@ void Cia402Axis::home(const HomingParams &params, nanoseconds now)
 		if (isMapped(image_.slave(slave_).outputs, 0x6098, 0))
 			image_.output<std::int8_t>(slave_, 0x6098, 0).set(*params.method);
 		else
-			dev_.sdo().sdoWrite<std::int8_t>(slave_, 0x6098, 0, *params.method);
+			dev_.sdo().write<std::int8_t>(slave_, 0x6098, 0, *params.method);
 	}
 	if (params.speedSearch)
 		writeParam(0x6099, 1, *params.speedSearch);

@@ -4,6 +4,9 @@
 
 #include <ecmxf/events/events.hpp>
 
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/error.hpp>
+
 #include "base/text.hpp"
 #include "link/wire_header.hpp"
 #include "ecmxf-events.h"
@@ -92,11 +95,71 @@ std::string lossKindName(LossKind k)
 	return "unknown";
 }
 
+bool stateWentDown(const Event &e) noexcept
+{
+	return e.type == EventType::State &&
+	       ((e.newValue & ECMXF_ECAT_ERROR) || (e.newValue & 0x0F) < (e.oldValue & 0x0F));
+}
+
+void readSlaveStatus(Device &device, Event &e)
+{
+	constexpr std::uint8_t kOp = ECMXF_ECAT_OP;
+	constexpr std::uint8_t kError = ECMXF_ECAT_ERROR;
+	// the kernel's limit (ECMXF_NL_MAX_SLAVES): an event stays one message
+	constexpr unsigned kMaxSlaves = 64;
+	const Bus bus(device);
+	e.haveSlaves = true;
+	e.slaves.clear();
+	e.alStatus.reset();
+	e.alSlave.reset();
+	try {
+		e.slaveCount = bus.slaveCount();
+		for (unsigned pos = 0; pos < e.slaveCount; pos++) {
+			if (pos >= kMaxSlaves) {
+				e.slavesIncomplete = true;
+				return;
+			}
+			const auto p = static_cast<std::uint8_t>(pos);
+			const std::uint8_t st = bus.stateGet(p).raw;
+			if (st == kOp)
+				continue;
+			SlaveAlStatus s;
+			s.position = static_cast<std::uint16_t>(pos);
+			s.state = st;
+			e.slaves.push_back(s);
+			// ERROR alone: the slave does not answer, nothing to ask
+			if (st == kError)
+				continue;
+			const std::vector<std::uint8_t> al = bus.slaveInfoRaw(p, SlaveInfoCode::AlStatusCode);
+			if (al.size() < 2) {
+				e.slavesIncomplete = true;
+				continue;
+			}
+			const auto code = static_cast<std::uint16_t>(al[0] | al[1] << 8);
+			e.slaves.back().alStatus = code;
+			if (code && !e.alStatus) {
+				e.alStatus = code;
+				e.alSlave = s.position;
+			}
+		}
+	} catch (const Error &) {
+		e.slavesIncomplete = true;
+	}
+}
+
 struct EventDetector::Impl {
 	ecmxf_det det{};
+	Device *device = nullptr;
 };
 
 EventDetector::EventDetector() : EventDetector(Config{}) {}
+
+EventDetector::EventDetector(Device &device) : EventDetector(device, Config{}) {}
+
+EventDetector::EventDetector(Device &device, const Config &config) : EventDetector(config)
+{
+	impl_->device = &device;
+}
 
 EventDetector::EventDetector(const Config &config) : impl_(std::make_unique<Impl>())
 {
@@ -115,7 +178,12 @@ std::vector<Event> EventDetector::feed(const ResponseHeader &header, std::chrono
 {
 	ecmxf_det_event d[ECMXF_DET_MAX_EVENTS];
 	const ecmxf_rsp_hdr h = detail::wireHeader<ecmxf_rsp_hdr>(header);
-	return convert(d, ecmxf_det_feed(&impl_->det, &h, ns(now), d));
+	std::vector<Event> out = convert(d, ecmxf_det_feed(&impl_->det, &h, ns(now), d));
+	if (impl_->device)
+		for (Event &e : out)
+			if (stateWentDown(e))
+				readSlaveStatus(*impl_->device, e);
+	return out;
 }
 
 std::vector<Event> EventDetector::poll(std::chrono::nanoseconds now)

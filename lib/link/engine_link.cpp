@@ -5,6 +5,7 @@
 
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/engine_link.hpp>
+#include <ecmxf/link/sim_channel.hpp>
 
 #include <algorithm>
 #include <array>
@@ -474,7 +475,9 @@ LinkCounters EngineLink::counters() const
 
 sim::Chip *EngineLink::simulator() noexcept
 {
-	return e_->channel->simulator();
+	// the channel is the link's own: which one it is stays in this layer
+	auto *sim = dynamic_cast<SimChannel *>(e_->channel.get());
+	return sim ? &sim->chip() : nullptr;
 }
 
 void EngineLink::attachTrace(detail::TraceWriter *trace) noexcept

@@ -235,11 +235,6 @@ void KernelLink::assumeFormat(std::uint16_t, CheckType)
 		    EOPNOTSUPP);
 }
 
-std::optional<std::uint32_t> KernelLink::kernelMinor() const
-{
-	return minorOf(s_->path);
-}
-
 std::optional<std::uint32_t> KernelLink::minorOf(const std::string &path)
 {
 	struct stat st {};

@@ -41,7 +41,7 @@ namespace ecmxf {
 void detail::CyclicPath::readChip(Device &dev, const ProcessImage &image, const CyclicConfig &cfg)
 {
 	sizes = dev.pdo().fifoPackSizes();
-	counts = dev.pdo().pdoSlaveCounts();
+	counts = dev.pdo().slaveCounts();
 	rxDepth = dev.pdo().fifoRxCount();
 	txDepth = dev.pdo().fifoTxCount();
 
@@ -171,7 +171,7 @@ void RingPath::start()
 	// the FIFO off while the rings are made: the pump waits for it
 	dev_.pdo().fifoEnable(false);
 	if (sizes.rxPdoBytes)
-		dev_.pdo().pdoWrite(image_.outputs());
+		dev_.pdo().write(image_.outputs());
 
 	// rings deep enough for a few cycles' worth of bus cycles
 	const std::int64_t period = cfg_.period.count();

@@ -252,7 +252,7 @@ void FifoCommandPath::start()
 	wkcSet_ = -1;
 	flight_ = ecmxf_pump_flight{};
 	if (sizes.rxPdoBytes)
-		dev_.pdo().pdoWrite(image_.outputs());
+		dev_.pdo().write(image_.outputs());
 	dev_.pdo().fifoClear(FifoSelect::Both);
 	dev_.pdo().fifoEnable(true);
 	ecmxf_pump_est_start(&est_, coreTime(cfg_.busCycle), coreTime(clock().now()));

@@ -98,7 +98,7 @@ ProcessData Device::pdo() noexcept
 	return ProcessData(*this);
 }
 
-PdoSlaveCounts ProcessData::pdoSlaveCounts() const
+PdoSlaveCounts ProcessData::slaveCounts() const
 {
 	PdoSlaveCounts c;
 	c.inputSlaves = wcGet(*dev_, 1);
@@ -106,12 +106,12 @@ PdoSlaveCounts ProcessData::pdoSlaveCounts() const
 	return c;
 }
 
-std::uint32_t ProcessData::pdoWorkingCounter() const
+std::uint32_t ProcessData::workingCounter() const
 {
 	return wcGet(*dev_, 3);
 }
 
-PdoFifoResult ProcessData::pdoFifoExchange(std::span<const std::uint8_t> rxFrames, unsigned frames, bool read) const
+PdoFifoResult ProcessData::fifoExchange(std::span<const std::uint8_t> rxFrames, unsigned frames, bool read) const
 {
 	constexpr std::string_view name = "ECAT_PDO_DATA_FIFO_OP";
 	if (frames > 255)
@@ -158,14 +158,14 @@ PdoFifoResult ProcessData::pdoFifoExchange(std::span<const std::uint8_t> rxFrame
 	return res;
 }
 
-std::vector<std::uint8_t> ProcessData::pdoRead() const
+std::vector<std::uint8_t> ProcessData::read() const
 {
 	Command c = detail::cmd(ECMXF_CMD_ECAT_PDO_DATA_OP);
 	c.data[0] = 0x06; // bits 0/1 valid, read
 	return run(*dev_, c, kNoLayout).data;
 }
 
-void ProcessData::pdoWrite(std::span<const std::uint8_t> outputs) const
+void ProcessData::write(std::span<const std::uint8_t> outputs) const
 {
 	if (outputs.empty())
 		throw Error("ECAT_PDO_DATA_OP: no output bytes to write", EINVAL);
@@ -175,7 +175,7 @@ void ProcessData::pdoWrite(std::span<const std::uint8_t> outputs) const
 	(void)run(*dev_, c, kNoLayout);
 }
 
-std::vector<std::uint8_t> ProcessData::pdoWriteRead(std::span<const std::uint8_t> outputs) const
+std::vector<std::uint8_t> ProcessData::writeRead(std::span<const std::uint8_t> outputs) const
 {
 	if (outputs.empty())
 		throw Error("ECAT_PDO_DATA_OP: no output bytes to write", EINVAL);

@@ -12,7 +12,7 @@
 // start of the exchange that carries ECAT_SDO_REQ to the end of the one
 // that brings the answer of ECAT_SDO_GET.
 //
-//  - ours:     Device::sdoRead<int32_t>() (the protocol engine polls the
+//  - ours:     Sdo::read<int32_t>() (the protocol engine polls the
 //              running command back to back, each poll gated by INT0 only);
 //  - baseline: raw exchanges on a second chip: SDO_REQ, then an
 //              INFO_UPDATE poll every 1 ms (sleep 1 ms between polls) until
@@ -100,7 +100,6 @@ public:
 	Nanos now() const override { return c_->now(); }
 	void sleepFor(Nanos d) override { c_->sleepFor(d); }
 	std::string name() const override { return c_->name(); }
-	sim::Chip *simulator() noexcept override { return c_->simulator(); }
 private:
 	std::unique_ptr<ecmxf::SimChannel> c_;
 };
@@ -197,7 +196,7 @@ Figures ours(unsigned latencyUs, bool pipeline)
 	double transfers = 0;
 	for (int i = 0; i < kRounds; i++) {
 		timed.start();
-		(void)dev.sdo().sdoRead<std::int32_t>(kSlave, kIndex, 0);
+		(void)dev.sdo().read<std::int32_t>(kSlave, kIndex, 0);
 		transfers += timed.micros();
 	}
 	Figures f;

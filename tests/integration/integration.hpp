@@ -97,7 +97,7 @@ inline ecmxf::CheckType startCheckType(const std::string &u)
 inline void engineOff(ecmxf::Device &d)
 {
 	for (unsigned m = 0; m < 2; m++)
-		d.chip402().chip402Configure(m, ecmxf::Chip402Config{ m, 0, 0, {} });
+		d.chip402().configure(m, ecmxf::Chip402Config{ m, 0, 0, {} });
 }
 
 /// The EST-584's default PDO assignment (manual 5.4.1): RxPDO 0x1600 =

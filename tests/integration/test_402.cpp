@@ -56,48 +56,48 @@ TEST_CASE("CiA-402 chip engine: both drives enabled and walked back", "[402][chi
 	// outputs: controlword 0, the CSP target (0x607A, bytes 2..5 of each
 	// drive's 12) = where the drive stands (0x6064, bytes 3..6 of its 17
 	// inputs), so that enabling moves nothing
-	const std::vector<std::uint8_t> in = d.pdo().pdoRead();
+	const std::vector<std::uint8_t> in = d.pdo().read();
 	REQUIRE(in.size() == 35);
 	std::vector<std::uint8_t> out(25, 0);
 	for (std::size_t drive = 0; drive < 2; drive++)
 		for (std::size_t b = 0; b < 4; b++)
 			out[drive * 12 + 2 + b] = in[drive * 17 + 3 + b];
-	d.pdo().pdoWrite(out);
+	d.pdo().write(out);
 	d.bus().stateSet(kAllSlaves, State::Op);
 
 	const ecmxf::Chip402Flags engine{ true, false, false };
 	// controlword at byte 0 of each drive's outputs, statusword at byte 0
 	// of its inputs (0x1600 / 0x1A00, manual 5.4.1)
-	d.chip402().chip402Configure(0, ecmxf::Chip402Config{ 0, 0, 0, engine });
-	d.chip402().chip402Configure(1, ecmxf::Chip402Config{ 1, 0, 0, engine });
-	d.chip402().chip402SetControl(1, ecmxf::Chip402Control{ engine, 2, 1 });
-	CHECK(d.chip402().chip402Control(0) == engine);
-	CHECK(d.chip402().chip402Control(1) == engine);
-	const ecmxf::Chip402State st = d.chip402().chip402State(0);
+	d.chip402().configure(0, ecmxf::Chip402Config{ 0, 0, 0, engine });
+	d.chip402().configure(1, ecmxf::Chip402Config{ 1, 0, 0, engine });
+	d.chip402().setControl(1, ecmxf::Chip402Control{ engine, 2, 1 });
+	CHECK(d.chip402().control(0) == engine);
+	CHECK(d.chip402().control(1) == engine);
+	const ecmxf::Chip402State st = d.chip402().state(0);
 	CHECK(st.code == 0x40);
 	CHECK(st.state == Cia402State::SwitchOnDisabled);
 
-	d.chip402().chip402RequestState(0, Cia402State::OperationEnabled);
-	d.chip402().chip402RequestState(1, Cia402State::OperationEnabled);
-	CHECK(d.chip402().chip402AwaitState(0, Cia402State::OperationEnabled, 2s) == Cia402State::OperationEnabled);
-	CHECK(d.chip402().chip402AwaitState(1, Cia402State::OperationEnabled, 2s) == Cia402State::OperationEnabled);
-	const ecmxf::Chip402State oe = d.chip402().chip402State(1);
+	d.chip402().requestState(0, Cia402State::OperationEnabled);
+	d.chip402().requestState(1, Cia402State::OperationEnabled);
+	CHECK(d.chip402().awaitState(0, Cia402State::OperationEnabled, 2s) == Cia402State::OperationEnabled);
+	CHECK(d.chip402().awaitState(1, Cia402State::OperationEnabled, 2s) == Cia402State::OperationEnabled);
+	const ecmxf::Chip402State oe = d.chip402().state(1);
 	CHECK(oe.code == 0x27);
-	CHECK(d.chip402().chip402Statusword(0) == 0x1237);
-	CHECK(d.chip402().chip402Statusword(1) == 0x1237);
+	CHECK(d.chip402().statusword(0) == 0x1237);
+	CHECK(d.chip402().statusword(1) == 0x1237);
 
-	d.chip402().chip402RequestState(1, Cia402State::SwitchedOn);
-	CHECK(d.chip402().chip402AwaitState(1, Cia402State::SwitchedOn, 2s) == Cia402State::SwitchedOn);
-	CHECK(d.chip402().chip402Statusword(1) == 0x0233);
-	d.chip402().chip402RequestState(0, Cia402State::SwitchOnDisabled);
-	d.chip402().chip402RequestState(1, Cia402State::SwitchOnDisabled);
-	CHECK(d.chip402().chip402AwaitState(0, Cia402State::SwitchOnDisabled, 2s) == Cia402State::SwitchOnDisabled);
-	CHECK(d.chip402().chip402AwaitState(1, Cia402State::SwitchOnDisabled, 2s) == Cia402State::SwitchOnDisabled);
+	d.chip402().requestState(1, Cia402State::SwitchedOn);
+	CHECK(d.chip402().awaitState(1, Cia402State::SwitchedOn, 2s) == Cia402State::SwitchedOn);
+	CHECK(d.chip402().statusword(1) == 0x0233);
+	d.chip402().requestState(0, Cia402State::SwitchOnDisabled);
+	d.chip402().requestState(1, Cia402State::SwitchOnDisabled);
+	CHECK(d.chip402().awaitState(0, Cia402State::SwitchOnDisabled, 2s) == Cia402State::SwitchOnDisabled);
+	CHECK(d.chip402().awaitState(1, Cia402State::SwitchOnDisabled, 2s) == Cia402State::SwitchOnDisabled);
 
 	// FAULT cannot be requested; motor 128 does not exist
-	ecmxf::Error e = integ::thrown([&] { d.chip402().chip402RequestState(0, Cia402State::Fault); });
+	ecmxf::Error e = integ::thrown([&] { d.chip402().requestState(0, Cia402State::Fault); });
 	CHECK(e.errnoValue() == EINVAL);
-	e = integ::thrown([&] { (void)d.chip402().chip402State(128); });
+	e = integ::thrown([&] { (void)d.chip402().state(128); });
 	CHECK(e.errnoValue() == EINVAL);
 	CHECK_THAT(e.what(), Contains("motor 128 is out of range 0..127"));
 }

@@ -101,7 +101,7 @@ TEST_CASE("bus: Master brings the network to OP and the scan names every slave",
 	// the raw bytes of one code: the vendor id, little-endian
 	CHECK(d.bus().slaveInfoRaw(2, ecmxf::SlaveInfoCode::Vendor) == std::vector<std::uint8_t>{ 0x5C, 0x0E, 0, 0 });
 	// ECAT_PDO_WC_GET: 3 slaves with inputs, 3 with outputs: 3 + 2 x 3 = 9
-	const ecmxf::PdoSlaveCounts pc = d.pdo().pdoSlaveCounts();
+	const ecmxf::PdoSlaveCounts pc = d.pdo().slaveCounts();
 	CHECK(pc.inputSlaves == 3);
 	CHECK(pc.outputSlaves == 3);
 	CHECK(pc.expectedWkc() == 9);
@@ -145,39 +145,39 @@ TEST_CASE("SDO: typed reads and writes, strings, and real aborts", "[bus][sdo]")
 		~Restore()
 		{
 			try {
-				d.sdo().sdoWrite<std::uint16_t>(1, 0x2000, 0, 3200);
-				d.sdo().sdoWrite<std::uint16_t>(0, 0x2000, 0, 3200);
+				d.sdo().write<std::uint16_t>(1, 0x2000, 0, 3200);
+				d.sdo().write<std::uint16_t>(0, 0x2000, 0, 3200);
 			} catch (...) {
 			}
 		}
 	} restore{ d };
 
-	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);      // 3.5 pulses/rev
-	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1000, 0) == 0x00030192u); // CiA 402 stepper
-	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1018, 1) == 0x00000E5Cu); // vendor
-	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1018, 2) == 0x584u);      // product
-	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1018, 4) == 2u);          // serial = position + 1
-	CHECK(d.sdo().sdoReadString(0, 0x1008, 0) == "EST-584");
-	CHECK(d.sdo().sdoUpload(0, 0x2001, 0) == std::vector<std::uint8_t>{ 0x50, 0xC3 });
+	CHECK(d.sdo().read<std::uint16_t>(0, 0x2001, 0) == 50000);      // 3.5 pulses/rev
+	CHECK(d.sdo().read<std::uint32_t>(1, 0x1000, 0) == 0x00030192u); // CiA 402 stepper
+	CHECK(d.sdo().read<std::uint32_t>(1, 0x1018, 1) == 0x00000E5Cu); // vendor
+	CHECK(d.sdo().read<std::uint32_t>(1, 0x1018, 2) == 0x584u);      // product
+	CHECK(d.sdo().read<std::uint32_t>(1, 0x1018, 4) == 2u);          // serial = position + 1
+	CHECK(d.sdo().readString(0, 0x1008, 0) == "EST-584");
+	CHECK(d.sdo().upload(0, 0x2001, 0) == std::vector<std::uint8_t>{ 0x50, 0xC3 });
 
 	// 0x2000 peak current: 3200 mA by default, 1..8400
-	CHECK(d.sdo().sdoRead<std::uint16_t>(1, 0x2000, 0) == 3200);
-	d.sdo().sdoWrite<std::uint16_t>(1, 0x2000, 0, 2000);
-	CHECK(d.sdo().sdoRead<std::uint16_t>(1, 0x2000, 0) == 2000);
-	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2000, 0) == 3200); // the other drive keeps its own
+	CHECK(d.sdo().read<std::uint16_t>(1, 0x2000, 0) == 3200);
+	d.sdo().write<std::uint16_t>(1, 0x2000, 0, 2000);
+	CHECK(d.sdo().read<std::uint16_t>(1, 0x2000, 0) == 2000);
+	CHECK(d.sdo().read<std::uint16_t>(0, 0x2000, 0) == 3200); // the other drive keeps its own
 
 	// a missing object: abort 0x06020000
-	const auto e = integ::thrown<ecmxf::SdoError>([&] { (void)d.sdo().sdoRead<std::uint32_t>(0, 0x2FFF, 0); });
+	const auto e = integ::thrown<ecmxf::SdoError>([&] { (void)d.sdo().read<std::uint32_t>(0, 0x2FFF, 0); });
 	CHECK(e.abortCode() == 0x06020000u);
 	CHECK_THAT(e.what(), Contains("SDO upload 0x2FFF:00 from slave 0 aborted: 0x06020000 Object not existing"));
 	CHECK(d.bus().sdoAbortCode() == 0x06020000u);
 	// above the range: 0x06090031, and the EST-584 stores the limit (5.3.3)
-	const auto hi = integ::thrown<ecmxf::SdoError>([&] { d.sdo().sdoWrite<std::uint16_t>(0, 0x2000, 0, 9000); });
+	const auto hi = integ::thrown<ecmxf::SdoError>([&] { d.sdo().write<std::uint16_t>(0, 0x2000, 0, 9000); });
 	CHECK(hi.abortCode() == 0x06090031u);
 	CHECK_THAT(hi.what(), Contains("0x06090031 Value is too great"));
-	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2000, 0) == 8400);
+	CHECK(d.sdo().read<std::uint16_t>(0, 0x2000, 0) == 8400);
 	// a good transfer after the aborts
-	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);
+	CHECK(d.sdo().read<std::uint16_t>(0, 0x2001, 0) == 50000);
 }
 
 TEST_CASE("slaves: SII EEPROM words, raw datagrams, mailbox and the staging flash", "[bus][eeprom]")

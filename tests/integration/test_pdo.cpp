@@ -82,30 +82,30 @@ TEST_CASE("PDO: the mapping read back, the FIFO set up, the image read and writt
 	d.pdo().fifoEnable(false);
 	std::vector<std::uint8_t> out(25, 0);
 	out[24] = 0x5A; // the dio's output byte
-	d.pdo().pdoWrite(out);
+	d.pdo().write(out);
 	d.bus().stateSet(kAllSlaves, State::Op);
 	// the dio copies its outputs to its inputs every bus cycle in OP
 	std::vector<std::uint8_t> in;
 	for (int i = 0; i < 200; i++) {
-		in = d.pdo().pdoWriteRead(out);
+		in = d.pdo().writeRead(out);
 		if (in.size() == 35 && in[34] == 0x5A)
 			break;
 		d.link().sleepFor(1ms);
 	}
 	REQUIRE(in.size() == 35);
 	CHECK(in[34] == 0x5A);
-	CHECK(d.pdo().pdoRead().size() == 35);
+	CHECK(d.pdo().read().size() == 35);
 	// and the FIFO path by hand: one RxPDO frame in, TxPDO frames out
 	d.pdo().fifoClear();
 	d.pdo().fifoEnable(true);
 	out[24] = 0xC3;
-	const ecmxf::PdoFifoResult w = d.pdo().pdoFifoExchange(out, 1, false);
+	const ecmxf::PdoFifoResult w = d.pdo().fifoExchange(out, 1, false);
 	CHECK(w.allWritten);
 	CHECK(w.framesRead == 0);
 	ecmxf::PdoFifoResult got;
 	for (int i = 0; i < 200; i++) {
 		d.link().sleepFor(2ms);
-		got = d.pdo().pdoFifoExchange({}, 0, true);
+		got = d.pdo().fifoExchange({}, 0, true);
 		if (got.framesRead && got.inputs[(got.framesRead - 1) * 35 + 34] == 0xC3)
 			break;
 	}
@@ -113,7 +113,7 @@ TEST_CASE("PDO: the mapping read back, the FIFO set up, the image read and writt
 	CHECK(got.inputs.size() == got.framesRead * 35);
 	CHECK(got.inputs[(got.framesRead - 1) * 35 + 34] == 0xC3);
 	d.pdo().fifoEnable(false);
-	CHECK(d.pdo().pdoWorkingCounter() == 9);
+	CHECK(d.pdo().workingCounter() == 9);
 }
 
 TEST_CASE("cyclic: a few hundred FIFO cycles, the WKC right, the dio's inputs follow its outputs", "[pdo][cyclic]")

@@ -18,9 +18,9 @@
 //   C  library Device::transact() over SpidevChannel (INT0 by libgpiod)
 // and an SDO upload (2 bytes, 0x2001:00 of slave 0, the bus in PRE-OP) over
 // both devices in the same blocks, N / 5 per block:
-//   D  Sdo::sdoRead() over /dev/ecmxf0 (ECAT_SDO_REQ with its ECAT_SDO_GET
+//   D  Sdo::read() over /dev/ecmxf0 (ECAT_SDO_REQ with its ECAT_SDO_GET
 //      in one ECMXF_IOC_CMD, ECMXF_CMD_F_FETCH)
-//   E  Sdo::sdoRead() over spidev (the library's engine pairs them)
+//   E  Sdo::read() over spidev (the library's engine pairs them)
 //   F  the same upload as two bare ECMXF_IOC_CMD, ECAT_SDO_REQ and then
 //      ECAT_SDO_GET (no fetch: what /dev/ecmxf0 cost before uAPI 3)
 // The SPI device (e.g. spi0.0) is handed from ecmxf to spidev and back
@@ -275,7 +275,7 @@ constexpr std::uint16_t kSdoValue = 50000; // EST-584 manual 3.5: 0x2001:00 puls
 bool sdoUpload(ecmxf::Device &dev)
 {
 	try {
-		const auto v = dev.sdo().sdoRead<std::uint16_t>(0, 0x2001, 0);
+		const auto v = dev.sdo().read<std::uint16_t>(0, 0x2001, 0);
 		if (v == kSdoValue)
 			return true;
 		gWhy = "SDO 0x2001:00 read " + std::to_string(v);
@@ -524,7 +524,7 @@ int run(unsigned n, unsigned blocks, const Spi &spi)
 		    static_cast<double>(sSdoExchanges) / std::max(e.commands, 1u),
 		    static_cast<double>(kUnpairedExchanges) / std::max(f.commands, 1u));
 	ratio("kernel/spidev SDO upload round-trip ratio", d, e,
-	      " (Sdo::sdoRead() over /dev/ecmxf0 vs over spidev; < 1: the kernel path is faster)");
+	      " (Sdo::read() over /dev/ecmxf0 vs over spidev; < 1: the kernel path is faster)");
 	ratio("kernel SDO upload with the fetch / as two ioctls", d, f, " (< 1: the fetch saves time)");
 	std::printf("bench: kernel/spidev cpu ratio (this process only): %.2f; with the kernel worker: %.2f\n",
 		    c.cpuUs > 0 ? (a.cpuUs / a.commands) / (c.cpuUs / c.commands) : 0.0,

@@ -345,7 +345,7 @@ Figures ioctlPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
 {
 	auto &kt = dynamic_cast<ecmxf::KernelLink &>(dev.link());
 	const int fd = kt.fd();
-	dev.pdo().pdoWrite(image.outputs());
+	dev.pdo().write(image.outputs());
 	dev.pdo().fifoClear(ecmxf::FifoSelect::Both);
 	dev.pdo().fifoEnable(true);
 	std::vector<std::uint8_t> out(image.outputs().begin(), image.outputs().end());

@@ -167,17 +167,17 @@ int main(int argc, char **argv)
 
 		dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
 		// EST-584 manual 3.5: 0x2001:00 pulses per revolution, default 50000
-		check("SDO 0x2001:00 of slave 0", dev->sdo().sdoRead<std::uint16_t>(0, 0x2001, 0), 50000u);
+		check("SDO 0x2001:00 of slave 0", dev->sdo().read<std::uint16_t>(0, 0x2001, 0), 50000u);
 		// an object the slave lacks: SDO_REQ fails in the ioctl that
 		// carried its fetch (not sent), the abort code follows
 		std::uint32_t abort = 0;
 		try {
-			(void)dev->sdo().sdoRead<std::uint16_t>(0, 0x2fff, 0);
+			(void)dev->sdo().read<std::uint16_t>(0, 0x2fff, 0);
 		} catch (const ecmxf::SdoError &e) {
 			abort = e.abortCode();
 		}
 		check("SDO 0x2fff:00 of slave 0: abort code (object does not exist)", abort, 0x06020000u);
-		check("SDO 0x2001:00 of slave 0 after the abort", dev->sdo().sdoRead<std::uint16_t>(0, 0x2001, 0), 50000u);
+		check("SDO 0x2001:00 of slave 0 after the abort", dev->sdo().read<std::uint16_t>(0, 0x2001, 0), 50000u);
 		// EtherCAT: PRE-OP -> OP directly is refused (AL status 0x0011)
 		dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::SafeOp);
 		dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::Op);

@@ -283,32 +283,32 @@ TEST_CASE("cia402 chip engine: enable two drives, read states and statuswords", 
 	b.sleep(5ms);
 	ecmxf::Device &d = *b.dev;
 	const ecmxf::Chip402Flags engine{ true, false, false };
-	d.chip402().chip402Configure(0, ecmxf::Chip402Config{ 0, 0, 0, engine });
-	d.chip402().chip402Configure(1, ecmxf::Chip402Config{ 1, 0, 0, engine });
-	CHECK(d.chip402().chip402Control(0) == engine);
-	const ecmxf::Chip402State st = d.chip402().chip402State(0);
+	d.chip402().configure(0, ecmxf::Chip402Config{ 0, 0, 0, engine });
+	d.chip402().configure(1, ecmxf::Chip402Config{ 1, 0, 0, engine });
+	CHECK(d.chip402().control(0) == engine);
+	const ecmxf::Chip402State st = d.chip402().state(0);
 	CHECK(st.code == 0x40);
 	CHECK(st.state == Cia402State::SwitchOnDisabled);
 	// the engine starts with SWITCH ON DISABLED requested: nothing moves
 	b.sleep(10ms);
-	CHECK(d.chip402().chip402State(1).state == Cia402State::SwitchOnDisabled);
+	CHECK(d.chip402().state(1).state == Cia402State::SwitchOnDisabled);
 
-	d.chip402().chip402RequestState(0, Cia402State::OperationEnabled);
-	d.chip402().chip402RequestState(1, Cia402State::OperationEnabled);
-	CHECK(d.chip402().chip402AwaitState(0, Cia402State::OperationEnabled, 100ms) == Cia402State::OperationEnabled);
-	CHECK(d.chip402().chip402AwaitState(1, Cia402State::OperationEnabled, 100ms) == Cia402State::OperationEnabled);
-	const ecmxf::Chip402State oe = d.chip402().chip402State(0);
+	d.chip402().requestState(0, Cia402State::OperationEnabled);
+	d.chip402().requestState(1, Cia402State::OperationEnabled);
+	CHECK(d.chip402().awaitState(0, Cia402State::OperationEnabled, 100ms) == Cia402State::OperationEnabled);
+	CHECK(d.chip402().awaitState(1, Cia402State::OperationEnabled, 100ms) == Cia402State::OperationEnabled);
+	const ecmxf::Chip402State oe = d.chip402().state(0);
 	CHECK(oe.code == 0x27);
 	CHECK(oe.state == Cia402State::OperationEnabled);
-	CHECK(d.chip402().chip402Statusword(0) == kOeCsp);
-	CHECK(d.chip402().chip402Statusword(1) == kOeCsp);
+	CHECK(d.chip402().statusword(0) == kOeCsp);
+	CHECK(d.chip402().statusword(1) == kOeCsp);
 	CHECK(b.drive(0).statusword() == kOeCsp);
 	CHECK((b.drive(0).controlword() & 0x8F) == 0x0F);
 
 	// and down to SWITCHED ON
-	d.chip402().chip402RequestState(1, Cia402State::SwitchedOn);
-	d.chip402().chip402AwaitState(1, Cia402State::SwitchedOn, 100ms);
-	CHECK(d.chip402().chip402Statusword(1) == 0x0233);
+	d.chip402().requestState(1, Cia402State::SwitchedOn);
+	d.chip402().awaitState(1, Cia402State::SwitchedOn, 100ms);
+	CHECK(d.chip402().statusword(1) == 0x0233);
 	CHECK((b.drive(1).controlword() & 0x8F) == 0x07);
 }
 
@@ -319,38 +319,38 @@ TEST_CASE("cia402 chip engine: a fault stays without reset flags, single and aut
 	b.toOp();
 	b.sleep(5ms);
 	ecmxf::Device &d = *b.dev;
-	d.chip402().chip402Configure(0, ecmxf::Chip402Config{ 0, 0, 0, { true, false, false } });
-	d.chip402().chip402RequestState(0, Cia402State::OperationEnabled);
-	d.chip402().chip402AwaitState(0, Cia402State::OperationEnabled, 100ms);
+	d.chip402().configure(0, ecmxf::Chip402Config{ 0, 0, 0, { true, false, false } });
+	d.chip402().requestState(0, Cia402State::OperationEnabled);
+	d.chip402().awaitState(0, Cia402State::OperationEnabled, 100ms);
 
 	b.drive(0).injectFault(0x3210);
 	b.sleep(10ms);
-	const ecmxf::Chip402State f = d.chip402().chip402State(0);
+	const ecmxf::Chip402State f = d.chip402().state(0);
 	CHECK(f.code == 0x08);
 	CHECK(f.state == Cia402State::Fault);
-	CHECK(d.chip402().chip402Statusword(0) == kFault);
-	const ecmxf::Error e = thrown([&] { d.chip402().chip402AwaitState(0, Cia402State::OperationEnabled, 50ms); });
+	CHECK(d.chip402().statusword(0) == kFault);
+	const ecmxf::Error e = thrown([&] { d.chip402().awaitState(0, Cia402State::OperationEnabled, 50ms); });
 	CHECK(e.errnoValue() == ETIMEDOUT);
 	CHECK_THAT(e.what(), Equals("motor 0: the chip's CiA-402 engine timed out after 50 ms waiting for OPERATION "
 				    "ENABLED: stays in FAULT (statusword 0x0218)"));
 
 	// one fault reset: bit 3 reads 0 again once the drive has left FAULT
-	d.chip402().chip402SetControl(0, ecmxf::Chip402Control{ { true, true, false }, 2, 0 });
-	d.chip402().chip402AwaitState(0, Cia402State::OperationEnabled, 100ms);
-	CHECK(d.chip402().chip402Control(0) == ecmxf::Chip402Flags{ true, false, false });
+	d.chip402().setControl(0, ecmxf::Chip402Control{ { true, true, false }, 2, 0 });
+	d.chip402().awaitState(0, Cia402State::OperationEnabled, 100ms);
+	CHECK(d.chip402().control(0) == ecmxf::Chip402Flags{ true, false, false });
 	CHECK(b.drive(0).errorCode() == 0x0000);
 	b.drive(0).injectFault(0x3210);
 	b.sleep(20ms);
-	CHECK(d.chip402().chip402State(0).state == Cia402State::Fault); // only once
+	CHECK(d.chip402().state(0).state == Cia402State::Fault); // only once
 
 	// automatic fault reset: every fault
-	d.chip402().chip402SetControl(0, ecmxf::Chip402Control{ { true, false, true }, 2, 0 });
-	d.chip402().chip402AwaitState(0, Cia402State::OperationEnabled, 100ms);
+	d.chip402().setControl(0, ecmxf::Chip402Control{ { true, false, true }, 2, 0 });
+	d.chip402().awaitState(0, Cia402State::OperationEnabled, 100ms);
 	b.drive(0).injectFault(0x3210);
 	b.sleep(2ms);
-	d.chip402().chip402AwaitState(0, Cia402State::OperationEnabled, 100ms);
-	CHECK(d.chip402().chip402Control(0) == ecmxf::Chip402Flags{ true, false, true });
-	CHECK(d.chip402().chip402Statusword(0) == kOeCsp);
+	d.chip402().awaitState(0, Cia402State::OperationEnabled, 100ms);
+	CHECK(d.chip402().control(0) == ecmxf::Chip402Flags{ true, false, true });
+	CHECK(d.chip402().statusword(0) == kOeCsp);
 }
 
 TEST_CASE("cia402 chip engine: refused commands and bad arguments name the reason", "[402][sim][chip402]")
@@ -358,7 +358,7 @@ TEST_CASE("cia402 chip engine: refused commands and bad arguments name the reaso
 	Bus b;
 	ecmxf::Device &d = *b.dev;
 	// before INIT_OP
-	ecmxf::Error e = thrown([&] { d.chip402().chip402Configure(0, ecmxf::Chip402Config{ 0, 0, 0, {} }); });
+	ecmxf::Error e = thrown([&] { d.chip402().configure(0, ecmxf::Chip402Config{ 0, 0, 0, {} }); });
 	CHECK(e.errnoValue() == EREMOTEIO);
 	REQUIRE(e.errorStatus().has_value());
 	CHECK((*e.errorStatus() & 0x80) == 0x80);
@@ -369,48 +369,48 @@ TEST_CASE("cia402 chip engine: refused commands and bad arguments name the reaso
 
 	b.toOp();
 	// EST-584: 12 output bytes, so a controlword at 11 does not fit
-	e = thrown([&] { d.chip402().chip402Configure(0, ecmxf::Chip402Config{ 0, 11, 0, {} }); });
+	e = thrown([&] { d.chip402().configure(0, ecmxf::Chip402Config{ 0, 11, 0, {} }); });
 	CHECK_THAT(e.what(), Equals("402_CONFIG_SET (motor 0): the chip refused the command (error status bit 7, command "
 				    "error: the bus is not initialized (ECAT_INIT_OP), slave 0 does not exist, or the "
 				    "controlword (offset 11) or statusword (offset 0) is not inside that slave's process "
 				    "data)"));
-	e = thrown([&] { (void)d.chip402().chip402State(5); });
+	e = thrown([&] { (void)d.chip402().state(5); });
 	CHECK(e.errnoValue() == EREMOTEIO);
 	CHECK_THAT(e.what(), Equals("402_STATE_GET (motor 5): the chip refused the command (error status bit 7, command "
 				    "error: motor 5 is not configured (402_CONFIG_SET first))"));
-	e = thrown([&] { (void)d.chip402().chip402Statusword(5); });
+	e = thrown([&] { (void)d.chip402().statusword(5); });
 	CHECK_THAT(e.what(), Equals("402_GET_STATUSWORD (motor 5): the chip refused the command (error status bit 7, "
 				    "command error: motor 5 is not configured (402_CONFIG_SET first)); the command "
 				    "exists only in firmware of manual ver. 050"));
-	e = thrown([&] { (void)d.chip402().chip402Control(5); });
+	e = thrown([&] { (void)d.chip402().control(5); });
 	CHECK_THAT(e.what(), Equals("402_CTL_GET (motor 5): the chip refused the command (error status bit 7, command "
 				    "error: motor 5 is not configured (402_CONFIG_SET first))"));
-	e = thrown([&] { d.chip402().chip402RequestState(5, Cia402State::OperationEnabled); });
+	e = thrown([&] { d.chip402().requestState(5, Cia402State::OperationEnabled); });
 	CHECK_THAT(e.what(), Equals("402_STATE_SET (motor 5): the chip refused the command (error status bit 7, command "
 				    "error: motor 5 is not configured (402_CONFIG_SET first))"));
 
 	// the next command starts clean
-	d.chip402().chip402Configure(0, ecmxf::Chip402Config{ 0, 0, 0, {} });
-	CHECK(d.chip402().chip402State(0).state == Cia402State::SwitchOnDisabled);
-	e = thrown([&] { d.chip402().chip402SetControl(0, ecmxf::Chip402Control{ { true, false, false }, 1, 3 }); });
+	d.chip402().configure(0, ecmxf::Chip402Config{ 0, 0, 0, {} });
+	CHECK(d.chip402().state(0).state == Cia402State::SwitchOnDisabled);
+	e = thrown([&] { d.chip402().setControl(0, ecmxf::Chip402Control{ { true, false, false }, 1, 3 }); });
 	CHECK_THAT(e.what(), Equals("402_CTL_SET (motor 0): the chip refused the command (error status bit 7, command "
 				    "error: motor 0 is not configured (402_CONFIG_SET first), or slave 3 does not "
 				    "exist)"));
 
 	// arguments
-	e = thrown([&] { d.chip402().chip402RequestState(0, Cia402State::Fault); });
+	e = thrown([&] { d.chip402().requestState(0, Cia402State::Fault); });
 	CHECK(e.errnoValue() == EINVAL);
 	CHECK_THAT(e.what(), Equals("402_STATE_SET (motor 0): FAULT (code 0x08) cannot be requested: SWITCH ON "
 				    "DISABLED 0x40, READY TO SWITCH ON 0x21, SWITCHED ON 0x23, OPERATION ENABLED 0x27 "
 				    "or QUICK STOP ACTIVE 0x07"));
-	e = thrown([&] { (void)d.chip402().chip402State(128); });
+	e = thrown([&] { (void)d.chip402().state(128); });
 	CHECK(e.errnoValue() == EINVAL);
 	CHECK_THAT(e.what(), Equals("402_STATE_GET: motor 128 is out of range 0..127"));
-	e = thrown([&] { d.chip402().chip402SetControl(0, ecmxf::Chip402Control{ {}, 0, 0 }); });
+	e = thrown([&] { d.chip402().setControl(0, ecmxf::Chip402Control{ {}, 0, 0 }); });
 	CHECK_THAT(e.what(), Equals("402_CTL_SET: motor count 0 is out of range 1..128 (motor 0)"));
-	e = thrown([&] { d.chip402().chip402Configure(1, ecmxf::Chip402Config{ 128, 0, 0, {} }); });
+	e = thrown([&] { d.chip402().configure(1, ecmxf::Chip402Config{ 128, 0, 0, {} }); });
 	CHECK_THAT(e.what(), Equals("402_CONFIG_SET: slave 128 is out of range 0..127 (motor 1)"));
-	e = thrown([&] { d.chip402().chip402Configure(1, ecmxf::Chip402Config{ 0, 256, 0, {} }); });
+	e = thrown([&] { d.chip402().configure(1, ecmxf::Chip402Config{ 0, 256, 0, {} }); });
 	CHECK_THAT(e.what(), Equals("402_CONFIG_SET: controlword offset 256 is out of range 0..255 (motor 1)"));
 }
 
@@ -421,15 +421,15 @@ TEST_CASE("cia402 chip engine: with the engine off the host's controlword passes
 	b.toOp();
 	b.sleep(5ms);
 	ecmxf::Device &d = *b.dev;
-	d.chip402().chip402Configure(0, ecmxf::Chip402Config{ 0, 0, 0, {} });
-	d.chip402().chip402RequestState(0, Cia402State::OperationEnabled);
+	d.chip402().configure(0, ecmxf::Chip402Config{ 0, 0, 0, {} });
+	d.chip402().requestState(0, Cia402State::OperationEnabled);
 	put16(b.out, 0, 0x0106); // shutdown, with halt (bit 8)
 	b.write();
 	b.sleep(5ms);
 	CHECK(b.drive(0).controlword() == 0x0106);
-	CHECK(d.chip402().chip402State(0).state == Cia402State::ReadyToSwitchOn);
-	d.chip402().chip402SetControl(0, ecmxf::Chip402Control{ { true, false, false }, 1, 0 });
-	d.chip402().chip402AwaitState(0, Cia402State::OperationEnabled, 100ms);
+	CHECK(d.chip402().state(0).state == Cia402State::ReadyToSwitchOn);
+	d.chip402().setControl(0, ecmxf::Chip402Control{ { true, false, false }, 1, 0 });
+	d.chip402().awaitState(0, Cia402State::OperationEnabled, 100ms);
 	// the engine owns bits 0-3 and 7; the host's bit 8 stays
 	CHECK(b.drive(0).controlword() == 0x010F);
 }

@@ -231,7 +231,7 @@ TEST_CASE("bus: STATE_SET BOOT sets up the bootstrap mailbox, PRE-OP after it th
 	r.d().bus().stateSet(0, State::Init);
 	r.d().bus().stateSet(0, State::PreOp);
 	CHECK(r.d().bus().stateGet(0).state() == State::PreOp);
-	CHECK(r.d().sdo().sdoRead<std::uint32_t>(0, 0x1018, 1) == 0x00000E5Cu); // vendor id, sim-slaves.rst
+	CHECK(r.d().sdo().read<std::uint32_t>(0, 0x1018, 1) == 0x00000E5Cu); // vendor id, sim-slaves.rst
 
 	Rig e("est584x2-io.net");
 	e.d().bus().initNetwork();
@@ -303,8 +303,8 @@ TEST_CASE("bus: PDO_CONFIG_SET / REQ / GET with the EST-584's RxPDO2, then CONFI
 				 { { 0x6040, 0, 16 }, { 0x607A, 0, 32 }, { 0x6081, 0, 32 }, { 0x6083, 0, 32 },
 				   { 0x6084, 0, 32 }, { 0x6060, 0, 8 } } });
 	r.d().bus().pdoConfigSet(c);
-	CHECK(r.d().sdo().sdoRead<std::uint16_t>(1, 0x1C12, 1) == 0x1601);
-	CHECK(r.d().sdo().sdoRead<std::uint32_t>(1, 0x1601, 6) == 0x60600008u);
+	CHECK(r.d().sdo().read<std::uint16_t>(1, 0x1C12, 1) == 0x1601);
+	CHECK(r.d().sdo().read<std::uint32_t>(1, 0x1601, 6) == 0x60600008u);
 
 	const PdoConfig back = r.d().bus().pdoConfigRead(1, 0x1C12);
 	CHECK(back.slave == 1);

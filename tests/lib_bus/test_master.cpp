@@ -192,8 +192,8 @@ TEST_CASE("master: PDO assignment through the 3x8 command and through SDO, start
 	CHECK(m.rxPdoSize() == 19 + 12 + 1);
 	CHECK(m.txPdoSize() == 17 + 6 + 1);
 
-	CHECK(r.d().sdo().sdoRead<std::uint16_t>(0, 0x2030, 0) == 2000);
-	CHECK(r.d().sdo().sdoRead<std::uint16_t>(1, 0x2001, 0) == 10000);
+	CHECK(r.d().sdo().read<std::uint16_t>(0, 0x2030, 0) == 2000);
+	CHECK(r.d().sdo().read<std::uint16_t>(1, 0x2001, 0) == 10000);
 }
 
 TEST_CASE("master: RECONFIG_OP instead of CONFIG_MAP, and stopping in SAFE-OP", "[master][pdo]")

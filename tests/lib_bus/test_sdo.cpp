@@ -47,19 +47,19 @@ TEST_CASE("sdo: typed uploads from the EST-584 give its manual's values", "[sdo]
 	r.preOp();
 	auto &d = r.d();
 	// sim-slaves.rst identities; 0x2001 default 50000 (manual 3.5)
-	CHECK(d.sdo().sdoRead<std::uint32_t>(0, 0x1000, 0) == 0x00030192u);
-	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1018, 1) == 0x00000E5Cu);
-	CHECK(d.sdo().sdoRead<std::uint32_t>(1, 0x1018, 2) == 0x00000584u);
-	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);
-	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2030, 0) == 1000); // position following error (4.3.1)
+	CHECK(d.sdo().read<std::uint32_t>(0, 0x1000, 0) == 0x00030192u);
+	CHECK(d.sdo().read<std::uint32_t>(1, 0x1018, 1) == 0x00000E5Cu);
+	CHECK(d.sdo().read<std::uint32_t>(1, 0x1018, 2) == 0x00000584u);
+	CHECK(d.sdo().read<std::uint16_t>(0, 0x2001, 0) == 50000);
+	CHECK(d.sdo().read<std::uint16_t>(0, 0x2030, 0) == 1000); // position following error (4.3.1)
 	// 5.4.2: 0x1C12:00 / 0x1C13:00 one PDO each, 0x1600 / 0x1A00
-	CHECK(d.sdo().sdoRead<std::uint8_t>(0, 0x1C12, 0) == 1);
-	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x1C12, 1) == 0x1600);
-	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x1C13, 1) == 0x1A00);
+	CHECK(d.sdo().read<std::uint8_t>(0, 0x1C12, 0) == 1);
+	CHECK(d.sdo().read<std::uint16_t>(0, 0x1C12, 1) == 0x1600);
+	CHECK(d.sdo().read<std::uint16_t>(0, 0x1C13, 1) == 0x1A00);
 	// 5.4.1: RXPDO1 entry 2 = 0x607A0020
-	CHECK(d.sdo().sdoRead<std::uint32_t>(0, 0x1600, 2) == 0x607A0020u);
-	CHECK(d.sdo().sdoReadString(0, 0x1008, 0) == "EST-584");
-	const std::vector<std::uint8_t> raw = d.sdo().sdoUpload(0, 0x1000, 0);
+	CHECK(d.sdo().read<std::uint32_t>(0, 0x1600, 2) == 0x607A0020u);
+	CHECK(d.sdo().readString(0, 0x1008, 0) == "EST-584");
+	const std::vector<std::uint8_t> raw = d.sdo().upload(0, 0x1000, 0);
 	CHECK(raw == std::vector<std::uint8_t>{ 0x92, 0x01, 0x03, 0x00 });
 }
 
@@ -68,20 +68,20 @@ TEST_CASE("sdo: typed downloads to the EST-584 read back", "[sdo]")
 	Rig r;
 	r.preOp();
 	auto &d = r.d();
-	d.sdo().sdoWrite<std::uint16_t>(1, 0x2001, 0, 10000);
-	CHECK(d.sdo().sdoRead<std::uint16_t>(1, 0x2001, 0) == 10000);
-	CHECK(d.sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000); // the other drive untouched
-	d.sdo().sdoWrite<std::int8_t>(0, 0x6060, 0, 8);                // CSP
-	CHECK(d.sdo().sdoRead<std::int8_t>(0, 0x6060, 0) == 8);
-	d.sdo().sdoWrite<std::int32_t>(0, 0x607A, 0, -123456);
-	CHECK(d.sdo().sdoRead<std::int32_t>(0, 0x607A, 0) == -123456);
-	CHECK(d.sdo().sdoRead<std::uint32_t>(0, 0x607A, 0) == 0xFFFE1DC0u); // two's complement of 123456 = 0x1E240
+	d.sdo().write<std::uint16_t>(1, 0x2001, 0, 10000);
+	CHECK(d.sdo().read<std::uint16_t>(1, 0x2001, 0) == 10000);
+	CHECK(d.sdo().read<std::uint16_t>(0, 0x2001, 0) == 50000); // the other drive untouched
+	d.sdo().write<std::int8_t>(0, 0x6060, 0, 8);                // CSP
+	CHECK(d.sdo().read<std::int8_t>(0, 0x6060, 0) == 8);
+	d.sdo().write<std::int32_t>(0, 0x607A, 0, -123456);
+	CHECK(d.sdo().read<std::int32_t>(0, 0x607A, 0) == -123456);
+	CHECK(d.sdo().read<std::uint32_t>(0, 0x607A, 0) == 0xFFFE1DC0u); // two's complement of 123456 = 0x1E240
 	// a float is 4 bytes on the bus: 1.5f = 0x3FC00000 (IEEE 754)
-	d.sdo().sdoWrite<float>(0, 0x607A, 0, 1.5f);
-	CHECK(d.sdo().sdoRead<std::uint32_t>(0, 0x607A, 0) == 0x3FC00000u);
-	CHECK(d.sdo().sdoRead<float>(0, 0x607A, 0) == 1.5f);
-	d.sdo().sdoWrite<std::uint32_t>(0, 0x6081, 0, 200000);
-	CHECK(d.sdo().sdoRead<std::int32_t>(0, 0x6081, 0) == 200000);
+	d.sdo().write<float>(0, 0x607A, 0, 1.5f);
+	CHECK(d.sdo().read<std::uint32_t>(0, 0x607A, 0) == 0x3FC00000u);
+	CHECK(d.sdo().read<float>(0, 0x607A, 0) == 1.5f);
+	d.sdo().write<std::uint32_t>(0, 0x6081, 0, 200000);
+	CHECK(d.sdo().read<std::int32_t>(0, 0x6081, 0) == 200000);
 }
 
 TEST_CASE("sdo: 64-bit, double, octet strings and 256-byte objects (TestSlave)", "[sdo]")
@@ -91,35 +91,35 @@ TEST_CASE("sdo: 64-bit, double, octet strings and 256-byte objects (TestSlave)",
 	auto &d = r.d();
 	auto &s = r.test(1);
 
-	d.sdo().sdoWrite<std::uint64_t>(1, 0x3000, 0, 0x0102030405060708ull);
+	d.sdo().write<std::uint64_t>(1, 0x3000, 0, 0x0102030405060708ull);
 	CHECK(s.od[{ 0x3000, 0 }] == std::vector<std::uint8_t>{ 8, 7, 6, 5, 4, 3, 2, 1 });
-	CHECK(d.sdo().sdoRead<std::uint64_t>(1, 0x3000, 0) == 0x0102030405060708ull);
-	d.sdo().sdoWrite<std::int64_t>(1, 0x3001, 0, -2);
+	CHECK(d.sdo().read<std::uint64_t>(1, 0x3000, 0) == 0x0102030405060708ull);
+	d.sdo().write<std::int64_t>(1, 0x3001, 0, -2);
 	// -2 is FE FF .. FF little-endian
 	CHECK(s.od[{ 0x3001, 0 }] == std::vector<std::uint8_t>{ 0xFE, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF });
-	CHECK(d.sdo().sdoRead<std::int64_t>(1, 0x3001, 0) == -2);
+	CHECK(d.sdo().read<std::int64_t>(1, 0x3001, 0) == -2);
 	// 1.0 = 0x3FF0000000000000
-	d.sdo().sdoWrite<double>(1, 0x3002, 0, 1.0);
+	d.sdo().write<double>(1, 0x3002, 0, 1.0);
 	CHECK(s.od[{ 0x3002, 0 }] == std::vector<std::uint8_t>{ 0, 0, 0, 0, 0, 0, 0xF0, 0x3F });
-	CHECK(d.sdo().sdoRead<double>(1, 0x3002, 0) == 1.0);
-	d.sdo().sdoWrite<std::int16_t>(1, 0x3003, 0, -300); // 0xFED4
+	CHECK(d.sdo().read<double>(1, 0x3002, 0) == 1.0);
+	d.sdo().write<std::int16_t>(1, 0x3003, 0, -300); // 0xFED4
 	CHECK(s.od[{ 0x3003, 0 }] == std::vector<std::uint8_t>{ 0xD4, 0xFE });
-	CHECK(d.sdo().sdoRead<std::int16_t>(1, 0x3003, 0) == -300);
+	CHECK(d.sdo().read<std::int16_t>(1, 0x3003, 0) == -300);
 
 	const std::vector<std::uint8_t> octets{ 0xDE, 0xAD, 0x00, 0xBE, 0xEF };
-	d.sdo().sdoDownload(1, 0x3004, 0, octets);
+	d.sdo().download(1, 0x3004, 0, octets);
 	CHECK(s.od[{ 0x3004, 0 }] == octets);
-	CHECK(d.sdo().sdoUpload(1, 0x3004, 0) == octets);
+	CHECK(d.sdo().upload(1, 0x3004, 0) == octets);
 
-	d.sdo().sdoWriteString(1, 0x3005, 0, "hello");
-	CHECK(d.sdo().sdoReadString(1, 0x3005, 0) == "hello");
+	d.sdo().writeString(1, 0x3005, 0, "hello");
+	CHECK(d.sdo().readString(1, 0x3005, 0) == "hello");
 	s.od[{ 0x3006, 0 }] = { 'a', 'b', 0, 0 }; // NUL padded visible string
-	CHECK(d.sdo().sdoReadString(1, 0x3006, 0) == "ab");
+	CHECK(d.sdo().readString(1, 0x3006, 0) == "ab");
 
 	// the TestSlave's 200-byte object 0x2001 does not fit the 112-byte
 	// data section: a clear error, not 112 silent bytes
 	try {
-		(void)d.sdo().sdoUpload(1, 0x2001, 0);
+		(void)d.sdo().upload(1, 0x2001, 0);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EMSGSIZE);
@@ -130,7 +130,7 @@ TEST_CASE("sdo: 64-bit, double, octet strings and 256-byte objects (TestSlave)",
 	// a download of 101 bytes needs a 113-byte data section
 	const std::vector<std::uint8_t> big(101, 0x5A);
 	try {
-		d.sdo().sdoDownload(1, 0x3007, 0, big);
+		d.sdo().download(1, 0x3007, 0, big);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EMSGSIZE);
@@ -139,11 +139,11 @@ TEST_CASE("sdo: 64-bit, double, octet strings and 256-byte objects (TestSlave)",
 	}
 	// 100 bytes fit
 	const std::vector<std::uint8_t> fits(100, 0xA5);
-	d.sdo().sdoDownload(1, 0x3007, 0, fits);
+	d.sdo().download(1, 0x3007, 0, fits);
 	CHECK(s.od[{ 0x3007, 0 }] == fits);
 	SdoOptions o;
 	o.length = 100;
-	CHECK(d.sdo().sdoUpload(1, 0x3007, 0, o) == fits);
+	CHECK(d.sdo().upload(1, 0x3007, 0, o) == fits);
 }
 
 TEST_CASE("sdo: more than 256 bytes is refused naming the chip's limit", "[sdo][errors]")
@@ -152,7 +152,7 @@ TEST_CASE("sdo: more than 256 bytes is refused naming the chip's limit", "[sdo][
 	r.preOp();
 	const std::vector<std::uint8_t> tooBig(257, 0);
 	try {
-		r.d().sdo().sdoDownload(0, 0x2000, 0, tooBig);
+		r.d().sdo().download(0, 0x2000, 0, tooBig);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EMSGSIZE);
@@ -162,7 +162,7 @@ TEST_CASE("sdo: more than 256 bytes is refused naming the chip's limit", "[sdo][
 	SdoOptions o;
 	o.length = 300;
 	try {
-		(void)r.d().sdo().sdoUpload(0, 0x2000, 0, o);
+		(void)r.d().sdo().upload(0, 0x2000, 0, o);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EMSGSIZE);
@@ -175,7 +175,7 @@ TEST_CASE("sdo: a non-existent object aborts with 0x06020000 and its text", "[sd
 	Rig r;
 	r.preOp();
 	try {
-		(void)r.d().sdo().sdoRead<std::uint32_t>(1, 0x5FFF, 0);
+		(void)r.d().sdo().read<std::uint32_t>(1, 0x5FFF, 0);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x06020000u);
@@ -185,7 +185,7 @@ TEST_CASE("sdo: a non-existent object aborts with 0x06020000 and its text", "[sd
 	// the chip keeps the code for ECAT_SDO_ABORTCODE_GET
 	CHECK(r.d().bus().sdoAbortCode() == 0x06020000u);
 	// and the next transfer works (the engine cleared the async error)
-	CHECK(r.d().sdo().sdoRead<std::uint16_t>(1, 0x2001, 0) == 50000);
+	CHECK(r.d().sdo().read<std::uint16_t>(1, 0x2001, 0) == 50000);
 	CHECK(r.d().bus().sdoAbortCode() == 0u);
 }
 
@@ -194,7 +194,7 @@ TEST_CASE("sdo: a write to a read-only object aborts with 0x06010002", "[sdo][er
 	Rig r;
 	r.preOp();
 	try {
-		r.d().sdo().sdoWrite<std::uint32_t>(0, 0x1000, 0, 1);
+		r.d().sdo().write<std::uint32_t>(0, 0x1000, 0, 1);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x06010002u);
@@ -202,16 +202,16 @@ TEST_CASE("sdo: a write to a read-only object aborts with 0x06010002", "[sdo][er
 	}
 	// a value above the range (0x2001: 200..51200): the EST-584 clamps and aborts (manual 5.3.3)
 	try {
-		r.d().sdo().sdoWrite<std::uint16_t>(0, 0x2001, 0, 60000);
+		r.d().sdo().write<std::uint16_t>(0, 0x2001, 0, 60000);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x06090031u);
 		CHECK_THAT(e.what(), Equals("SDO download 0x2001:00 to slave 0 aborted: 0x06090031 Value is too great"));
 	}
-	CHECK(r.d().sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 51200);
+	CHECK(r.d().sdo().read<std::uint16_t>(0, 0x2001, 0) == 51200);
 	// a wrong length: a 32-bit value to a 16-bit entry
 	try {
-		r.d().sdo().sdoWrite<std::uint32_t>(0, 0x2001, 0, 1000);
+		r.d().sdo().write<std::uint32_t>(0, 0x2001, 0, 1000);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x06070010u);
@@ -219,7 +219,7 @@ TEST_CASE("sdo: a write to a read-only object aborts with 0x06010002", "[sdo][er
 	}
 	// the reading side: a 16-bit object read as 32 bits
 	try {
-		(void)r.d().sdo().sdoRead<std::uint32_t>(0, 0x2001, 0);
+		(void)r.d().sdo().read<std::uint32_t>(0, 0x2001, 0);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EPROTO);
@@ -233,7 +233,7 @@ TEST_CASE("sdo: in INIT the slave answers 0x08000022, the dio has no object dict
 	Rig r;
 	r.d().bus().initNetwork();
 	try {
-		(void)r.d().sdo().sdoRead<std::uint32_t>(0, 0x1000, 0);
+		(void)r.d().sdo().read<std::uint32_t>(0, 0x1000, 0);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x08000022u);
@@ -241,7 +241,7 @@ TEST_CASE("sdo: in INIT the slave answers 0x08000022, the dio has no object dict
 	}
 	r.d().bus().stateSet(ecmxf::kAllSlaves, State::PreOp);
 	try {
-		(void)r.d().sdo().sdoRead<std::uint32_t>(2, 0x1000, 0);
+		(void)r.d().sdo().read<std::uint32_t>(2, 0x1000, 0);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x08000023u);
@@ -256,7 +256,7 @@ TEST_CASE("sdo: FaultPlan forcedSdoAbort reaches the user with its text", "[sdo]
 	r.preOp();
 	r.chip->faults().forcedSdoAbort = 0x06060000;
 	try {
-		(void)r.d().sdo().sdoRead<std::uint16_t>(0, 0x2001, 0);
+		(void)r.d().sdo().read<std::uint16_t>(0, 0x2001, 0);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x06060000u);
@@ -264,7 +264,7 @@ TEST_CASE("sdo: FaultPlan forcedSdoAbort reaches the user with its text", "[sdo]
 	}
 	r.chip->faults().forcedSdoAbort = 0x0BADC0DE;
 	try {
-		r.d().sdo().sdoWrite<std::uint16_t>(0, 0x2001, 0, 1000);
+		r.d().sdo().write<std::uint16_t>(0, 0x2001, 0, 1000);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x0BADC0DEu);
@@ -279,7 +279,7 @@ TEST_CASE("sdo: a slave slower than the SDO timeout gives 0x05040000", "[sdo][er
 	SdoOptions o;
 	o.timeout = 500us; // the EST-584 answers after 1 ms
 	try {
-		(void)r.d().sdo().sdoRead<std::uint16_t>(0, 0x2001, 0, o);
+		(void)r.d().sdo().read<std::uint16_t>(0, 0x2001, 0, o);
 		FAIL("no error");
 	} catch (const SdoError &e) {
 		CHECK(e.abortCode() == 0x05040000u);
@@ -295,7 +295,7 @@ TEST_CASE("sdo: a chip that stays busy times out naming the wait", "[sdo][errors
 	SdoOptions o;
 	o.timeout = 100ms; // the library waits 100 ms + 1 s
 	try {
-		(void)r.d().sdo().sdoRead<std::uint16_t>(0, 0x2001, 0, o);
+		(void)r.d().sdo().read<std::uint16_t>(0, 0x2001, 0, o);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == ETIMEDOUT);
@@ -311,7 +311,7 @@ TEST_CASE("sdo: complete access and bad arguments are refused before sending", "
 	SdoOptions ca;
 	ca.completeAccess = true;
 	try {
-		(void)r.d().sdo().sdoUpload(0, 0x1C12, 0, ca);
+		(void)r.d().sdo().upload(0, 0x1C12, 0, ca);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EOPNOTSUPP);
@@ -320,14 +320,14 @@ TEST_CASE("sdo: complete access and bad arguments are refused before sending", "
 					    "ver. 038 and 050); transfer the subindices one by one"));
 	}
 	try {
-		(void)r.d().sdo().sdoRead<std::uint16_t>(128, 0x2001, 0);
+		(void)r.d().sdo().read<std::uint16_t>(128, 0x2001, 0);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
 		CHECK_THAT(e.what(), Equals("SDO upload 0x2001:00 from slave 128: slave 128 out of range (0..127)"));
 	}
 	try {
-		r.d().sdo().sdoDownload(0, 0x2001, 0, std::span<const std::uint8_t>());
+		r.d().sdo().download(0, 0x2001, 0, std::span<const std::uint8_t>());
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
@@ -336,7 +336,7 @@ TEST_CASE("sdo: complete access and bad arguments are refused before sending", "
 	// a slave position the bus does not have: the chip refuses, the
 	// library says why
 	try {
-		(void)r.d().sdo().sdoRead<std::uint16_t>(5, 0x2001, 0);
+		(void)r.d().sdo().read<std::uint16_t>(5, 0x2001, 0);
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EINVAL);
@@ -345,5 +345,5 @@ TEST_CASE("sdo: complete access and bad arguments are refused before sending", "
 					    "found by ECAT_INIT_OP))"));
 	}
 	// and the device works afterwards
-	CHECK(r.d().sdo().sdoRead<std::uint16_t>(0, 0x2001, 0) == 50000);
+	CHECK(r.d().sdo().read<std::uint16_t>(0, 0x2001, 0) == 50000);
 }

@@ -104,7 +104,7 @@ TEST_CASE("axis: PP absolute move with the set-point handshake reaches the targe
 	CHECK(a.position() == 60000);
 	CHECK(b.drive(0).positionActual() == 60000);
 	// 0x6081 went by SDO (not mapped)
-	CHECK(b.dev->sdo().sdoRead<std::uint32_t>(0, 0x6081, 0) == 100000u);
+	CHECK(b.dev->sdo().read<std::uint32_t>(0, 0x6081, 0) == 100000u);
 	// the other drive did not move
 	CHECK(b.drive(1).positionActual() == 0);
 }
@@ -134,7 +134,7 @@ TEST_CASE("axis: PP on the default mapping sets the mode by SDO", "[axis][pp]")
 	Cia402Axis a(*b.dev, *b.image, 0);
 	CHECK_FALSE(a.modeByPdo());
 	modeAndEnable(b, { &a }, cia402::kModePp);
-	CHECK(b.dev->sdo().sdoRead<std::int8_t>(0, 0x6060, 0) == 1);
+	CHECK(b.dev->sdo().read<std::int8_t>(0, 0x6060, 0) == 1);
 	CHECK(a.modeDisplay() == 1); // 0x6061 is in the default TxPDO
 	a.moveTo(5000, {}, b.now());
 	std::vector<Cia402Axis *> v{ &a };
@@ -152,7 +152,7 @@ TEST_CASE("axis: PV reaches the target velocity", "[axis][pv]")
 	ecmxf::runUntilDone(*b.cyc, v, 2s, "velocity reached");
 	CHECK(a.velocity() == 40000);
 	CHECK(b.drive(0).velocityActual() == 40000);
-	CHECK(b.dev->sdo().sdoRead<std::uint32_t>(0, 0x6083, 0) == 400000u);
+	CHECK(b.dev->sdo().read<std::uint32_t>(0, 0x6083, 0) == 400000u);
 	// and back to 0
 	a.setVelocity(0, b.now());
 	ecmxf::runUntilDone(*b.cyc, v, 2s, "standstill");
@@ -173,7 +173,7 @@ TEST_CASE("axis: homing on the current position (method 37) attains homing at th
 	ecmxf::runUntilDone(*b.cyc, v, 2s, "homing attained");
 	CHECK(ecmxf::homingStatus(a.statusword()) == ecmxf::HomingStatus::Completed);
 	CHECK(a.position() == 0); // 0x607C = 0
-	CHECK(b.dev->sdo().sdoRead<std::int8_t>(0, 0x6098, 0) == 37);
+	CHECK(b.dev->sdo().read<std::int8_t>(0, 0x6098, 0) == 37);
 }
 
 TEST_CASE("axis: homing on the home switch (method 19) ends near the edge", "[axis][hm]")

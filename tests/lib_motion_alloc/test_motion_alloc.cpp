@@ -363,7 +363,7 @@ TEST_CASE("motion alloc: PV and homing requests without SDO parameters allocate 
 	b.drive(1).setPositionActual(12345);
 	// set-up: homing on the current position (0x6098 is not mapped: an
 	// SDO write, so before the window)
-	b.dev->sdo().sdoWrite<std::int8_t>(1, 0x6098, 0, 37);
+	b.dev->sdo().write<std::int8_t>(1, 0x6098, 0, 37);
 	modeAndEnable(b, { &a0 }, cia402::kModePv);
 	modeAndEnable(b, { &a1 }, cia402::kModeHm);
 	REQUIRE(a0.enabled());

@@ -50,18 +50,18 @@ TEST_CASE("PDO_WC_GET: slave counts and the working counter of the default netwo
 {
 	Bus bus;
 	bus.toOp();
-	const ecmxf::PdoSlaveCounts c = bus.dev->pdo().pdoSlaveCounts();
+	const ecmxf::PdoSlaveCounts c = bus.dev->pdo().slaveCounts();
 	// all three slaves have inputs and outputs
 	CHECK(c.inputSlaves == 3);
 	CHECK(c.outputSlaves == 3);
 	// 3 x 1 + 3 x 2
 	CHECK(c.expectedWkc() == 9);
 	bus.run(3ms);
-	CHECK(bus.dev->pdo().pdoWorkingCounter() == 9);
+	CHECK(bus.dev->pdo().workingCounter() == 9);
 	// the I/O terminal stops answering: its 1 + 2 are missing
 	bus.chip().faults().slaveDropped = 2;
 	bus.run(3ms);
-	CHECK(bus.dev->pdo().pdoWorkingCounter() == 6);
+	CHECK(bus.dev->pdo().workingCounter() == 6);
 }
 
 TEST_CASE("FIFO_PACK_SIZE_GET: the RxPDO and TxPDO frame sizes", "[lib][pdo][cmd]")
@@ -129,7 +129,7 @@ TEST_CASE("PDO_DATA_FIFO_OP: frames into the RxFIFO, out of the TxFIFO", "[lib][
 	auto &dio = bus.model<ecmxf::sim::DioModel>(2);
 
 	// ECAT_INIT_OP left the FIFO off: frames are stored, not sent
-	const ecmxf::PdoFifoResult w = d.pdo().pdoFifoExchange(frames(3), 3, false);
+	const ecmxf::PdoFifoResult w = d.pdo().fifoExchange(frames(3), 3, false);
 	CHECK(w.allWritten);
 	CHECK(w.rxFifoCount == 3);
 	CHECK(w.framesRead == 0);
@@ -147,7 +147,7 @@ TEST_CASE("PDO_DATA_FIFO_OP: frames into the RxFIFO, out of the TxFIFO", "[lib][
 	CHECK(dio.outputs()[0] == 0x12);
 
 	// ten cycles queued ten TxPDO frames; 112 data bytes hold 3 of 35
-	const ecmxf::PdoFifoResult r = d.pdo().pdoFifoExchange({}, 0, true);
+	const ecmxf::PdoFifoResult r = d.pdo().fifoExchange({}, 0, true);
 	CHECK(r.framesRead == 3);
 	REQUIRE(r.inputs.size() == 3 * 35);
 	CHECK(r.inputs[34] == 0xA7);
@@ -162,17 +162,17 @@ TEST_CASE("PDO_DATA_FIFO_OP: a full RxFIFO refuses the newest frames", "[lib][pd
 	bus.toOp();
 	ecmxf::Device &d = *bus.dev;
 	d.pdo().fifoSetRxCount(4);
-	const ecmxf::PdoFifoResult r = d.pdo().pdoFifoExchange(frames(4), 4, false);
+	const ecmxf::PdoFifoResult r = d.pdo().fifoExchange(frames(4), 4, false);
 	CHECK(r.allWritten);
 	const auto refused0 = bus.chip().stats().rxRefused;
-	const ecmxf::PdoFifoResult full = d.pdo().pdoFifoExchange(frames(2), 2, false);
+	const ecmxf::PdoFifoResult full = d.pdo().fifoExchange(frames(2), 2, false);
 	CHECK_FALSE(full.allWritten);
 	CHECK(full.rxFifoCount == 4);
 	CHECK(full.errStatus & kErrFifo);
 	CHECK(bus.chip().stats().rxRefused - refused0 == 2);
 	// the FIFO error bit is cleared with the next write
 	d.pdo().fifoClear(ecmxf::FifoSelect::RxFifo);
-	const ecmxf::PdoFifoResult again = d.pdo().pdoFifoExchange(frames(1), 1, false);
+	const ecmxf::PdoFifoResult again = d.pdo().fifoExchange(frames(1), 1, false);
 	CHECK(again.allWritten);
 	CHECK((again.errStatus & kErrFifo) == 0);
 }
@@ -182,16 +182,16 @@ TEST_CASE("PDO_DATA_FIFO_OP: bad frame counts and sizes are refused before sendi
 	Bus bus;
 	bus.toOp();
 	ecmxf::Device &d = *bus.dev;
-	ecmxf::Error e = thrown([&] { (void)d.pdo().pdoFifoExchange(frames(1), 256, false); });
+	ecmxf::Error e = thrown([&] { (void)d.pdo().fifoExchange(frames(1), 256, false); });
 	CHECK_THAT(e.what(), Equals("ECAT_PDO_DATA_FIFO_OP: 256 RxPDO frames out of range (0..255 per command)"));
 	CHECK(e.errnoValue() == EINVAL);
-	e = thrown([&] { (void)d.pdo().pdoFifoExchange(frames(2), 3, false); });
+	e = thrown([&] { (void)d.pdo().fifoExchange(frames(2), 3, false); });
 	CHECK_THAT(e.what(), Equals("ECAT_PDO_DATA_FIFO_OP: 50 bytes do not divide into 3 RxPDO frames"));
-	e = thrown([&] { (void)d.pdo().pdoFifoExchange(std::vector<std::uint8_t>(24, 0), 1, false); });
+	e = thrown([&] { (void)d.pdo().fifoExchange(std::vector<std::uint8_t>(24, 0), 1, false); });
 	CHECK_THAT(e.what(), Equals("ECAT_PDO_DATA_FIFO_OP: RxPDO frames of 24 bytes given; the chip's RxPDO "
 				    "frame is 25 bytes (FIFO_PACK_SIZE_GET 0)"));
 	CHECK(e.errnoValue() == EINVAL);
-	e = thrown([&] { (void)d.pdo().pdoFifoExchange(frames(5), 5, false); });
+	e = thrown([&] { (void)d.pdo().fifoExchange(frames(5), 5, false); });
 	CHECK_THAT(e.what(), Equals("ECAT_PDO_DATA_FIFO_OP: 5 RxPDO frames of 25 bytes (125 bytes) do not fit "
 				    "the data section (112 bytes)"));
 	CHECK(e.errnoValue() == EMSGSIZE);
@@ -209,7 +209,7 @@ TEST_CASE("PDO_DATA_OP: read, write and both on the direct process image", "[lib
 	drive1.setPositionActual(-2);
 	bus.run(3ms);
 
-	const std::vector<std::uint8_t> in = d.pdo().pdoRead();
+	const std::vector<std::uint8_t> in = d.pdo().read();
 	REQUIRE(in.size() == 35);
 	CHECK(in[34] == 0x5C);
 	// slave 1's position actual: frame byte 17 + 3, little-endian -2
@@ -220,20 +220,20 @@ TEST_CASE("PDO_DATA_OP: read, write and both on the direct process image", "[lib
 
 	std::vector<std::uint8_t> out(25, 0);
 	out[24] = 0x3C;
-	d.pdo().pdoWrite(out);
+	d.pdo().write(out);
 	bus.run(3ms);
 	CHECK(dio.outputs()[0] == 0x3C);
 
 	out[24] = 0xC3;
 	dio.setInputs(std::vector<std::uint8_t>{ 0x11 });
 	bus.run(2ms);
-	const std::vector<std::uint8_t> both = d.pdo().pdoWriteRead(out);
+	const std::vector<std::uint8_t> both = d.pdo().writeRead(out);
 	REQUIRE(both.size() == 35);
 	CHECK(both[34] == 0x11);
 	bus.run(2ms);
 	CHECK(dio.outputs()[0] == 0xC3);
 
-	const ecmxf::Error e = thrown([&] { d.pdo().pdoWrite({}); });
+	const ecmxf::Error e = thrown([&] { d.pdo().write({}); });
 	CHECK_THAT(e.what(), Equals("ECAT_PDO_DATA_OP: no output bytes to write"));
 	CHECK(e.errnoValue() == EINVAL);
 }
@@ -241,17 +241,17 @@ TEST_CASE("PDO_DATA_OP: read, write and both on the direct process image", "[lib
 TEST_CASE("process data commands before ECAT_INIT_OP: the chip's refusal names the command", "[lib][pdo][cmd]")
 {
 	Bus bus;
-	ecmxf::Error e = thrown([&] { (void)bus.dev->pdo().pdoRead(); });
+	ecmxf::Error e = thrown([&] { (void)bus.dev->pdo().read(); });
 	CHECK_THAT(e.what(), Equals("ECAT_PDO_DATA_OP: the chip refused the command (error status bit 7, command "
 				    "error: no process image yet (ECAT_INIT_OP first)?)"));
 	CHECK(e.errnoValue() == EREMOTEIO);
 	REQUIRE(e.errorStatus().has_value());
 	CHECK(*e.errorStatus() & kErrCmd);
 	// no layout: the chip's RxPDO frame is 0 bytes
-	e = thrown([&] { (void)bus.dev->pdo().pdoFifoExchange(std::vector<std::uint8_t>(4, 0), 1, false); });
+	e = thrown([&] { (void)bus.dev->pdo().fifoExchange(std::vector<std::uint8_t>(4, 0), 1, false); });
 	CHECK_THAT(e.what(), Contains("the chip's RxPDO frame is 0 bytes"));
 	// a read alone reaches the chip, which refuses it
-	e = thrown([&] { (void)bus.dev->pdo().pdoFifoExchange({}, 0, true); });
+	e = thrown([&] { (void)bus.dev->pdo().fifoExchange({}, 0, true); });
 	CHECK_THAT(e.what(), Contains("ECAT_PDO_DATA_FIFO_OP: the chip refused the command (error status bit 7"));
 }
 
@@ -264,7 +264,7 @@ TEST_CASE("FIFO_CLR_OP and FIFO_INIT empty the FIFOs", "[lib][pdo][cmd]")
 		d.pdo().fifoEnable(true);
 		bus.run(6ms);
 		d.pdo().fifoEnable(false);
-		(void)d.pdo().pdoFifoExchange(frames(3), 3, false);
+		(void)d.pdo().fifoExchange(frames(3), 3, false);
 		const ecmxf::ResponseHeader h = bus.info();
 		REQUIRE(h.txFifoCnt >= 5);
 		REQUIRE(h.rxFifoCnt == 3);
@@ -281,7 +281,7 @@ TEST_CASE("FIFO_CLR_OP and FIFO_INIT empty the FIFOs", "[lib][pdo][cmd]")
 	CHECK(d.lastHeader().rxFifoCnt == 0);
 
 	d.pdo().fifoSetRxCount(5);
-	(void)d.pdo().pdoFifoExchange(frames(2), 2, false);
+	(void)d.pdo().fifoExchange(frames(2), 2, false);
 	CHECK(bus.info().rxFifoCnt == 2);
 	d.pdo().fifoInit();
 	CHECK(d.lastHeader().rxFifoCnt == 0);
@@ -340,7 +340,7 @@ TEST_CASE("ECAT_SET_FIFO_TH: the TxFIFO high mark raises interrupt flag bit 24 a
 		low.rxLowEnabled = true;
 		low.rxLow = 1;
 		d.pdo().fifoSetThresholds(low);
-		(void)d.pdo().pdoFifoExchange(frames(3), 3, false);
+		(void)d.pdo().fifoExchange(frames(3), 3, false);
 		CHECK((bus.info().intFlags & (1u << 25)) == 0);
 		d.pdo().fifoEnable(true);
 		bus.run(5ms);

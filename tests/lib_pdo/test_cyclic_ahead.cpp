@@ -77,7 +77,7 @@ public:
 	void sleepFor(std::chrono::nanoseconds d) override { sim_.sleepFor(d); }
 	void sleepUntil(std::chrono::nanoseconds t) override { sim_.sleepUntil(t); }
 	std::string name() const override { return "refusing " + sim_.name(); }
-	ecmxf::sim::Chip *simulator() noexcept override { return sim_.simulator(); }
+	ecmxf::sim::Chip &chip() noexcept { return sim_.chip(); }
 
 private:
 	ecmxf::SimChannel sim_;
@@ -314,7 +314,7 @@ TEST_CASE("Cyclic fifoAnswerNextCycle: a command the chip refuses is reported by
 {
 	auto ch = std::make_unique<RefusingChannel>(pdotest::network("loopback.net"));
 	RefusingChannel &refusing = *ch;
-	ecmxf::sim::Chip &chip = *ch->simulator();
+	ecmxf::sim::Chip &chip = ch->chip();
 	Bus bus(std::make_unique<ecmxf::Device>(std::move(ch)), chip);
 	bus.toOp();
 	ecmxf::ProcessImage image(pdotest::loopbackPdos());

@@ -3,12 +3,23 @@
 // the kernel calls it: the order of the events of one header, the most one
 // header can give, a WKC burst ended by time (ecmxf_det_poll and its
 // deadline), a reset ending a running burst first, and the core's type
-// numbers being the uAPI's.
+// numbers being the uAPI's; ecmxf::EventDetector made with a Device reads
+// the slaves' states and AL status codes for a state that went down, as the
+// kernel's netlink unit does (kmod/ecmxf-netlink.c, "AL status query").
 
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cstdint>
+#include <memory>
 #include <vector>
+
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/chip/chip.hpp>
+#include <ecmxf/device.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/events/events.hpp>
+#include <ecmxf/sim/chip.hpp>
 
 #include <linux/ecmxf_netlink.h>
 
@@ -179,4 +190,112 @@ TEST_CASE("detector: rebase forgets the baseline and ends a burst", "[detector]"
 	h.ecat_state = 0x01;
 	CHECK(t.feed(h, 4 * kMs).empty()); // baseline again
 	CHECK(ecmxf_det_rebase(&t.d, 5 * kMs, ev) == 0);
+}
+
+// ------------------------------------------- EventDetector with a Device
+
+namespace {
+
+/// The default simulated network in OP, and a detector bound to it whose
+/// baseline is the OP header.
+struct SimBus {
+	std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open("sim:");
+	ecmxf::EventDetector det{ *dev };
+
+	SimBus()
+	{
+		const ecmxf::Bus bus = dev->bus();
+		bus.initNetwork();
+		for (const auto s : { ecmxf::State::PreOp, ecmxf::State::SafeOp, ecmxf::State::Op })
+			bus.stateSet(ecmxf::kAllSlaves, s);
+		REQUIRE(det.feed(dev->chip().infoUpdate(), dev->link().now()).empty());
+	}
+	/// The state events of the next poll, after @p ms.
+	std::vector<ecmxf::Event> stateEvents(int ms)
+	{
+		dev->link().sleepFor(std::chrono::milliseconds(ms));
+		std::vector<ecmxf::Event> out;
+		for (ecmxf::Event &e : det.feed(dev->chip().infoUpdate(), dev->link().now()))
+			if (e.type == ecmxf::EventType::State)
+				out.push_back(std::move(e));
+		return out;
+	}
+};
+
+} // namespace
+
+TEST_CASE("EventDetector with a device: a slave that drops out is read as the kernel reads it",
+	  "[detector][slaves]")
+{
+	SimBus b;
+	b.dev->link().simulator()->faults().slaveDropped = 1;
+	const auto ev = b.stateEvents(20);
+	REQUIRE(ev.size() == 1);
+	const ecmxf::Event &e = ev[0];
+	CHECK(e.oldValue == 0x08);
+	CHECK((e.newValue & 0x10) != 0);
+	CHECK(ecmxf::stateWentDown(e));
+	CHECK(e.haveSlaves);
+	CHECK_FALSE(e.slavesIncomplete);
+	CHECK(e.slaveCount == 3);
+	// slave 1 does not answer (ERROR alone): no AL status asked
+	REQUIRE(e.slaves.size() == 1);
+	CHECK(e.slaves[0].position == 1);
+	CHECK(e.slaves[0].state == 0x10);
+	CHECK_FALSE(e.slaves[0].alStatus.has_value());
+	CHECK_FALSE(e.alStatus.has_value());
+	// the reading left no command error behind
+	CHECK((b.dev->lastHeader().errStatus & 0x80) == 0);
+}
+
+TEST_CASE("EventDetector with a device: the AL status code of a slave that refused a state",
+	  "[detector][slaves]")
+{
+	SimBus b;
+	// every slave from OP to BOOT: refused (an invalid transition), the
+	// slaves stay in OP with the error bit and an AL status code
+	CHECK_THROWS_AS(b.dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::Boot), ecmxf::Error);
+	const auto ev = b.stateEvents(5);
+	REQUIRE(ev.size() == 1);
+	const ecmxf::Event &e = ev[0];
+	INFO("state 0x" << std::hex << e.oldValue << " -> 0x" << e.newValue);
+	CHECK(ecmxf::stateWentDown(e));
+	REQUIRE_FALSE(e.slaves.empty());
+	REQUIRE(e.slaves[0].alStatus.has_value());
+	CHECK(*e.slaves[0].alStatus != 0);
+	REQUIRE(e.alStatus.has_value());
+	CHECK(e.alStatus == e.slaves[0].alStatus);
+	CHECK(e.alSlave == e.slaves[0].position);
+}
+
+TEST_CASE("EventDetector with a device: up is no reason to read the slaves, without a device nothing is read",
+	  "[detector][slaves]")
+{
+	ecmxf::Event up;
+	up.type = ecmxf::EventType::State;
+	up.oldValue = 0x02;
+	up.newValue = 0x08;
+	CHECK_FALSE(ecmxf::stateWentDown(up));
+	up.oldValue = 0x08;
+	up.newValue = 0x04;
+	CHECK(ecmxf::stateWentDown(up));
+	up.type = ecmxf::EventType::ErrorStatus;
+	CHECK_FALSE(ecmxf::stateWentDown(up));
+
+	// an unbound detector reports the change alone
+	auto dev = ecmxf::Device::open("sim:");
+	ecmxf::EventDetector det;
+	dev->bus().initNetwork();
+	(void)det.feed(dev->chip().infoUpdate(), dev->link().now());
+	dev->bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
+	dev->link().simulator()->faults().linkLost = true;
+	dev->link().sleepFor(std::chrono::milliseconds(5));
+	bool sawState = false;
+	for (const ecmxf::Event &e : det.feed(dev->chip().infoUpdate(), dev->link().now()))
+		if (e.type == ecmxf::EventType::State) {
+			sawState = true;
+			CHECK_FALSE(e.haveSlaves);
+			CHECK(e.slaves.empty());
+		}
+	CHECK(sawState);
 }

@@ -327,7 +327,6 @@ public:
 			chip_.advance(d);
 	}
 	std::string name() const override { return "soak:"; }
-	ecmxf::sim::Chip *simulator() noexcept override { return &chip_; }
 	ecmxf::sim::Chip &chip() { return chip_; }
 	/// Random bit errors: each exchange's MOSI or MISO with probability @p p.
 	void setRate(double p) { rate_ = p; }

@@ -4,6 +4,11 @@
  * @brief The bus commands: bring-up, states, slave information, PDO
  *        configuration, sync managers, FMMUs, mapping, LRW.
  *
+ * Bus calls: dev.bus().initNetwork(), stateSet(), stateGet(),
+ * slaveInfo(), slaveCount(), pdoConfigSet()... (the SDO transfers are
+ * dev.sdo(), <ecmxf/bus/sdo.hpp>; the bring-up in one call is Master,
+ * <ecmxf/bus/master.hpp>).
+ *
  * Slaves are 0-based bus positions as the chip numbers them (0..127);
  * kAllSlaves (0xFF) selects all where the manual allows it. Types in
  * <ecmxf/model/types_bus.hpp>; Documentation/commands-bus.rst.

@@ -4,6 +4,10 @@
  * @brief The documented bring-up of an EtherCAT network behind an ECM-XF:
  *        init with DC, scan, PDO configuration, start-up SDOs, states, FIFO.
  *
+ * The bring-up in one call: ecmxf::Master(dev).bringUp(config); then
+ * slaves() and pdos() say what it found (pdos() is what a ProcessImage is
+ * built from).
+ *
  * Master drives a Device through the sequence of both manuals (spec
  * "Bring-up sequence"; Documentation/master.rst):
  *

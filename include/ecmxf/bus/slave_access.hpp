@@ -5,6 +5,9 @@
  *        datagrams, FoE and the staging flash, the receive mailbox,
  *        emergencies, direct assignment.
  *
+ * Slave access: dev.slaves().eepromRead(), foeRead(), foeWrite(),
+ * rawDatagram(), receiveMailbox(), coeEmergencies()...
+ *
  * Typed calls for EEPROM_REQ/GET, RAW_ECAT_FUNC_REQ/GET, FOE_FUNC_REQ/GET,
  * MBX_STAT, RECV_MAILBOX, COE_EMERGENCY and DIRECT_ASSIGN
  * (Documentation/commands-chip.rst). They reach the slaves on the bus, so

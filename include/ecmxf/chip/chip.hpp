@@ -4,6 +4,9 @@
  * @brief The chip itself: firmware, link format, counters, interrupts,
  *        resets.
  *
+ * Chip calls: dev.chip().firmwareVersion(), info(), setDataSize(),
+ * setCheckType(), setInterruptConfig(), warmReset()...
+ *
  * Typed calls for INFO_UPDATE_OP, FW_VERSION_GET, SPI_PACK_SIZE_GET,
  * SPI_RECONFIG_OP, CRC_TYPE_SET, CRC_ERR_CNT_CLR, the WKC error counters,
  * ECAT_INT_SET/GET_ENABLE, ASYNCCMD_RESET and WARM_RESET

@@ -3,6 +3,10 @@
  * @file ecmxf/chip/peripherals.hpp
  * @brief The chip's peripherals: GPIO, QEI, DAC, ADC and MDIO.
  *
+ * Peripheral calls: dev.peripherals().gpioRead(), gpioWrite(), qeiCount(),
+ * dacWrite(), adcConvert(), mdioRead()... (each keeps its peripheral's
+ * name: the class holds five of them).
+ *
  * Typed calls for GPIO_CONFIG_SET, GPIO_FUNC_OP, QEI_FUNC_OP, DAC_FUNC_OP,
  * ADC_FUNC_OP and MDIO (Documentation/commands-chip.rst). Arguments out of
  * range throw Error(EINVAL) naming the argument and its range; a command

@@ -137,8 +137,26 @@ struct Event {
 	std::optional<std::uint16_t> alSlave;
 };
 
+/// A State event that went to a lower state or into ERROR: the kind for
+/// which the kernel reads the slaves' states and AL status codes before it
+/// sends the event.
+[[nodiscard]] ECMXF_EXPORT bool stateWentDown(const Event &event) noexcept;
+
+/// Fills @p event's slaves as the kernel does for its state events
+/// (kmod/ecmxf-netlink.c, "AL status query"): ECAT_SLV_CNT_GET, then
+/// ECAT_STATE_GET of every slave and, for each slave not in OP that
+/// answers (not ERROR alone), ECAT_SLV_INFO_GET code 7, its AL status
+/// code; at most 64 slaves. Sets haveSlaves, slaveCount, slaves (the ones
+/// not in OP), alStatus and alSlave (the first non-zero code). A command
+/// that fails or that the chip refuses ends the reading with
+/// slavesIncomplete set, as the kernel's does; nothing is thrown for it.
+ECMXF_EXPORT void readSlaveStatus(Device &device, Event &event);
+
 /// The protocol core's event detector (lib/core/ecmxf-events.c) for a
-/// host that polls the chip itself. Feed every response header.
+/// host that polls the chip itself. Feed every response header. A
+/// detector made with a Device also reads the slaves' AL status codes
+/// for the state events that went down (readSlaveStatus()), so its State
+/// events carry what the kernel's do.
 class ECMXF_EXPORT EventDetector
 {
 public:
@@ -150,13 +168,19 @@ public:
 	};
 	EventDetector();
 	explicit EventDetector(const Config &config);
+	/// A detector whose State events that went down (stateWentDown())
+	/// come with the slaves of @p device (readSlaveStatus()), read in
+	/// feed(). @p device must outlive the detector.
+	explicit EventDetector(Device &device);
+	EventDetector(Device &device, const Config &config);
 	~EventDetector();
 	EventDetector(EventDetector &&) noexcept;
 	EventDetector &operator=(EventDetector &&) noexcept;
 
 	/// The events of @p header, which arrived at @p now (any monotonic
 	/// origin). The first header (and the first after rebase()) is the
-	/// baseline and gives none.
+	/// baseline and gives none. A detector made with a Device reads the
+	/// slaves here (the device's commands, through any error).
 	std::vector<Event> feed(const ResponseHeader &header, std::chrono::nanoseconds now);
 	/// The end of a WKC burst whose quiet time has passed by @p now.
 	std::vector<Event> poll(std::chrono::nanoseconds now);

@@ -7,7 +7,9 @@
  * The engine link (engine_link.hpp) runs the shared protocol core over a
  * ByteChannel: framing, check words, the one-exchange-late answers,
  * retries and async tracking are all the engine's. A channel only moves
- * bytes and reports readiness. Implementations:
+ * bytes and reports readiness; it knows nothing of what is behind it (the
+ * in-process simulator's chip is SimChannel::chip(), and through a Link,
+ * Link::simulator()). Implementations:
  *  - SimChannel (sim_channel.hpp): the in-process simulated chip, virtual time;
  *  - UnixChannel (unix_channel.hpp): an `ecmxf-sim --socket` server;
  *  - SpidevChannel (spidev_channel.hpp): /dev/spidevB.C + libgpiod INT0/INT1.
@@ -26,10 +28,6 @@
 #include <ecmxf/export.hpp>
 
 namespace ecmxf {
-
-namespace sim {
-class Chip;
-}
 
 /// Abstract byte channel to one chip.
 class ECMXF_EXPORT ByteChannel
@@ -84,11 +82,6 @@ public:
 	/// How messages name the channel, e.g. "sim:", "unix:/tmp/s",
 	/// "/dev/spidev0.0".
 	[[nodiscard]] virtual std::string name() const = 0;
-
-	/// The simulated chip behind this channel when it is the in-process
-	/// simulator (tests inject faults and inspect the network through it);
-	/// null for every other channel.
-	[[nodiscard]] virtual sim::Chip *simulator() noexcept { return nullptr; }
 };
 
 } // namespace ecmxf

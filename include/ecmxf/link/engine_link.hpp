@@ -53,6 +53,8 @@ public:
 	void setAsyncPollInterval(std::chrono::nanoseconds interval) noexcept override;
 	[[nodiscard]] std::chrono::nanoseconds asyncPollInterval() const noexcept override;
 	[[nodiscard]] LinkCounters counters() const override;
+	/// The chip of its channel when that is a SimChannel (the "sim:"
+	/// URIs), else null.
 	[[nodiscard]] sim::Chip *simulator() noexcept override;
 	void attachTrace(detail::TraceWriter *trace) noexcept override;
 

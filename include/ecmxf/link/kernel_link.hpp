@@ -94,11 +94,10 @@ public:
 	void assumeFormat(std::uint16_t dataSize, CheckType check) override;
 	/// ECMXF_IOC_COUNTERS.
 	[[nodiscard]] LinkCounters counters() const override;
-	/// The minor of the opened character device.
-	[[nodiscard]] std::optional<std::uint32_t> kernelMinor() const override;
 	/// The minor of the character device at @p path, without opening it
 	/// (a netlink listener needs no access to the device itself); nullopt
-	/// when @p path is not a character device.
+	/// when @p path is not a character device. The minor of an open
+	/// KernelLink is minorOf(link.name()).
 	[[nodiscard]] static std::optional<std::uint32_t> minorOf(const std::string &path);
 	/// ECMXF_IOC_CLAIM; the rings made by its setup (ECMXF_IOC_RING_SETUP,
 	/// mmap) live as long as the returned object, which releases the claim.

@@ -14,8 +14,11 @@
  *    its own copy of the protocol core.
  * What only some links have is a capability with a default here: resets
  * the kernel reserves for itself (reset()), the cyclic PDO path through
- * the kernel's rings (openPdoRings()), where events come from
- * (kernelMinor()), counters, the simulator behind the link (simulator()).
+ * the kernel's rings (openPdoRings()), counters, the simulator behind the
+ * link (simulator()). Where events come from follows from the device URI:
+ * /dev/ecmxfN has the kernel's over generic netlink (EventSubscriber,
+ * KernelLink::minorOf()), every other link's are found by polling response
+ * headers (EventDetector).
  * Documentation/architecture.rst draws the layers.
  *
  * Thread safety: a Link is not thread-safe; its one owner (a Device) calls
@@ -268,12 +271,6 @@ public:
 
 	/// What the link counted. Throws ecmxf::Error when it cannot be read.
 	[[nodiscard]] virtual LinkCounters counters() const = 0;
-
-	/// The minor N of /dev/ecmxfN when the link is the kernel module's
-	/// device: its events come over generic netlink (EventSubscriber).
-	/// nullopt for links whose events are found by polling response
-	/// headers (EventDetector).
-	[[nodiscard]] virtual std::optional<std::uint32_t> kernelMinor() const { return std::nullopt; }
 
 	/// The simulated chip behind the link when it is the in-process
 	/// simulator, else null.

@@ -6,7 +6,9 @@
  * SimChannel owns one simulated chip (ecmxf::sim::Chip) and answers
  * exchanges with it in the calling thread. Time is the chip's virtual
  * time: waiting and sleeping advance it, so a test runs as fast as the CPU
- * allows and is deterministic.
+ * allows and is deterministic. The chip is chip() here, and
+ * Link::simulator() of the EngineLink that runs over this channel (a
+ * Device opened with "sim:").
  */
 #pragma once
 
@@ -58,7 +60,6 @@ public:
 	/// The simulated chip, owned by this channel (tests inject faults
 	/// and inspect the network through it).
 	[[nodiscard]] sim::Chip &chip() noexcept { return *chip_; }
-	[[nodiscard]] sim::Chip *simulator() noexcept override { return chip_.get(); }
 
 private:
 	std::string network_;

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+/**
+ * @file ecmxf/ecmxf.hpp
+ * @brief The whole public API of libecmxf in one include.
+ *
+ *   #include <ecmxf/ecmxf.hpp>
+ *
+ *   auto dev = ecmxf::Device::open("sim:");
+ *   dev->bus().initNetwork();
+ *   const auto id = dev->sdo().read<std::uint32_t>(0, 0x1018, 1);
+ *
+ * The device and its URIs, errors, every typed-call view (Bus, Sdo,
+ * SlaveAccess, Master, Chip, Peripherals, Chip402, ProcessData), the
+ * process image and the cyclic exchange, CiA-402, events, packet traces,
+ * the links and byte channels, the simulator, and the ECM-SK starter kit
+ * (ecmxf::sk::Board). A program that wants to compile less includes the
+ * headers it uses one by one instead; each compiles alone
+ * (tests/api). Documentation/library.rst.
+ */
+#pragma once
+
+// the device, its URIs, errors, protocol numbers
+#include <ecmxf/device.hpp>
+#include <ecmxf/device_uri.hpp>
+#include <ecmxf/error.hpp>
+#include <ecmxf/protocol.hpp>
+
+// the links and byte channels
+#include <ecmxf/link/link.hpp>
+#include <ecmxf/link/byte_channel.hpp>
+#include <ecmxf/link/engine_link.hpp>
+#include <ecmxf/link/kernel_link.hpp>
+#include <ecmxf/link/sim_channel.hpp>
+#include <ecmxf/link/spidev_channel.hpp>
+#include <ecmxf/link/unix_channel.hpp>
+
+// bus: dev.bus(), dev.sdo(), dev.slaves(); Master; status words
+#include <ecmxf/bus/bus.hpp>
+#include <ecmxf/bus/master.hpp>
+#include <ecmxf/bus/sdo.hpp>
+#include <ecmxf/bus/slave_access.hpp>
+#include <ecmxf/bus/status.hpp>
+
+// chip: dev.chip(), dev.peripherals(), dev.chip402()
+#include <ecmxf/chip/chip.hpp>
+#include <ecmxf/chip/chip402.hpp>
+#include <ecmxf/chip/peripherals.hpp>
+
+// process data: dev.pdo(), ProcessImage, Cyclic
+#include <ecmxf/pdo/cyclic.hpp>
+#include <ecmxf/pdo/pdo_mapping.hpp>
+#include <ecmxf/pdo/process_data.hpp>
+#include <ecmxf/pdo/process_image.hpp>
+#include <ecmxf/pdo/realtime.hpp>
+
+// CiA-402: the state machine, Cia402Axis
+#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/cia402/cia402_axis.hpp>
+
+// events, packet traces
+#include <ecmxf/events/events.hpp>
+#include <ecmxf/trace/trace.hpp>
+
+// the simulator
+#include <ecmxf/sim/chip.hpp>
+#include <ecmxf/sim/network.hpp>
+#include <ecmxf/sim/slaves.hpp>
+
+// the ECM-SK starter kit
+#include <ecmxf/sk/board.hpp>
+#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sk/sim_channel.hpp>
+#include <ecmxf/sk/uri.hpp>
