@@ -20,7 +20,7 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/sk/board.hpp>
 #include <ecmxf/sk/sim_board.hpp>
-#include <ecmxf/sk/uri.hpp>
+#include <ecmxf/device_uri.hpp>
 
 namespace ecmxf_util {
 
@@ -29,7 +29,7 @@ namespace {
 using ecmxf::sk::Board;
 using ecmxf::sk::Mode;
 using ecmxf::sk::SlaveType;
-using ecmxf::sk::State;
+using ecmxf::State;
 
 const char *const kSkHelp =
 	"With an ECM-SK device (-d sk-sim:..., sk-unix:PATH, sk-spidev:...) ecmxf-util\n"
@@ -56,42 +56,37 @@ struct Cmd {
 		   const std::optional<std::string> &);
 };
 
+// the command line's spelling ("PREOP"), as for the ECM-XF
 std::string stateText(State s)
 {
-	switch (s) {
-	case State::Init: return "INIT";
-	case State::PreOp: return "PREOP";
-	case State::SafeOp: return "SAFEOP";
-	case State::Op: return "OP";
-	}
-	return "?";
+	return stateName(static_cast<std::uint8_t>(s));
 }
 
 // INIT -> PRE-OP if needed
 void preop(Board &b, bool quiet)
 {
-	if (b.status().state == State::Init) {
+	if (b.states().status().state == State::Init) {
 		if (!quiet)
 			std::fprintf(stderr, "ecmxf-util: bringing the ECM-SK to PRE-OP\n");
-		b.setState(State::PreOp);
+		b.states().set(State::PreOp);
 	}
 }
 
 // up to OP: types found, DRIVE_MODE CSP for drives
 void toOp(Board &b, bool quiet)
 {
-	if (b.status().state == State::Op)
+	if (b.states().status().state == State::Op)
 		return;
 	preop(b, quiet);
 	if (b.state() == State::PreOp) {
-		const auto types = b.detectAxes();
+		const auto types = b.setup().detectAxes();
 		for (std::size_t i = 0; i < types.size(); i++)
 			if (types[i] != SlaveType::Io)
-				b.driveMode(static_cast<unsigned>(i + 1), Mode::Csp);
+				b.drives().setMode(static_cast<unsigned>(i + 1), Mode::Csp);
 	}
 	if (!quiet)
 		std::fprintf(stderr, "ecmxf-util: bringing the ECM-SK to OP\n");
-	b.setState(State::Op);
+	b.states().set(State::Op);
 }
 
 unsigned slot(Board &b, const std::optional<std::string> &posText, const char *cmd, unsigned count)
@@ -111,10 +106,10 @@ int info(Globals &g, Board &b, const std::vector<std::string> &args, const std::
 {
 	if (!args.empty())
 		throw UsageError("info: no arguments");
-	const auto s = b.status();
+	const auto s = b.states().status();
 	unsigned slaves = 0;
 	if (s.state == State::PreOp)
-		slaves = b.slaveCount();
+		slaves = b.setup().slaveCount();
 	auto *sim = b.simulator();
 	if (g.json) {
 		std::printf("{\"device\": %s, \"board\": \"ECM-SK\", \"slot_size\": %u, \"frame_size\": %zu, "
@@ -153,13 +148,13 @@ int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		throw ecmxf::Error("slaves: the types are found in PRE-OP; the ECM-SK is in " +
 					   stateText(b.state()) + " (ecmxf-util states PREOP)",
 				   EPERM);
-	const auto types = b.detectAxes();
+	const auto types = b.setup().detectAxes();
 	std::vector<std::string> idents;
 	for (std::size_t i = 0; i < types.size(); i++) {
 		std::string id = "-";
 		try {
-			const auto v = b.sdoRead(static_cast<unsigned>(i + 1), 0x1018, 1);
-			const auto p = b.sdoRead(static_cast<unsigned>(i + 1), 0x1018, 2);
+			const auto v = b.sdo().read(static_cast<unsigned>(i + 1), 0x1018, 1);
+			const auto p = b.sdo().read(static_cast<unsigned>(i + 1), 0x1018, 2);
 			id = hexString(v, 8) + ":" + hexString(p, 8);
 		} catch (const ecmxf::Error &) {
 			// no CoE: no identity to show
@@ -206,10 +201,10 @@ int states(Globals &g, Board &b, const std::vector<std::string> &args, const std
 	} else if (target == State::SafeOp) {
 		preop(b, true);
 		if (b.state() == State::PreOp)
-			(void)b.detectAxes();
-		b.setState(target);
+			(void)b.setup().detectAxes();
+		b.states().set(target);
 	} else {
-		b.setState(target);
+		b.states().set(target);
 	}
 	if (g.json)
 		std::printf("{\"state\": %s}\n", jsonString(stateText(b.state())).c_str());
@@ -245,11 +240,11 @@ int upload(Globals &g, Board &b, const std::vector<std::string> &args, const std
 	const ObjectAddress obj = object("upload", args, 1);
 	std::optional<DataType> type;
 	const unsigned want = checkType("upload", typeText, type);
-	if (b.status().state == State::Init)
+	if (b.states().status().state == State::Init)
 		preop(b, g.quiet || g.json);
-	const unsigned s = slot(b, pos, "upload", b.slaveCount() ? b.slaveCount() : b.maxSlaves());
+	const unsigned s = slot(b, pos, "upload", b.setup().slaveCount() ? b.setup().slaveCount() : b.maxSlaves());
 	unsigned size = 0;
-	const std::uint32_t v = b.sdoRead(s, obj.index, obj.sub, &size);
+	const std::uint32_t v = b.sdo().read(s, obj.index, obj.sub, &size);
 	if (want && size != want)
 		throw ecmxf::Error("slave " + std::to_string(s - 1) + " " + objectName(obj) + " has " +
 					   std::to_string(size) + " bytes, type " + std::string(typeName(*type)) +
@@ -280,10 +275,10 @@ int download(Globals &g, Board &b, const std::vector<std::string> &args, const s
 	std::uint32_t v = 0;
 	for (std::size_t i = 0; i < bytes.size(); i++)
 		v |= static_cast<std::uint32_t>(bytes[i]) << (8 * i);
-	if (b.status().state == State::Init)
+	if (b.states().status().state == State::Init)
 		preop(b, g.quiet || g.json);
-	const unsigned s = slot(b, pos, "download", b.slaveCount() ? b.slaveCount() : b.maxSlaves());
-	b.sdoWrite(s, obj.index, obj.sub, v, static_cast<unsigned>(bytes.size()));
+	const unsigned s = slot(b, pos, "download", b.setup().slaveCount() ? b.setup().slaveCount() : b.maxSlaves());
+	b.sdo().write(s, obj.index, obj.sub, v, static_cast<unsigned>(bytes.size()));
 	if (g.json)
 		std::printf("{\"position\": %u, \"index\": %u, \"sub\": %u, \"size\": %zu}\n", s - 1, obj.index,
 			    obj.sub, bytes.size());
@@ -292,11 +287,11 @@ int download(Globals &g, Board &b, const std::vector<std::string> &args, const s
 
 unsigned opSlot(Globals &g, Board &b, const std::optional<std::string> &pos, const char *cmd)
 {
-	if (b.status().state == State::Init)
+	if (b.states().status().state == State::Init)
 		preop(b, g.quiet || g.json);
 	unsigned count = b.maxSlaves();
 	if (b.state() == State::PreOp)
-		count = b.slaveCount();
+		count = b.setup().slaveCount();
 	const unsigned s = slot(b, pos, cmd, count);
 	toOp(b, g.quiet || g.json);
 	return s;
@@ -310,51 +305,51 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 	const std::string &what = args[0];
 	const unsigned s = opSlot(g, b, pos, "cia402");
 	if (what == "enable") {
-		b.servoOn(s);
-		b.waitEnabled(s);
+		b.drives().servoOn(s);
+		b.drives().waitEnabled(s);
 	} else if (what == "disable") {
-		b.servoOff(s);
+		b.drives().servoOff(s);
 	} else if (what == "fault-reset") {
-		b.alarmClear(s);
+		b.drives().alarmClear(s);
 	} else if (what == "move") {
 		if (args.size() != 2)
 			throw UsageError("cia402 move TARGET");
 		const auto target = static_cast<std::int32_t>(parseSigned("cia402", "TARGET", args[1], INT32_MIN, INT32_MAX));
-		b.servoOn(s);
-		b.waitEnabled(s);
-		b.status();
-		const std::int32_t from = b.axis(s).position;
+		b.drives().servoOn(s);
+		b.drives().waitEnabled(s);
+		b.states().status();
+		const std::int32_t from = b.drives().axis(s).position;
 		// a ramp of at most 1000 units per exchange (the board applies
 		// one per cycle); the FIFO's back-pressure paces it
 		const std::int64_t dist = static_cast<std::int64_t>(target) - from;
 		const std::int64_t steps = std::max<std::int64_t>(1, (std::llabs(dist) + 999) / 1000);
 		for (std::int64_t i = 1; i <= steps;) {
-			if (b.stage(s, Mode::Csp, static_cast<std::int32_t>(from + dist * i / steps)))
+			if (b.cyclic().stage(s, Mode::Csp, static_cast<std::int32_t>(from + dist * i / steps)))
 				i++;
-			const auto r = b.cycle();
+			const auto r = b.cyclic().cycle();
 			if (r.status == ecmxf::sk::CycleStatus::Link)
-				throw ecmxf::Error("cia402 move: " + b.lastError(), EIO);
+				throw ecmxf::Error("cia402 move: " + b.cyclic().lastError(), EIO);
 			if (r.status == ecmxf::sk::CycleStatus::FifoOverflow)
 				throw ecmxf::Error("cia402 move: the ECM-SK dropped " + std::to_string(r.dropped) +
 							   " targets (FIFO full)",
 						   ENOBUFS);
 		}
-		for (int i = 0; i < 2000 && std::llabs(static_cast<std::int64_t>(b.axis(s).position) - target) > 0; i++) {
+		for (int i = 0; i < 2000 && std::llabs(static_cast<std::int64_t>(b.drives().axis(s).position) - target) > 0; i++) {
 			b.channel().sleepFor(std::chrono::milliseconds(1));
-			(void)b.cycle();
+			(void)b.cyclic().cycle();
 		}
 	} else if (what == "home") {
 		if (args.size() != 2)
 			throw UsageError("cia402 home METHOD");
 		const auto method = static_cast<std::int8_t>(parseSigned("cia402", "METHOD", args[1], -128, 127));
-		b.servoOn(s);
-		b.waitEnabled(s);
-		b.home(s, method);
+		b.drives().servoOn(s);
+		b.drives().waitEnabled(s);
+		b.drives().home(s, method);
 	} else if (what != "status") {
 		throw UsageError("cia402: unknown action '" + what + "'");
 	}
-	b.status();
-	const auto a = b.axis(s);
+	b.states().status();
+	const auto a = b.drives().axis(s);
 	if (g.json) {
 		std::printf("{\"position\": %u, \"statusword\": %u, \"actual_position\": %d, \"torque\": %d, "
 			    "\"error_code\": %u}\n",
@@ -375,12 +370,12 @@ int io(Globals &g, Board &b, const std::vector<std::string> &args, const std::op
 	const unsigned s = opSlot(g, b, pos, "io");
 	if (args.size() == 1) {
 		const auto v = static_cast<std::uint32_t>(parseUnsigned("io", "VALUE", args[0], 0xFFFFFFFFu));
-		b.ioWrite(s, v);
+		b.io().write(s, v);
 		if (g.json)
 			std::printf("{\"position\": %u, \"outputs\": %u}\n", s - 1, v);
 		return 0;
 	}
-	const std::uint32_t v = b.ioRead(s);
+	const std::uint32_t v = b.io().read(s);
 	if (g.json)
 		std::printf("{\"position\": %u, \"inputs\": %u}\n", s - 1, v);
 	else
@@ -395,12 +390,12 @@ int lio(Globals &g, Board &b, const std::vector<std::string> &args, const std::o
 		throw UsageError("lio [VALUE]");
 	if (args.size() == 1) {
 		const auto v = static_cast<std::uint32_t>(parseUnsigned("lio", "VALUE", args[0], 0x3F));
-		b.lioWrite(v);
+		b.io().writeLocal(v);
 		if (g.json)
 			std::printf("{\"outputs\": %u}\n", v);
 		return 0;
 	}
-	const std::uint32_t v = b.lioRead();
+	const std::uint32_t v = b.io().readLocal();
 	if (g.json)
 		std::printf("{\"inputs\": %u}\n", v);
 	else
@@ -413,7 +408,7 @@ int reset(Globals &g, Board &b, const std::vector<std::string> &args, const std:
 {
 	if (!args.empty())
 		throw UsageError("reset: no arguments");
-	b.reset();
+	b.states().reset();
 	if (g.json)
 		std::printf("{\"state\": %s}\n", jsonString(stateText(b.state())).c_str());
 	else if (!g.quiet)

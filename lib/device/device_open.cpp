@@ -16,6 +16,7 @@
 #include <cerrno>
 #include <cstdint>
 #include <exception>
+#include <stdexcept>
 #include <memory>
 #include <optional>
 #include <string>
@@ -36,11 +37,13 @@ std::string quoted(std::string_view s)
 	return q;
 }
 
-/// Error(EINVAL): cannot open "<uri>": <what>; accepted: <forms>.
+/// Error(EINVAL): cannot open "<uri>": <what>; accepted: <forms> (the
+/// ECM-SK's for an "sk-" URI).
 [[noreturn]] void bad(std::string_view uri, const std::string &what)
 {
 	std::string m = "cannot open ";
-	m.append(quoted(uri)).append(": ").append(what).append("; accepted: ").append(kDeviceUriForms);
+	m.append(quoted(uri)).append(": ").append(what).append("; accepted: ");
+	m.append(uri.starts_with("sk-") ? kSkUriForms : kDeviceUriForms);
 	throw Error(m, EINVAL);
 }
 
@@ -104,6 +107,70 @@ void switchCheck(Device &dev, CheckType want, std::string_view uri, bool unix)
 	}
 }
 
+/// slot= and ex= of sk-unix: and sk-spidev:; false for another key.
+bool skHostOption(std::string_view uri, DeviceUri &u, std::string_view key, std::string_view value)
+{
+	if (key == "slot") {
+		const auto v = number(value);
+		if (!v || (*v != 12 && *v != 16))
+			bad(uri, "bad slot value " + quoted(value) + ": slot=" + std::string(value) +
+					 ": the slot size is 12 or 16 (the board's CONFIG2)");
+		u.skSlotSize = static_cast<unsigned>(*v);
+	} else if (key == "ex") {
+		const auto v = number(value);
+		if (!v || *v > 3)
+			bad(uri, "bad ex value " + quoted(value) +
+					 ": expected 0..3 (the SET_EX setting in force: bit 0 command CRC, bit 1 response CRC)");
+		u.skExtensions = static_cast<std::uint32_t>(*v);
+	} else {
+		return false;
+	}
+	return true;
+}
+
+/// An option of an ECM-SK URI.
+void skOption(std::string_view uri, DeviceUri &u, std::string_view key, std::string_view value)
+{
+	switch (u.kind) {
+	case DeviceUri::Kind::SkSim:
+		try {
+			u.skBoard.set(std::string(key), std::string(value));
+		} catch (const std::invalid_argument &e) {
+			bad(uri, e.what());
+		}
+		u.skSlotSize = u.skBoard.slotSize;
+		u.skExtensions = u.skBoard.extensions;
+		return;
+	case DeviceUri::Kind::SkSpidev:
+		if (key == "busy") {
+			u.spidev.int0 = gpioLine(uri, key, value);
+			return;
+		}
+		if (key == "speed") {
+			const auto v = number(value);
+			if (!v || *v < 1 || *v > kSkMaxSpeedHz)
+				bad(uri, "bad speed value " + quoted(value) +
+						 ": expected 1..24000000 (Hz; the ECM-SK's maximum is 24 MHz)");
+			u.spidev.speedHz = static_cast<std::uint32_t>(*v);
+			return;
+		}
+		if (key == "mode") {
+			const auto v = number(value);
+			if (!v || *v > 3)
+				bad(uri, "bad mode value " + quoted(value) + ": expected 0..3 (the ECM-SK uses mode 0)");
+			u.spidev.mode = static_cast<std::uint8_t>(*v);
+			return;
+		}
+		if (!skHostOption(uri, u, key, value))
+			bad(uri, "unknown option " + quoted(key) + " (sk-spidev: takes busy, slot, speed, mode, ex)");
+		return;
+	default:
+		if (!skHostOption(uri, u, key, value))
+			bad(uri, "unknown option " + quoted(key) + " (sk-unix: takes slot and ex)");
+		return;
+	}
+}
+
 } // namespace
 
 DeviceUri parseDeviceUri(std::string_view uri)
@@ -111,6 +178,9 @@ DeviceUri parseDeviceUri(std::string_view uri)
 	constexpr std::string_view kSim = "sim:";
 	constexpr std::string_view kSpidev = "spidev:";
 	constexpr std::string_view kUnix = "unix:";
+	constexpr std::string_view kSkSim = "sk-sim:";
+	constexpr std::string_view kSkSpidev = "sk-spidev:";
+	constexpr std::string_view kSkUnix = "sk-unix:";
 
 	if (uri.empty())
 		bad(uri, "empty device URI");
@@ -137,12 +207,36 @@ DeviceUri parseDeviceUri(std::string_view uri)
 	} else if (base.starts_with("/")) {
 		u.kind = DeviceUri::Kind::Kernel;
 		u.path = std::string(base);
+	} else if (base.starts_with(kSkSim)) {
+		u.kind = DeviceUri::Kind::SkSim;
+		u.path = std::string(base.substr(kSkSim.size()));
+	} else if (base.starts_with(kSkUnix)) {
+		u.kind = DeviceUri::Kind::SkUnix;
+		u.path = std::string(base.substr(kSkUnix.size()));
+		if (u.path.empty())
+			bad(uri, "no socket path after \"sk-unix:\" (e.g. sk-unix:/tmp/sk.sock, served by "
+				 "`ecmxf-sim --board ecm-sk --socket /tmp/sk.sock`)");
+	} else if (base.starts_with(kSkSpidev)) {
+		u.kind = DeviceUri::Kind::SkSpidev;
+		u.path = std::string(base.substr(kSkSpidev.size()));
+		if (u.path.empty() || u.path[0] != '/')
+			bad(uri, "the spidev node must be an absolute path (sk-spidev:/dev/spidevB.C)");
+		u.spidev.device = u.path;
+		u.spidev.speedHz = kSkMaxSpeedHz;
+		u.spidev.mode = 0;
+		u.spidev.readyHigh = false; // Busy: low = ready
+	} else if (base.starts_with("sk-")) {
+		bad(uri, "unknown ECM-SK device URI");
 	} else {
 		bad(uri, "unknown device URI");
 	}
 
-	if (q == std::string_view::npos)
+	if (q == std::string_view::npos) {
+		if (u.kind == DeviceUri::Kind::SkSpidev)
+			bad(uri, "busy=<chip>:<line> is required: the host may start an exchange only while Busy is low");
 		return u;
+	}
+	const bool sk = u.isSk();
 	const bool spidev = u.kind == DeviceUri::Kind::Spidev;
 	const bool kernel = u.kind == DeviceUri::Kind::Kernel;
 	std::vector<std::string_view> seen;
@@ -151,6 +245,12 @@ DeviceUri parseDeviceUri(std::string_view uri)
 		const auto amp = query.find('&', pos);
 		const std::string_view opt = query.substr(pos, amp == std::string_view::npos ? amp : amp - pos);
 		const auto eq = opt.find('=');
+		if (opt.empty() && sk && amp != std::string_view::npos) {
+			pos = amp + 1; // the ECM-SK's forms skip empty options, as they always did
+			continue;
+		}
+		if (opt.empty() && sk)
+			break;
 		if (opt.empty())
 			bad(uri, "empty option (options are key=value, separated by '&')");
 		if (eq == std::string_view::npos || eq == 0)
@@ -164,7 +264,9 @@ DeviceUri parseDeviceUri(std::string_view uri)
 
 		const bool spidevKey = key == "int0" || key == "int1" || key == "speed" || key == "mode" ||
 				       key == "ready" || key == "size" || (key == "check" && kernel);
-		if (key == "trace") {
+		if (sk) {
+			skOption(uri, u, key, value);
+		} else if (key == "trace") {
 			if (value.empty())
 				bad(uri, "option \"trace\" needs a file name (trace=<file>)");
 			u.trace = std::string(value);
@@ -224,6 +326,8 @@ DeviceUri parseDeviceUri(std::string_view uri)
 			break;
 		pos = amp + 1;
 	}
+	if (u.kind == DeviceUri::Kind::SkSpidev && !u.spidev.int0)
+		bad(uri, "busy=<chip>:<line> is required: the host may start an exchange only while Busy is low");
 	return u;
 }
 
@@ -252,6 +356,13 @@ std::unique_ptr<Device> Device::open(std::string_view uri)
 	case DeviceUri::Kind::Unix:
 		link = std::make_unique<EngineLink>(std::make_unique<UnixChannel>(u.path));
 		break;
+	case DeviceUri::Kind::SkSim:
+	case DeviceUri::Kind::SkUnix:
+	case DeviceUri::Kind::SkSpidev: {
+		std::string m = "cannot open ";
+		m.append(quoted(uri)).append(": an ECM-SK, which ecmxf::sk::Board::open() opens (<ecmxf/sk/board.hpp>)");
+		throw Error(m, EINVAL);
+	}
 	}
 	auto dev = std::make_unique<Device>(std::move(link));
 	if (u.kind == DeviceUri::Kind::Spidev && (u.dataSize || u.checkType))

@@ -95,26 +95,26 @@ TEST_CASE("sk unix: bring-up and a CSP move over the socket; the board outlives 
 	{
 		auto b = Board::open("sk-unix:" + sock + "?slot=16");
 		CHECK(b->frameSize() == 512u);
-		CHECK(b->status().state == State::Init);
-		b->setState(State::PreOp);
+		CHECK(b->states().status().state == ecmxf::State::Init);
+		b->states().set(ecmxf::State::PreOp);
 		const std::vector<SlaveType> types = { SlaveType::Drive, SlaveType::Step, SlaveType::Io };
-		CHECK(b->setAxes(types) == 3u);
-		b->setState(State::Op);
-		b->servoOn(2);
-		b->waitEnabled(2);
-		b->status();
-		const auto p = b->axis(2).position;
+		CHECK(b->setup().setAxes(types) == 3u);
+		b->states().set(ecmxf::State::Op);
+		b->drives().servoOn(2);
+		b->drives().waitEnabled(2);
+		b->states().status();
+		const auto p = b->drives().axis(2).position;
 		for (int i = 1; i <= 50; i++) {
-			REQUIRE(b->stage(2, Mode::Csp, p + 10 * i));
-			REQUIRE(b->cycle().status == CycleStatus::Ok);
+			REQUIRE(b->cyclic().stage(2, Mode::Csp, p + 10 * i));
+			REQUIRE(b->cyclic().cycle().status == CycleStatus::Ok);
 			b->channel().sleepFor(std::chrono::microseconds(800));
 		}
 		b->channel().sleepFor(std::chrono::milliseconds(20));
-		b->status();
-		CHECK(std::abs(b->axis(2).position - (p + 500)) <= 5);
+		b->states().status();
+		CHECK(std::abs(b->drives().axis(2).position - (p + 500)) <= 5);
 	}
 	auto again = Board::open("sk-unix:" + sock + "?slot=16");
-	CHECK(again->status().state == State::Op);
+	CHECK(again->states().status().state == ecmxf::State::Op);
 }
 
 TEST_CASE("sk unix: a host told the wrong slot size gets the server's reason")
@@ -124,7 +124,7 @@ TEST_CASE("sk unix: a host told the wrong slot size gets the server's reason")
 	Server s(sock, "");
 	auto b = Board::open("sk-unix:" + sock + "?slot=16");
 	try {
-		b->status();
+		b->states().status();
 		FAIL("no error");
 	} catch (const ecmxf::Error &e) {
 		CHECK(e.errnoValue() == EPROTO);
