@@ -13,6 +13,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/verbs.hpp>
 
 namespace ecmxf_util {
 
@@ -69,7 +70,7 @@ int cmdDownload(Globals &g, const Args &args)
 		// the size probe is an upload: a failure is the download's
 		std::size_t n = 0;
 		try {
-			n = dev->sdo().sdoUpload(position, obj.index, obj.sub).size();
+			n = ecmxf::verbsOf(*dev)->upload(position, obj.index, obj.sub).size();
 		} catch (const ecmxf::Error &e) {
 			throw ecmxf::Error("SDO download " + objectName(obj) + " to slave " + std::to_string(position) +
 						   ": its size could not be read (give -t TYPE to skip that): " + e.what(),
@@ -85,7 +86,7 @@ int cmdDownload(Globals &g, const Args &args)
 												  : DataType::Int64;
 		bytes = encodeValue("download", !valueText.empty() && valueText[0] == '-' ? s : u, valueText);
 	}
-	dev->sdo().sdoDownload(position, obj.index, obj.sub, bytes);
+	ecmxf::verbsOf(*dev)->download(position, obj.index, obj.sub, bytes);
 	return 0;
 }
 

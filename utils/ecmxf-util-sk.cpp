@@ -20,6 +20,7 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/sk/board.hpp>
 #include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/verbs.hpp>
 #include <ecmxf/device_uri.hpp>
 
 namespace ecmxf_util {
@@ -50,11 +51,8 @@ const char *const kSkHelp =
 	"most 4. --json works with every command. A fresh board (sk-sim: starts in\n"
 	"INIT at every run) is brought as far up as the command needs.\n";
 
-struct Cmd {
-	const char *name;
-	int (*run)(Globals &, Board &, const std::vector<std::string> &, const std::optional<std::string> &,
-		   const std::optional<std::string> &);
-};
+using SkBody = int (*)(Globals &, Board &, const std::vector<std::string> &, const std::optional<std::string> &,
+		      const std::optional<std::string> &);
 
 // the command line's spelling ("PREOP"), as for the ECM-XF
 std::string stateText(State s)
@@ -243,16 +241,13 @@ int upload(Globals &g, Board &b, const std::vector<std::string> &args, const std
 	if (b.states().status().state == State::Init)
 		preop(b, g.quiet || g.json);
 	const unsigned s = slot(b, pos, "upload", b.setup().slaveCount() ? b.setup().slaveCount() : b.maxSlaves());
-	unsigned size = 0;
-	const std::uint32_t v = b.sdo().read(s, obj.index, obj.sub, &size);
+	const std::vector<std::uint8_t> bytes = ecmxf::verbsOf(b)->upload(s - 1, obj.index, obj.sub);
+	const auto size = static_cast<unsigned>(bytes.size());
 	if (want && size != want)
 		throw ecmxf::Error("slave " + std::to_string(s - 1) + " " + objectName(obj) + " has " +
 					   std::to_string(size) + " bytes, type " + std::string(typeName(*type)) +
 					   " has " + std::to_string(want),
 				   EPROTO);
-	std::vector<std::uint8_t> bytes(size);
-	for (unsigned i = 0; i < size; i++)
-		bytes[i] = static_cast<std::uint8_t>(v >> (8 * i));
 	if (g.json) {
 		std::printf("{\"position\": %u, \"index\": %u, \"sub\": %u, \"type\": %s, \"size\": %u, "
 			    "\"value\": %s, \"hex\": %s}\n",
@@ -272,13 +267,10 @@ int download(Globals &g, Board &b, const std::vector<std::string> &args, const s
 	if (!checkType("download", typeText, type))
 		throw UsageError("download: -t TYPE is required (the ECM-SK cannot tell an object's size)");
 	const auto bytes = encodeValue("download", *type, args[1]);
-	std::uint32_t v = 0;
-	for (std::size_t i = 0; i < bytes.size(); i++)
-		v |= static_cast<std::uint32_t>(bytes[i]) << (8 * i);
 	if (b.states().status().state == State::Init)
 		preop(b, g.quiet || g.json);
 	const unsigned s = slot(b, pos, "download", b.setup().slaveCount() ? b.setup().slaveCount() : b.maxSlaves());
-	b.sdo().write(s, obj.index, obj.sub, v, static_cast<unsigned>(bytes.size()));
+	ecmxf::verbsOf(b)->download(s - 1, obj.index, obj.sub, bytes);
 	if (g.json)
 		std::printf("{\"position\": %u, \"index\": %u, \"sub\": %u, \"size\": %zu}\n", s - 1, obj.index,
 			    obj.sub, bytes.size());
@@ -304,13 +296,13 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		throw UsageError("cia402: status, enable, disable, fault-reset, move TARGET or home METHOD");
 	const std::string &what = args[0];
 	const unsigned s = opSlot(g, b, pos, "cia402");
+	const auto verbs = ecmxf::verbsOf(b);
 	if (what == "enable") {
-		b.drives().servoOn(s);
-		b.drives().waitEnabled(s);
+		verbs->driveEnable(s - 1);
 	} else if (what == "disable") {
-		b.drives().servoOff(s);
+		verbs->driveDisable(s - 1);
 	} else if (what == "fault-reset") {
-		b.drives().alarmClear(s);
+		verbs->driveAlarmClear(s - 1);
 	} else if (what == "move") {
 		if (args.size() != 2)
 			throw UsageError("cia402 move TARGET");
@@ -370,12 +362,12 @@ int io(Globals &g, Board &b, const std::vector<std::string> &args, const std::op
 	const unsigned s = opSlot(g, b, pos, "io");
 	if (args.size() == 1) {
 		const auto v = static_cast<std::uint32_t>(parseUnsigned("io", "VALUE", args[0], 0xFFFFFFFFu));
-		b.io().write(s, v);
+		ecmxf::verbsOf(b)->ioWrite(s - 1, v);
 		if (g.json)
 			std::printf("{\"position\": %u, \"outputs\": %u}\n", s - 1, v);
 		return 0;
 	}
-	const std::uint32_t v = b.io().read(s);
+	const std::uint32_t v = ecmxf::verbsOf(b)->ioRead(s - 1);
 	if (g.json)
 		std::printf("{\"position\": %u, \"inputs\": %u}\n", s - 1, v);
 	else
@@ -408,7 +400,7 @@ int reset(Globals &g, Board &b, const std::vector<std::string> &args, const std:
 {
 	if (!args.empty())
 		throw UsageError("reset: no arguments");
-	b.states().reset();
+	ecmxf::verbsOf(b)->reset();
 	if (g.json)
 		std::printf("{\"state\": %s}\n", jsonString(stateText(b.state())).c_str());
 	else if (!g.quiet)
@@ -416,33 +408,20 @@ int reset(Globals &g, Board &b, const std::vector<std::string> &args, const std:
 	return 0;
 }
 
-const Cmd kSkCommands[] = {
-	{ "cia402", cia402 }, { "download", download }, { "info", info },     { "io", io },
-	{ "lio", lio },	      { "reset", reset },	{ "slaves", slaves }, { "states", states },
-	{ "upload", upload },
-};
-
-// what the ECM-XF side has and the ECM-SK cannot do, and why
-struct Unsupported {
-	const char *name;
-	const char *why;
-};
-const Unsupported kNot[] = {
-	{ "adc", "the ECM-SK has no analog inputs (its own I/O is 'lio')" },
-	{ "commands", "lists ECM-XF command codes; the ECM-SK's are in Documentation/ecm-sk.rst" },
-	{ "dac", "the ECM-SK has no analog output" },
-	{ "decode", "traces are recorded for ECM-XF packets only" },
-	{ "eeprom", "the slot protocol has no access to the slaves' SII EEPROM" },
-	{ "emergency", "the slot protocol does not pass CoE emergencies on" },
-	{ "foe_read", "the slot protocol has no FoE" },
-	{ "foe_write", "the slot protocol has no FoE" },
-	{ "gpio", "the ECM-SK's I/O lines are 'lio' (LIO_RD/LIO_WR)" },
-	{ "monitor", "the ECM-SK reports no events; poll 'info' instead" },
-	{ "pdos", "the ECM-SK maps the process data itself (by slave type)" },
-	{ "qei", "the ECM-SK has no encoder input" },
-	{ "raw", "ECM-XF command packets only" },
-	{ "sii_read", "the slot protocol has no access to the slaves' SII EEPROM" },
-};
+// -p/-t, the board opened, and "<command>: " before a failure
+int onBoard(Globals &g, const Args &rawArgs, const char *name, SkBody body)
+{
+	std::optional<std::string> posText, typeText;
+	static const std::string help = std::string(kSkHelp);
+	const auto args = parseArgs(name, rawArgs, g, help.c_str(),
+				    { { "-p", "--position", nullptr, &posText }, { "-t", "--type", nullptr, &typeText } });
+	if (!args)
+		return 0;
+	if (!g.trace.empty())
+		throw UsageError("--trace: traces are recorded for ECM-XF packets only");
+	const auto board = Board::open(g.device);
+	return body(g, *board, *args, posText, typeText);
+}
 
 } // namespace
 
@@ -451,51 +430,19 @@ bool skDevice(const Globals &g)
 	return Board::isSkUri(g.device);
 }
 
-int skRun(Globals &g, std::string_view name, const Args &rawArgs)
+const char *skHelp() noexcept
 {
-	if (name == "help" || name == "--help") {
-		std::fputs(kSkHelp, stdout);
-		return 0;
-	}
-	if (name == "version")
-		return -1; // the common one
-	const Cmd *cmd = nullptr;
-	std::vector<const Cmd *> prefix;
-	for (const Cmd &c : kSkCommands) {
-		if (name == c.name) {
-			cmd = &c;
-			break;
-		}
-		if (std::string_view(c.name).starts_with(name))
-			prefix.push_back(&c);
-	}
-	if (!cmd && prefix.size() == 1)
-		cmd = prefix.front();
-	if (!cmd) {
-		for (const Unsupported &u : kNot)
-			if (name == u.name)
-				throw ecmxf::Error(std::string(name) + ": not on the ECM-SK: " + u.why, EOPNOTSUPP);
-		throw UsageError("unknown command '" + std::string(name) + "' for an ECM-SK (try 'help')");
-	}
-	std::optional<std::string> posText, typeText;
-	static const std::string help = std::string(kSkHelp);
-	const auto args = parseArgs(cmd->name, rawArgs, g, help.c_str(),
-				    { { "-p", "--position", nullptr, &posText }, { "-t", "--type", nullptr, &typeText } });
-	if (!args)
-		return 0;
-	if (!g.trace.empty())
-		throw UsageError("--trace: traces are recorded for ECM-XF packets only");
-	const auto board = Board::open(g.device);
-	try {
-		return cmd->run(g, *board, *args, posText, typeText);
-	} catch (const UsageError &) {
-		throw;
-	} catch (const std::exception &e) {
-		const std::string prefixText = std::string(cmd->name) + ": ";
-		if (std::string_view(e.what()).starts_with(prefixText))
-			throw;
-		throw std::runtime_error(prefixText + e.what());
-	}
+	return kSkHelp;
 }
+
+int cmdSkInfo(Globals &g, const Args &a) { return onBoard(g, a, "info", info); }
+int cmdSkSlaves(Globals &g, const Args &a) { return onBoard(g, a, "slaves", slaves); }
+int cmdSkStates(Globals &g, const Args &a) { return onBoard(g, a, "states", states); }
+int cmdSkUpload(Globals &g, const Args &a) { return onBoard(g, a, "upload", upload); }
+int cmdSkDownload(Globals &g, const Args &a) { return onBoard(g, a, "download", download); }
+int cmdSkCia402(Globals &g, const Args &a) { return onBoard(g, a, "cia402", cia402); }
+int cmdSkIo(Globals &g, const Args &a) { return onBoard(g, a, "io", io); }
+int cmdSkLio(Globals &g, const Args &a) { return onBoard(g, a, "lio", lio); }
+int cmdSkReset(Globals &g, const Args &a) { return onBoard(g, a, "reset", reset); }
 
 } // namespace ecmxf_util

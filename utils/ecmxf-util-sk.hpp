@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: MIT
-// ecmxf-util with an ECM-SK device (utils/ecmxf-util-sk.cpp).
+// ecmxf-util with an ECM-SK device (utils/ecmxf-util-sk.cpp): the bodies of
+// the commands of the one table (utils/ecmxf-util.cpp) on an ECM-SK.
 #pragma once
-
-#include <string_view>
 
 #include "ecmxf-util.hpp"
 
@@ -10,8 +9,17 @@ namespace ecmxf_util {
 
 /// Is g.device an ECM-SK URI ("sk-sim:", "sk-unix:", "sk-spidev:")?
 bool skDevice(const Globals &g);
-/// Runs command @p name with @p args on the ECM-SK; -1 when the command is
-/// the common one (version). Commands the board cannot do throw with why.
-int skRun(Globals &g, std::string_view name, const Args &args);
+/// The help of the commands on an ECM-SK (each one's --help there).
+const char *skHelp() noexcept;
+
+int cmdSkInfo(Globals &g, const Args &args);
+int cmdSkSlaves(Globals &g, const Args &args);
+int cmdSkStates(Globals &g, const Args &args);
+int cmdSkUpload(Globals &g, const Args &args);
+int cmdSkDownload(Globals &g, const Args &args);
+int cmdSkCia402(Globals &g, const Args &args);
+int cmdSkIo(Globals &g, const Args &args);
+int cmdSkLio(Globals &g, const Args &args);
+int cmdSkReset(Globals &g, const Args &args);
 
 } // namespace ecmxf_util

@@ -12,6 +12,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/verbs.hpp>
 
 namespace ecmxf_util {
 
@@ -66,7 +67,7 @@ int cmdUpload(Globals &g, const Args &args)
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
-	const std::vector<std::uint8_t> b = dev->sdo().sdoUpload(position, obj.index, obj.sub);
+	const std::vector<std::uint8_t> b = ecmxf::verbsOf(*dev)->upload(position, obj.index, obj.sub);
 	if (type && typeSize(*type) && b.size() != typeSize(*type))
 		throw ecmxf::Error("slave " + std::to_string(position) + " " + objectName(obj) + " has " +
 					   std::to_string(b.size()) + " bytes, type " + std::string(typeName(*type)) +

@@ -29,6 +29,7 @@
 
 #include <ecmxf/export.hpp>
 #include <ecmxf/bus/types_bus.hpp>
+#include <ecmxf/cia402/types_cia402.hpp>
 
 namespace ecmxf {
 
@@ -107,6 +108,14 @@ public:
 /// The verbs of @p device / @p board (not owned: it must outlive them).
 [[nodiscard]] ECMXF_EXPORT std::unique_ptr<MasterVerbs> verbsOf(Device &device);
 [[nodiscard]] ECMXF_EXPORT std::unique_ptr<MasterVerbs> verbsOf(sk::Board &board);
+
+/// The host-side CiA-402 state machine (Cia402Stepper) over SDO
+/// (0x6040/0x6041) of the ECM-XF drive at @p position, to @p target; with
+/// @p faultResetOnly, only out of a fault (else nothing is written). The
+/// statusword after. What MasterVerbs::driveEnable() and the others do on
+/// an ECM-XF; `ecmxf-util cia402` uses it for every target.
+ECMXF_EXPORT std::uint16_t cia402WalkBySdo(Device &device, std::uint8_t position, Cia402State target,
+					   bool faultResetOnly = false);
 
 /// Error(ENOTSUP): "not on the <master>: <why>".
 [[noreturn]] ECMXF_EXPORT void throwNotOn(MasterKind master, std::string_view why);

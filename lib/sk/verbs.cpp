@@ -90,15 +90,15 @@ public:
 
 	std::uint16_t driveEnable(unsigned position) override
 	{
-		return walk(position, Cia402State::OperationEnabled, false);
+		return cia402WalkBySdo(dev_, slave(position), Cia402State::OperationEnabled);
 	}
 	std::uint16_t driveDisable(unsigned position) override
 	{
-		return walk(position, Cia402State::SwitchOnDisabled, false);
+		return cia402WalkBySdo(dev_, slave(position), Cia402State::SwitchOnDisabled);
 	}
 	std::uint16_t driveAlarmClear(unsigned position) override
 	{
-		return walk(position, Cia402State::SwitchOnDisabled, true);
+		return cia402WalkBySdo(dev_, slave(position), Cia402State::SwitchOnDisabled, true);
 	}
 
 	std::uint32_t ioRead(unsigned) override
@@ -120,38 +120,6 @@ private:
 		if (position > kMaxSlavePosition)
 			throw Error("slave position " + std::to_string(position) + " is outside 0..127", EINVAL);
 		return static_cast<std::uint8_t>(position);
-	}
-
-	// The host-side CiA-402 state machine over SDO (0x6040/0x6041) to
-	// @p target; with @p faultResetOnly, only out of a fault. The
-	// statusword after.
-	std::uint16_t walk(unsigned position, Cia402State target, bool faultResetOnly)
-	{
-		const std::uint8_t p = slave(position);
-		Sdo sdo = dev_.sdo();
-		std::uint16_t sw = sdo.sdoRead<std::uint16_t>(p, 0x6041, 0);
-		const auto initial = cia402StateFrom(sw);
-		if (faultResetOnly && initial != Cia402State::Fault && initial != Cia402State::FaultReactionActive)
-			return sw;
-		Cia402Stepper stepper(p);
-		Link &t = dev_.link();
-		stepper.request(target, t.now());
-		// the caller's bits (modes, halt): as the drive has them now
-		const auto keep = static_cast<std::uint16_t>(sdo.sdoRead<std::uint16_t>(p, 0x6040, 0) &
-							     ~cia402::kCwStateBits);
-		std::uint16_t lastCw = 0xFFFF;
-		for (;;) {
-			const Cia402Step st = stepper.step(sw, t.now(), keep);
-			if (st.progress == Cia402Progress::Done)
-				return sw;
-			stepper.throwIfFailed();
-			if (st.controlword != lastCw) {
-				sdo.sdoWrite<std::uint16_t>(p, 0x6040, 0, st.controlword);
-				lastCw = st.controlword;
-			}
-			t.sleepFor(std::chrono::milliseconds(1));
-			sw = sdo.sdoRead<std::uint16_t>(p, 0x6041, 0);
-		}
 	}
 
 	Device &dev_;
@@ -254,6 +222,34 @@ private:
 };
 
 } // namespace
+
+std::uint16_t cia402WalkBySdo(Device &device, std::uint8_t position, Cia402State target, bool faultResetOnly)
+{
+	Sdo sdo = device.sdo();
+	std::uint16_t sw = sdo.sdoRead<std::uint16_t>(position, 0x6041, 0);
+	const auto initial = cia402StateFrom(sw);
+	if (faultResetOnly && initial != Cia402State::Fault && initial != Cia402State::FaultReactionActive)
+		return sw;
+	Cia402Stepper stepper(position);
+	Link &t = device.link();
+	stepper.request(target, t.now());
+	// the caller's bits (modes, halt): as the drive has them now
+	const auto keep =
+		static_cast<std::uint16_t>(sdo.sdoRead<std::uint16_t>(position, 0x6040, 0) & ~cia402::kCwStateBits);
+	std::uint16_t lastCw = 0xFFFF;
+	for (;;) {
+		const Cia402Step st = stepper.step(sw, t.now(), keep);
+		if (st.progress == Cia402Progress::Done)
+			return sw;
+		stepper.throwIfFailed();
+		if (st.controlword != lastCw) {
+			sdo.sdoWrite<std::uint16_t>(position, 0x6040, 0, st.controlword);
+			lastCw = st.controlword;
+		}
+		t.sleepFor(std::chrono::milliseconds(1));
+		sw = sdo.sdoRead<std::uint16_t>(position, 0x6041, 0);
+	}
+}
 
 std::unique_ptr<MasterVerbs> MasterVerbs::open(std::string_view uri)
 {

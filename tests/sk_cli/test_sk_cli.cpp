@@ -196,3 +196,39 @@ TEST_CASE("sk cli: ecmxf-demo --board ecm-sk --fast runs every step")
 	CHECK_THAT(out, Contains("all steps worked"));
 	CHECK_THAT(out, Contains("end: drive 20000 (target 20000), step 50000 (target 50000); 0 dropped"));
 }
+
+TEST_CASE("sk cli: one command table: --help with -d lists what the device can do, each side says why not")
+{
+	for (const char *args : { "--help -d sk-sim:", "-d sk-sim: --help", "-d sk-sim: help" }) {
+		INFO(args);
+		const auto r = run(args);
+		REQUIRE(r.status == 0);
+		CHECK_THAT(r.out, Contains("Commands on an ECM-SK"));
+		CHECK_THAT(r.out, Contains("\n  lio "));
+		CHECK_THAT(r.out, Contains("\n  upload "));
+		CHECK_FALSE(r.out.find("\n  eeprom ") != std::string::npos);
+		CHECK_THAT(r.out, Contains("Not on the ECM-SK (each says why): adc,"));
+	}
+	auto r = run("--help");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("\n  eeprom "));
+	CHECK_FALSE(r.out.find("\n  lio ") != std::string::npos);
+	for (const char *cmd : { "master", "reg_read", "sii_write", "xml", "cstruct", "commands" }) {
+		INFO(cmd);
+		r = run(std::string("-d sk-sim: ") + cmd);
+		CHECK(r.status == 1);
+		CHECK_THAT(r.err, Contains(std::string(cmd) + ": not on the ECM-SK: "));
+	}
+	for (const char *cmd : { "io -p 0", "lio" }) {
+		INFO(cmd);
+		r = run(std::string("-d sim: ") + cmd);
+		CHECK(r.status == 1);
+		CHECK_THAT(r.err, Contains("not on the ECM-XF: "));
+	}
+	r = run("i"); // on the ECM-XF "i" is still info: io is not one of its commands
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("firmware version:"));
+	r = run("-d sk-sim: help upload");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("slot protocol"));
+}

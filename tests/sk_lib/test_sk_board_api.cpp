@@ -11,6 +11,7 @@
 #include <unistd.h>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <ecmxf/bus/types_bus.hpp>
@@ -58,6 +59,17 @@ void bringUp(Board &b, std::uint32_t cycleUs = 1000)
 	b.drives().setMode(2, Mode::Csp);
 	b.states().set(ecmxf::State::Op);
 	REQUIRE(b.state() == ecmxf::State::Op);
+}
+
+// SV_ON for the Drive (1) and the STEP slave (2), and their positions
+std::pair<std::int32_t, std::int32_t> enableDrives(Board &b)
+{
+	b.drives().servoOn(1);
+	b.drives().servoOn(2);
+	b.drives().waitEnabled(1);
+	b.drives().waitEnabled(2);
+	b.states().status();
+	return { b.drives().axis(1).position, b.drives().axis(2).position };
 }
 
 } // namespace
@@ -133,12 +145,7 @@ TEST_CASE("sk lib: servo on, a CSP move of the Drive and the STEP slave through 
 {
 	auto b = Board::open("sk-sim:");
 	bringUp(*b);
-	b->drives().servoOn(1);
-	b->drives().servoOn(2);
-	b->drives().waitEnabled(1);
-	b->drives().waitEnabled(2);
-	b->states().status();
-	const auto p1 = b->drives().axis(1).position, p2 = b->drives().axis(2).position;
+	const auto [p1, p2] = enableDrives(*b);
 	int drops = 0;
 	for (int i = 1; i <= 500; i++) {
 		REQUIRE(b->cyclic().stage(1, Mode::Csp, p1 + 40 * i));
@@ -165,12 +172,7 @@ TEST_CASE("sk lib: stage() refuses what the FIFO has no room for; nothing is dro
 {
 	auto b = Board::open("sk-sim:?abandon=0");
 	bringUp(*b, 4000); // slow cycle: the FIFO fills faster than it drains
-	b->drives().servoOn(1);
-	b->drives().servoOn(2);
-	b->drives().waitEnabled(1);
-	b->drives().waitEnabled(2);
-	b->states().status();
-	const auto p1 = b->drives().axis(1).position, p2 = b->drives().axis(2).position;
+	const auto [p1, p2] = enableDrives(*b);
 	unsigned refusedStage = 0, dropped = 0;
 	for (int i = 0; i < 300; i++) {
 		if (!b->cyclic().stage(1, Mode::Csp, p1))
