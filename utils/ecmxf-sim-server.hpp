@@ -2,13 +2,16 @@
 /*
  * ecmxf-sim's server, the same for every board it simulates (the ECM-XF in
  * ecmxf-sim.cpp, the ECM-SK in ecmxf-sim-sk.cpp): the byte pipe of the wire
- * protocol (Documentation/sim-wire-protocol.rst) and the loop that serves
- * standard input/output or a Unix socket, one client at a time.
+ * protocol (Documentation/sim-wire-protocol.rst), the one loop that reads
+ * its requests and answers them from a Target, and the serving of standard
+ * input/output or a Unix socket, one client at a time.
  */
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 
 namespace ecmxfsim {
@@ -47,6 +50,23 @@ private:
 /// @p n little-endian bytes at @p b.
 std::uint64_t le(const std::uint8_t *b, int n);
 
+/// The simulated board behind the wire protocol: what differs between the
+/// boards; the requests, their framing and errors are the server's.
+class Target
+{
+public:
+	virtual ~Target() = default;
+	/// Why an 'X' exchange of @p n bytes is refused; empty: it is not.
+	[[nodiscard]] virtual std::string badExchange(std::size_t n) const = 0;
+	virtual void exchange(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso) = 0;
+	/// 'L': bit 0 INT0 (ECM-SK: Busy high), bit 1 INT1, bit 2 ready.
+	[[nodiscard]] virtual std::uint8_t lines() const = 0;
+	virtual void advance(std::chrono::nanoseconds d) = 0;
+	[[nodiscard]] virtual std::chrono::nanoseconds now() const = 0;
+	/// 'F': fault @p id set to @p value; why it is refused, or empty.
+	virtual std::string fault(std::uint8_t id, std::uint32_t value) = 0;
+};
+
 /// What one request leaves behind.
 enum class Served {
 	More,	// answered; the client may send another
@@ -54,6 +74,13 @@ enum class Served {
 	Quit,	// 'Q': the server ends
 };
 using ServeOne = std::function<Served(Pipe &)>;
+
+/// Reads one request from @p p and answers it from @p t (the one wire
+/// loop of every board).
+Served serveOne(Target &t, Pipe &p);
+/// Serves @p t on standard input/output, or on the Unix socket @p path
+/// when it is not empty.
+int serve(Target &t, const std::string &path);
 
 /// Serves standard input/output until the client ends or quits.
 int serveStdio(const ServeOne &serve);
