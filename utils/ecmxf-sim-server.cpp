@@ -177,6 +177,33 @@ Served serveOne(Target &t, Pipe &p)
 	return Served::More;
 }
 
+std::optional<Options> parseOptions(int argc, char **argv, const BoardOption &board, const std::string &unknownHint,
+				    void (*usage)(std::FILE *))
+{
+	Options o;
+	for (int i = 1; i < argc; i++) {
+		const std::string_view a = argv[i];
+		const OptionValue value = [&](const char *what) -> std::string {
+			if (i + 1 >= argc)
+				throw std::invalid_argument(std::string(what) + " needs a value");
+			return argv[++i];
+		};
+		if (a == "-h" || a == "--help") {
+			usage(stdout);
+			return std::nullopt;
+		} else if (a == "-n" || a == "--network") {
+			o.network = value("--network");
+		} else if (a == "-s" || a == "--socket") {
+			o.socketPath = value("--socket");
+		} else if (a == "-b" || a == "--board") {
+			(void)value("--board"); // which board: main's ecmxfSimWantsSk()
+		} else if (!board(a, value)) {
+			throw std::invalid_argument("unknown option '" + std::string(a) + "'" + unknownHint);
+		}
+	}
+	return o;
+}
+
 int serve(Target &t, const std::string &path)
 {
 	const ServeOne one = [&t](Pipe &p) { return serveOne(t, p); };

@@ -10,9 +10,12 @@
 
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 
 namespace ecmxfsim {
 
@@ -74,6 +77,22 @@ enum class Served {
 	Quit,	// 'Q': the server ends
 };
 using ServeOne = std::function<Served(Pipe &)>;
+
+/// The options of every board: -n/--network FILE, -s/--socket PATH,
+/// -b/--board (read by main), -h/--help.
+struct Options {
+	std::string network;
+	std::string socketPath;
+};
+/// The value of the option being read ("<what> needs a value" when none).
+using OptionValue = std::function<std::string(const char *what)>;
+/// A board's own option @p a: true when it took it.
+using BoardOption = std::function<bool(std::string_view a, const OptionValue &value)>;
+/// Parses argv: the common options, @p board's own; another is
+/// std::invalid_argument "unknown option '<a>'<unknownHint>". -h/--help
+/// prints @p usage to stdout: std::nullopt (the server exits 0).
+std::optional<Options> parseOptions(int argc, char **argv, const BoardOption &board, const std::string &unknownHint,
+				    void (*usage)(std::FILE *));
 
 /// Reads one request from @p p and answers it from @p t (the one wire
 /// loop of every board).

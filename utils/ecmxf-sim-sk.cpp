@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <optional>
 #include <string_view>
 #include <span>
 #include <vector>
@@ -101,34 +102,23 @@ bool ecmxfSimWantsSk(int argc, char **argv)
 
 int ecmxfSimSkMain(int argc, char **argv)
 {
-	std::string network, settings, socketPath;
-	for (int i = 1; i < argc; i++) {
-		const std::string_view a = argv[i];
-		auto value = [&](const char *what) -> std::string {
-			if (i + 1 >= argc)
-				throw std::invalid_argument(std::string(what) + " needs a value");
-			return argv[++i];
-		};
-		if (a == "-h" || a == "--help") {
-			usage(stdout);
-			return 0;
-		} else if (a == "-b" || a == "--board") {
-			(void)value("--board");
-		} else if (a == "-n" || a == "--network") {
-			network = value("--network");
-		} else if (a == "-o" || a == "--settings") {
+	std::string settings;
+	const std::optional<ecmxfsim::Options> o = ecmxfsim::parseOptions(
+		argc, argv,
+		[&](std::string_view a, const ecmxfsim::OptionValue &value) {
+			if (a != "-o" && a != "--settings")
+				return false;
 			settings = value("--settings");
-		} else if (a == "-s" || a == "--socket") {
-			socketPath = value("--socket");
-		} else {
-			throw std::invalid_argument("unknown option '" + std::string(a) +
-						    "' for --board ecm-sk (try --board ecm-sk --help)");
-		}
-	}
+			return true;
+		},
+		" for --board ecm-sk (try --board ecm-sk --help)", usage);
+	if (!o)
+		return 0; // --help
+	const std::string &network = o->network;
 	ecmxf::sk::SimBoard board(network.empty()
 					  ? ecmxf::sim::Network::fromText(ecmxf::sk::defaultSkNetwork(), "ecm-sk")
 					  : ecmxf::sim::Network::fromFile(network),
 				  ecmxf::sk::BoardConfig::parse(settings));
 	SkTarget target(board);
-	return ecmxfsim::serve(target, socketPath);
+	return ecmxfsim::serve(target, o->socketPath);
 }

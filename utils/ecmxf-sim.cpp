@@ -33,6 +33,7 @@
 #include <cstring>
 #include <exception>
 #include <string>
+#include <optional>
 #include <string_view>
 #include <utility>
 #include <span>
@@ -145,48 +146,37 @@ void usage(std::FILE *out)
 
 int run(int argc, char **argv)
 {
-	std::string network, socketPath;
 	ecmxf::sim::ChipConfig cfg;
 	std::vector<std::pair<std::string, std::string>> chipOptions;
-
-	for (int i = 1; i < argc; i++) {
-		const std::string_view a = argv[i];
-		auto value = [&](const char *what) -> std::string {
-			if (i + 1 >= argc)
-				throw std::invalid_argument(std::string(what) + " needs a value");
-			return argv[++i];
-		};
-		if (a == "-h" || a == "--help") {
-			usage(stdout);
-			return 0;
-		} else if (a == "-n" || a == "--network") {
-			network = value("--network");
-		} else if (a == "-c" || a == "--chip") {
-			const std::string kv = value("--chip");
-			const auto eq = kv.find('=');
-			if (eq == std::string::npos || eq == 0)
-				throw std::invalid_argument("--chip '" + kv + "' is not KEY=VALUE (" +
-							    std::string(ecmxf::sim::kChipOptions) + ")");
-			chipOptions.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
-			try {
-				ecmxf::sim::ChipConfig check;
-				ecmxf::sim::applyChipOption(check, chipOptions.back().first,
-							    chipOptions.back().second);
-			} catch (const std::invalid_argument &e) {
-				throw std::invalid_argument(std::string("--chip: ") + e.what());
+	const std::optional<ecmxfsim::Options> o = ecmxfsim::parseOptions(
+		argc, argv,
+		[&](std::string_view a, const ecmxfsim::OptionValue &value) {
+			if (a == "-c" || a == "--chip") {
+				const std::string kv = value("--chip");
+				const auto eq = kv.find('=');
+				if (eq == std::string::npos || eq == 0)
+					throw std::invalid_argument("--chip '" + kv + "' is not KEY=VALUE (" +
+								    std::string(ecmxf::sim::kChipOptions) + ")");
+				chipOptions.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+				try {
+					ecmxf::sim::ChipConfig check;
+					ecmxf::sim::applyChipOption(check, chipOptions.back().first,
+								    chipOptions.back().second);
+				} catch (const std::invalid_argument &e) {
+					throw std::invalid_argument(std::string("--chip: ") + e.what());
+				}
+				return true;
 			}
-		} else if (a == "-p" || a == "--paced") {
-			cfg.timeMode = ecmxf::sim::TimeMode::Paced;
-		} else if (a == "-s" || a == "--socket") {
-			socketPath = value("--socket");
-		} else if (a == "-b" || a == "--board") {
-			if (value("--board") != "ecm-xf") // ecm-sk: ecmxfSimSkMain()
-				throw std::invalid_argument("--board: ecm-xf or ecm-sk");
-		} else {
-			throw std::invalid_argument("unknown option '" + std::string(a) +
-						    "' (try --help)");
-		}
-	}
+			if (a == "-p" || a == "--paced") {
+				cfg.timeMode = ecmxf::sim::TimeMode::Paced;
+				return true;
+			}
+			return false;
+		},
+		" (try --help)", usage);
+	if (!o)
+		return 0; // --help
+	const std::string &network = o->network;
 
 	ecmxf::sim::Network net =
 		network.empty() ? ecmxf::sim::Network::defaultNetwork() : ecmxf::sim::Network::fromFile(network);
@@ -195,7 +185,7 @@ int run(int argc, char **argv)
 	ecmxf::sim::Chip chip(std::move(net), cfg);
 
 	ChipTarget target(chip);
-	return ecmxfsim::serve(target, socketPath);
+	return ecmxfsim::serve(target, o->socketPath);
 }
 
 } // namespace
