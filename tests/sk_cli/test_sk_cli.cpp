@@ -17,6 +17,7 @@
 #include <ecmxf/link/unix_channel.hpp>
 
 #include "cli/cli_run.hpp"
+#include "common/sim_server.hpp"
 
 using Catch::Matchers::Contains;
 using clitest::run;
@@ -148,26 +149,9 @@ TEST_CASE("sk cli: what the ECM-SK cannot do is refused with why; bad URIs are n
 
 TEST_CASE("sk cli: the board behind sk-unix: keeps its state between runs")
 {
-	char t[] = "/tmp/ecmxf-skcli-XXXXXX";
-	REQUIRE(mkdtemp(t) != nullptr);
-	const std::string dir = t, sock = dir + "/sk.sock";
-	const pid_t pid = fork();
-	REQUIRE(pid >= 0);
-	if (pid == 0) {
-		execl(ECMXF_SIM_BINARY, ECMXF_SIM_BINARY, "--board", "ecm-sk", "--socket", sock.c_str(),
-		      static_cast<char *>(nullptr));
-		_exit(127);
-	}
-	const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-	for (;;) {
-		try {
-			ecmxf::UnixChannel probe(sock);
-			break;
-		} catch (const ecmxf::Error &) {
-			REQUIRE(std::chrono::steady_clock::now() < deadline);
-			usleep(10000);
-		}
-	}
+	ecmxftest::TempDir dir;
+	const std::string sock = dir.path + "/sk.sock";
+	ecmxftest::SimServer server(sock, { "--board", "ecm-sk" });
 	auto r = run("-d sk-unix:" + sock + " states OP");
 	CHECK(r.status == 0);
 	r = run("-d sk-unix:" + sock + " --json info");
@@ -175,10 +159,6 @@ TEST_CASE("sk cli: the board behind sk-unix: keeps its state between runs")
 	CHECK_THAT(r.out, Contains("\"state\": \"OP\""));
 	r = run("-d sk-unix:" + sock + " lio 5");
 	CHECK(r.status == 0);
-	kill(pid, SIGKILL);
-	waitpid(pid, nullptr, 0);
-	std::error_code ec;
-	std::filesystem::remove_all(dir, ec);
 }
 
 TEST_CASE("sk cli: ecmxf-demo --board ecm-sk --fast runs every step")

@@ -22,67 +22,20 @@
 #include <ecmxf/link/unix_channel.hpp>
 #include <ecmxf/sk/board.hpp>
 
+#include "../common/sim_server.hpp"
+
 using namespace ecmxf::sk;
 
 namespace {
 
-struct TempDir {
-	std::string path;
-	TempDir()
-	{
-		char t[] = "/tmp/ecmxf-skunix-XXXXXX";
-		REQUIRE(mkdtemp(t) != nullptr);
-		path = t;
-	}
-	~TempDir()
-	{
-		std::error_code ec;
-		std::filesystem::remove_all(path, ec);
-	}
-};
+using ecmxftest::TempDir;
 
-class Server
-{
-public:
-	Server(const std::string &socket, const std::string &settings) : socket_(socket)
+/// ecmxf-sim --board ecm-sk --settings S --socket PATH
+struct Server : ecmxftest::SimServer {
+	Server(const std::string &socket, const std::string &settings)
+		: SimServer(socket, { "--board", "ecm-sk", "--settings", settings })
 	{
-		pid_ = fork();
-		REQUIRE(pid_ >= 0);
-		if (pid_ == 0) {
-			execl(ECMXF_SIM_BINARY, ECMXF_SIM_BINARY, "--board", "ecm-sk", "--settings", settings.c_str(),
-			      "--socket", socket.c_str(), static_cast<char *>(nullptr));
-			_exit(127);
-		}
-		const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-		for (;;) {
-			int st = 0;
-			if (waitpid(pid_, &st, WNOHANG) == pid_) {
-				pid_ = -1;
-				FAIL("ecmxf-sim --board ecm-sk exited at start (status " << st << ")");
-			}
-			try {
-				ecmxf::UnixChannel probe(socket_);
-				return;
-			} catch (const ecmxf::Error &e) {
-				if (std::chrono::steady_clock::now() > deadline)
-					FAIL("ecmxf-sim --board ecm-sk never served: " << e.what());
-			}
-			usleep(10000);
-		}
 	}
-	~Server()
-	{
-		if (pid_ > 0) {
-			kill(pid_, SIGKILL);
-			waitpid(pid_, nullptr, 0);
-		}
-	}
-	Server(const Server &) = delete;
-	Server &operator=(const Server &) = delete;
-
-private:
-	std::string socket_;
-	pid_t pid_ = -1;
 };
 
 } // namespace
