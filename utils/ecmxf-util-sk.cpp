@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 /*
  * ecmxf-util with an ECM-SK device (-d sk-sim:, sk-unix:, sk-spidev:):
- * the commands the starter kit's slot protocol can carry (info, slaves,
- * states, upload, download, cia402, io, lio, reset) on ecmxf::sk::Board,
- * and for every other command the reason the board cannot do it.
+ * the bodies on ecmxf::sk::Board of the commands the starter kit's slot
+ * protocol can carry (info, slaves, states, upload, download, cia402, io,
+ * lio, reset), their verbs through ecmxf::MasterVerbs. The command table,
+ * and why the board cannot do the others, is utils/ecmxf-util.cpp's.
  * Documentation/ecm-sk.rst, "ecmxf-util".
  */
 #include "ecmxf-util.hpp"

@@ -175,12 +175,25 @@ void skOption(std::string_view uri, DeviceUri &u, std::string_view key, std::str
 
 DeviceUri parseDeviceUri(std::string_view uri)
 {
-	constexpr std::string_view kSim = "sim:";
-	constexpr std::string_view kSpidev = "spidev:";
-	constexpr std::string_view kUnix = "unix:";
-	constexpr std::string_view kSkSim = "sk-sim:";
-	constexpr std::string_view kSkSpidev = "sk-spidev:";
-	constexpr std::string_view kSkUnix = "sk-unix:";
+	using K = DeviceUri::Kind;
+	// the schemes, and what an empty path after one means
+	struct Scheme {
+		std::string_view prefix;
+		K kind;
+		const char *noPath; // nullptr: an empty path is allowed
+	};
+	static constexpr Scheme kSchemes[] = {
+		{ "sim:", K::Sim, nullptr },
+		{ "spidev:", K::Spidev, "no spidev node after \"spidev:\" (e.g. spidev:/dev/spidev0.0)" },
+		{ "unix:", K::Unix,
+		  "no socket path after \"unix:\" (e.g. unix:/tmp/ecmxf-sim.sock, served by "
+		  "`ecmxf-sim --socket /tmp/ecmxf-sim.sock`)" },
+		{ "sk-sim:", K::SkSim, nullptr },
+		{ "sk-unix:", K::SkUnix,
+		  "no socket path after \"sk-unix:\" (e.g. sk-unix:/tmp/sk.sock, served by "
+		  "`ecmxf-sim --board ecm-sk --socket /tmp/sk.sock`)" },
+		{ "sk-spidev:", K::SkSpidev, "the spidev node must be an absolute path (sk-spidev:/dev/spidevB.C)" },
+	};
 
 	if (uri.empty())
 		bad(uri, "empty device URI");
@@ -189,46 +202,27 @@ DeviceUri parseDeviceUri(std::string_view uri)
 	const std::string_view query = q == std::string_view::npos ? std::string_view{} : uri.substr(q + 1);
 
 	DeviceUri u;
-	if (base.starts_with(kSim)) {
-		u.kind = DeviceUri::Kind::Sim;
-		u.path = std::string(base.substr(kSim.size()));
-	} else if (base.starts_with(kSpidev)) {
-		u.kind = DeviceUri::Kind::Spidev;
-		u.path = std::string(base.substr(kSpidev.size()));
-		if (u.path.empty())
-			bad(uri, "no spidev node after \"spidev:\" (e.g. spidev:/dev/spidev0.0)");
-		u.spidev.device = u.path;
-	} else if (base.starts_with(kUnix)) {
-		u.kind = DeviceUri::Kind::Unix;
-		u.path = std::string(base.substr(kUnix.size()));
-		if (u.path.empty())
-			bad(uri, "no socket path after \"unix:\" (e.g. unix:/tmp/ecmxf-sim.sock, served by "
-				 "`ecmxf-sim --socket /tmp/ecmxf-sim.sock`)");
+	const Scheme *scheme = nullptr;
+	for (const Scheme &sc : kSchemes)
+		if (base.starts_with(sc.prefix))
+			scheme = &sc;
+	if (scheme) {
+		u.kind = scheme->kind;
+		u.path = std::string(base.substr(scheme->prefix.size()));
+		if (scheme->noPath && (u.path.empty() || (u.kind == K::SkSpidev && u.path[0] != '/')))
+			bad(uri, scheme->noPath);
 	} else if (base.starts_with("/")) {
-		u.kind = DeviceUri::Kind::Kernel;
+		u.kind = K::Kernel;
 		u.path = std::string(base);
-	} else if (base.starts_with(kSkSim)) {
-		u.kind = DeviceUri::Kind::SkSim;
-		u.path = std::string(base.substr(kSkSim.size()));
-	} else if (base.starts_with(kSkUnix)) {
-		u.kind = DeviceUri::Kind::SkUnix;
-		u.path = std::string(base.substr(kSkUnix.size()));
-		if (u.path.empty())
-			bad(uri, "no socket path after \"sk-unix:\" (e.g. sk-unix:/tmp/sk.sock, served by "
-				 "`ecmxf-sim --board ecm-sk --socket /tmp/sk.sock`)");
-	} else if (base.starts_with(kSkSpidev)) {
-		u.kind = DeviceUri::Kind::SkSpidev;
-		u.path = std::string(base.substr(kSkSpidev.size()));
-		if (u.path.empty() || u.path[0] != '/')
-			bad(uri, "the spidev node must be an absolute path (sk-spidev:/dev/spidevB.C)");
+	} else {
+		bad(uri, base.starts_with("sk-") ? "unknown ECM-SK device URI" : "unknown device URI");
+	}
+	if (u.kind == K::Spidev || u.kind == K::SkSpidev)
 		u.spidev.device = u.path;
+	if (u.kind == K::SkSpidev) {
 		u.spidev.speedHz = kSkMaxSpeedHz;
 		u.spidev.mode = 0;
 		u.spidev.readyHigh = false; // Busy: low = ready
-	} else if (base.starts_with("sk-")) {
-		bad(uri, "unknown ECM-SK device URI");
-	} else {
-		bad(uri, "unknown device URI");
 	}
 
 	if (q == std::string_view::npos) {
