@@ -212,72 +212,6 @@ int states(Globals &g, Board &b, const std::vector<std::string> &args, const std
 	return 0;
 }
 
-unsigned checkType(const char *cmd, const std::optional<std::string> &typeText, std::optional<DataType> &type)
-{
-	if (!typeText)
-		return 0;
-	type = parseType(cmd, *typeText);
-	const auto n = typeSize(*type);
-	if (n != 1 && n != 2 && n != 4)
-		throw ecmxf::Error(std::string(cmd) + ": type " + std::string(typeName(*type)) +
-					   ": the ECM-SK's SDO slot carries objects of 1, 2 or 4 bytes",
-				   EOPNOTSUPP);
-	return static_cast<unsigned>(n);
-}
-
-ObjectAddress object(const char *cmd, const std::vector<std::string> &args, std::size_t n)
-{
-	if (args.size() != n)
-		throw UsageError(std::string(cmd) + (n == 1 ? ": which object? (upload -p N INDEX[:SUB])"
-							  : ": INDEX[:SUB] VALUE (download -p N INDEX[:SUB] VALUE)"));
-	return parseObjectAddress(cmd, args[0]);
-}
-
-int upload(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
-	   const std::optional<std::string> &typeText)
-{
-	const ObjectAddress obj = object("upload", args, 1);
-	std::optional<DataType> type;
-	const unsigned want = checkType("upload", typeText, type);
-	if (b.states().status().state == State::Init)
-		preop(b, g.quiet || g.json);
-	const unsigned s = slot(b, pos, "upload", b.setup().slaveCount() ? b.setup().slaveCount() : b.maxSlaves());
-	const std::vector<std::uint8_t> bytes = ecmxf::verbsOf(b)->upload(s - 1, obj.index, obj.sub);
-	const auto size = static_cast<unsigned>(bytes.size());
-	if (want && size != want)
-		throw ecmxf::Error("slave " + std::to_string(s - 1) + " " + objectName(obj) + " has " +
-					   std::to_string(size) + " bytes, type " + std::string(typeName(*type)) +
-					   " has " + std::to_string(want),
-				   EPROTO);
-	if (g.json) {
-		std::printf("{\"position\": %u, \"index\": %u, \"sub\": %u, \"type\": %s, \"size\": %u, "
-			    "\"value\": %s, \"hex\": %s}\n",
-			    s - 1, obj.index, obj.sub, type ? jsonString(typeName(*type)).c_str() : "null", size,
-			    jsonValue(type, bytes).c_str(), jsonString(hexBytes(bytes, "")).c_str());
-		return 0;
-	}
-	std::printf("%s\n", formatValue(type, bytes).c_str());
-	return 0;
-}
-
-int download(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
-	     const std::optional<std::string> &typeText)
-{
-	const ObjectAddress obj = object("download", args, 2);
-	std::optional<DataType> type;
-	if (!checkType("download", typeText, type))
-		throw UsageError("download: -t TYPE is required (the ECM-SK cannot tell an object's size)");
-	const auto bytes = encodeValue("download", *type, args[1]);
-	if (b.states().status().state == State::Init)
-		preop(b, g.quiet || g.json);
-	const unsigned s = slot(b, pos, "download", b.setup().slaveCount() ? b.setup().slaveCount() : b.maxSlaves());
-	ecmxf::verbsOf(b)->download(s - 1, obj.index, obj.sub, bytes);
-	if (g.json)
-		std::printf("{\"position\": %u, \"index\": %u, \"sub\": %u, \"size\": %zu}\n", s - 1, obj.index,
-			    obj.sub, bytes.size());
-	return 0;
-}
-
 unsigned opSlot(Globals &g, Board &b, const std::optional<std::string> &pos, const char *cmd)
 {
 	if (b.states().status().state == State::Init)
@@ -436,11 +370,44 @@ const char *skHelp() noexcept
 	return kSkHelp;
 }
 
+std::unique_ptr<ecmxf::MasterVerbs> openMaster(const Globals &g)
+{
+	if (skDevice(g) && !g.trace.empty())
+		throw UsageError("--trace: traces are recorded for ECM-XF packets only");
+	return ecmxf::MasterVerbs::open(g.device);
+}
+
+std::uint8_t sdoPosition(const Globals &g, ecmxf::MasterVerbs &m, std::uint8_t position)
+{
+	if (ecmxf::Device *dev = m.device())
+		return selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
+	Board &b = *m.board();
+	if (b.states().status().state == State::Init)
+		preop(b, g.quiet || g.json);
+	const unsigned slaves = b.setup().slaveCount();
+	const unsigned count = slaves ? slaves : b.maxSlaves();
+	if (position >= count)
+		throw ecmxf::Error("slave position " + std::to_string(position) + " out of range: the bus has " +
+					   std::to_string(count) + " slaves (0.." + std::to_string(count ? count - 1 : 0) +
+					   ")",
+				   EINVAL);
+	return position;
+}
+
+void checkSdoType(const Globals &g, const char *cmd, const std::optional<DataType> &type)
+{
+	if (!skDevice(g) || !type)
+		return;
+	const auto n = typeSize(*type);
+	if (n != 1 && n != 2 && n != 4)
+		throw ecmxf::Error(std::string(cmd) + ": type " + std::string(typeName(*type)) +
+					   ": the ECM-SK's SDO slot carries objects of 1, 2 or 4 bytes",
+				   EOPNOTSUPP);
+}
+
 int cmdSkInfo(Globals &g, const Args &a) { return onBoard(g, a, "info", info); }
 int cmdSkSlaves(Globals &g, const Args &a) { return onBoard(g, a, "slaves", slaves); }
 int cmdSkStates(Globals &g, const Args &a) { return onBoard(g, a, "states", states); }
-int cmdSkUpload(Globals &g, const Args &a) { return onBoard(g, a, "upload", upload); }
-int cmdSkDownload(Globals &g, const Args &a) { return onBoard(g, a, "download", download); }
 int cmdSkCia402(Globals &g, const Args &a) { return onBoard(g, a, "cia402", cia402); }
 int cmdSkIo(Globals &g, const Args &a) { return onBoard(g, a, "io", io); }
 int cmdSkLio(Globals &g, const Args &a) { return onBoard(g, a, "lio", lio); }

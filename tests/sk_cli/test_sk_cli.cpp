@@ -210,5 +210,5 @@ TEST_CASE("sk cli: one command table: --help with -d lists what the device can d
 	CHECK_THAT(r.out, Contains("firmware version:"));
 	r = run("-d sk-sim: help upload");
 	CHECK(r.status == 0);
-	CHECK_THAT(r.out, Contains("slot protocol"));
+	CHECK_THAT(r.out, Contains("On an ECM-SK (-d sk-...): SDO_RD"));
 }
