@@ -16,7 +16,7 @@
  * names it), 2 bad arguments.
  *
  * The steps are those of the manuals' bring-up (Documentation/master.rst,
- * shared/spec "Bring-up sequence"), each one ECMXF_IOC_CMD:
+ * "Steps"), each one ECMXF_IOC_CMD:
  *
  *   ECAT_INIT_OP            scan the network (async)
  *   ECAT_SLV_CNT_GET        slave count (return value)

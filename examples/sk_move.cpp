@@ -24,35 +24,37 @@ int main(int argc, char **argv)
 	}
 	try {
 		auto board = Board::open(argc > 1 ? argv[1] : "sk-sim:");
+		auto drives = board->drives();
+		auto cyclic = board->cyclic();
 		// PRE-OP, the slaves' types, 1 ms cycle, CSP, OP
-		board->setState(ecmxf::sk::State::PreOp);
-		board->detectAxes();
-		board->setCycleTime(1000);
-		board->driveMode(1, ecmxf::sk::Mode::Csp);
-		board->setState(ecmxf::sk::State::Op);
+		board->states().set(ecmxf::State::PreOp);
+		board->setup().detectAxes();
+		board->setup().setCycleTime(1000);
+		drives.setMode(1, ecmxf::sk::Mode::Csp);
+		board->states().set(ecmxf::State::Op);
 
-		board->servoOn(1);
+		drives.servoOn(1);
 		// servo off on every way out of this scope
 		struct ServoOff {
-			Board &b;
-			~ServoOff() { try { b.servoOff(1); } catch (const std::exception &) {} }
-		} const off{ *board };
-		board->waitEnabled(1);
+			ecmxf::sk::BoardDrives &d;
+			~ServoOff() { try { d.servoOff(1); } catch (const std::exception &) {} }
+		} const off{ drives };
+		drives.waitEnabled(1);
 
 		// 20000 counts in 500 cycles; a full FIFO holds the target back a cycle
-		board->status();
-		const std::int32_t from = board->axis(1).position, to = from + 20000;
+		board->states().status();
+		const std::int32_t from = drives.axis(1).position, to = from + 20000;
 		for (int i = 1; i <= 500;) {
-			if (board->stage(1, ecmxf::sk::Mode::Csp, from + (to - from) * i / 500))
+			if (cyclic.stage(1, ecmxf::sk::Mode::Csp, from + (to - from) * i / 500))
 				i++;
-			const auto st = board->cycle().status;
+			const auto st = cyclic.cycle().status;
 			if (st == ecmxf::sk::CycleStatus::Link || st == ecmxf::sk::CycleStatus::Busy)
-				throw std::runtime_error("the cyclic exchange failed: " + board->lastError());
+				throw std::runtime_error("the cyclic exchange failed: " + cyclic.lastError());
 			board->channel().sleepFor(1ms);
 		}
 		for (int i = 0; i < 20; i++, board->channel().sleepFor(1ms)) // let the FIFO drain
-			board->cycle();
-		std::printf("slave 1: moved from %d to %d (target %d)\n", from, board->axis(1).position, to);
+			cyclic.cycle();
+		std::printf("slave 1: moved from %d to %d (target %d)\n", from, drives.axis(1).position, to);
 	} catch (const std::exception &e) {
 		std::fprintf(stderr, "sk-move: %s\n", e.what());
 		return 1;

@@ -49,27 +49,27 @@ int ecmxfDemoSk(bool fast)
 	std::printf("   %zu-byte frames: slot 0 the ECM, slots 1..%u the slaves, slot %u the SDO slot\n",
 		    b->frameSize(), b->maxSlaves(), b->maxSlaves() + 1);
 	std::printf("   state %s; every answer comes with the next exchange; Busy low = ready\n",
-		    std::string(stateName(b->status().state)).c_str());
+		    std::string(stateName(b->states().status().state)).c_str());
 
 	heading(2, "bring-up: PRE-OP, slave types by SET_AXIS, SET_DC, DRIVE_MODE, OP");
-	b->setState(State::PreOp);
-	const auto types = b->detectAxes();
+	b->states().set(ecmxf::State::PreOp);
+	const auto types = b->setup().detectAxes();
 	for (std::size_t i = 0; i < types.size(); i++)
 		std::printf("   slave %zu: %s\n", i, std::string(slaveTypeName(types[i])).c_str());
-	b->setCycleTime(1000);
-	b->driveMode(1, Mode::Csp);
-	b->driveMode(2, Mode::Csp);
-	b->setState(State::Op);
-	const auto st = b->status();
+	b->setup().setCycleTime(1000);
+	b->drives().setMode(1, Mode::Csp);
+	b->drives().setMode(2, Mode::Csp);
+	b->states().set(ecmxf::State::Op);
+	const auto st = b->states().status();
 	std::printf("   %s, FIFO %u free\n", std::string(stateName(st.state)).c_str(), st.fifoRemaining);
-	if (st.state != State::Op)
+	if (st.state != ecmxf::State::Op)
 		fail("not in OP");
 
 	heading(3, "SDO through the SDO slot");
-	const auto vendor = b->sdoRead<std::uint32_t>(2, 0x1018, 1);
+	const auto vendor = b->sdo().read<std::uint32_t>(2, 0x1018, 1);
 	std::printf("   slave 1 vendor id 0x%08X\n", vendor);
 	try {
-		(void)b->sdoRead(2, 0x5FFF, 0);
+		(void)b->sdo().read(2, 0x5FFF, 0);
 		fail("0x5FFF did not abort");
 	} catch (const ecmxf::SdoError &e) {
 		std::printf("   slave 1 0x5FFF: abort 0x%08X %s\n", e.abortCode(),
@@ -77,53 +77,53 @@ int ecmxfDemoSk(bool fast)
 	}
 
 	heading(4, "SV_ON and a CSP move of the Drive and the STEP slave");
-	b->servoOn(1);
-	b->servoOn(2);
-	b->waitEnabled(1);
-	b->waitEnabled(2);
-	b->status();
-	const auto p1 = b->axis(1).position, p2 = b->axis(2).position;
+	b->drives().servoOn(1);
+	b->drives().servoOn(2);
+	b->drives().waitEnabled(1);
+	b->drives().waitEnabled(2);
+	b->states().status();
+	const auto p1 = b->drives().axis(1).position, p2 = b->drives().axis(2).position;
 	unsigned dropped = 0, held = 0;
 	for (int i = 1; i <= 1000; i++) {
 		const double x = static_cast<double>(i) / 1000.0;
 		const double s = x * x * (3 - 2 * x); // smooth start and stop
-		if (!b->stage(1, Mode::Csp, p1 + static_cast<std::int32_t>(20000 * s)))
+		if (!b->cyclic().stage(1, Mode::Csp, p1 + static_cast<std::int32_t>(20000 * s)))
 			held++;
-		if (!b->stage(2, Mode::Csp, p2 + static_cast<std::int32_t>(50000 * s)))
+		if (!b->cyclic().stage(2, Mode::Csp, p2 + static_cast<std::int32_t>(50000 * s)))
 			held++;
-		const auto r = b->cycle();
+		const auto r = b->cyclic().cycle();
 		dropped += r.dropped;
 		b->channel().sleepFor(1ms - sim.wireTime()); // one frame per 1 ms cycle
 		if (!fast)
 			std::this_thread::sleep_for(1ms);
 		if (i % 250 == 0)
-			std::printf("   t=%4d ms  drive %8d  step %8d  FIFO %u free\n", i, b->axis(1).position,
-				    b->axis(2).position, r.fifoRemaining);
+			std::printf("   t=%4d ms  drive %8d  step %8d  FIFO %u free\n", i, b->drives().axis(1).position,
+				    b->drives().axis(2).position, r.fifoRemaining);
 	}
 	for (int i = 0; i < 20; i++) {
-		b->cycle();
+		b->cyclic().cycle();
 		b->channel().sleepFor(1ms);
 	}
 	std::printf("   end: drive %d (target %d), step %d (target %d); %u dropped, %u held back\n",
-		    b->axis(1).position, p1 + 20000, b->axis(2).position, p2 + 50000, dropped, held);
-	if (b->axis(1).position != p1 + 20000 || b->axis(2).position != p2 + 50000)
+		    b->drives().axis(1).position, p1 + 20000, b->drives().axis(2).position, p2 + 50000, dropped, held);
+	if (b->drives().axis(1).position != p1 + 20000 || b->drives().axis(2).position != p2 + 50000)
 		fail("the axes did not reach their targets");
 
 	heading(5, "IO and the ECM IC's own I/O");
-	b->ioWrite(3, 0xA5);
+	b->io().write(3, 0xA5);
 	b->channel().sleepFor(3ms);
 	auto *io = dynamic_cast<ecmxf::sim::DioModel *>(&sim.network().at(2));
 	std::printf("   IO_WR 0xA5 -> terminal outputs 0x%02X\n", io ? io->outputs()[0] : 0);
 	sim.setLioInputs(0x2D);
-	std::printf("   LIO_RD 0x%02X\n", b->lioRead());
+	std::printf("   LIO_RD 0x%02X\n", b->io().readLocal());
 
 	heading(6, "homing the STEP slave (method 37: here is home)");
-	b->sdoWrite<std::int32_t>(2, 0x607C, 0, 0);
-	b->home(2, 37); // returns once statusword bits 10 and 12 said "homed"
-	b->status();
-	std::printf("   homed; back in CSP: statusword 0x%04X, position %d\n", b->axis(2).statusword,
-		    b->axis(2).position);
-	if (b->axis(2).position != 0)
+	b->sdo().write<std::int32_t>(2, 0x607C, 0, 0);
+	b->drives().home(2, 37); // returns once statusword bits 10 and 12 said "homed"
+	b->states().status();
+	std::printf("   homed; back in CSP: statusword 0x%04X, position %d\n", b->drives().axis(2).statusword,
+		    b->drives().axis(2).position);
+	if (b->drives().axis(2).position != 0)
 		fail("not at the home offset");
 
 	heading(7, "summary");

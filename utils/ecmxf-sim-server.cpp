@@ -9,11 +9,14 @@
 #include <cstring>
 #include <exception>
 #include <stdexcept>
+#include <vector>
 
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <unistd.h>
+
+#include <ecmxf/link/unix_channel.hpp>
 
 namespace ecmxfsim {
 
@@ -94,6 +97,117 @@ std::uint64_t le(const std::uint8_t *b, int n)
 	for (int i = n - 1; i >= 0; i--)
 		v = (v << 8) | b[i];
 	return v;
+}
+
+Served serveOne(Target &t, Pipe &p)
+{
+	std::uint8_t type = 0;
+	if (!p.read(&type, 1))
+		return Served::Closed;
+	switch (type) {
+	case 'X': {
+		std::uint8_t h[2];
+		if (!p.read(h, 2))
+			return Served::Closed;
+		const auto n = static_cast<std::size_t>(le(h, 2));
+		std::vector<std::uint8_t> mosi(n), miso(n, 0);
+		if (!p.read(mosi.data(), n))
+			return Served::Closed;
+		if (const std::string why = t.badExchange(n); !why.empty()) {
+			p.message('E', "exchange of " + std::to_string(n) + " bytes: " + why);
+			break;
+		}
+		t.exchange(mosi, miso);
+		p.u8('X');
+		p.u16(static_cast<std::uint16_t>(n));
+		p.write(miso.data(), n);
+		break;
+	}
+	case 'L':
+		p.u8('L');
+		p.u8(t.lines());
+		break;
+	case 'A': {
+		std::uint8_t v[8];
+		if (!p.read(v, 8))
+			return Served::Closed;
+		const std::uint64_t ns = le(v, 8);
+		if (ns > 3'600'000'000'000ULL) {
+			p.message('E', "advance of more than one hour refused");
+			break;
+		}
+		t.advance(std::chrono::nanoseconds(static_cast<std::int64_t>(ns)));
+		p.u8('A');
+		p.u64(static_cast<std::uint64_t>(t.now().count()));
+		break;
+	}
+	case 'T':
+		p.u8('T');
+		p.u64(static_cast<std::uint64_t>(t.now().count()));
+		break;
+	case 'F': {
+		std::uint8_t v[5];
+		if (!p.read(v, 5))
+			return Served::Closed;
+		if (const std::string why = t.fault(v[0], static_cast<std::uint32_t>(le(v + 1, 4))); !why.empty()) {
+			p.message('E', why);
+			break;
+		}
+		p.u8('F');
+		p.u8(0);
+		break;
+	}
+	case 'H': {
+		const auto magic = ecmxf::UnixChannel::kHelloMagic;
+		p.u8('H');
+		p.write(magic.data(), magic.size());
+		p.u16(ecmxf::UnixChannel::kProtocolVersion);
+		break;
+	}
+	case 'Q':
+		p.u8('Q');
+		return Served::Quit;
+	default: {
+		char hex[8];
+		std::snprintf(hex, sizeof(hex), "0x%02x", type);
+		p.message('E', std::string("unknown request type ") + hex);
+		return Served::Closed; // the stream is out of step: drop it
+	}
+	}
+	return Served::More;
+}
+
+std::optional<Options> parseOptions(int argc, char **argv, const BoardOption &board, const std::string &unknownHint,
+				    void (*usage)(std::FILE *))
+{
+	Options o;
+	for (int i = 1; i < argc; i++) {
+		const std::string_view a = argv[i];
+		const OptionValue value = [&](const char *what) -> std::string {
+			if (i + 1 >= argc)
+				throw std::invalid_argument(std::string(what) + " needs a value");
+			return argv[++i];
+		};
+		if (a == "-h" || a == "--help") {
+			usage(stdout);
+			return std::nullopt;
+		} else if (a == "-n" || a == "--network") {
+			o.network = value("--network");
+		} else if (a == "-s" || a == "--socket") {
+			o.socketPath = value("--socket");
+		} else if (a == "-b" || a == "--board") {
+			(void)value("--board"); // which board: main's ecmxfSimWantsSk()
+		} else if (!board(a, value)) {
+			throw std::invalid_argument("unknown option '" + std::string(a) + "'" + unknownHint);
+		}
+	}
+	return o;
+}
+
+int serve(Target &t, const std::string &path)
+{
+	const ServeOne one = [&t](Pipe &p) { return serveOne(t, p); };
+	return path.empty() ? serveStdio(one) : serveSocket(path, one);
 }
 
 int serveStdio(const ServeOne &serve)

@@ -2,7 +2,9 @@
 /*
  * ecmxf-sim --board ecm-sk: serve a simulated ECM-SK over the wire
  * protocol of ecmxf-sim (Documentation/sim-wire-protocol.rst), on
- * standard input/output or a Unix socket, one client at a time.
+ * standard input/output or a Unix socket, one client at a time. The wire
+ * loop is the server's (ecmxf-sim-server.cpp, as for the ECM-XF); here is
+ * what is the ECM-SK's: its options and its Target.
  *
  *   'X' u16 n, n bytes MOSI   'X' u16 n, n bytes MISO (n = 504 or 512, the
  *                             board's frame; other sizes: 'E')
@@ -15,17 +17,16 @@
  * The library reaches it with "sk-unix:PATH?slot=...&ex=..."
  * (UnixChannel); Documentation/ecm-sk.rst, "The simulator".
  */
-#include <cerrno>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <stdexcept>
 #include <string>
+#include <optional>
 #include <string_view>
+#include <span>
 #include <vector>
 
 
-#include <ecmxf/link/unix_channel.hpp>
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sim/sk_board.hpp>
 #include <ecmxf/sk/sim_channel.hpp>
@@ -35,84 +36,35 @@
 
 namespace {
 
-using ecmxfsim::le;
-using ecmxfsim::Served;
-using Stream = ecmxfsim::Pipe;
-
-Served serveOne(ecmxf::sk::SimBoard &b, Stream &s)
+// The simulated ECM-SK behind the server's wire loop: its frame size,
+// Busy as the line, no fault injection.
+class SkTarget final : public ecmxfsim::Target
 {
-	std::uint8_t type = 0;
-	if (!s.read(&type, 1))
-		return Served::Closed;
-	switch (type) {
-	case 'X': {
-		std::uint8_t h[2];
-		if (!s.read(h, 2))
-			return Served::Closed;
-		const auto n = static_cast<std::size_t>(le(h, 2));
-		std::vector<std::uint8_t> mosi(n), miso(n, 0);
-		if (!s.read(mosi.data(), n))
-			return Served::Closed;
-		if (n != b.frameSize()) {
-			s.message('E', "exchange of " + std::to_string(n) + " bytes: this ECM-SK's frame is " +
-					       std::to_string(b.frameSize()) + " bytes (slot=" +
-					       std::to_string(b.config().slotSize) + ")");
-			break;
-		}
-		b.exchange(mosi, miso);
-		s.u8('X');
-		s.u16(static_cast<std::uint16_t>(n));
-		s.write(miso.data(), n);
-		break;
+public:
+	explicit SkTarget(ecmxf::sk::SimBoard &b) : b_(b) {}
+
+	std::string badExchange(std::size_t n) const override
+	{
+		if (n == b_.frameSize())
+			return {};
+		return "this ECM-SK's frame is " + std::to_string(b_.frameSize()) + " bytes (slot=" +
+		       std::to_string(b_.config().slotSize) + ")";
 	}
-	case 'L':
-		s.u8('L');
-		s.u8(static_cast<std::uint8_t>(b.busy() ? 1 : 4));
-		break;
-	case 'A': {
-		std::uint8_t v[8];
-		if (!s.read(v, 8))
-			return Served::Closed;
-		const std::uint64_t ns = le(v, 8);
-		if (ns > 3'600'000'000'000ULL) {
-			s.message('E', "advance of more than one hour refused");
-			break;
-		}
-		b.advance(std::chrono::nanoseconds(static_cast<std::int64_t>(ns)));
-		s.u8('A');
-		s.u64(static_cast<std::uint64_t>(b.now().count()));
-		break;
+	void exchange(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso) override
+	{
+		b_.exchange(mosi, miso);
 	}
-	case 'T':
-		s.u8('T');
-		s.u64(static_cast<std::uint64_t>(b.now().count()));
-		break;
-	case 'F': {
-		std::uint8_t v[5];
-		if (!s.read(v, 5))
-			return Served::Closed;
-		s.message('E', "no fault injection on the simulated ECM-SK");
-		break;
+	std::uint8_t lines() const override { return static_cast<std::uint8_t>(b_.busy() ? 1 : 4); }
+	void advance(std::chrono::nanoseconds d) override { b_.advance(d); }
+	std::chrono::nanoseconds now() const override { return b_.now(); }
+	std::string fault(std::uint8_t, std::uint32_t) override
+	{
+		return "no fault injection on the simulated ECM-SK";
 	}
-	case 'H': {
-		const auto magic = ecmxf::UnixChannel::kHelloMagic;
-		s.u8('H');
-		s.write(magic.data(), magic.size());
-		s.u16(ecmxf::UnixChannel::kProtocolVersion);
-		break;
-	}
-	case 'Q':
-		s.u8('Q');
-		return Served::Quit;
-	default: {
-		char hex[8];
-		std::snprintf(hex, sizeof(hex), "0x%02x", type);
-		s.message('E', std::string("unknown request type ") + hex);
-		return Served::Closed;
-	}
-	}
-	return Served::More;
-}
+
+private:
+	ecmxf::sk::SimBoard &b_;
+};
 
 void usage(std::FILE *out)
 {
@@ -150,36 +102,23 @@ bool ecmxfSimWantsSk(int argc, char **argv)
 
 int ecmxfSimSkMain(int argc, char **argv)
 {
-	std::string network, settings, socketPath;
-	for (int i = 1; i < argc; i++) {
-		const std::string_view a = argv[i];
-		auto value = [&](const char *what) -> std::string {
-			if (i + 1 >= argc)
-				throw std::invalid_argument(std::string(what) + " needs a value");
-			return argv[++i];
-		};
-		if (a == "-h" || a == "--help") {
-			usage(stdout);
-			return 0;
-		} else if (a == "-b" || a == "--board") {
-			(void)value("--board");
-		} else if (a == "-n" || a == "--network") {
-			network = value("--network");
-		} else if (a == "-o" || a == "--settings") {
+	std::string settings;
+	const std::optional<ecmxfsim::Options> o = ecmxfsim::parseOptions(
+		argc, argv,
+		[&](std::string_view a, const ecmxfsim::OptionValue &value) {
+			if (a != "-o" && a != "--settings")
+				return false;
 			settings = value("--settings");
-		} else if (a == "-s" || a == "--socket") {
-			socketPath = value("--socket");
-		} else {
-			throw std::invalid_argument("unknown option '" + std::string(a) +
-						    "' for --board ecm-sk (try --board ecm-sk --help)");
-		}
-	}
+			return true;
+		},
+		" for --board ecm-sk (try --board ecm-sk --help)", usage);
+	if (!o)
+		return 0; // --help
+	const std::string &network = o->network;
 	ecmxf::sk::SimBoard board(network.empty()
 					  ? ecmxf::sim::Network::fromText(ecmxf::sk::defaultSkNetwork(), "ecm-sk")
 					  : ecmxf::sim::Network::fromFile(network),
 				  ecmxf::sk::BoardConfig::parse(settings));
-	const ecmxfsim::ServeOne serve = [&board](Stream &s) { return serveOne(board, s); };
-	if (socketPath.empty())
-		return ecmxfsim::serveStdio(serve);
-	return ecmxfsim::serveSocket(socketPath, serve);
+	SkTarget target(board);
+	return ecmxfsim::serve(target, o->socketPath);
 }

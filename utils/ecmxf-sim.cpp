@@ -33,12 +33,13 @@
 #include <cstring>
 #include <exception>
 #include <string>
+#include <optional>
 #include <string_view>
 #include <utility>
+#include <span>
 #include <vector>
 
 
-#include <ecmxf/link/unix_channel.hpp>
 #include <ecmxf/protocol.hpp>
 #include <ecmxf/sim/chip.hpp>
 #include <ecmxf/sim/network.hpp>
@@ -60,76 +61,33 @@ enum FaultId : std::uint8_t {
 	kFaultAsyncStuck = 8,
 };
 
-using ecmxfsim::le;
-using ecmxfsim::Pipe;
-using ecmxfsim::Served;
-
-void error(Pipe &p, const std::string &msg)
+// The simulated ECM-XF behind the server's wire loop.
+class ChipTarget final : public ecmxfsim::Target
 {
-	p.message('E', msg);
-}
+public:
+	explicit ChipTarget(ecmxf::sim::Chip &chip) : chip_(chip) {}
 
-Served serveOne(ecmxf::sim::Chip &chip, Pipe &p)
-{
-	std::vector<std::uint8_t> mosi, miso;
-	std::uint8_t type;
-
-	if (!p.read(&type, 1))
-		return Served::Closed;
-
-	switch (type) {
-	case 'X': {
-		std::uint8_t b[2];
-		if (!p.read(b, 2))
-			return Served::Closed;
-		const std::size_t n = le(b, 2);
-		mosi.resize(n);
-		miso.assign(n, 0);
-		if (!p.read(mosi.data(), n))
-			return Served::Closed;
-		if (n < ecmxf::packetSize(ecmxf::kDataMin) ||
-		    n > ecmxf::packetSize(ecmxf::kDataMax)) {
-			error(p, "exchange of " + std::to_string(n) +
-					 " bytes: packets are 56..1440 bytes");
-			break;
-		}
-		chip.exchange(mosi, miso);
-		p.u8('X');
-		p.u16(static_cast<std::uint16_t>(n));
-		p.write(miso.data(), n);
-		break;
+	std::string badExchange(std::size_t n) const override
+	{
+		if (n < ecmxf::packetSize(ecmxf::kDataMin) || n > ecmxf::packetSize(ecmxf::kDataMax))
+			return "packets are 56..1440 bytes";
+		return {};
 	}
-	case 'L':
-		p.u8('L');
-		p.u8(static_cast<std::uint8_t>((chip.int0() ? 1 : 0) |
-						    (chip.int1() ? 2 : 0) |
-						    (chip.ready() ? 4 : 0)));
-		break;
-	case 'A': {
-		std::uint8_t b[8];
-		if (!p.read(b, 8))
-			return Served::Closed;
-		const std::uint64_t ns = le(b, 8);
-		if (ns > 3'600'000'000'000ULL) {
-			error(p, "advance of more than one hour refused");
-			break;
-		}
-		chip.advance(std::chrono::nanoseconds(static_cast<std::int64_t>(ns)));
-		p.u8('A');
-		p.u64(static_cast<std::uint64_t>(chip.now().count()));
-		break;
+	void exchange(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso) override
+	{
+		chip_.exchange(mosi, miso);
 	}
-	case 'T':
-		p.u8('T');
-		p.u64(static_cast<std::uint64_t>(chip.now().count()));
-		break;
-	case 'F': {
-		std::uint8_t b[5];
-		if (!p.read(b, 5))
-			return Served::Closed;
-		const auto v = static_cast<std::uint32_t>(le(b + 1, 4));
-		auto &f = chip.faults();
-		switch (b[0]) {
+	std::uint8_t lines() const override
+	{
+		return static_cast<std::uint8_t>((chip_.int0() ? 1 : 0) | (chip_.int1() ? 2 : 0) |
+						 (chip_.ready() ? 4 : 0));
+	}
+	void advance(std::chrono::nanoseconds d) override { chip_.advance(d); }
+	std::chrono::nanoseconds now() const override { return chip_.now(); }
+	std::string fault(std::uint8_t id, std::uint32_t v) override
+	{
+		auto &f = chip_.faults();
+		switch (id) {
 		case kFaultMosiBitErrors:
 			f.mosiBitErrors = v;
 			break;
@@ -155,32 +113,14 @@ Served serveOne(ecmxf::sim::Chip &chip, Pipe &p)
 			f.asyncStuckBusy = v != 0;
 			break;
 		default:
-			error(p, "unknown fault id " + std::to_string(b[0]));
-			return Served::More;
+			return "unknown fault id " + std::to_string(id);
 		}
-		p.u8('F');
-		p.u8(0);
-		break;
+		return {};
 	}
-	case 'Q':
-		p.u8('Q');
-		return Served::Quit;
-	case 'H': {
-		const auto magic = ecmxf::UnixChannel::kHelloMagic;
-		p.u8('H');
-		p.write(magic.data(), magic.size());
-		p.u16(ecmxf::UnixChannel::kProtocolVersion);
-		break;
-	}
-	default: {
-		char hex[8];
-		std::snprintf(hex, sizeof(hex), "0x%02x", type);
-		error(p, std::string("unknown request type ") + hex);
-		return Served::Closed; // the stream is out of step: drop it
-	}
-	}
-	return Served::More;
-}
+
+private:
+	ecmxf::sim::Chip &chip_;
+};
 
 void usage(std::FILE *out)
 {
@@ -206,48 +146,37 @@ void usage(std::FILE *out)
 
 int run(int argc, char **argv)
 {
-	std::string network, socketPath;
 	ecmxf::sim::ChipConfig cfg;
 	std::vector<std::pair<std::string, std::string>> chipOptions;
-
-	for (int i = 1; i < argc; i++) {
-		const std::string_view a = argv[i];
-		auto value = [&](const char *what) -> std::string {
-			if (i + 1 >= argc)
-				throw std::invalid_argument(std::string(what) + " needs a value");
-			return argv[++i];
-		};
-		if (a == "-h" || a == "--help") {
-			usage(stdout);
-			return 0;
-		} else if (a == "-n" || a == "--network") {
-			network = value("--network");
-		} else if (a == "-c" || a == "--chip") {
-			const std::string kv = value("--chip");
-			const auto eq = kv.find('=');
-			if (eq == std::string::npos || eq == 0)
-				throw std::invalid_argument("--chip '" + kv + "' is not KEY=VALUE (" +
-							    std::string(ecmxf::sim::kChipOptions) + ")");
-			chipOptions.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
-			try {
-				ecmxf::sim::ChipConfig check;
-				ecmxf::sim::applyChipOption(check, chipOptions.back().first,
-							    chipOptions.back().second);
-			} catch (const std::invalid_argument &e) {
-				throw std::invalid_argument(std::string("--chip: ") + e.what());
+	const std::optional<ecmxfsim::Options> o = ecmxfsim::parseOptions(
+		argc, argv,
+		[&](std::string_view a, const ecmxfsim::OptionValue &value) {
+			if (a == "-c" || a == "--chip") {
+				const std::string kv = value("--chip");
+				const auto eq = kv.find('=');
+				if (eq == std::string::npos || eq == 0)
+					throw std::invalid_argument("--chip '" + kv + "' is not KEY=VALUE (" +
+								    std::string(ecmxf::sim::kChipOptions) + ")");
+				chipOptions.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+				try {
+					ecmxf::sim::ChipConfig check;
+					ecmxf::sim::applyChipOption(check, chipOptions.back().first,
+								    chipOptions.back().second);
+				} catch (const std::invalid_argument &e) {
+					throw std::invalid_argument(std::string("--chip: ") + e.what());
+				}
+				return true;
 			}
-		} else if (a == "-p" || a == "--paced") {
-			cfg.timeMode = ecmxf::sim::TimeMode::Paced;
-		} else if (a == "-s" || a == "--socket") {
-			socketPath = value("--socket");
-		} else if (a == "-b" || a == "--board") {
-			if (value("--board") != "ecm-xf") // ecm-sk: ecmxfSimSkMain()
-				throw std::invalid_argument("--board: ecm-xf or ecm-sk");
-		} else {
-			throw std::invalid_argument("unknown option '" + std::string(a) +
-						    "' (try --help)");
-		}
-	}
+			if (a == "-p" || a == "--paced") {
+				cfg.timeMode = ecmxf::sim::TimeMode::Paced;
+				return true;
+			}
+			return false;
+		},
+		" (try --help)", usage);
+	if (!o)
+		return 0; // --help
+	const std::string &network = o->network;
 
 	ecmxf::sim::Network net =
 		network.empty() ? ecmxf::sim::Network::defaultNetwork() : ecmxf::sim::Network::fromFile(network);
@@ -255,10 +184,8 @@ int run(int argc, char **argv)
 		net.setChipOption(key, val); // over the file's chip lines
 	ecmxf::sim::Chip chip(std::move(net), cfg);
 
-	const ecmxfsim::ServeOne serve = [&chip](Pipe &p) { return serveOne(chip, p); };
-	if (socketPath.empty())
-		return ecmxfsim::serveStdio(serve);
-	return ecmxfsim::serveSocket(socketPath, serve);
+	ChipTarget target(chip);
+	return ecmxfsim::serve(target, o->socketPath);
 }
 
 } // namespace

@@ -15,6 +15,7 @@
 #include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/link/link.hpp>
+#include <ecmxf/verbs.hpp>
 
 namespace ecmxf_util {
 
@@ -136,30 +137,8 @@ int cmdCia402(Globals &g, const Args &args)
 		return 0;
 	}
 
-	std::uint16_t sw = d.sdo().read<std::uint16_t>(position, 0x6041, 0);
-	const auto initial = ecmxf::cia402StateFrom(sw);
-	if (!(faultResetOnly && initial != ecmxf::Cia402State::Fault &&
-	      initial != ecmxf::Cia402State::FaultReactionActive)) {
-		ecmxf::Cia402Stepper stepper(position);
-		ecmxf::Link &t = d.link();
-		stepper.request(*target, t.now());
-		// the caller's bits (modes, halt): as the drive has them now
-		const std::uint16_t keep = static_cast<std::uint16_t>(
-			d.sdo().read<std::uint16_t>(position, 0x6040, 0) & ~ecmxf::cia402::kCwStateBits);
-		std::uint16_t lastCw = 0xFFFF;
-		for (;;) {
-			const ecmxf::Cia402Step st = stepper.step(sw, t.now(), keep);
-			if (st.progress == ecmxf::Cia402Progress::Done)
-				break;
-			stepper.throwIfFailed();
-			if (st.controlword != lastCw) {
-				d.sdo().write<std::uint16_t>(position, 0x6040, 0, st.controlword);
-				lastCw = st.controlword;
-			}
-			t.sleepFor(std::chrono::milliseconds(1));
-			sw = d.sdo().read<std::uint16_t>(position, 0x6041, 0);
-		}
-	}
+	// the verbs of both masters (include/ecmxf/verbs.hpp): the state machine over SDO
+	const std::uint16_t sw = ecmxf::cia402WalkBySdo(d, position, *target, faultResetOnly);
 	if (g.json) {
 		std::printf("{\"position\": %u, \"state\": %s, \"statusword\": %u}\n", position,
 			    jsonString(stateText(sw)).c_str(), sw);

@@ -3,6 +3,7 @@
  * ecmxf-util download - write one object of a slave by SDO download.
  */
 #include "ecmxf-util.hpp"
+#include "ecmxf-util-sk.hpp"
 
 #include <cstdio>
 #include <limits>
@@ -13,6 +14,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/verbs.hpp>
 
 namespace ecmxf_util {
 
@@ -38,6 +40,10 @@ const char *const kDownloadHelp =
 	"used as it is. An SDO abort fails with the abort code and its text.\n"
 	"Prints nothing on success.\n"
 	"\n"
+	"On an ECM-SK (-d sk-...): SDO_WR through the board's SDO slot; -t TYPE is\n"
+	"required (1, 2 or 4 bytes: the board cannot tell an object's size), and\n"
+	"--json prints {position, index, sub, size}.\n"
+	"\n"
 	"Options:\n"
 	"  -p, --position N  the slave (bus position, from 0); required\n"
 	"  -t, --type TYPE   the object's data type\n"
@@ -60,16 +66,21 @@ int cmdDownload(Globals &g, const Args &args)
 						   : parseObjectAddress("download", (*pos)[0]);
 	const std::string &valueText = pos->back();
 	std::vector<std::uint8_t> bytes;
-	if (typeText)
-		bytes = encodeValue("download", parseType("download", *typeText), valueText);
+	if (typeText) {
+		const DataType type = parseType("download", *typeText);
+		checkSdoType(g, "download", type);
+		bytes = encodeValue("download", type, valueText);
+	} else if (skDevice(g)) {
+		throw UsageError("download: -t TYPE is required (the ECM-SK cannot tell an object's size)");
+	}
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
+	const auto master = openMaster(g); // either master: MasterVerbs
+	position = sdoPosition(g, *master, position);
 	if (!typeText) {
 		// the size probe is an upload: a failure is the download's
 		std::size_t n = 0;
 		try {
-			n = dev->sdo().upload(position, obj.index, obj.sub).size();
+			n = master->upload(position, obj.index, obj.sub).size();
 		} catch (const ecmxf::Error &e) {
 			throw ecmxf::Error("SDO download " + objectName(obj) + " to slave " + std::to_string(position) +
 						   ": its size could not be read (give -t TYPE to skip that): " + e.what(),
@@ -85,7 +96,10 @@ int cmdDownload(Globals &g, const Args &args)
 												  : DataType::Int64;
 		bytes = encodeValue("download", !valueText.empty() && valueText[0] == '-' ? s : u, valueText);
 	}
-	dev->sdo().download(position, obj.index, obj.sub, bytes);
+	master->download(position, obj.index, obj.sub, bytes);
+	if (g.json && master->kind() == ecmxf::MasterKind::EcmSk) // as the ECM-SK's download always did
+		std::printf("{\"position\": %u, \"index\": %u, \"sub\": %u, \"size\": %zu}\n", position, obj.index,
+			    obj.sub, bytes.size());
 	return 0;
 }
 

@@ -9,6 +9,7 @@
 
 #include <ecmxf/device.hpp>
 #include <ecmxf/chip/chip.hpp>
+#include <ecmxf/verbs.hpp>
 
 namespace ecmxf_util {
 
@@ -47,7 +48,7 @@ int cmdReset(Globals &g, const Args &args)
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	if (warm) {
-		dev->chip().warmReset();
+		ecmxf::verbsOf(*dev)->reset(); // WARM_RESET (include/ecmxf/verbs.hpp)
 		if (!g.quiet)
 			std::printf("WARM_RESET: the chip restarted with its power-on settings\n");
 		return 0;

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 /*
  * ecmxf-util with an ECM-SK device (-d sk-sim:, sk-unix:, sk-spidev:):
- * the commands the starter kit's slot protocol can carry (info, slaves,
- * states, upload, download, cia402, io, lio, reset) on ecmxf::sk::Board,
- * and for every other command the reason the board cannot do it.
+ * the bodies on ecmxf::sk::Board of the commands the starter kit's slot
+ * protocol can carry (info, slaves, states, upload, download, cia402, io,
+ * lio, reset), their verbs through ecmxf::MasterVerbs. The command table,
+ * and why the board cannot do the others, is utils/ecmxf-util.cpp's.
  * Documentation/ecm-sk.rst, "ecmxf-util".
  */
 #include "ecmxf-util.hpp"
@@ -20,7 +21,8 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/sk/board.hpp>
 #include <ecmxf/sim/sk_board.hpp>
-#include <ecmxf/sk/uri.hpp>
+#include <ecmxf/verbs.hpp>
+#include <ecmxf/device_uri.hpp>
 
 namespace ecmxf_util {
 
@@ -29,7 +31,7 @@ namespace {
 using ecmxf::sk::Board;
 using ecmxf::sk::Mode;
 using ecmxf::sk::SlaveType;
-using ecmxf::sk::State;
+using ecmxf::State;
 
 const char *const kSkHelp =
 	"With an ECM-SK device (-d sk-sim:..., sk-unix:PATH, sk-spidev:...) ecmxf-util\n"
@@ -50,48 +52,40 @@ const char *const kSkHelp =
 	"most 4. --json works with every command. A fresh board (sk-sim: starts in\n"
 	"INIT at every run) is brought as far up as the command needs.\n";
 
-struct Cmd {
-	const char *name;
-	int (*run)(Globals &, Board &, const std::vector<std::string> &, const std::optional<std::string> &,
-		   const std::optional<std::string> &);
-};
+using SkBody = int (*)(Globals &, Board &, const std::vector<std::string> &, const std::optional<std::string> &,
+		      const std::optional<std::string> &);
 
+// the command line's spelling ("PREOP"), as for the ECM-XF
 std::string stateText(State s)
 {
-	switch (s) {
-	case State::Init: return "INIT";
-	case State::PreOp: return "PREOP";
-	case State::SafeOp: return "SAFEOP";
-	case State::Op: return "OP";
-	}
-	return "?";
+	return stateName(static_cast<std::uint8_t>(s));
 }
 
 // INIT -> PRE-OP if needed
 void preop(Board &b, bool quiet)
 {
-	if (b.status().state == State::Init) {
+	if (b.states().status().state == State::Init) {
 		if (!quiet)
 			std::fprintf(stderr, "ecmxf-util: bringing the ECM-SK to PRE-OP\n");
-		b.setState(State::PreOp);
+		b.states().set(State::PreOp);
 	}
 }
 
 // up to OP: types found, DRIVE_MODE CSP for drives
 void toOp(Board &b, bool quiet)
 {
-	if (b.status().state == State::Op)
+	if (b.states().status().state == State::Op)
 		return;
 	preop(b, quiet);
 	if (b.state() == State::PreOp) {
-		const auto types = b.detectAxes();
+		const auto types = b.setup().detectAxes();
 		for (std::size_t i = 0; i < types.size(); i++)
 			if (types[i] != SlaveType::Io)
-				b.driveMode(static_cast<unsigned>(i + 1), Mode::Csp);
+				b.drives().setMode(static_cast<unsigned>(i + 1), Mode::Csp);
 	}
 	if (!quiet)
 		std::fprintf(stderr, "ecmxf-util: bringing the ECM-SK to OP\n");
-	b.setState(State::Op);
+	b.states().set(State::Op);
 }
 
 unsigned slot(Board &b, const std::optional<std::string> &posText, const char *cmd, unsigned count)
@@ -111,10 +105,10 @@ int info(Globals &g, Board &b, const std::vector<std::string> &args, const std::
 {
 	if (!args.empty())
 		throw UsageError("info: no arguments");
-	const auto s = b.status();
+	const auto s = b.states().status();
 	unsigned slaves = 0;
 	if (s.state == State::PreOp)
-		slaves = b.slaveCount();
+		slaves = b.setup().slaveCount();
 	auto *sim = b.simulator();
 	if (g.json) {
 		std::printf("{\"device\": %s, \"board\": \"ECM-SK\", \"slot_size\": %u, \"frame_size\": %zu, "
@@ -153,13 +147,13 @@ int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		throw ecmxf::Error("slaves: the types are found in PRE-OP; the ECM-SK is in " +
 					   stateText(b.state()) + " (ecmxf-util states PREOP)",
 				   EPERM);
-	const auto types = b.detectAxes();
+	const auto types = b.setup().detectAxes();
 	std::vector<std::string> idents;
 	for (std::size_t i = 0; i < types.size(); i++) {
 		std::string id = "-";
 		try {
-			const auto v = b.sdoRead(static_cast<unsigned>(i + 1), 0x1018, 1);
-			const auto p = b.sdoRead(static_cast<unsigned>(i + 1), 0x1018, 2);
+			const auto v = b.sdo().read(static_cast<unsigned>(i + 1), 0x1018, 1);
+			const auto p = b.sdo().read(static_cast<unsigned>(i + 1), 0x1018, 2);
 			id = hexString(v, 8) + ":" + hexString(p, 8);
 		} catch (const ecmxf::Error &) {
 			// no CoE: no identity to show
@@ -206,10 +200,10 @@ int states(Globals &g, Board &b, const std::vector<std::string> &args, const std
 	} else if (target == State::SafeOp) {
 		preop(b, true);
 		if (b.state() == State::PreOp)
-			(void)b.detectAxes();
-		b.setState(target);
+			(void)b.setup().detectAxes();
+		b.states().set(target);
 	} else {
-		b.setState(target);
+		b.states().set(target);
 	}
 	if (g.json)
 		std::printf("{\"state\": %s}\n", jsonString(stateText(b.state())).c_str());
@@ -218,85 +212,13 @@ int states(Globals &g, Board &b, const std::vector<std::string> &args, const std
 	return 0;
 }
 
-unsigned checkType(const char *cmd, const std::optional<std::string> &typeText, std::optional<DataType> &type)
-{
-	if (!typeText)
-		return 0;
-	type = parseType(cmd, *typeText);
-	const auto n = typeSize(*type);
-	if (n != 1 && n != 2 && n != 4)
-		throw ecmxf::Error(std::string(cmd) + ": type " + std::string(typeName(*type)) +
-					   ": the ECM-SK's SDO slot carries objects of 1, 2 or 4 bytes",
-				   EOPNOTSUPP);
-	return static_cast<unsigned>(n);
-}
-
-ObjectAddress object(const char *cmd, const std::vector<std::string> &args, std::size_t n)
-{
-	if (args.size() != n)
-		throw UsageError(std::string(cmd) + (n == 1 ? ": which object? (upload -p N INDEX[:SUB])"
-							  : ": INDEX[:SUB] VALUE (download -p N INDEX[:SUB] VALUE)"));
-	return parseObjectAddress(cmd, args[0]);
-}
-
-int upload(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
-	   const std::optional<std::string> &typeText)
-{
-	const ObjectAddress obj = object("upload", args, 1);
-	std::optional<DataType> type;
-	const unsigned want = checkType("upload", typeText, type);
-	if (b.status().state == State::Init)
-		preop(b, g.quiet || g.json);
-	const unsigned s = slot(b, pos, "upload", b.slaveCount() ? b.slaveCount() : b.maxSlaves());
-	unsigned size = 0;
-	const std::uint32_t v = b.sdoRead(s, obj.index, obj.sub, &size);
-	if (want && size != want)
-		throw ecmxf::Error("slave " + std::to_string(s - 1) + " " + objectName(obj) + " has " +
-					   std::to_string(size) + " bytes, type " + std::string(typeName(*type)) +
-					   " has " + std::to_string(want),
-				   EPROTO);
-	std::vector<std::uint8_t> bytes(size);
-	for (unsigned i = 0; i < size; i++)
-		bytes[i] = static_cast<std::uint8_t>(v >> (8 * i));
-	if (g.json) {
-		std::printf("{\"position\": %u, \"index\": %u, \"sub\": %u, \"type\": %s, \"size\": %u, "
-			    "\"value\": %s, \"hex\": %s}\n",
-			    s - 1, obj.index, obj.sub, type ? jsonString(typeName(*type)).c_str() : "null", size,
-			    jsonValue(type, bytes).c_str(), jsonString(hexBytes(bytes, "")).c_str());
-		return 0;
-	}
-	std::printf("%s\n", formatValue(type, bytes).c_str());
-	return 0;
-}
-
-int download(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
-	     const std::optional<std::string> &typeText)
-{
-	const ObjectAddress obj = object("download", args, 2);
-	std::optional<DataType> type;
-	if (!checkType("download", typeText, type))
-		throw UsageError("download: -t TYPE is required (the ECM-SK cannot tell an object's size)");
-	const auto bytes = encodeValue("download", *type, args[1]);
-	std::uint32_t v = 0;
-	for (std::size_t i = 0; i < bytes.size(); i++)
-		v |= static_cast<std::uint32_t>(bytes[i]) << (8 * i);
-	if (b.status().state == State::Init)
-		preop(b, g.quiet || g.json);
-	const unsigned s = slot(b, pos, "download", b.slaveCount() ? b.slaveCount() : b.maxSlaves());
-	b.sdoWrite(s, obj.index, obj.sub, v, static_cast<unsigned>(bytes.size()));
-	if (g.json)
-		std::printf("{\"position\": %u, \"index\": %u, \"sub\": %u, \"size\": %zu}\n", s - 1, obj.index,
-			    obj.sub, bytes.size());
-	return 0;
-}
-
 unsigned opSlot(Globals &g, Board &b, const std::optional<std::string> &pos, const char *cmd)
 {
-	if (b.status().state == State::Init)
+	if (b.states().status().state == State::Init)
 		preop(b, g.quiet || g.json);
 	unsigned count = b.maxSlaves();
 	if (b.state() == State::PreOp)
-		count = b.slaveCount();
+		count = b.setup().slaveCount();
 	const unsigned s = slot(b, pos, cmd, count);
 	toOp(b, g.quiet || g.json);
 	return s;
@@ -309,52 +231,52 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		throw UsageError("cia402: status, enable, disable, fault-reset, move TARGET or home METHOD");
 	const std::string &what = args[0];
 	const unsigned s = opSlot(g, b, pos, "cia402");
+	const auto verbs = ecmxf::verbsOf(b);
 	if (what == "enable") {
-		b.servoOn(s);
-		b.waitEnabled(s);
+		verbs->driveEnable(s - 1);
 	} else if (what == "disable") {
-		b.servoOff(s);
+		verbs->driveDisable(s - 1);
 	} else if (what == "fault-reset") {
-		b.alarmClear(s);
+		verbs->driveAlarmClear(s - 1);
 	} else if (what == "move") {
 		if (args.size() != 2)
 			throw UsageError("cia402 move TARGET");
 		const auto target = static_cast<std::int32_t>(parseSigned("cia402", "TARGET", args[1], INT32_MIN, INT32_MAX));
-		b.servoOn(s);
-		b.waitEnabled(s);
-		b.status();
-		const std::int32_t from = b.axis(s).position;
+		b.drives().servoOn(s);
+		b.drives().waitEnabled(s);
+		b.states().status();
+		const std::int32_t from = b.drives().axis(s).position;
 		// a ramp of at most 1000 units per exchange (the board applies
 		// one per cycle); the FIFO's back-pressure paces it
 		const std::int64_t dist = static_cast<std::int64_t>(target) - from;
 		const std::int64_t steps = std::max<std::int64_t>(1, (std::llabs(dist) + 999) / 1000);
 		for (std::int64_t i = 1; i <= steps;) {
-			if (b.stage(s, Mode::Csp, static_cast<std::int32_t>(from + dist * i / steps)))
+			if (b.cyclic().stage(s, Mode::Csp, static_cast<std::int32_t>(from + dist * i / steps)))
 				i++;
-			const auto r = b.cycle();
+			const auto r = b.cyclic().cycle();
 			if (r.status == ecmxf::sk::CycleStatus::Link)
-				throw ecmxf::Error("cia402 move: " + b.lastError(), EIO);
+				throw ecmxf::Error("cia402 move: " + b.cyclic().lastError(), EIO);
 			if (r.status == ecmxf::sk::CycleStatus::FifoOverflow)
 				throw ecmxf::Error("cia402 move: the ECM-SK dropped " + std::to_string(r.dropped) +
 							   " targets (FIFO full)",
 						   ENOBUFS);
 		}
-		for (int i = 0; i < 2000 && std::llabs(static_cast<std::int64_t>(b.axis(s).position) - target) > 0; i++) {
+		for (int i = 0; i < 2000 && std::llabs(static_cast<std::int64_t>(b.drives().axis(s).position) - target) > 0; i++) {
 			b.channel().sleepFor(std::chrono::milliseconds(1));
-			(void)b.cycle();
+			(void)b.cyclic().cycle();
 		}
 	} else if (what == "home") {
 		if (args.size() != 2)
 			throw UsageError("cia402 home METHOD");
 		const auto method = static_cast<std::int8_t>(parseSigned("cia402", "METHOD", args[1], -128, 127));
-		b.servoOn(s);
-		b.waitEnabled(s);
-		b.home(s, method);
+		b.drives().servoOn(s);
+		b.drives().waitEnabled(s);
+		b.drives().home(s, method);
 	} else if (what != "status") {
 		throw UsageError("cia402: unknown action '" + what + "'");
 	}
-	b.status();
-	const auto a = b.axis(s);
+	b.states().status();
+	const auto a = b.drives().axis(s);
 	if (g.json) {
 		std::printf("{\"position\": %u, \"statusword\": %u, \"actual_position\": %d, \"torque\": %d, "
 			    "\"error_code\": %u}\n",
@@ -375,12 +297,12 @@ int io(Globals &g, Board &b, const std::vector<std::string> &args, const std::op
 	const unsigned s = opSlot(g, b, pos, "io");
 	if (args.size() == 1) {
 		const auto v = static_cast<std::uint32_t>(parseUnsigned("io", "VALUE", args[0], 0xFFFFFFFFu));
-		b.ioWrite(s, v);
+		ecmxf::verbsOf(b)->ioWrite(s - 1, v);
 		if (g.json)
 			std::printf("{\"position\": %u, \"outputs\": %u}\n", s - 1, v);
 		return 0;
 	}
-	const std::uint32_t v = b.ioRead(s);
+	const std::uint32_t v = ecmxf::verbsOf(b)->ioRead(s - 1);
 	if (g.json)
 		std::printf("{\"position\": %u, \"inputs\": %u}\n", s - 1, v);
 	else
@@ -395,12 +317,12 @@ int lio(Globals &g, Board &b, const std::vector<std::string> &args, const std::o
 		throw UsageError("lio [VALUE]");
 	if (args.size() == 1) {
 		const auto v = static_cast<std::uint32_t>(parseUnsigned("lio", "VALUE", args[0], 0x3F));
-		b.lioWrite(v);
+		b.io().writeLocal(v);
 		if (g.json)
 			std::printf("{\"outputs\": %u}\n", v);
 		return 0;
 	}
-	const std::uint32_t v = b.lioRead();
+	const std::uint32_t v = b.io().readLocal();
 	if (g.json)
 		std::printf("{\"inputs\": %u}\n", v);
 	else
@@ -413,7 +335,7 @@ int reset(Globals &g, Board &b, const std::vector<std::string> &args, const std:
 {
 	if (!args.empty())
 		throw UsageError("reset: no arguments");
-	b.reset();
+	ecmxf::verbsOf(b)->reset();
 	if (g.json)
 		std::printf("{\"state\": %s}\n", jsonString(stateText(b.state())).c_str());
 	else if (!g.quiet)
@@ -421,33 +343,20 @@ int reset(Globals &g, Board &b, const std::vector<std::string> &args, const std:
 	return 0;
 }
 
-const Cmd kSkCommands[] = {
-	{ "cia402", cia402 }, { "download", download }, { "info", info },     { "io", io },
-	{ "lio", lio },	      { "reset", reset },	{ "slaves", slaves }, { "states", states },
-	{ "upload", upload },
-};
-
-// what the ECM-XF side has and the ECM-SK cannot do, and why
-struct Unsupported {
-	const char *name;
-	const char *why;
-};
-const Unsupported kNot[] = {
-	{ "adc", "the ECM-SK has no analog inputs (its own I/O is 'lio')" },
-	{ "commands", "lists ECM-XF command codes; the ECM-SK's are in Documentation/ecm-sk.rst" },
-	{ "dac", "the ECM-SK has no analog output" },
-	{ "decode", "traces are recorded for ECM-XF packets only" },
-	{ "eeprom", "the slot protocol has no access to the slaves' SII EEPROM" },
-	{ "emergency", "the slot protocol does not pass CoE emergencies on" },
-	{ "foe_read", "the slot protocol has no FoE" },
-	{ "foe_write", "the slot protocol has no FoE" },
-	{ "gpio", "the ECM-SK's I/O lines are 'lio' (LIO_RD/LIO_WR)" },
-	{ "monitor", "the ECM-SK reports no events; poll 'info' instead" },
-	{ "pdos", "the ECM-SK maps the process data itself (by slave type)" },
-	{ "qei", "the ECM-SK has no encoder input" },
-	{ "raw", "ECM-XF command packets only" },
-	{ "sii_read", "the slot protocol has no access to the slaves' SII EEPROM" },
-};
+// -p/-t, the board opened, and "<command>: " before a failure
+int onBoard(Globals &g, const Args &rawArgs, const char *name, SkBody body)
+{
+	std::optional<std::string> posText, typeText;
+	static const std::string help = std::string(kSkHelp);
+	const auto args = parseArgs(name, rawArgs, g, help.c_str(),
+				    { { "-p", "--position", nullptr, &posText }, { "-t", "--type", nullptr, &typeText } });
+	if (!args)
+		return 0;
+	if (!g.trace.empty())
+		throw UsageError("--trace: traces are recorded for ECM-XF packets only");
+	const auto board = Board::open(g.device);
+	return body(g, *board, *args, posText, typeText);
+}
 
 } // namespace
 
@@ -456,51 +365,52 @@ bool skDevice(const Globals &g)
 	return Board::isSkUri(g.device);
 }
 
-int skRun(Globals &g, std::string_view name, const Args &rawArgs)
+const char *skHelp() noexcept
 {
-	if (name == "help" || name == "--help") {
-		std::fputs(kSkHelp, stdout);
-		return 0;
-	}
-	if (name == "version")
-		return -1; // the common one
-	const Cmd *cmd = nullptr;
-	std::vector<const Cmd *> prefix;
-	for (const Cmd &c : kSkCommands) {
-		if (name == c.name) {
-			cmd = &c;
-			break;
-		}
-		if (std::string_view(c.name).starts_with(name))
-			prefix.push_back(&c);
-	}
-	if (!cmd && prefix.size() == 1)
-		cmd = prefix.front();
-	if (!cmd) {
-		for (const Unsupported &u : kNot)
-			if (name == u.name)
-				throw ecmxf::Error(std::string(name) + ": not on the ECM-SK: " + u.why, EOPNOTSUPP);
-		throw UsageError("unknown command '" + std::string(name) + "' for an ECM-SK (try 'help')");
-	}
-	std::optional<std::string> posText, typeText;
-	static const std::string help = std::string(kSkHelp);
-	const auto args = parseArgs(cmd->name, rawArgs, g, help.c_str(),
-				    { { "-p", "--position", nullptr, &posText }, { "-t", "--type", nullptr, &typeText } });
-	if (!args)
-		return 0;
-	if (!g.trace.empty())
-		throw UsageError("--trace: traces are recorded for ECM-XF packets only");
-	const auto board = Board::open(g.device);
-	try {
-		return cmd->run(g, *board, *args, posText, typeText);
-	} catch (const UsageError &) {
-		throw;
-	} catch (const std::exception &e) {
-		const std::string prefixText = std::string(cmd->name) + ": ";
-		if (std::string_view(e.what()).starts_with(prefixText))
-			throw;
-		throw std::runtime_error(prefixText + e.what());
-	}
+	return kSkHelp;
 }
+
+std::unique_ptr<ecmxf::MasterVerbs> openMaster(const Globals &g)
+{
+	if (skDevice(g) && !g.trace.empty())
+		throw UsageError("--trace: traces are recorded for ECM-XF packets only");
+	return ecmxf::MasterVerbs::open(g.device);
+}
+
+std::uint8_t sdoPosition(const Globals &g, ecmxf::MasterVerbs &m, std::uint8_t position)
+{
+	if (ecmxf::Device *dev = m.device())
+		return selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
+	Board &b = *m.board();
+	if (b.states().status().state == State::Init)
+		preop(b, g.quiet || g.json);
+	const unsigned slaves = b.setup().slaveCount();
+	const unsigned count = slaves ? slaves : b.maxSlaves();
+	if (position >= count)
+		throw ecmxf::Error("slave position " + std::to_string(position) + " out of range: the bus has " +
+					   std::to_string(count) + " slaves (0.." + std::to_string(count ? count - 1 : 0) +
+					   ")",
+				   EINVAL);
+	return position;
+}
+
+void checkSdoType(const Globals &g, const char *cmd, const std::optional<DataType> &type)
+{
+	if (!skDevice(g) || !type)
+		return;
+	const auto n = typeSize(*type);
+	if (n != 1 && n != 2 && n != 4)
+		throw ecmxf::Error(std::string(cmd) + ": type " + std::string(typeName(*type)) +
+					   ": the ECM-SK's SDO slot carries objects of 1, 2 or 4 bytes",
+				   EOPNOTSUPP);
+}
+
+int cmdSkInfo(Globals &g, const Args &a) { return onBoard(g, a, "info", info); }
+int cmdSkSlaves(Globals &g, const Args &a) { return onBoard(g, a, "slaves", slaves); }
+int cmdSkStates(Globals &g, const Args &a) { return onBoard(g, a, "states", states); }
+int cmdSkCia402(Globals &g, const Args &a) { return onBoard(g, a, "cia402", cia402); }
+int cmdSkIo(Globals &g, const Args &a) { return onBoard(g, a, "io", io); }
+int cmdSkLio(Globals &g, const Args &a) { return onBoard(g, a, "lio", lio); }
+int cmdSkReset(Globals &g, const Args &a) { return onBoard(g, a, "reset", reset); }
 
 } // namespace ecmxf_util

@@ -3,6 +3,7 @@
  * ecmxf-util upload - read one object of a slave by SDO upload.
  */
 #include "ecmxf-util.hpp"
+#include "ecmxf-util-sk.hpp"
 
 #include <cstdio>
 #include <memory>
@@ -12,6 +13,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/verbs.hpp>
 
 namespace ecmxf_util {
 
@@ -36,6 +38,9 @@ const char *const kUploadHelp =
 	"A fresh bus is brought up to PRE-OP first (ECAT_INIT_OP, PRE-OP for all\n"
 	"slaves); a bus that is already up is used as it is. An SDO abort fails\n"
 	"with the abort code and its text.\n"
+	"\n"
+	"On an ECM-SK (-d sk-...): SDO_RD through the board's SDO slot, objects of\n"
+	"1, 2 or 4 bytes; a board in INIT is brought to PRE-OP first.\n"
 	"\n"
 	"Options:\n"
 	"  -p, --position N  the slave (bus position, from 0); required\n"
@@ -64,9 +69,10 @@ int cmdUpload(Globals &g, const Args &args)
 	const std::optional<DataType> type =
 		typeText ? std::optional<DataType>(parseType("upload", *typeText)) : std::nullopt;
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
-	const std::vector<std::uint8_t> b = dev->sdo().upload(position, obj.index, obj.sub);
+	checkSdoType(g, "upload", type);
+	const auto master = openMaster(g); // either master: MasterVerbs
+	position = sdoPosition(g, *master, position);
+	const std::vector<std::uint8_t> b = master->upload(position, obj.index, obj.sub);
 	if (type && typeSize(*type) && b.size() != typeSize(*type))
 		throw ecmxf::Error("slave " + std::to_string(position) + " " + objectName(obj) + " has " +
 					   std::to_string(b.size()) + " bytes, type " + std::string(typeName(*type)) +

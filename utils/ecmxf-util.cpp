@@ -21,6 +21,7 @@
 
 #include <ecmxf/error.hpp>
 #include <ecmxf/protocol.hpp>
+#include <ecmxf/verbs.hpp>
 
 #include "ecmxf-util.hpp"
 #include "ecmxf-util-sk.hpp"
@@ -102,53 +103,106 @@ int cmdVersion(Globals &g, const Args &args)
 	return 0;
 }
 
+// The one command table, for both masters: each command says which it
+// runs on (on), why not on the other (whyNot), and on the ECM-SK its body
+// and summary there (utils/ecmxf-util-sk.cpp) where the two differ.
+constexpr std::string_view kNoSii = "the slot protocol has no access to the slaves' SII EEPROM";
+constexpr std::string_view kNoFoe = "the slot protocol has no FoE";
+constexpr std::string_view kOwnMapping = "the ECM-SK maps the process data itself (by slave type)";
+
 const CommandDesc kCommands[] = {
-	{ "adc", "read the chip's analog inputs", kAdcHelp, cmdAdc, true },
-	{ "cia402", "CiA-402 drive over SDO: status, enable, disable, fault-reset...", kCia402Help,
-	  cmdCia402, true },
-	{ "commands", "list the ECM-XF command codes (ver. 038 and 050)", kCommandsHelp, cmdCommands },
-	{ "cstruct", "the PDO mapping as IgH's C structures (pdos --cstruct)", kCstructHelp, cmdCstruct, true },
-	{ "dac", "set the chip's analog output", kDacHelp, cmdDac, true },
-	{ "decode", "decode a packet trace (--trace FILE) as a protocol log", kDecodeHelp, cmdDecode },
-	{ "download", "write an object by SDO download", kDownloadHelp, cmdDownload, true },
-	{ "eeprom", "read or write SII EEPROM words", kEepromHelp, cmdEeprom, true },
-	{ "emergency", "the newest CoE emergencies the master read", kEmergencyHelp, cmdEmergency, true },
-	{ "foe_read", "read a file from a slave by FoE", kFoeReadHelp, cmdFoeRead, true },
-	{ "foe_write", "write a file to a slave by FoE", kFoeWriteHelp, cmdFoeWrite, true },
-	{ "gpio", "the chip's GPIO lines: get, set, config", kGpioHelp, cmdGpio, true },
-	{ "info", "firmware, packet format, status bits and counters of the chip", kInfoHelp, cmdInfo,
-	  true },
-	{ "master", "the master's phase, link and error counters (as IgH's ethercat master)", kMasterHelp,
-	  cmdMaster, true },
-	{ "monitor", "live events: state changes, error bits, CRC/WKC errors, FIFO levels",
-	  kMonitorHelp, cmdMonitor },
-	{ "pdos", "PDO assignment and mapping of each slave", kPdosHelp, cmdPdos, true },
-	{ "qei", "the chip's quadrature encoder: open, start, stop, count", kQeiHelp, cmdQei, true },
-	{ "raw", "one raw command (or EtherCAT datagram): response header and data", kRawHelp,
-	  cmdRaw },
-	{ "reg_read", "read an ESC register of a slave (one APRD datagram)", kRegReadHelp, cmdRegRead, true },
-	{ "reg_write", "write an ESC register of a slave (one APWR datagram)", kRegWriteHelp, cmdRegWrite,
-	  true },
-	{ "reset", "ASYNCCMD_RESET, or WARM_RESET with --warm --force", kResetHelp, cmdReset, true },
-	{ "sii_read", "a slave's SII EEPROM: hex dump, binary or identity", kSiiReadHelp, cmdSiiRead,
-	  true },
-	{ "sii_write", "write an SII image file into a slave's EEPROM", kSiiWriteHelp, cmdSiiWrite, true },
-	{ "slaves", "list the slaves on the bus (scans a fresh simulator first)", kSlavesHelp,
-	  cmdSlaves, true },
-	{ "states", "request an EtherCAT state for one or all slaves", kStatesHelp, cmdStates, true },
-	{ "upload", "read an object by SDO upload", kUploadHelp, cmdUpload, true },
-	{ "version", "print the version", kVersionHelp, cmdVersion },
-	{ "xml", "identity and PDO mapping as EtherCATInfo XML (pdos --xml)", kXmlHelp, cmdXml, true },
+	{ "adc", "read the chip's analog inputs", kAdcHelp, cmdAdc, true, kOnXf,
+	  "the ECM-SK has no analog inputs (its own I/O is 'lio')" },
+	{ "cia402", "CiA-402 drive over SDO: status, enable, disable, fault-reset...", kCia402Help, cmdCia402, true,
+	  kOnBoth, {}, cmdSkCia402, "SV_ON/SV_OFF/ALM_CLR, a CSP move, GO_HOME (-p N ...)" },
+	{ "commands", "list the ECM-XF command codes (ver. 038 and 050)", kCommandsHelp, cmdCommands, false, kOnXf,
+	  "lists ECM-XF command codes; the ECM-SK's are in Documentation/ecm-sk.rst" },
+	{ "cstruct", "the PDO mapping as IgH's C structures (pdos --cstruct)", kCstructHelp, cmdCstruct, true, kOnXf,
+	  kOwnMapping },
+	{ "dac", "set the chip's analog output", kDacHelp, cmdDac, true, kOnXf, "the ECM-SK has no analog output" },
+	{ "decode", "decode a packet trace (--trace FILE) as a protocol log", kDecodeHelp, cmdDecode, false, kOnXf,
+	  "traces are recorded for ECM-XF packets only" },
+	{ "download", "write an object by SDO download", kDownloadHelp, cmdDownload, true, kOnBoth, {}, nullptr,
+	  "SDO_WR through the SDO slot (-p N -t TYPE INDEX[:SUB] VALUE)" },
+	{ "eeprom", "read or write SII EEPROM words", kEepromHelp, cmdEeprom, true, kOnXf, kNoSii },
+	{ "emergency", "the newest CoE emergencies the master read", kEmergencyHelp, cmdEmergency, true, kOnXf,
+	  "the slot protocol does not pass CoE emergencies on" },
+	{ "foe_read", "read a file from a slave by FoE", kFoeReadHelp, cmdFoeRead, true, kOnXf, kNoFoe },
+	{ "foe_write", "write a file to a slave by FoE", kFoeWriteHelp, cmdFoeWrite, true, kOnXf, kNoFoe },
+	{ "gpio", "the chip's GPIO lines: get, set, config", kGpioHelp, cmdGpio, true, kOnXf,
+	  "the ECM-SK's I/O lines are 'lio' (LIO_RD/LIO_WR)" },
+	{ "info", "firmware, packet format, status bits and counters of the chip", kInfoHelp, cmdInfo, true,
+	  kOnBoth, {}, cmdSkInfo, "frame, state, CRC errors, FIFO, slaves" },
+	{ "io", "an I/O slave's first 4 input/output bytes (IO_RD/IO_WR)", nullptr, nullptr, true, kOnSk,
+	  "a slave's I/O is process data on the ECM-XF (ecmxf-util pdos)", cmdSkIo,
+	  "IO_RD, or IO_WR VALUE (IO slaves, in OP; -p N [VALUE])" },
+	{ "lio", "the master's own I/O 0..5 (LIO_RD/LIO_WR)", nullptr, nullptr, true, kOnSk,
+	  "the chip's own I/O lines are 'gpio'", cmdSkLio, "LIO_RD, or LIO_WR VALUE: the ECM IC's I/O 0..5" },
+	{ "master", "the master's phase, link and error counters (as IgH's ethercat master)", kMasterHelp, cmdMaster,
+	  true, kOnXf, "the ECM-SK has no master counters; 'info' shows its state, CRC errors and FIFO" },
+	{ "monitor", "live events: state changes, error bits, CRC/WKC errors, FIFO levels", kMonitorHelp, cmdMonitor,
+	  false, kOnXf, "the ECM-SK reports no events; poll 'info' instead" },
+	{ "pdos", "PDO assignment and mapping of each slave", kPdosHelp, cmdPdos, true, kOnXf, kOwnMapping },
+	{ "qei", "the chip's quadrature encoder: open, start, stop, count", kQeiHelp, cmdQei, true, kOnXf,
+	  "the ECM-SK has no encoder input" },
+	{ "raw", "one raw command (or EtherCAT datagram): response header and data", kRawHelp, cmdRaw, false, kOnXf,
+	  "ECM-XF command packets only" },
+	{ "reg_read", "read an ESC register of a slave (one APRD datagram)", kRegReadHelp, cmdRegRead, true, kOnXf,
+	  "the slot protocol has no datagrams to the slaves' ESC registers" },
+	{ "reg_write", "write an ESC register of a slave (one APWR datagram)", kRegWriteHelp, cmdRegWrite, true,
+	  kOnXf, "the slot protocol has no datagrams to the slaves' ESC registers" },
+	{ "reset", "ASYNCCMD_RESET, or WARM_RESET with --warm --force", kResetHelp, cmdReset, true, kOnBoth, {},
+	  cmdSkReset, "SW_RESET: the board restarts in INIT" },
+	{ "sii_read", "a slave's SII EEPROM: hex dump, binary or identity", kSiiReadHelp, cmdSiiRead, true, kOnXf,
+	  kNoSii },
+	{ "sii_write", "write an SII image file into a slave's EEPROM", kSiiWriteHelp, cmdSiiWrite, true, kOnXf,
+	  kNoSii },
+	{ "slaves", "list the slaves on the bus (scans a fresh simulator first)", kSlavesHelp, cmdSlaves, true,
+	  kOnBoth, {}, cmdSkSlaves, "the slaves and their types (found by SET_AXIS), identity (SDO 0x1018)" },
+	{ "states", "request an EtherCAT state for one or all slaves", kStatesHelp, cmdStates, true, kOnBoth, {},
+	  cmdSkStates, "INIT, PREOP, SAFEOP or OP for the bus (types found first)" },
+	{ "upload", "read an object by SDO upload", kUploadHelp, cmdUpload, true, kOnBoth, {}, nullptr,
+	  "SDO_RD through the SDO slot (-p N [-t TYPE] INDEX[:SUB])" },
+	{ "version", "print the version", kVersionHelp, cmdVersion, false, kOnBoth },
+	{ "xml", "identity and PDO mapping as EtherCATInfo XML (pdos --xml)", kXmlHelp, cmdXml, true, kOnXf,
+	  kOwnMapping },
 };
 
-void usage(std::FILE *out)
+/// Does @p c run on the master of the device given (@p sk: an ECM-SK)?
+bool runsOn(const CommandDesc &c, bool sk)
+{
+	return (c.on & (sk ? kOnSk : kOnXf)) != 0;
+}
+
+/// The commands of the master the device names (@p sk: an ECM-SK).
+void usage(std::FILE *out, bool sk)
 {
 	std::fprintf(out, "Usage: ecmxf-util [global options] COMMAND [ARGS]\n"
 			  "\n"
-			  "Commands (unambiguous prefixes are accepted):\n");
-	for (const CommandDesc &c : kCommands)
+			  "Commands%s (unambiguous prefixes are accepted):\n",
+		     sk ? " on an ECM-SK" : "");
+	for (const CommandDesc &c : kCommands) {
+		if (!runsOn(c, sk))
+			continue;
+		const std::string_view summary = sk && !c.skSummary.empty() ? c.skSummary : c.summary;
 		std::fprintf(out, "  %-10.*s %.*s\n", static_cast<int>(c.name.size()), c.name.data(),
-			     static_cast<int>(c.summary.size()), c.summary.data());
+			     static_cast<int>(summary.size()), summary.data());
+	}
+	if (sk)
+		std::fprintf(out, "\n"
+				  "Positions (-p) count from 0 as on the ECM-XF (slot 1 of the frame is -p 0);\n"
+				  "the SDO slot carries 1, 2 or 4 bytes; a fresh board is brought as far up as\n"
+				  "the command needs. Not on the ECM-SK (each says why): ");
+	if (sk) {
+		bool first = true;
+		for (const CommandDesc &c : kCommands)
+			if (!runsOn(c, sk)) {
+				std::fprintf(out, "%s%.*s", first ? "" : ", ", static_cast<int>(c.name.size()),
+					     c.name.data());
+				first = false;
+			}
+		std::fprintf(out, ".\n");
+	}
 	std::fprintf(out,
 		     "\n"
 		     "Global options:\n"
@@ -170,13 +224,15 @@ void usage(std::FILE *out)
 		     "'ecmxf-util COMMAND --help' describes one command.\n");
 }
 
-const CommandDesc &findCommand(std::string_view name)
+/// The command @p name, or the only one it is a prefix of among those
+/// that run on the device's master (@p sk: an ECM-SK).
+const CommandDesc &findCommand(std::string_view name, bool sk)
 {
 	std::vector<const CommandDesc *> matches;
 	for (const CommandDesc &c : kCommands) {
 		if (c.name == name)
 			return c;
-		if (c.name.starts_with(name))
+		if (c.name.starts_with(name) && runsOn(c, sk))
 			matches.push_back(&c);
 	}
 	// IgH's commands that the ECM-XF cannot do: what to use instead
@@ -185,7 +241,8 @@ const CommandDesc &findCommand(std::string_view name)
 	if (matches.size() == 1)
 		return *matches.front();
 	if (matches.empty())
-		throw UsageError("unknown command '" + std::string(name) + "' (try --help)");
+		throw UsageError("unknown command '" + std::string(name) + "'" + (sk ? " for an ECM-SK" : "") +
+				 " (try --help)");
 	std::string names;
 	for (const CommandDesc *c : matches)
 		names += (names.empty() ? "" : ", ") + std::string(c->name);
@@ -195,12 +252,13 @@ const CommandDesc &findCommand(std::string_view name)
 int run(int argc, char **argv)
 {
 	Globals g;
+	bool help = false;
 	int i = 1;
 	for (; i < argc; i++) {
 		const std::string_view a = argv[i];
 		if (a == "-h" || a == "--help") {
-			usage(stdout);
-			return 0;
+			help = true; // after -d, wherever it stands: the device's commands
+			continue;
 		}
 		if (a == "-V" || a == "--version") {
 			printVersion();
@@ -225,38 +283,39 @@ int run(int argc, char **argv)
 		} else if (a.size() > 2 && a.starts_with("-d")) {
 			g.device = std::string(a.substr(2));
 		} else if (a.starts_with("-")) {
+			if (help)
+				break; // --help came first: it wins, as it always did
 			throw UsageError("unknown option '" + std::string(a) + "' (try --help)");
 		} else {
 			break;
 		}
 	}
-	if (i >= argc) {
-		usage(stderr);
-		return 2;
-	}
-	if (skDevice(g)) { // an ECM-SK: utils/ecmxf-util-sk.cpp
-		const int rc = skRun(g, argv[i], Args(argv + i + 1, argv + argc));
-		if (rc >= 0)
-			return rc;
-	}
-	if (std::string_view(argv[i]) == "help") {
-		if (i + 1 < argc) {
-			// help COMMAND = COMMAND --help
-			const CommandDesc &c = findCommand(argv[i + 1]);
-			std::fputs(c.help, stdout);
-			return 0;
-		}
-		usage(stdout);
+	const bool sk = skDevice(g); // an ECM-SK: the bodies of utils/ecmxf-util-sk.cpp
+	if (help || (i < argc && std::string_view(argv[i]) == "help" && i + 1 >= argc)) {
+		usage(stdout, sk);
 		return 0;
 	}
-	const CommandDesc &cmd = findCommand(argv[i]);
-	if (!g.trace.empty())
-		g.device.append(g.device.find('?') == std::string::npos ? "?trace=" : "&trace=").append(g.trace);
+	if (i >= argc) {
+		usage(stderr, sk);
+		return 2;
+	}
+	if (std::string_view(argv[i]) == "help") {
+		// help COMMAND = COMMAND --help
+		const CommandDesc &c = findCommand(argv[i + 1], sk);
+		std::fputs((sk && c.runSk) || !c.help ? skHelp() : c.help, stdout);
+		return 0;
+	}
+	const CommandDesc &cmd = findCommand(argv[i], sk);
 	const Args args(argv + i + 1, argv + argc);
-	if (!cmd.prefixErrors)
-		return cmd.run(g, args);
+	auto *const run = sk && cmd.runSk ? cmd.runSk : cmd.run;
+	if (!g.trace.empty() && !sk)
+		g.device.append(g.device.find('?') == std::string::npos ? "?trace=" : "&trace=").append(g.trace);
+	if (!cmd.prefixErrors && runsOn(cmd, sk))
+		return run(g, args);
 	try {
-		return cmd.run(g, args);
+		if (!runsOn(cmd, sk))
+			ecmxf::throwNotOn(sk ? ecmxf::MasterKind::EcmSk : ecmxf::MasterKind::EcmXf, cmd.whyNot);
+		return run(g, args);
 	} catch (const UsageError &) {
 		throw;
 	} catch (const std::exception &e) {

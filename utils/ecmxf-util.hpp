@@ -36,7 +36,13 @@ public:
 
 using Args = std::vector<std::string_view>;
 
-/// One command: its name, a one-line summary, its help text and its body.
+/// The masters a command runs on (CommandDesc::on).
+enum Masters : unsigned { kOnXf = 1, kOnSk = 2, kOnBoth = kOnXf | kOnSk };
+
+/// One command of the one table (utils/ecmxf-util.cpp): its name, a
+/// one-line summary, its help text and its body, and what it needs of the
+/// device: the masters it runs on; on another, "not on the <master>:
+/// <why>" (exit 1).
 struct CommandDesc {
 	std::string_view name;
 	std::string_view summary;
@@ -44,6 +50,14 @@ struct CommandDesc {
 	int (*run)(Globals &g, const Args &args);
 	/// Failures (not usage errors) are reported as "<name>: <reason>".
 	bool prefixErrors = false;
+	/// The masters it runs on.
+	unsigned on = kOnXf;
+	/// Why it does not run on the master it lacks.
+	std::string_view whyNot = {};
+	/// On an ECM-SK: its body there (null: run serves both) and its
+	/// summary there (empty: summary).
+	int (*runSk)(Globals &g, const Args &args) = nullptr;
+	std::string_view skSummary = {};
 };
 
 /// Parses a command's arguments that take no value: -h/--help prints

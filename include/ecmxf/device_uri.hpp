@@ -19,9 +19,23 @@
  *
  * Each may end in "?trace=<file>" (after the other options: "&trace=..."),
  * which records every exchange to <file> (Documentation/trace.rst).
+ *
+ * The ECM-SK's forms (ecmxf::sk::Board::open(), Documentation/ecm-sk.rst):
+ *  - "sk-sim:[<network file>][?<board settings>]": the in-process
+ *    simulated board; settings as sk::BoardConfig::parse() takes them
+ *    (slot=12|16, test=0|1, abandon=0|1, ex=0..3, fifo=, busy_us=,
+ *    spi_hz=, lio=);
+ *  - "sk-unix:<socket path>[?slot=12|16][&ex=0..3]": an
+ *    `ecmxf-sim --board ecm-sk --socket <path>` server;
+ *  - "sk-spidev:/dev/spidevB.C?busy=<chip>:<line>[&slot=12|16]
+ *    [&speed=<Hz>][&mode=0..3][&ex=0..3]": spidev, with the board's Busy
+ *    output on a GPIO line read with libgpiod (low = ready).
+ * slot= and ex= tell the host what the board's CONFIG2 pin and the SET_EX
+ * setting in force are: the host cannot ask the board.
  */
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -29,6 +43,7 @@
 #include <ecmxf/export.hpp>
 #include <ecmxf/protocol.hpp>
 #include <ecmxf/link/spidev_channel.hpp>
+#include <ecmxf/sim/sk_board.hpp>
 
 namespace ecmxf {
 
@@ -40,15 +55,28 @@ inline constexpr std::string_view kDeviceUriForms =
 	"[&mode=0..3][&ready=high|low][&size=<bytes>][&check=fixed|crc8|ccitt|crc32]\"; each may add \"trace=<file>\" as an option, "
 	"sim: and unix: also \"check=fixed|crc8|ccitt|crc32\" (switch the chip to it)";
 
+/// The ECM-SK's forms, as the errors of an "sk-" URI list them.
+inline constexpr std::string_view kSkUriForms =
+	"\"sk-sim:[<network file>][?slot=12|16&test=0|1&abandon=0|1&ex=0..3&fifo=<n>&busy_us=<us>&spi_hz=<Hz>&lio=0..63]\", "
+	"\"sk-unix:<socket path>[?slot=12|16&ex=0..3]\", "
+	"\"sk-spidev:/dev/spidevB.C?busy=<chip>:<line>[&slot=12|16][&speed=<Hz>][&mode=0..3][&ex=0..3]\"";
+
+/// Highest SCLK of the ECM-SK (quick start 1.6): 24 MHz, the default of
+/// "sk-spidev:".
+inline constexpr std::uint32_t kSkMaxSpeedHz = 24'000'000;
+
 /// A parsed device URI.
 struct DeviceUri {
-	enum class Kind { Sim, Kernel, Spidev, Unix };
+	/// Sim, Kernel, Spidev, Unix: an ECM-XF (Device::open()); SkSim,
+	/// SkUnix, SkSpidev: an ECM-SK (sk::Board::open()).
+	enum class Kind { Sim, Kernel, Spidev, Unix, SkSim, SkUnix, SkSpidev };
 	Kind kind = Kind::Sim;
-	/// Sim: the network file (empty: the default network); Kernel: the
-	/// device node; Spidev: the spidev node (also in spidev.device);
-	/// Unix: the socket path.
+	/// Sim, SkSim: the network file (empty: the default network);
+	/// Kernel: the device node; Spidev, SkSpidev: the spidev node (also
+	/// in spidev.device); Unix, SkUnix: the socket path.
 	std::string path;
-	/// Spidev: the options (defaults from the chip manual otherwise).
+	/// Spidev: the options (defaults from the chip manual otherwise);
+	/// SkSpidev: 24 MHz, mode 0 and busy= as the ready line, low = ready.
 	SpidevOptions spidev;
 	/// Spidev: the format the chip speaks now (size=, check=); unset: the
 	/// power-on format (112 bytes, fixed check word). Sim, Unix: check=
@@ -57,10 +85,24 @@ struct DeviceUri {
 	std::optional<CheckType> checkType;
 	/// The trace= option: where to record the exchanges; empty: none.
 	std::string trace;
+	/// The ECM-SK kinds: what the host assumes of the board, which it
+	/// cannot ask (slot=: CONFIG2, 12 or 16; ex=: the SET_EX setting in
+	/// force, bit 0 command CRC, bit 1 response CRC). SkSim: taken from
+	/// the board's settings.
+	unsigned skSlotSize = 12;
+	std::uint32_t skExtensions = 0;
+	/// SkSim: the simulated board's settings.
+	sk::BoardConfig skBoard;
+
+	/// Is it one of the ECM-SK's kinds?
+	[[nodiscard]] bool isSk() const noexcept
+	{
+		return kind == Kind::SkSim || kind == Kind::SkUnix || kind == Kind::SkSpidev;
+	}
 };
 
 /// Parses @p uri. Throws ecmxf::Error (EINVAL) naming the bad part and
-/// listing kDeviceUriForms.
+/// listing kDeviceUriForms (kSkUriForms for an "sk-" URI).
 [[nodiscard]] ECMXF_EXPORT DeviceUri parseDeviceUri(std::string_view uri);
 
 } // namespace ecmxf

@@ -39,7 +39,7 @@
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/bus/slave_access.hpp>
-#include <ecmxf/bus/status.hpp>
+#include <ecmxf/model/status.hpp>
 
 // chip: dev.chip(), dev.peripherals(), dev.chip402()
 #include <ecmxf/chip/chip.hpp>
@@ -48,13 +48,13 @@
 
 // process data: dev.pdo(), ProcessImage, Cyclic
 #include <ecmxf/pdo/cyclic.hpp>
-#include <ecmxf/pdo/pdo_mapping.hpp>
+#include <ecmxf/model/pdo_mapping.hpp>
 #include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 #include <ecmxf/pdo/realtime.hpp>
 
 // CiA-402: the state machine, Cia402Axis
-#include <ecmxf/cia402/cia402.hpp>
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/cia402/cia402_axis.hpp>
 
 // events, packet traces
@@ -66,8 +66,13 @@
 #include <ecmxf/sim/network.hpp>
 #include <ecmxf/sim/slaves.hpp>
 
-// the ECM-SK starter kit
+// the ECM-SK starter kit: sk::Board, its views, its link and simulator
+#include <ecmxf/sim/sk_board.hpp>
 #include <ecmxf/sk/board.hpp>
-#include <ecmxf/sk/sim_board.hpp>
+#include <ecmxf/sk/board_views.hpp>
 #include <ecmxf/sk/sim_channel.hpp>
+#include <ecmxf/sk/slot_link.hpp>
 #include <ecmxf/sk/uri.hpp>
+
+// the verbs both masters have: MasterVerbs over a Device or an sk::Board
+#include <ecmxf/verbs.hpp>

@@ -5,7 +5,7 @@
  * Names, immediate/async kind, the partner that fetches the result or
  * reads back a setting, the default time the engine allows, and what a
  * command does to the chip (the permission class, ecmxf_cmd_perm()).  The async
- * set is the one fixed in the protocol digest (shared/spec/ecm-xf.md);
+ * set is the one fixed in Documentation/protocol-core.rst;
  * RECV_MAILBOX is async only with command parameter 0.
  *
  * Copyright (C) 2026 The ecmxf authors

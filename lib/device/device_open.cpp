@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cstdint>
 #include <exception>
+#include <stdexcept>
 #include <memory>
 #include <optional>
 #include <string>
@@ -26,11 +27,13 @@ namespace {
 
 using detail::quoted;
 
-/// Error(EINVAL): cannot open "<uri>": <what>; accepted: <forms>.
+/// Error(EINVAL): cannot open "<uri>": <what>; accepted: <forms> (the
+/// ECM-SK's for an "sk-" URI).
 [[noreturn]] void bad(std::string_view uri, const std::string &what)
 {
 	std::string m = "cannot open ";
-	m.append(quoted(uri)).append(": ").append(what).append("; accepted: ").append(kDeviceUriForms);
+	m.append(quoted(uri)).append(": ").append(what).append("; accepted: ");
+	m.append(uri.starts_with("sk-") ? kSkUriForms : kDeviceUriForms);
 	throw Error(m, EINVAL);
 }
 
@@ -62,13 +65,93 @@ GpioLineSpec gpioLine(std::string_view uri, std::string_view key, std::string_vi
 	return GpioLineSpec{ std::string(chip), static_cast<unsigned>(*line) };
 }
 
+/// slot= and ex= of sk-unix: and sk-spidev:; false for another key.
+bool skHostOption(std::string_view uri, DeviceUri &u, std::string_view key, std::string_view value)
+{
+	if (key == "slot") {
+		const auto v = number(value);
+		if (!v || (*v != 12 && *v != 16))
+			bad(uri, "bad slot value " + quoted(value) + ": slot=" + std::string(value) +
+					 ": the slot size is 12 or 16 (the board's CONFIG2)");
+		u.skSlotSize = static_cast<unsigned>(*v);
+	} else if (key == "ex") {
+		const auto v = number(value);
+		if (!v || *v > 3)
+			bad(uri, "bad ex value " + quoted(value) +
+					 ": expected 0..3 (the SET_EX setting in force: bit 0 command CRC, bit 1 response CRC)");
+		u.skExtensions = static_cast<std::uint32_t>(*v);
+	} else {
+		return false;
+	}
+	return true;
+}
+
+/// An option of an ECM-SK URI.
+void skOption(std::string_view uri, DeviceUri &u, std::string_view key, std::string_view value)
+{
+	switch (u.kind) {
+	case DeviceUri::Kind::SkSim:
+		try {
+			u.skBoard.set(std::string(key), std::string(value));
+		} catch (const std::invalid_argument &e) {
+			bad(uri, e.what());
+		}
+		u.skSlotSize = u.skBoard.slotSize;
+		u.skExtensions = u.skBoard.extensions;
+		return;
+	case DeviceUri::Kind::SkSpidev:
+		if (key == "busy") {
+			u.spidev.int0 = gpioLine(uri, key, value);
+			return;
+		}
+		if (key == "speed") {
+			const auto v = number(value);
+			if (!v || *v < 1 || *v > kSkMaxSpeedHz)
+				bad(uri, "bad speed value " + quoted(value) +
+						 ": expected 1..24000000 (Hz; the ECM-SK's maximum is 24 MHz)");
+			u.spidev.speedHz = static_cast<std::uint32_t>(*v);
+			return;
+		}
+		if (key == "mode") {
+			const auto v = number(value);
+			if (!v || *v > 3)
+				bad(uri, "bad mode value " + quoted(value) + ": expected 0..3 (the ECM-SK uses mode 0)");
+			u.spidev.mode = static_cast<std::uint8_t>(*v);
+			return;
+		}
+		if (!skHostOption(uri, u, key, value))
+			bad(uri, "unknown option " + quoted(key) + " (sk-spidev: takes busy, slot, speed, mode, ex)");
+		return;
+	default:
+		if (!skHostOption(uri, u, key, value))
+			bad(uri, "unknown option " + quoted(key) + " (sk-unix: takes slot and ex)");
+		return;
+	}
+}
+
 } // namespace
 
 DeviceUri parseDeviceUri(std::string_view uri)
 {
-	constexpr std::string_view kSim = "sim:";
-	constexpr std::string_view kSpidev = "spidev:";
-	constexpr std::string_view kUnix = "unix:";
+	using K = DeviceUri::Kind;
+	// the schemes, and what an empty path after one means
+	struct Scheme {
+		std::string_view prefix;
+		K kind;
+		const char *noPath; // nullptr: an empty path is allowed
+	};
+	static constexpr Scheme kSchemes[] = {
+		{ "sim:", K::Sim, nullptr },
+		{ "spidev:", K::Spidev, "no spidev node after \"spidev:\" (e.g. spidev:/dev/spidev0.0)" },
+		{ "unix:", K::Unix,
+		  "no socket path after \"unix:\" (e.g. unix:/tmp/ecmxf-sim.sock, served by "
+		  "`ecmxf-sim --socket /tmp/ecmxf-sim.sock`)" },
+		{ "sk-sim:", K::SkSim, nullptr },
+		{ "sk-unix:", K::SkUnix,
+		  "no socket path after \"sk-unix:\" (e.g. sk-unix:/tmp/sk.sock, served by "
+		  "`ecmxf-sim --board ecm-sk --socket /tmp/sk.sock`)" },
+		{ "sk-spidev:", K::SkSpidev, "the spidev node must be an absolute path (sk-spidev:/dev/spidevB.C)" },
+	};
 
 	if (uri.empty())
 		bad(uri, "empty device URI");
@@ -77,30 +160,35 @@ DeviceUri parseDeviceUri(std::string_view uri)
 	const std::string_view query = q == std::string_view::npos ? std::string_view{} : uri.substr(q + 1);
 
 	DeviceUri u;
-	if (base.starts_with(kSim)) {
-		u.kind = DeviceUri::Kind::Sim;
-		u.path = std::string(base.substr(kSim.size()));
-	} else if (base.starts_with(kSpidev)) {
-		u.kind = DeviceUri::Kind::Spidev;
-		u.path = std::string(base.substr(kSpidev.size()));
-		if (u.path.empty())
-			bad(uri, "no spidev node after \"spidev:\" (e.g. spidev:/dev/spidev0.0)");
-		u.spidev.device = u.path;
-	} else if (base.starts_with(kUnix)) {
-		u.kind = DeviceUri::Kind::Unix;
-		u.path = std::string(base.substr(kUnix.size()));
-		if (u.path.empty())
-			bad(uri, "no socket path after \"unix:\" (e.g. unix:/tmp/ecmxf-sim.sock, served by "
-				 "`ecmxf-sim --socket /tmp/ecmxf-sim.sock`)");
+	const Scheme *scheme = nullptr;
+	for (const Scheme &sc : kSchemes)
+		if (base.starts_with(sc.prefix))
+			scheme = &sc;
+	if (scheme) {
+		u.kind = scheme->kind;
+		u.path = std::string(base.substr(scheme->prefix.size()));
+		if (scheme->noPath && (u.path.empty() || (u.kind == K::SkSpidev && u.path[0] != '/')))
+			bad(uri, scheme->noPath);
 	} else if (base.starts_with("/")) {
-		u.kind = DeviceUri::Kind::Kernel;
+		u.kind = K::Kernel;
 		u.path = std::string(base);
 	} else {
-		bad(uri, "unknown device URI");
+		bad(uri, base.starts_with("sk-") ? "unknown ECM-SK device URI" : "unknown device URI");
+	}
+	if (u.kind == K::Spidev || u.kind == K::SkSpidev)
+		u.spidev.device = u.path;
+	if (u.kind == K::SkSpidev) {
+		u.spidev.speedHz = kSkMaxSpeedHz;
+		u.spidev.mode = 0;
+		u.spidev.readyHigh = false; // Busy: low = ready
 	}
 
-	if (q == std::string_view::npos)
+	if (q == std::string_view::npos) {
+		if (u.kind == DeviceUri::Kind::SkSpidev)
+			bad(uri, "busy=<chip>:<line> is required: the host may start an exchange only while Busy is low");
 		return u;
+	}
+	const bool sk = u.isSk();
 	const bool spidev = u.kind == DeviceUri::Kind::Spidev;
 	const bool kernel = u.kind == DeviceUri::Kind::Kernel;
 	std::vector<std::string_view> seen;
@@ -109,6 +197,12 @@ DeviceUri parseDeviceUri(std::string_view uri)
 		const auto amp = query.find('&', pos);
 		const std::string_view opt = query.substr(pos, amp == std::string_view::npos ? amp : amp - pos);
 		const auto eq = opt.find('=');
+		if (opt.empty() && sk && amp != std::string_view::npos) {
+			pos = amp + 1; // the ECM-SK's forms skip empty options, as they always did
+			continue;
+		}
+		if (opt.empty() && sk)
+			break;
 		if (opt.empty())
 			bad(uri, "empty option (options are key=value, separated by '&')");
 		if (eq == std::string_view::npos || eq == 0)
@@ -122,7 +216,9 @@ DeviceUri parseDeviceUri(std::string_view uri)
 
 		const bool spidevKey = key == "int0" || key == "int1" || key == "speed" || key == "mode" ||
 				       key == "ready" || key == "size" || (key == "check" && kernel);
-		if (key == "trace") {
+		if (sk) {
+			skOption(uri, u, key, value);
+		} else if (key == "trace") {
 			if (value.empty())
 				bad(uri, "option \"trace\" needs a file name (trace=<file>)");
 			u.trace = std::string(value);
@@ -182,6 +278,8 @@ DeviceUri parseDeviceUri(std::string_view uri)
 			break;
 		pos = amp + 1;
 	}
+	if (u.kind == DeviceUri::Kind::SkSpidev && !u.spidev.int0)
+		bad(uri, "busy=<chip>:<line> is required: the host may start an exchange only while Busy is low");
 	return u;
 }
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Names for the header status bytes, interrupt flags, EtherCAT states,
-// check types, master series and FoE error codes (include/ecmxf/bus/status.hpp;
+// check types, master series and FoE error codes (include/ecmxf/model/status.hpp;
 // bit meanings from manual ver. 050, table 2 and ECM_CMD_ECAT_INT_SET_ENABLE).
 
 #include <ecmxf/model/status.hpp>

@@ -88,6 +88,13 @@ std::unique_ptr<Device> Device::open(std::string_view uri)
 	case DeviceUri::Kind::Unix:
 		link = std::make_unique<EngineLink>(std::make_unique<UnixChannel>(u.path));
 		break;
+	case DeviceUri::Kind::SkSim:
+	case DeviceUri::Kind::SkUnix:
+	case DeviceUri::Kind::SkSpidev: {
+		std::string m = "cannot open ";
+		m.append(quoted(uri)).append(": an ECM-SK, which ecmxf::sk::Board::open() opens (<ecmxf/sk/board.hpp>)");
+		throw Error(m, EINVAL);
+	}
 	}
 	auto dev = std::make_unique<Device>(std::move(link));
 	if (u.kind == DeviceUri::Kind::Spidev && (u.dataSize || u.checkType))

@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/sim/network.hpp>
 
 #include "ecmsk-proto.h"
@@ -232,21 +233,15 @@ template <typename T> bool getAt(const std::vector<std::uint8_t> &buf, int off, 
 	return true;
 }
 
-enum class Cia : std::uint8_t { NotReady, Disabled, Ready, SwitchedOn, Enabled, QuickStop, Fault };
+using Cia = Cia402State;
 
+// The drive's CiA-402 state by the statusword's masks
+// (include/ecmxf/model/cia402.hpp); the board treats a fault reaction
+// as the fault it ends in, and a pattern that is no state as not ready.
 Cia ciaState(std::uint16_t sw)
 {
-	if ((sw & 0x4F) == 0x08 || (sw & 0x4F) == 0x0F)
-		return Cia::Fault;
-	if ((sw & 0x4F) == 0x40)
-		return Cia::Disabled;
-	switch (sw & 0x6F) {
-	case 0x21: return Cia::Ready;
-	case 0x23: return Cia::SwitchedOn;
-	case 0x27: return Cia::Enabled;
-	case 0x07: return Cia::QuickStop;
-	default: return Cia::NotReady;
-	}
+	const Cia s = cia402StateFrom(sw).value_or(Cia::NotReadyToSwitchOn);
+	return s == Cia::FaultReactionActive ? Cia::Fault : s;
 }
 
 } // namespace
@@ -650,19 +645,19 @@ struct SimBoard::Impl {
 				c.faultReset = false;
 		} else if (c.enable) {
 			switch (cs) {
-			case Cia::Disabled: cw = 0x06; break;
-			case Cia::Ready: cw = 0x07; break;
+			case Cia::SwitchOnDisabled: cw = 0x06; break;
+			case Cia::ReadyToSwitchOn: cw = 0x07; break;
 			case Cia::SwitchedOn:
-			case Cia::Enabled:
-			case Cia::QuickStop: cw = 0x0F; break;
+			case Cia::OperationEnabled:
+			case Cia::QuickStopActive: cw = 0x0F; break;
 			default: cw = 0x00; break;
 			}
 		} else {
-			cw = (cs == Cia::Disabled || cs == Cia::Fault || cs == Cia::NotReady) ? 0x00 : 0x06;
+			cw = (cs == Cia::SwitchOnDisabled || cs == Cia::Fault || cs == Cia::NotReadyToSwitchOn) ? 0x00 : 0x06;
 		}
-		if (c.homing && cs == Cia::Enabled)
+		if (c.homing && cs == Cia::OperationEnabled)
 			cw |= 0x10;
-		if (cs != Cia::Enabled) {
+		if (cs != Cia::OperationEnabled) {
 			c.tPos = c.pos;	// no jump when the drive is enabled
 			c.tVel = 0;
 			c.tTrq = 0;
@@ -684,10 +679,10 @@ struct SimBoard::Impl {
 		const Cia cs = ciaState(c.sw2);
 		std::uint16_t cw = 0x06;
 		if (c.enable)
-			cw = cs == Cia::Disabled ? 0x06 : cs == Cia::Ready ? 0x07 : 0x0F;
-		else if (cs == Cia::Disabled || cs == Cia::NotReady)
+			cw = cs == Cia::SwitchOnDisabled ? 0x06 : cs == Cia::ReadyToSwitchOn ? 0x07 : 0x0F;
+		else if (cs == Cia::SwitchOnDisabled || cs == Cia::NotReadyToSwitchOn)
 			cw = 0x00;
-		if (cs != Cia::Enabled) {
+		if (cs != Cia::OperationEnabled) {
 			c.tPos2 = c.pos2;
 			c.tVel2 = 0;
 		}

@@ -28,6 +28,9 @@ namespace {
 	(void)sizeof(ecmxf::SimChannel);
 	(void)sizeof(ecmxf::sim::Chip);
 	(void)sizeof(ecmxf::sk::Board);
+	(void)sizeof(ecmxf::sk::BoardDrives);
+	(void)sizeof(ecmxf::sk::SlotLink);
+	(void)ecmxf::masterKindName(ecmxf::MasterKind::EcmSk);
 	(void)sizeof(ecmxf::Error);
 }
 

@@ -109,7 +109,7 @@ void simSpeed()
 	auto ch = std::make_unique<ecmxf::sk::SimBoardChannel>(path, cfg);
 	auto *sim = &ch->board();
 	ecmxf::sk::Board b(std::move(ch));
-	b.setState(ecmxf::sk::State::PreOp);
+	b.states().set(ecmxf::State::PreOp);
 	std::vector<ecmxf::sk::SlaveType> types;
 	for (int i = 0; i < 20; i++)
 		types.push_back(ecmxf::sk::SlaveType::Step);
@@ -117,30 +117,30 @@ void simSpeed()
 		types.push_back(ecmxf::sk::SlaveType::Drive);
 	for (int i = 0; i < 10; i++)
 		types.push_back(ecmxf::sk::SlaveType::Io);
-	if (b.setAxes(types) != 40)
+	if (b.setup().setAxes(types) != 40)
 		die("not 40 slaves");
-	b.setCycleTime(250);
-	b.setState(ecmxf::sk::State::Op);
+	b.setup().setCycleTime(250);
+	b.states().set(ecmxf::State::Op);
 	for (unsigned s = 1; s <= 30; s++)
-		b.servoOn(s);
-	b.status();
+		b.drives().servoOn(s);
+	b.states().status();
 	std::vector<std::int32_t> start(31);
 	for (unsigned s = 1; s <= 30; s++)
-		start[s] = b.axis(s).position;
+		start[s] = b.drives().axis(s).position;
 	const auto cycles0 = sim->stats().cycles;
 	const auto t0 = b.channel().now();
 	const double c0 = cpu();
 	unsigned dropped = 0;
 	for (int i = 0; i < 4000; i++) { // 1 s of 250 us cycles
 		for (unsigned s = 1; s <= 30; s++)
-			b.stage(s, ecmxf::sk::Mode::Csp, start[s] + i);
-		dropped += b.cycle().dropped;
+			b.cyclic().stage(s, ecmxf::sk::Mode::Csp, start[s] + i);
+		dropped += b.cyclic().cycle().dropped;
 		b.channel().sleepFor(250us - sim->wireTime() - sim->config().busyTime);
 	}
 	const double c = cpu() - c0;
 	const double simulated = std::chrono::duration<double>(b.channel().now() - t0).count();
-	b.status();
-	const auto moved1 = b.axis(1).position - start[1], moved30 = b.axis(30).position - start[30];
+	b.states().status();
+	const auto moved1 = b.drives().axis(1).position - start[1], moved30 = b.drives().axis(30).position - start[30];
 	std::printf("bench-sk sim: 40 slaves at 250 us: %.3f s simulated in %.3f s CPU = %.1fx real time "
 		    "(target >= 10x); %llu bus cycles, %llu targets applied, %u dropped; "
 		    "slave 1 moved %d, slave 30 moved %d (of 3999)\n",

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The command table against the list in the protocol digest
-// (shared/spec/ecm-xf.md, "Command codes" and "Exchange rules" 3).
+// The command table against the manuals' command list (ECM-XF EtherCAT
+// Master Chip User Manual ver. 038, Chinese ver. 050), as
+// Documentation/commands-chip.rst and commands-bus.rst give it.
 
 #include <catch2/catch.hpp>
 

@@ -67,6 +67,7 @@ inline Kind kindOf(const std::string &u)
 		return Kind::Spidev;
 	case ecmxf::DeviceUri::Kind::Sim:
 	case ecmxf::DeviceUri::Kind::Unix: // an ecmxf-sim server: the simulator, virtual time
+	default:			   // the ECM-SK's: Device::open() refuses them
 		break;
 	}
 	return Kind::Sim;
@@ -86,6 +87,7 @@ inline ecmxf::CheckType startCheckType(const std::string &u)
 		return p.checkType.value_or(ecmxf::CheckType::Fixed);
 	case ecmxf::DeviceUri::Kind::Sim:
 	case ecmxf::DeviceUri::Kind::Unix:
+	default:
 		break;
 	}
 	return ecmxf::CheckType::Fixed;

@@ -17,6 +17,7 @@
 #include <ecmxf/link/unix_channel.hpp>
 
 #include "cli/cli_run.hpp"
+#include "common/sim_server.hpp"
 
 using Catch::Matchers::Contains;
 using clitest::run;
@@ -148,26 +149,9 @@ TEST_CASE("sk cli: what the ECM-SK cannot do is refused with why; bad URIs are n
 
 TEST_CASE("sk cli: the board behind sk-unix: keeps its state between runs")
 {
-	char t[] = "/tmp/ecmxf-skcli-XXXXXX";
-	REQUIRE(mkdtemp(t) != nullptr);
-	const std::string dir = t, sock = dir + "/sk.sock";
-	const pid_t pid = fork();
-	REQUIRE(pid >= 0);
-	if (pid == 0) {
-		execl(ECMXF_SIM_BINARY, ECMXF_SIM_BINARY, "--board", "ecm-sk", "--socket", sock.c_str(),
-		      static_cast<char *>(nullptr));
-		_exit(127);
-	}
-	const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-	for (;;) {
-		try {
-			ecmxf::UnixChannel probe(sock);
-			break;
-		} catch (const ecmxf::Error &) {
-			REQUIRE(std::chrono::steady_clock::now() < deadline);
-			usleep(10000);
-		}
-	}
+	ecmxftest::TempDir dir;
+	const std::string sock = dir.path + "/sk.sock";
+	ecmxftest::SimServer server(sock, { "--board", "ecm-sk" });
 	auto r = run("-d sk-unix:" + sock + " states OP");
 	CHECK(r.status == 0);
 	r = run("-d sk-unix:" + sock + " --json info");
@@ -175,10 +159,6 @@ TEST_CASE("sk cli: the board behind sk-unix: keeps its state between runs")
 	CHECK_THAT(r.out, Contains("\"state\": \"OP\""));
 	r = run("-d sk-unix:" + sock + " lio 5");
 	CHECK(r.status == 0);
-	kill(pid, SIGKILL);
-	waitpid(pid, nullptr, 0);
-	std::error_code ec;
-	std::filesystem::remove_all(dir, ec);
 }
 
 TEST_CASE("sk cli: ecmxf-demo --board ecm-sk --fast runs every step")
@@ -195,4 +175,40 @@ TEST_CASE("sk cli: ecmxf-demo --board ecm-sk --fast runs every step")
 	CHECK(WEXITSTATUS(st) == 0);
 	CHECK_THAT(out, Contains("all steps worked"));
 	CHECK_THAT(out, Contains("end: drive 20000 (target 20000), step 50000 (target 50000); 0 dropped"));
+}
+
+TEST_CASE("sk cli: one command table: --help with -d lists what the device can do, each side says why not")
+{
+	for (const char *args : { "--help -d sk-sim:", "-d sk-sim: --help", "-d sk-sim: help" }) {
+		INFO(args);
+		const auto r = run(args);
+		REQUIRE(r.status == 0);
+		CHECK_THAT(r.out, Contains("Commands on an ECM-SK"));
+		CHECK_THAT(r.out, Contains("\n  lio "));
+		CHECK_THAT(r.out, Contains("\n  upload "));
+		CHECK_FALSE(r.out.find("\n  eeprom ") != std::string::npos);
+		CHECK_THAT(r.out, Contains("Not on the ECM-SK (each says why): adc,"));
+	}
+	auto r = run("--help");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("\n  eeprom "));
+	CHECK_FALSE(r.out.find("\n  lio ") != std::string::npos);
+	for (const char *cmd : { "master", "reg_read", "sii_write", "xml", "cstruct", "commands" }) {
+		INFO(cmd);
+		r = run(std::string("-d sk-sim: ") + cmd);
+		CHECK(r.status == 1);
+		CHECK_THAT(r.err, Contains(std::string(cmd) + ": not on the ECM-SK: "));
+	}
+	for (const char *cmd : { "io -p 0", "lio" }) {
+		INFO(cmd);
+		r = run(std::string("-d sim: ") + cmd);
+		CHECK(r.status == 1);
+		CHECK_THAT(r.err, Contains("not on the ECM-XF: "));
+	}
+	r = run("i"); // on the ECM-XF "i" is still info: io is not one of its commands
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("firmware version:"));
+	r = run("-d sk-sim: help upload");
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("On an ECM-SK (-d sk-...): SDO_RD"));
 }

@@ -15,7 +15,7 @@
 #include <ecmxf/sk/board.hpp>
 #include <ecmxf/sim/sk_board.hpp>
 #include <ecmxf/sk/sim_channel.hpp>
-#include <ecmxf/sk/uri.hpp>
+#include <ecmxf/device_uri.hpp>
 
 using namespace ecmxf;
 using namespace std::chrono_literals;
@@ -72,7 +72,7 @@ struct Rig {
 
 	explicit Rig(std::chrono::milliseconds busyTimeout = 100ms)
 	{
-		const auto u = sk::parseSkUri("sk-spidev:/dev/spidev0.0?busy=gpiochip0:17");
+		const auto u = ecmxf::parseDeviceUri("sk-spidev:/dev/spidev0.0?busy=gpiochip0:17");
 		auto be = std::make_unique<FakeSkSpidev>(board, faults);
 		fake = be.get();
 		auto ch = std::make_unique<SpidevChannel>(std::move(be), u.spidev);
@@ -88,24 +88,24 @@ TEST_CASE("sk spidev: bring-up to OP and a CSP move over spidev with Busy as the
 {
 	Rig r;
 	CHECK(r.b->channel().name() == "spidev:/dev/spidev0.0");
-	r.b->setState(sk::State::PreOp);
+	r.b->states().set(ecmxf::State::PreOp);
 	const std::vector<sk::SlaveType> types = { sk::SlaveType::Drive, sk::SlaveType::Step, sk::SlaveType::Io };
-	CHECK(r.b->setAxes(types) == 3u);
-	r.b->setState(sk::State::Op);
-	r.b->servoOn(2);
-	r.b->waitEnabled(2);
-	r.b->status();
-	const auto p = r.b->axis(2).position;
+	CHECK(r.b->setup().setAxes(types) == 3u);
+	r.b->states().set(ecmxf::State::Op);
+	r.b->drives().servoOn(2);
+	r.b->drives().waitEnabled(2);
+	r.b->states().status();
+	const auto p = r.b->drives().axis(2).position;
 	for (int i = 1; i <= 100; i++) {
-		REQUIRE(r.b->stage(2, sk::Mode::Csp, p + 10 * i));
-		REQUIRE(r.b->cycle().status == sk::CycleStatus::Ok);
+		REQUIRE(r.b->cyclic().stage(2, sk::Mode::Csp, p + 10 * i));
+		REQUIRE(r.b->cyclic().cycle().status == sk::CycleStatus::Ok);
 		r.b->channel().sleepFor(800us);
 	}
 	for (int i = 0; i < 10; i++) {
-		r.b->cycle();
+		r.b->cyclic().cycle();
 		r.b->channel().sleepFor(1ms);
 	}
-	CHECK(std::abs(r.b->axis(2).position - (p + 1000)) <= 5);
+	CHECK(std::abs(r.b->drives().axis(2).position - (p + 1000)) <= 5);
 	// never a transfer while Busy was high
 	CHECK(r.board.stats().whileBusy == 0u);
 	CHECK(r.board.stats().frames == r.fake->transfers);
@@ -116,15 +116,15 @@ TEST_CASE("sk spidev: a Busy line stuck high is a timeout, not a transfer")
 	Rig r(5ms);
 	r.faults.busyStuck = true;
 	try {
-		r.b->status();
+		r.b->states().status();
 		FAIL("no timeout");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == ETIMEDOUT);
 		CHECK(std::string(e.what()).find("Busy") != std::string::npos);
 	}
 	CHECK(r.fake->transfers == 0u);
-	r.b->stage(1, sk::Mode::Csp, 0);
-	CHECK(r.b->cycle().status == sk::CycleStatus::Busy);
+	r.b->cyclic().stage(1, sk::Mode::Csp, 0);
+	CHECK(r.b->cyclic().cycle().status == sk::CycleStatus::Busy);
 }
 
 TEST_CASE("sk spidev: a failing transfer is an error naming the node; cycle() reports it as Link")
@@ -132,12 +132,12 @@ TEST_CASE("sk spidev: a failing transfer is an error naming the node; cycle() re
 	Rig r;
 	r.faults.transferErrno = EIO;
 	try {
-		r.b->status();
+		r.b->states().status();
 		FAIL("no error");
 	} catch (const Error &e) {
 		CHECK(e.errnoValue() == EIO);
 		CHECK(std::string(e.what()).find("/dev/spidev0.0") != std::string::npos);
 	}
-	CHECK(r.b->cycle().status == sk::CycleStatus::Link);
-	CHECK(r.b->lastError().find("/dev/spidev0.0") != std::string::npos);
+	CHECK(r.b->cyclic().cycle().status == sk::CycleStatus::Link);
+	CHECK(r.b->cyclic().lastError().find("/dev/spidev0.0") != std::string::npos);
 }

@@ -5,6 +5,7 @@
 
 #include "sk_host.hpp"
 
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/sim/slaves.hpp>
 
 using namespace skt;
@@ -14,9 +15,18 @@ namespace {
 
 const std::vector<std::uint8_t> kTypes = { ECMSK_AXIS_DRIVE, ECMSK_AXIS_STEP, ECMSK_AXIS_IO };
 
+// statusword bits 10 and 12 both set: homing attained (the ECM-SK's "homed")
+constexpr std::uint16_t kHomed = ecmxf::cia402::kSwTargetReached | ecmxf::cia402::kSwHomingAttained;
+
 bool enabled(std::uint16_t sw)
 {
-	return (sw & 0x6F) == 0x27;
+	return ecmxf::cia402StateFrom(sw) == ecmxf::Cia402State::OperationEnabled;
+}
+
+bool faulted(std::uint16_t sw)
+{
+	const auto s = ecmxf::cia402StateFrom(sw);
+	return s == ecmxf::Cia402State::Fault || s == ecmxf::Cia402State::FaultReactionActive;
 }
 
 // SV_ON on slaves 1 and 2, then GET_STATUS until both are enabled
@@ -181,13 +191,13 @@ TEST_CASE("sk motion: SV_OFF disables the drive; ALM_CLR resets a fault")
 	drive->injectFault(0x7500);
 	h.b.advance(50ms);
 	r = h.xfer();
-	CHECK((h.slaveRsp(r, 1).statusword & 0x08) != 0);
+	CHECK(faulted(h.slaveRsp(r, 1).statusword));
 	CHECK(h.slaveRsp(r, 1).error_code == 0x7500);
 	h.slave(1, ECMSK_CMD_ALM_CLR, 5);
 	h.answer();
 	h.b.advance(20ms);
 	r = h.xfer();
-	CHECK((h.slaveRsp(r, 1).statusword & 0x08) == 0);
+	CHECK_FALSE(faulted(h.slaveRsp(r, 1).statusword));
 }
 
 TEST_CASE("sk motion: CSV and CST on the servo")
@@ -226,7 +236,7 @@ TEST_CASE("sk motion: GO_HOME needs 0x6060 = 6 and 0x6098 by SDO; bits 10 and 12
 	for (int i = 0; i < 300 && !homed; i++) {
 		auto r = h.xfer();
 		const auto sw = h.slaveRsp(r, 2).statusword;
-		homed = (sw & 0x1400) == 0x1400 && static_cast<std::int32_t>(h.slaveRsp(r, 2).position) == 1000;
+		homed = (sw & kHomed) == kHomed && static_cast<std::int32_t>(h.slaveRsp(r, 2).position) == 1000;
 		h.b.advance(1ms);
 	}
 	CHECK(homed);
@@ -262,7 +272,7 @@ TEST_CASE("sk motion: a 1-channel HSP is typed HSP, runs CSV, and answers its in
 	h.answer();
 	h.b.advance(20ms);
 	auto r = h.xfer();
-	REQUIRE((h.slaveRsp(r, 2).statusword & 0x6F) == 0x27);
+	REQUIRE(enabled(h.slaveRsp(r, 2).statusword));
 	const auto p0 = static_cast<std::int32_t>(h.slaveRsp(r, 2).position);
 	h.slave(2, ECMSK_CMD_CSV, 2, 20000);
 	h.answer();
@@ -284,7 +294,7 @@ TEST_CASE("sk motion: a 2-channel HSP with 16-byte slots moves both channels (ta
 	auto r = h.xfer();
 	ecmsk_hsp2 a{};
 	REQUIRE(ecmsk_get_hsp2(&h.g, r.data(), 1, &a) == 0);
-	REQUIRE((a.statusword & 0x6F) == 0x27);
+	REQUIRE(enabled(a.statusword));
 	for (int i = 1; i <= 100; i++) {
 		ecmsk_hsp2 cmd{ ECMSK_CMD_CSP, static_cast<std::uint8_t>(i), 0, static_cast<std::uint32_t>(10 * i), 0,
 				static_cast<std::uint32_t>(-20 * i), 0 };

@@ -22,67 +22,20 @@
 #include <ecmxf/link/unix_channel.hpp>
 #include <ecmxf/sk/board.hpp>
 
+#include "../common/sim_server.hpp"
+
 using namespace ecmxf::sk;
 
 namespace {
 
-struct TempDir {
-	std::string path;
-	TempDir()
-	{
-		char t[] = "/tmp/ecmxf-skunix-XXXXXX";
-		REQUIRE(mkdtemp(t) != nullptr);
-		path = t;
-	}
-	~TempDir()
-	{
-		std::error_code ec;
-		std::filesystem::remove_all(path, ec);
-	}
-};
+using ecmxftest::TempDir;
 
-class Server
-{
-public:
-	Server(const std::string &socket, const std::string &settings) : socket_(socket)
+/// ecmxf-sim --board ecm-sk --settings S --socket PATH
+struct Server : ecmxftest::SimServer {
+	Server(const std::string &socket, const std::string &settings)
+		: SimServer(socket, { "--board", "ecm-sk", "--settings", settings })
 	{
-		pid_ = fork();
-		REQUIRE(pid_ >= 0);
-		if (pid_ == 0) {
-			execl(ECMXF_SIM_BINARY, ECMXF_SIM_BINARY, "--board", "ecm-sk", "--settings", settings.c_str(),
-			      "--socket", socket.c_str(), static_cast<char *>(nullptr));
-			_exit(127);
-		}
-		const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-		for (;;) {
-			int st = 0;
-			if (waitpid(pid_, &st, WNOHANG) == pid_) {
-				pid_ = -1;
-				FAIL("ecmxf-sim --board ecm-sk exited at start (status " << st << ")");
-			}
-			try {
-				ecmxf::UnixChannel probe(socket_);
-				return;
-			} catch (const ecmxf::Error &e) {
-				if (std::chrono::steady_clock::now() > deadline)
-					FAIL("ecmxf-sim --board ecm-sk never served: " << e.what());
-			}
-			usleep(10000);
-		}
 	}
-	~Server()
-	{
-		if (pid_ > 0) {
-			kill(pid_, SIGKILL);
-			waitpid(pid_, nullptr, 0);
-		}
-	}
-	Server(const Server &) = delete;
-	Server &operator=(const Server &) = delete;
-
-private:
-	std::string socket_;
-	pid_t pid_ = -1;
 };
 
 } // namespace
@@ -95,26 +48,26 @@ TEST_CASE("sk unix: bring-up and a CSP move over the socket; the board outlives 
 	{
 		auto b = Board::open("sk-unix:" + sock + "?slot=16");
 		CHECK(b->frameSize() == 512u);
-		CHECK(b->status().state == State::Init);
-		b->setState(State::PreOp);
+		CHECK(b->states().status().state == ecmxf::State::Init);
+		b->states().set(ecmxf::State::PreOp);
 		const std::vector<SlaveType> types = { SlaveType::Drive, SlaveType::Step, SlaveType::Io };
-		CHECK(b->setAxes(types) == 3u);
-		b->setState(State::Op);
-		b->servoOn(2);
-		b->waitEnabled(2);
-		b->status();
-		const auto p = b->axis(2).position;
+		CHECK(b->setup().setAxes(types) == 3u);
+		b->states().set(ecmxf::State::Op);
+		b->drives().servoOn(2);
+		b->drives().waitEnabled(2);
+		b->states().status();
+		const auto p = b->drives().axis(2).position;
 		for (int i = 1; i <= 50; i++) {
-			REQUIRE(b->stage(2, Mode::Csp, p + 10 * i));
-			REQUIRE(b->cycle().status == CycleStatus::Ok);
+			REQUIRE(b->cyclic().stage(2, Mode::Csp, p + 10 * i));
+			REQUIRE(b->cyclic().cycle().status == CycleStatus::Ok);
 			b->channel().sleepFor(std::chrono::microseconds(800));
 		}
 		b->channel().sleepFor(std::chrono::milliseconds(20));
-		b->status();
-		CHECK(std::abs(b->axis(2).position - (p + 500)) <= 5);
+		b->states().status();
+		CHECK(std::abs(b->drives().axis(2).position - (p + 500)) <= 5);
 	}
 	auto again = Board::open("sk-unix:" + sock + "?slot=16");
-	CHECK(again->status().state == State::Op);
+	CHECK(again->states().status().state == ecmxf::State::Op);
 }
 
 TEST_CASE("sk unix: a host told the wrong slot size gets the server's reason")
@@ -124,7 +77,7 @@ TEST_CASE("sk unix: a host told the wrong slot size gets the server's reason")
 	Server s(sock, "");
 	auto b = Board::open("sk-unix:" + sock + "?slot=16");
 	try {
-		b->status();
+		b->states().status();
 		FAIL("no error");
 	} catch (const ecmxf::Error &e) {
 		CHECK(e.errnoValue() == EPROTO);

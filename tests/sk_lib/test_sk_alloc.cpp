@@ -58,14 +58,14 @@ TEST_CASE("sk alloc: stage() and cycle() allocate nothing")
 	auto owned = std::make_unique<CannedChannel>();
 	CannedChannel *ch = owned.get();
 	ecmxf::sk::Board b(std::move(owned));
-	b.status(); // OP, 256 free
-	REQUIRE(b.state() == ecmxf::sk::State::Op);
+	b.states().status(); // OP, 256 free
+	REQUIRE(b.state() == ecmxf::State::Op);
 	const auto before = ecmxf_test::allocations();
 	unsigned ok = 0;
 	for (int i = 0; i < 1000; i++) {
 		for (unsigned s = 1; s <= 40; s++)
-			ok += b.stage(s, ecmxf::sk::Mode::Csp, i) ? 1u : 0u;
-		const auto r = b.cycle();
+			ok += b.cyclic().stage(s, ecmxf::sk::Mode::Csp, i) ? 1u : 0u;
+		const auto r = b.cyclic().cycle();
 		ok += r.status == ecmxf::sk::CycleStatus::Ok ? 0u : 1000000u;
 	}
 	const auto after = ecmxf_test::allocations();
