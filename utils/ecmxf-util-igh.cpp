@@ -15,6 +15,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <ecmxf/bus/bus.hpp>
@@ -115,6 +116,31 @@ std::uint8_t siiChecksum(const std::vector<std::uint8_t> &b)
 	return crc;
 }
 
+/// UsageError unless @p size bytes from @p address stay in the slave's
+/// 64 KiB register space.
+void checkRegisterRange(const char *cmd, std::uint16_t address, std::size_t size)
+{
+	if (address + size > 0x10000)
+		throw UsageError(std::string(cmd) + ": " + std::to_string(size) + " bytes from " +
+				 hexString(address, 4) + " pass register 0xffff");
+}
+
+/// reg_read's APRD or reg_write's APWR of @p data at @p address of the
+/// slave at @p position (a fresh bus is scanned first; selectSlave() may
+/// settle the position, which @p position then holds).
+ecmxf::DatagramResult registerDatagram(Globals &g, std::uint8_t &position, ecmxf::DatagramCommand command,
+				       std::uint16_t address, std::vector<std::uint8_t> data)
+{
+	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
+	ecmxf::Datagram d;
+	d.command = command;
+	d.adp = ecmxf::autoIncrementAddress(position);
+	d.ado = address;
+	d.data = std::move(data);
+	return dev->slaves().rawDatagram(d);
+}
+
 } // namespace
 
 int cmdRegRead(Globals &g, const Args &args)
@@ -132,18 +158,10 @@ int cmdRegRead(Globals &g, const Args &args)
 	const std::optional<DataType> type =
 		typeText ? std::optional<DataType>(parseType("reg_read", *typeText)) : std::nullopt;
 	const std::size_t size = regSize("reg_read", type, *pos);
-	if (address + size > 0x10000)
-		throw UsageError("reg_read: " + std::to_string(size) + " bytes from " + hexString(address, 4) +
-				 " pass register 0xffff");
+	checkRegisterRange("reg_read", address, size);
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
-	ecmxf::Datagram d;
-	d.command = ecmxf::DatagramCommand::APRD;
-	d.adp = ecmxf::autoIncrementAddress(position);
-	d.ado = address;
-	d.data.assign(size, 0);
-	const ecmxf::DatagramResult r = dev->slaves().rawDatagram(d);
+	const ecmxf::DatagramResult r = registerDatagram(g, position, ecmxf::DatagramCommand::APRD, address,
+							 std::vector<std::uint8_t>(size, 0));
 	if (r.workingCounter == 0)
 		throw ecmxf::Error("slave " + std::to_string(position) + " did not answer APRD " +
 					   hexString(address, 4) + " (working counter 0)",
@@ -175,18 +193,9 @@ int cmdRegWrite(Globals &g, const Args &args)
 	const std::vector<std::uint8_t> data = encodeValue("reg_write", type, (*pos)[1]);
 	if (data.empty() || data.size() > 256)
 		throw UsageError("reg_write: DATA has " + std::to_string(data.size()) + " bytes: 1..256");
-	if (address + data.size() > 0x10000)
-		throw UsageError("reg_write: " + std::to_string(data.size()) + " bytes from " + hexString(address, 4) +
-				 " pass register 0xffff");
+	checkRegisterRange("reg_write", address, data.size());
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
-	ecmxf::Datagram d;
-	d.command = ecmxf::DatagramCommand::APWR;
-	d.adp = ecmxf::autoIncrementAddress(position);
-	d.ado = address;
-	d.data = data;
-	const ecmxf::DatagramResult r = dev->slaves().rawDatagram(d);
+	const ecmxf::DatagramResult r = registerDatagram(g, position, ecmxf::DatagramCommand::APWR, address, data);
 	if (r.workingCounter != 1)
 		throw ecmxf::Error("slave " + std::to_string(position) + " APWR " + hexString(address, 4) +
 					   ": working counter " + std::to_string(r.workingCounter) + ", expected 1",

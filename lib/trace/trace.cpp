@@ -283,6 +283,12 @@ private:
 	void rspFields(const std::uint8_t *h, const std::uint8_t *data, std::size_t n, std::size_t dataSize);
 	void jsonBegin(const Record &r, const char *dir);
 	void jsonField(const std::string &key, const std::string &value) { json_ += ", \"" + key + "\": " + value; }
+	/// A field whose value is a JSON string (no character in it needs
+	/// escaping: command names, check word names).
+	void jsonText(const std::string &key, std::string_view text)
+	{
+		json_.append(", \"").append(key).append("\": \"").append(text).append("\"");
+	}
 	void jsonEnd();
 
 	std::ostream &out_;
@@ -404,7 +410,7 @@ void Decoder::cmdFields(const std::uint8_t *h, const std::uint8_t *data, std::si
 		}
 	if (o_.json) {
 		jsonField("code", std::to_string(code));
-		jsonField("name", "\"" + cmdName(code) + "\"");
+		jsonText("name", cmdName(code));
 		if (!kernel)
 			jsonField("index", std::to_string(h[7]));
 		jsonField("param", std::to_string(param));
@@ -435,7 +441,7 @@ void Decoder::rspFields(const std::uint8_t *h, const std::uint8_t *data, std::si
 	if (o_.json) {
 		jsonField("index", std::to_string(h[7]));
 		jsonField("code", std::to_string(h[8]));
-		jsonField("name", "\"" + cmdName(h[8]) + "\"");
+		jsonText("name", cmdName(h[8]));
 		jsonField("ret", std::to_string(h[9]));
 		jsonField("len", std::to_string(len));
 		jsonField("crc_err_cnt", std::to_string(h[0]));
@@ -490,7 +496,7 @@ void Decoder::mosi(const Record &r)
 	if (o_.json) {
 		jsonBegin(r, "mosi");
 		jsonField("size", std::to_string(p.size()));
-		jsonField("check", "\"" + v.json + "\"");
+		jsonText("check", v.json);
 		jsonField("resend", resend ? "true" : "false");
 		cmdFields(p.data() + 4, p.data() + ECMXF_HDR_SIZE, n, false);
 		jsonEnd();
@@ -574,7 +580,7 @@ void Decoder::miso(const Record &r)
 	if (o_.json) {
 		jsonBegin(r, "miso");
 		jsonField("size", std::to_string(p.size()));
-		jsonField("check", "\"" + v.json + "\"");
+		jsonText("check", v.json);
 		jsonField("answers", answers);
 		jsonField("nop", (ecm & ECMXF_STS_NOP) && !v.notReady ? "true" : "false");
 		if (!v.notReady)
