@@ -28,7 +28,7 @@
 # running it on every `make` costs a few milliseconds.
 set -eu
 
-pkgs="build-essential cmake pkg-config catch2 libgpiod-dev libmnl-dev"
+pkgs="build-essential cmake pkg-config catch2 libgpiod-dev libmnl-dev python3-docutils"
 arm64=""
 for arg in "$@"; do
 	case "$arg" in
