@@ -11,6 +11,8 @@
 
 #include <ecmxf/error.hpp>
 
+#include "base/text.hpp"
+
 namespace ecmxf {
 
 namespace {
@@ -448,23 +450,22 @@ void PpSetPointStepper::throwIfFailed() const
 
 // ---------------------------------------------------------------- homing
 
+namespace {
+
+constexpr detail::CodeText<HomingStatus> kHomingStatusNames[] = {
+	{ HomingStatus::InProgress, "homing in progress" },
+	{ HomingStatus::InterruptedOrIdle, "homing interrupted or not started" },
+	{ HomingStatus::AttainedNotReached, "homing attained, target not reached" },
+	{ HomingStatus::Completed, "homing completed" },
+	{ HomingStatus::ErrorMoving, "homing error, velocity not 0" },
+	{ HomingStatus::ErrorStopped, "homing error, velocity 0" },
+};
+
+} // namespace
+
 std::string_view homingStatusName(HomingStatus s) noexcept
 {
-	switch (s) {
-	case HomingStatus::InProgress:
-		return "homing in progress";
-	case HomingStatus::InterruptedOrIdle:
-		return "homing interrupted or not started";
-	case HomingStatus::AttainedNotReached:
-		return "homing attained, target not reached";
-	case HomingStatus::Completed:
-		return "homing completed";
-	case HomingStatus::ErrorMoving:
-		return "homing error, velocity not 0";
-	case HomingStatus::ErrorStopped:
-		return "homing error, velocity 0";
-	}
-	return "?";
+	return detail::textOf(kHomingStatusNames, s, "?");
 }
 
 void HomingStepper::start(nanoseconds now, Options options)
