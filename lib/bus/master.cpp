@@ -67,6 +67,22 @@ std::string objectName(std::uint16_t index, std::uint8_t sub)
 	}
 }
 
+/// Where the bytes of slave @p position start in the process image: the
+/// @p bytes of the slaves before it added up; @p caller names the call in
+/// the error.
+std::uint32_t imageOffset(const std::vector<SlaveInfo> &slaves, std::size_t position,
+			  std::uint16_t SlaveInfo::*bytes, const char *caller)
+{
+	if (position >= slaves.size())
+		throw Error(std::string(caller) + ": slave " + std::to_string(position) + " out of range (0.." +
+				    std::to_string(slaves.size()) + " slaves scanned)",
+			    EINVAL);
+	std::uint32_t off = 0;
+	for (std::size_t p = 0; p < position; p++)
+		off += slaves[p].*bytes;
+	return off;
+}
+
 std::string slaveLabel(const std::vector<SlaveInfo> &slaves, std::size_t pos)
 {
 	std::string s = "slave " + std::to_string(pos);
@@ -222,26 +238,12 @@ void Master::rescan()
 
 std::uint32_t Master::outputOffset(std::size_t position) const
 {
-	if (position >= slaves_.size())
-		throw Error("Master::outputOffset: slave " + std::to_string(position) + " out of range (0.." +
-				    std::to_string(slaves_.size()) + " slaves scanned)",
-			    EINVAL);
-	std::uint32_t off = 0;
-	for (std::size_t p = 0; p < position; p++)
-		off += slaves_[p].outputBytes;
-	return off;
+	return imageOffset(slaves_, position, &SlaveInfo::outputBytes, "Master::outputOffset");
 }
 
 std::uint32_t Master::inputOffset(std::size_t position) const
 {
-	if (position >= slaves_.size())
-		throw Error("Master::inputOffset: slave " + std::to_string(position) + " out of range (0.." +
-				    std::to_string(slaves_.size()) + " slaves scanned)",
-			    EINVAL);
-	std::uint32_t off = 0;
-	for (std::size_t p = 0; p < position; p++)
-		off += slaves_[p].inputBytes;
-	return off;
+	return imageOffset(slaves_, position, &SlaveInfo::inputBytes, "Master::inputOffset");
 }
 
 SlavePdos Master::readSlavePdos(std::uint8_t position)
