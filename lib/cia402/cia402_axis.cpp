@@ -53,6 +53,23 @@ std::string slaveText(unsigned slave)
 	return std::string("slave ").append(std::to_string(slave)).append(": ");
 }
 
+/// Throws unless Cia402Axis drives @p mode; the message starts with
+/// @p what and the mode's number.
+void checkMode(std::int8_t mode, const std::string &what)
+{
+	if (mode != cia402::kModePp && mode != cia402::kModePv && mode != cia402::kModeHm && mode != cia402::kModeCsp)
+		throw Error(what + std::to_string(mode) + " is not one of 1 (PP), 3 (PV), 6 (HM), 8 (CSP)", EINVAL);
+}
+
+/// @p parts joined by ", ".
+std::string commaList(const std::vector<std::string> &parts)
+{
+	std::string s;
+	for (const std::string &p : parts)
+		s.append(s.empty() ? "" : ", ").append(p);
+	return s;
+}
+
 std::string mappedList(const std::vector<PdoEntryInfo> &v)
 {
 	std::string s;
@@ -111,20 +128,12 @@ Cia402Axis::Cia402Axis(Device &device, ProcessImage &image, std::uint8_t slave, 
 		missing.push_back("0x6041:00 (statusword) as an input");
 	if (!isMapped(p.inputs, 0x6064, 0))
 		missing.push_back("0x6064:00 (position actual value) as an input");
-	std::string text;
-	for (const std::string &m : missing)
-		text.append(text.empty() ? "" : ", ").append(m);
+	std::string text = commaList(missing);
 	if (!text.empty())
 		text.append(" (every mode)");
 	for (std::int8_t mode : cfg_.modes) {
-		if (mode != cia402::kModePp && mode != cia402::kModePv && mode != cia402::kModeHm &&
-		    mode != cia402::kModeCsp)
-			throw Error(slaveText(slave) + "Cia402Axis: mode " + std::to_string(mode) +
-					    " is not one of 1 (PP), 3 (PV), 6 (HM), 8 (CSP)",
-				    EINVAL);
-		std::string forMode;
-		for (const std::string &m : missingFor(mode))
-			forMode.append(forMode.empty() ? "" : ", ").append(m);
+		checkMode(mode, slaveText(slave) + "Cia402Axis: mode ");
+		const std::string forMode = commaList(missingFor(mode));
 		if (!forMode.empty())
 			text.append(text.empty() ? "" : "; ").append(forMode).append(" for mode ").append(modeName(mode));
 	}
@@ -202,13 +211,8 @@ void Cia402Axis::requestState(Cia402State s, nanoseconds now)
 
 void Cia402Axis::setMode(std::int8_t mode, nanoseconds now)
 {
-	if (mode != cia402::kModePp && mode != cia402::kModePv && mode != cia402::kModeHm && mode != cia402::kModeCsp)
-		throw Error(slaveText(slave_) + "mode " + std::to_string(mode) +
-				    " is not one of 1 (PP), 3 (PV), 6 (HM), 8 (CSP)",
-			    EINVAL);
-	std::string miss;
-	for (const std::string &m : missingFor(mode))
-		miss.append(miss.empty() ? "" : ", ").append(m);
+	checkMode(mode, slaveText(slave_) + "mode ");
+	const std::string miss = commaList(missingFor(mode));
 	if (!miss.empty())
 		throw Error(slaveText(slave_) + "mode " + modeName(mode) + " needs " + miss +
 				    " mapped; mapped outputs: " + mappedList(image_.slave(slave_).outputs),
