@@ -27,8 +27,16 @@ std::string durationUs(std::uint64_t us);
 /// @p s in double quotes.
 std::string quoted(std::string_view s);
 
+/// A row of a code table for textOf().
+template <typename Code>
+struct CodeText {
+	Code code;
+	std::string_view text;
+};
+
 /// The text of @p code in a table of { code, text } rows (the manuals'
-/// code tables: AL status, SDO abort...), or @p unknown.
+/// code tables: AL status, SDO abort...), or @p unknown. An empty
+/// @p unknown leaves the text of a code not in the table to the caller.
 template <typename Row, std::size_t N, typename Code>
 [[nodiscard]] constexpr std::string_view textOf(const Row (&table)[N], Code code, std::string_view unknown) noexcept
 {

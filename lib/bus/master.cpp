@@ -36,35 +36,55 @@ constexpr std::uint16_t kSiiCatRxPdo = 51;
 constexpr std::uint16_t kSiiCatEnd = 0xFFFF;
 constexpr std::uint16_t kMbxCoE = 0x0004;
 
-/// Standard names (CiA 301 / CiA 402) of objects often mapped.
+/// Standard names (CiA 301 / CiA 402) of objects often mapped; 0x6099 is
+/// objectName()'s own (a name for each subindex).
+constexpr detail::CodeText<std::uint16_t> kObjectNames[] = {
+	{ 0x603F, "Error code" },
+	{ 0x6040, "Controlword" },
+	{ 0x6041, "Statusword" },
+	{ 0x6060, "Modes of operation" },
+	{ 0x6061, "Modes of operation display" },
+	{ 0x6064, "Position actual value" },
+	{ 0x606C, "Velocity actual value" },
+	{ 0x6071, "Target torque" },
+	{ 0x6077, "Torque actual value" },
+	{ 0x607A, "Target position" },
+	{ 0x607C, "Home offset" },
+	{ 0x6081, "Profile velocity" },
+	{ 0x6083, "Profile acceleration" },
+	{ 0x6084, "Profile deceleration" },
+	{ 0x6098, "Homing method" },
+	{ 0x609A, "Homing acceleration" },
+	{ 0x60B0, "Position offset" },
+	{ 0x60B8, "Touch probe function" },
+	{ 0x60B9, "Touch probe status" },
+	{ 0x60BA, "Touch probe 1 positive edge" },
+	{ 0x60FD, "Digital inputs" },
+	{ 0x60FF, "Target velocity" },
+};
+
+/// The name of object @p index, @p sub; "" when it has none here.
 std::string objectName(std::uint16_t index, std::uint8_t sub)
 {
-	switch (index) {
-	case 0x603F: return "Error code";
-	case 0x6040: return "Controlword";
-	case 0x6041: return "Statusword";
-	case 0x6060: return "Modes of operation";
-	case 0x6061: return "Modes of operation display";
-	case 0x6064: return "Position actual value";
-	case 0x606C: return "Velocity actual value";
-	case 0x6071: return "Target torque";
-	case 0x6077: return "Torque actual value";
-	case 0x607A: return "Target position";
-	case 0x607C: return "Home offset";
-	case 0x6081: return "Profile velocity";
-	case 0x6083: return "Profile acceleration";
-	case 0x6084: return "Profile deceleration";
-	case 0x6098: return "Homing method";
-	case 0x6099: return sub == 1 ? "Speed during search for switch" : "Speed during search for zero";
-	case 0x609A: return "Homing acceleration";
-	case 0x60B0: return "Position offset";
-	case 0x60B8: return "Touch probe function";
-	case 0x60B9: return "Touch probe status";
-	case 0x60BA: return "Touch probe 1 positive edge";
-	case 0x60FD: return "Digital inputs";
-	case 0x60FF: return "Target velocity";
-	default: return {};
-	}
+	if (index == 0x6099)
+		return sub == 1 ? "Speed during search for switch" : "Speed during search for zero";
+	return std::string(detail::textOf(kObjectNames, index, {}));
+}
+
+/// Where the bytes of slave @p position start in the process image: the
+/// @p bytes of the slaves before it added up; @p caller names the call in
+/// the error.
+std::uint32_t imageOffset(const std::vector<SlaveInfo> &slaves, std::size_t position,
+			  std::uint16_t SlaveInfo::*bytes, const char *caller)
+{
+	if (position >= slaves.size())
+		throw Error(std::string(caller) + ": slave " + std::to_string(position) + " out of range (0.." +
+				    std::to_string(slaves.size()) + " slaves scanned)",
+			    EINVAL);
+	std::uint32_t off = 0;
+	for (std::size_t p = 0; p < position; p++)
+		off += slaves[p].*bytes;
+	return off;
 }
 
 std::string slaveLabel(const std::vector<SlaveInfo> &slaves, std::size_t pos)
@@ -222,26 +242,12 @@ void Master::rescan()
 
 std::uint32_t Master::outputOffset(std::size_t position) const
 {
-	if (position >= slaves_.size())
-		throw Error("Master::outputOffset: slave " + std::to_string(position) + " out of range (0.." +
-				    std::to_string(slaves_.size()) + " slaves scanned)",
-			    EINVAL);
-	std::uint32_t off = 0;
-	for (std::size_t p = 0; p < position; p++)
-		off += slaves_[p].outputBytes;
-	return off;
+	return imageOffset(slaves_, position, &SlaveInfo::outputBytes, "Master::outputOffset");
 }
 
 std::uint32_t Master::inputOffset(std::size_t position) const
 {
-	if (position >= slaves_.size())
-		throw Error("Master::inputOffset: slave " + std::to_string(position) + " out of range (0.." +
-				    std::to_string(slaves_.size()) + " slaves scanned)",
-			    EINVAL);
-	std::uint32_t off = 0;
-	for (std::size_t p = 0; p < position; p++)
-		off += slaves_[p].inputBytes;
-	return off;
+	return imageOffset(slaves_, position, &SlaveInfo::inputBytes, "Master::inputOffset");
 }
 
 SlavePdos Master::readSlavePdos(std::uint8_t position)

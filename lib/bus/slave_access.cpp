@@ -61,16 +61,18 @@ SlaveAccess Device::slaves() noexcept
 
 namespace {
 
+constexpr CodeText<unsigned> kEepromErrors[] = {
+	{ 1, "address beyond the slave's EEPROM" },
+	{ 2, "no answer from the slave" },
+};
+
 std::string eepromErrorText(unsigned code)
 {
-	switch (code) {
-	case 1:
-		return "EEPROM_GET error code 1 (address beyond the slave's EEPROM)";
-	case 2:
-		return "EEPROM_GET error code 2 (no answer from the slave)";
-	default:
-		return "EEPROM_GET error code " + std::to_string(code);
-	}
+	std::string s = "EEPROM_GET error code " + std::to_string(code);
+	const std::string_view why = textOf(kEepromErrors, code, {});
+	if (!why.empty())
+		s.append(" (").append(why).append(")");
+	return s;
 }
 
 /// EEPROM_REQ + EEPROM_GET; returns the EEPROM_GET answer.

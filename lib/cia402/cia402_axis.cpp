@@ -16,46 +16,58 @@
 #include <numbers>
 #include <string>
 
+#include "base/text.hpp"
+
 namespace ecmxf {
 
 using std::chrono::nanoseconds;
 
 namespace {
 
-std::string hex4(std::uint16_t v)
-{
-	static const char d[] = "0123456789ABCDEF";
-	std::string s = "0x";
-	for (int i = 3; i >= 0; i--)
-		s += d[(v >> (4 * i)) & 0xF];
-	return s;
-}
-
 std::string objectText(std::uint16_t index, std::uint8_t sub, const char *name)
 {
 	static const char d[] = "0123456789ABCDEF";
-	return hex4(index).append(":").append(1, d[sub >> 4]).append(1, d[sub & 0xF]).append(" (").append(name).append(")");
+	return detail::hex(index, 4).append(":").append(1, d[sub >> 4]).append(1, d[sub & 0xF]).append(" (").append(name).append(")");
 }
 
+constexpr detail::CodeText<std::int8_t> kModeNames[] = {
+	{ cia402::kModePp, "profile position" },
+	{ cia402::kModePv, "profile velocity" },
+	{ cia402::kModeHm, "homing" },
+	{ cia402::kModeCsp, "cyclic synchronous position" },
+};
+
+/// "8 (cyclic synchronous position)", or the bare number of a mode without
+/// a name here.
 std::string modeName(std::int8_t m)
 {
-	switch (m) {
-	case cia402::kModePp:
-		return "1 (profile position)";
-	case cia402::kModePv:
-		return "3 (profile velocity)";
-	case cia402::kModeHm:
-		return "6 (homing)";
-	case cia402::kModeCsp:
-		return "8 (cyclic synchronous position)";
-	default:
-		return std::to_string(m);
-	}
+	std::string s = std::to_string(m);
+	const std::string_view name = detail::textOf(kModeNames, m, {});
+	if (!name.empty())
+		s.append(" (").append(name).append(")");
+	return s;
 }
 
 std::string slaveText(unsigned slave)
 {
 	return std::string("slave ").append(std::to_string(slave)).append(": ");
+}
+
+/// Throws unless Cia402Axis drives @p mode; the message starts with
+/// @p what and the mode's number.
+void checkMode(std::int8_t mode, const std::string &what)
+{
+	if (mode != cia402::kModePp && mode != cia402::kModePv && mode != cia402::kModeHm && mode != cia402::kModeCsp)
+		throw Error(what + std::to_string(mode) + " is not one of 1 (PP), 3 (PV), 6 (HM), 8 (CSP)", EINVAL);
+}
+
+/// @p parts joined by ", ".
+std::string commaList(const std::vector<std::string> &parts)
+{
+	std::string s;
+	for (const std::string &p : parts)
+		s.append(s.empty() ? "" : ", ").append(p);
+	return s;
 }
 
 std::string mappedList(const std::vector<PdoEntryInfo> &v)
@@ -66,7 +78,7 @@ std::string mappedList(const std::vector<PdoEntryInfo> &v)
 			continue;
 		if (!s.empty())
 			s += ", ";
-		s += hex4(e.index);
+		s += detail::hex(e.index, 4);
 		if (e.sub)
 			s.append(":").append(std::to_string(e.sub));
 	}
@@ -116,20 +128,12 @@ Cia402Axis::Cia402Axis(Device &device, ProcessImage &image, std::uint8_t slave, 
 		missing.push_back("0x6041:00 (statusword) as an input");
 	if (!isMapped(p.inputs, 0x6064, 0))
 		missing.push_back("0x6064:00 (position actual value) as an input");
-	std::string text;
-	for (const std::string &m : missing)
-		text.append(text.empty() ? "" : ", ").append(m);
+	std::string text = commaList(missing);
 	if (!text.empty())
 		text.append(" (every mode)");
 	for (std::int8_t mode : cfg_.modes) {
-		if (mode != cia402::kModePp && mode != cia402::kModePv && mode != cia402::kModeHm &&
-		    mode != cia402::kModeCsp)
-			throw Error(slaveText(slave) + "Cia402Axis: mode " + std::to_string(mode) +
-					    " is not one of 1 (PP), 3 (PV), 6 (HM), 8 (CSP)",
-				    EINVAL);
-		std::string forMode;
-		for (const std::string &m : missingFor(mode))
-			forMode.append(forMode.empty() ? "" : ", ").append(m);
+		checkMode(mode, slaveText(slave) + "Cia402Axis: mode ");
+		const std::string forMode = commaList(missingFor(mode));
 		if (!forMode.empty())
 			text.append(text.empty() ? "" : "; ").append(forMode).append(" for mode ").append(modeName(mode));
 	}
@@ -207,13 +211,8 @@ void Cia402Axis::requestState(Cia402State s, nanoseconds now)
 
 void Cia402Axis::setMode(std::int8_t mode, nanoseconds now)
 {
-	if (mode != cia402::kModePp && mode != cia402::kModePv && mode != cia402::kModeHm && mode != cia402::kModeCsp)
-		throw Error(slaveText(slave_) + "mode " + std::to_string(mode) +
-				    " is not one of 1 (PP), 3 (PV), 6 (HM), 8 (CSP)",
-			    EINVAL);
-	std::string miss;
-	for (const std::string &m : missingFor(mode))
-		miss.append(miss.empty() ? "" : ", ").append(m);
+	checkMode(mode, slaveText(slave_) + "mode ");
+	const std::string miss = commaList(missingFor(mode));
 	if (!miss.empty())
 		throw Error(slaveText(slave_) + "mode " + modeName(mode) + " needs " + miss +
 				    " mapped; mapped outputs: " + mappedList(image_.slave(slave_).outputs),
@@ -377,6 +376,15 @@ void Cia402Axis::startCsp()
 
 Cia402Progress Cia402Axis::stepMotion(nanoseconds now, std::uint16_t &cw) noexcept
 {
+	// the PP set-point and homing steppers: their controlword, and their
+	// failure as @p failed
+	auto handshake = [&](auto &stepper, Why failed) {
+		const Cia402Step s = stepper.step(sw_, now, cw);
+		cw = s.controlword;
+		if (s.progress == Cia402Progress::Failed)
+			why_ = failed;
+		return s.progress;
+	};
 	switch (req_) {
 	case Cia402Request::None:
 		return Cia402Progress::Idle;
@@ -398,13 +406,8 @@ Cia402Progress Cia402Axis::stepMotion(nanoseconds now, std::uint16_t &cw) noexce
 		}
 		return steps_ > cfg_.latencyCycles ? Cia402Progress::Done : Cia402Progress::Busy;
 	}
-	case Cia402Request::PpMove: {
-		const Cia402Step s = pp_.step(sw_, now, cw);
-		cw = s.controlword;
-		if (s.progress == Cia402Progress::Failed)
-			why_ = Why::Pp;
-		return s.progress;
-	}
+	case Cia402Request::PpMove:
+		return handshake(pp_, Why::Pp);
 	case Cia402Request::PvVelocity:
 		if (progress_ == Cia402Progress::Done)
 			return progress_; // reached once; stays done
@@ -415,13 +418,8 @@ Cia402Progress Cia402Axis::stepMotion(nanoseconds now, std::uint16_t &cw) noexce
 			return Cia402Progress::Failed;
 		}
 		return Cia402Progress::Busy;
-	case Cia402Request::Homing: {
-		const Cia402Step s = hm_.step(sw_, now, cw);
-		cw = s.controlword;
-		if (s.progress == Cia402Progress::Failed)
-			why_ = Why::Homing;
-		return s.progress;
-	}
+	case Cia402Request::Homing:
+		return handshake(hm_, Why::Homing);
 	case Cia402Request::Csp:
 		if (sw_ & cia402::kSwFollowingError) {
 			why_ = Why::FollowingError;
@@ -656,7 +654,7 @@ std::uint64_t runUntil(Cyclic &cyclic, std::span<Cia402Axis *const> axes, const 
 								.append(" in ")
 								.append(stateName(i.state))
 								.append(", AL status code ")
-								.append(hex4(i.alStatusCode))
+								.append(detail::hex(i.alStatusCode, 4))
 								.append(" ")
 								.append(alStatusText(i.alStatusCode));
 					}

@@ -94,31 +94,20 @@ void need(const nlattr *a, mnl_attr_data_type t, const char *name)
 		malformed(std::string("attribute ") + name + " has the wrong size");
 }
 
-std::uint8_t u8(const nlattr *a, const char *n)
+/// The value of attribute @p a (named @p n in the error) as @p Get reads
+/// it, once it has the size of a @p Type.
+template <typename T, mnl_attr_data_type Type, auto Get>
+T attr(const nlattr *a, const char *n)
 {
-	need(a, MNL_TYPE_U8, n);
-	return mnl_attr_get_u8(a);
+	need(a, Type, n);
+	return Get(a);
 }
-std::uint16_t u16(const nlattr *a, const char *n)
-{
-	need(a, MNL_TYPE_U16, n);
-	return mnl_attr_get_u16(a);
-}
-std::uint32_t u32(const nlattr *a, const char *n)
-{
-	need(a, MNL_TYPE_U32, n);
-	return mnl_attr_get_u32(a);
-}
-std::uint64_t u64(const nlattr *a, const char *n)
-{
-	need(a, MNL_TYPE_U64, n);
-	return mnl_attr_get_u64(a);
-}
-std::string str(const nlattr *a, const char *n)
-{
-	need(a, MNL_TYPE_NUL_STRING, n);
-	return mnl_attr_get_str(a);
-}
+
+constexpr auto u8 = attr<std::uint8_t, MNL_TYPE_U8, mnl_attr_get_u8>;
+constexpr auto u16 = attr<std::uint16_t, MNL_TYPE_U16, mnl_attr_get_u16>;
+constexpr auto u32 = attr<std::uint32_t, MNL_TYPE_U32, mnl_attr_get_u32>;
+constexpr auto u64 = attr<std::uint64_t, MNL_TYPE_U64, mnl_attr_get_u64>;
+constexpr auto str = attr<std::string, MNL_TYPE_NUL_STRING, mnl_attr_get_str>;
 
 SlaveAlStatus decodeSlave(const nlattr *nest)
 {

@@ -50,6 +50,14 @@ namespace {
 	detail::throwErrno(what, err);
 }
 
+/// ioctl(@p fd, @p request, @p arg), throwing as ioctlFailed() when it
+/// fails; @p call is the request's name.
+void ioctlChecked(int fd, unsigned long request, void *arg, const std::string &path, const char *call)
+{
+	if (::ioctl(fd, request, arg) < 0)
+		ioctlFailed(path, call, errno);
+}
+
 } // namespace
 
 class KernelLink::State
@@ -105,8 +113,7 @@ KernelLink::KernelLink(const std::string &path) : s_(std::make_unique<State>())
 		detail::throwErrno("cannot open " + detail::quoted(path), err);
 	}
 	__u32 version = 0;
-	if (::ioctl(fd(), ECMXF_IOC_GET_VERSION, &version) < 0)
-		ioctlFailed(path, "ECMXF_IOC_GET_VERSION", errno);
+	ioctlChecked(fd(), ECMXF_IOC_GET_VERSION, &version, path, "ECMXF_IOC_GET_VERSION");
 	checkKernelUapiVersion(path, version);
 	s_->info = devInfo();
 }
@@ -154,8 +161,7 @@ std::uint16_t KernelLink::dataSize() const noexcept
 KernelDevInfo KernelLink::devInfo() const
 {
 	ecmxf_devinfo d{};
-	if (::ioctl(fd(), ECMXF_IOC_DEVINFO, &d) < 0)
-		ioctlFailed(name(), "ECMXF_IOC_DEVINFO", errno);
+	ioctlChecked(fd(), ECMXF_IOC_DEVINFO, &d, name(), "ECMXF_IOC_DEVINFO");
 	KernelDevInfo i;
 	i.uapiVersion = d.uapi_version;
 	i.flags = d.flags;
@@ -178,8 +184,7 @@ KernelDevInfo KernelLink::devInfo() const
 LinkCounters KernelLink::counters() const
 {
 	ecmxf_counters k{};
-	if (::ioctl(fd(), ECMXF_IOC_COUNTERS, &k) < 0)
-		ioctlFailed(name(), "ECMXF_IOC_COUNTERS", errno);
+	ioctlChecked(fd(), ECMXF_IOC_COUNTERS, &k, name(), "ECMXF_IOC_COUNTERS");
 	LinkCounters c;
 	c.exchanges = k.exchanges;
 	c.badNotReady = k.bad_not_ready;
@@ -224,8 +229,7 @@ void KernelLink::reset(LinkReset kind, std::uint32_t param, std::uint32_t timeou
 	}
 	r.timeout_us = timeoutUs;
 	s_->formatStale = true; // a warm reset goes back to the power-on format
-	if (::ioctl(fd(), ECMXF_IOC_RESET, &r) < 0)
-		ioctlFailed(name(), "ECMXF_IOC_RESET", errno);
+	ioctlChecked(fd(), ECMXF_IOC_RESET, &r, name(), "ECMXF_IOC_RESET");
 }
 
 void KernelLink::assumeFormat(std::uint16_t, CheckType)
@@ -380,8 +384,7 @@ void PdoRings::unmap() noexcept
 void PdoRings::setup(ecmxf_ring_setup &rs)
 {
 	unmap();
-	if (::ioctl(fd_, ECMXF_IOC_RING_SETUP, &rs) < 0)
-		ioctlFailed(name_, "ECMXF_IOC_RING_SETUP", errno);
+	ioctlChecked(fd_, ECMXF_IOC_RING_SETUP, &rs, name_, "ECMXF_IOC_RING_SETUP");
 	outMap_ = Mapping(fd_, rs.out.mmap_size, ECMXF_RING_OFF_OUT, name_ + ": mmap of the output ring failed");
 	inMap_ = Mapping(fd_, rs.in.mmap_size, ECMXF_RING_OFF_IN, name_ + ": mmap of the input ring failed");
 	out_ = PdoRingView(outMap_.get(), rs.out);

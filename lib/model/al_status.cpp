@@ -22,30 +22,26 @@ namespace ecmxf {
 namespace {
 
 /// The one table of EtherCAT state names (ecatStateName() in
-/// lib/bus/status.cpp and the command line's names are built on it).
-constexpr struct {
-	State state;
-	const char *name;
-} kStateNames[] = { { State::None, "NONE" },     { State::Init, "INIT" },   { State::PreOp, "PRE-OP" },
-		    { State::Boot, "BOOT" },     { State::SafeOp, "SAFE-OP" }, { State::Op, "OP" } };
+/// lib/model/status.cpp and the command line's names are built on it).
+constexpr detail::CodeText<State> kStateNames[] = {
+	{ State::None, "NONE" }, { State::Init, "INIT" },     { State::PreOp, "PRE-OP" },
+	{ State::Boot, "BOOT" }, { State::SafeOp, "SAFE-OP" }, { State::Op, "OP" },
+};
 
 } // namespace
 
 std::string stateName(State s)
 {
-	for (const auto &n : kStateNames)
-		if (n.state == s)
-			return n.name;
-	return detail::hex(static_cast<std::uint8_t>(s), 2);
+	const std::string_view name = detail::textOf(kStateNames, s, {});
+	if (name.empty())
+		return detail::hex(static_cast<std::uint8_t>(s), 2);
+	return std::string(name);
 }
 
 namespace {
 
 /// The AKD2G "AL Status Code" table (seed 003), its wording.
-constexpr struct {
-	std::uint16_t code;
-	std::string_view text;
-} kAlStatusTexts[] = {
+constexpr detail::CodeText<std::uint16_t> kAlStatusTexts[] = {
 	{ 0x0000, "No error" },
 	{ 0x0011, "Invalid requested state change" },
 	{ 0x0012, "Unknown requested state" },

@@ -11,6 +11,8 @@
 
 #include <ecmxf/error.hpp>
 
+#include "base/text.hpp"
+
 namespace ecmxf {
 
 namespace {
@@ -61,6 +63,43 @@ std::string slaveText(unsigned slave)
 	std::string s("slave ");
 	s.append(std::to_string(slave)).append(": ");
 	return s;
+}
+
+/// What a PP set-point and a homing step do first: false when the run is
+/// idle (nothing to do); a busy run keeps @p statusword in @p kept (for the
+/// failure message) and fails with Why::NotEnabled unless the drive is in
+/// OPERATION ENABLED.
+template <typename Why>
+bool handshakeStep(Cia402Progress &progress, Why &why, std::uint16_t &kept, std::uint16_t statusword) noexcept
+{
+	if (progress == Cia402Progress::Idle)
+		return false;
+	if (progress == Cia402Progress::Busy) {
+		kept = statusword; // kept from the failure on
+		if (cia402StateFrom(statusword) != Cia402State::OperationEnabled) {
+			progress = Cia402Progress::Failed;
+			why = Why::NotEnabled;
+		}
+	}
+	return true;
+}
+
+/// The failure message of a PP set-point or homing run ("" unless it
+/// failed): "slave N: ", then notEnabledText(@p what) for Why::NotEnabled,
+/// else what @p reason appends for the other reasons, given the statusword
+/// in hex.
+template <typename Why, typename Reason>
+std::string handshakeFailure(Cia402Progress progress, unsigned slave, std::string_view what, Why why,
+			     std::uint16_t statusword, Reason reason)
+{
+	if (progress != Cia402Progress::Failed)
+		return {};
+	std::string m = slaveText(slave);
+	if (why == Why::NotEnabled)
+		m.append(notEnabledText(what, statusword));
+	else
+		reason(m, cia402Hex16(statusword));
+	return m;
 }
 
 /// The state a command leads to from @p from (the first row of the table).
@@ -237,10 +276,7 @@ Cia402Step Cia402Stepper::step(std::uint16_t statusword, nanoseconds now, std::u
 	}
 
 	lastBits_ = bits;
-	Cia402Step r;
-	r.controlword = static_cast<std::uint16_t>((controlword & ~cia402::kCwStateBits) | bits);
-	r.progress = progress_;
-	return r;
+	return Cia402Step{ static_cast<std::uint16_t>((controlword & ~cia402::kCwStateBits) | bits), progress_ };
 }
 
 std::string Cia402Stepper::failureMessage() const
@@ -314,8 +350,6 @@ void PpSetPointStepper::start(nanoseconds now, Options options)
 
 Cia402Step PpSetPointStepper::step(std::uint16_t statusword, nanoseconds now, std::uint16_t controlword) noexcept
 {
-	if (progress_ == Cia402Progress::Busy)
-		statusword_ = statusword; // kept from the failure on
 	auto cw = static_cast<std::uint16_t>(controlword & ~(cia402::kCwNewSetPoint | cia402::kCwChangeImmediately |
 								cia402::kCwRelative));
 	if (opt_.changeImmediately)
@@ -323,16 +357,8 @@ Cia402Step PpSetPointStepper::step(std::uint16_t statusword, nanoseconds now, st
 	if (opt_.relative)
 		cw |= cia402::kCwRelative;
 
-	Cia402Step r;
-	if (progress_ == Cia402Progress::Idle) {
-		r.controlword = controlword;
-		r.progress = progress_;
-		return r;
-	}
-	if (progress_ == Cia402Progress::Busy && cia402StateFrom(statusword) != Cia402State::OperationEnabled) {
-		progress_ = Cia402Progress::Failed;
-		why_ = Why::NotEnabled;
-	}
+	if (!handshakeStep(progress_, why_, statusword_, statusword))
+		return Cia402Step{ controlword, progress_ };
 	const bool ack = statusword & cia402::kSwSetPointAck;
 	if (progress_ == Cia402Progress::Busy) {
 		switch (phase_) {
@@ -377,49 +403,43 @@ Cia402Step PpSetPointStepper::step(std::uint16_t statusword, nanoseconds now, st
 			break;
 		}
 	}
-	r.controlword = cw;
-	r.progress = progress_;
-	return r;
+	return Cia402Step{ cw, progress_ };
 }
 
 std::string PpSetPointStepper::failureMessage() const
 {
-	if (progress_ != Cia402Progress::Failed)
-		return {};
-	std::string m = slaveText(slave_);
-	const std::string sw = cia402Hex16(statusword_);
-	switch (why_) {
-	case Why::NotEnabled:
-		m.append(notEnabledText("PP set-point", statusword_));
-		break;
-	case Why::NoFreeBuffer:
-		m.append("PP set-point: the drive takes no new set-point within ")
-			.append(formatDuration(opt_.ackTimeout))
-			.append(": statusword bit 12 stays 1 (statusword ")
-			.append(sw)
-			.append(")");
-		break;
-	case Why::AckTimeout:
-		m.append("PP set-point not acknowledged within ")
-			.append(formatDuration(opt_.ackTimeout))
-			.append(": statusword bit 12 stays 0 (statusword ")
-			.append(sw)
-			.append(")");
-		if (statusword_ & cia402::kSwParamZero)
-			m.append("; bit 14 is set: on the EST-584 a movement parameter (0x6081, 0x6083, "
-				 "0x6084) is 0");
-		break;
-	case Why::MoveTimeout:
-		m.append("PP target not reached within ")
-			.append(formatDuration(opt_.moveTimeout))
-			.append(" after the set-point acknowledge (statusword ")
-			.append(sw)
-			.append(")");
-		break;
-	case Why::None:
-		break;
-	}
-	return m;
+	auto reason = [this](std::string &m, const std::string &sw) {
+		switch (why_) {
+		case Why::NoFreeBuffer:
+			m.append("PP set-point: the drive takes no new set-point within ")
+				.append(formatDuration(opt_.ackTimeout))
+				.append(": statusword bit 12 stays 1 (statusword ")
+				.append(sw)
+				.append(")");
+			break;
+		case Why::AckTimeout:
+			m.append("PP set-point not acknowledged within ")
+				.append(formatDuration(opt_.ackTimeout))
+				.append(": statusword bit 12 stays 0 (statusword ")
+				.append(sw)
+				.append(")");
+			if (statusword_ & cia402::kSwParamZero)
+				m.append("; bit 14 is set: on the EST-584 a movement parameter (0x6081, 0x6083, "
+					 "0x6084) is 0");
+			break;
+		case Why::MoveTimeout:
+			m.append("PP target not reached within ")
+				.append(formatDuration(opt_.moveTimeout))
+				.append(" after the set-point acknowledge (statusword ")
+				.append(sw)
+				.append(")");
+			break;
+		case Why::NotEnabled:
+		case Why::None:
+			break;
+		}
+	};
+	return handshakeFailure(progress_, slave_, "PP set-point", why_, statusword_, reason);
 }
 
 void PpSetPointStepper::throwIfFailed() const
@@ -430,23 +450,22 @@ void PpSetPointStepper::throwIfFailed() const
 
 // ---------------------------------------------------------------- homing
 
+namespace {
+
+constexpr detail::CodeText<HomingStatus> kHomingStatusNames[] = {
+	{ HomingStatus::InProgress, "homing in progress" },
+	{ HomingStatus::InterruptedOrIdle, "homing interrupted or not started" },
+	{ HomingStatus::AttainedNotReached, "homing attained, target not reached" },
+	{ HomingStatus::Completed, "homing completed" },
+	{ HomingStatus::ErrorMoving, "homing error, velocity not 0" },
+	{ HomingStatus::ErrorStopped, "homing error, velocity 0" },
+};
+
+} // namespace
+
 std::string_view homingStatusName(HomingStatus s) noexcept
 {
-	switch (s) {
-	case HomingStatus::InProgress:
-		return "homing in progress";
-	case HomingStatus::InterruptedOrIdle:
-		return "homing interrupted or not started";
-	case HomingStatus::AttainedNotReached:
-		return "homing attained, target not reached";
-	case HomingStatus::Completed:
-		return "homing completed";
-	case HomingStatus::ErrorMoving:
-		return "homing error, velocity not 0";
-	case HomingStatus::ErrorStopped:
-		return "homing error, velocity 0";
-	}
-	return "?";
+	return detail::textOf(kHomingStatusNames, s, "?");
 }
 
 void HomingStepper::start(nanoseconds now, Options options)
@@ -461,19 +480,9 @@ void HomingStepper::start(nanoseconds now, Options options)
 
 Cia402Step HomingStepper::step(std::uint16_t statusword, nanoseconds now, std::uint16_t controlword) noexcept
 {
-	if (progress_ == Cia402Progress::Busy)
-		statusword_ = statusword; // kept from the failure on
 	auto cw = static_cast<std::uint16_t>(controlword & ~cia402::kCwHomingStart);
-	Cia402Step r;
-	if (progress_ == Cia402Progress::Idle) {
-		r.controlword = controlword;
-		r.progress = progress_;
-		return r;
-	}
-	if (progress_ == Cia402Progress::Busy && cia402StateFrom(statusword) != Cia402State::OperationEnabled) {
-		progress_ = Cia402Progress::Failed;
-		why_ = Why::NotEnabled;
-	}
+	if (!handshakeStep(progress_, why_, statusword_, statusword))
+		return Cia402Step{ controlword, progress_ };
 	if (progress_ == Cia402Progress::Busy) {
 		switch (phase_) {
 		case Phase::Low:
@@ -498,41 +507,26 @@ Cia402Step HomingStepper::step(std::uint16_t statusword, nanoseconds now, std::u
 		}
 		}
 	}
-	r.controlword = cw;
-	r.progress = progress_;
-	return r;
+	return Cia402Step{ cw, progress_ };
 }
 
 std::string HomingStepper::failureMessage() const
 {
-	if (progress_ != Cia402Progress::Failed)
-		return {};
-	std::string m = slaveText(slave_);
-	const std::string sw = cia402Hex16(statusword_);
-	switch (why_) {
-	case Why::NotEnabled:
-		m.append(notEnabledText("homing", statusword_));
-		break;
-	case Why::Error:
-		m.append("homing failed: ")
-			.append(homingStatusName(homingStatus(statusword_)))
-			.append(" (statusword ")
-			.append(sw)
-			.append(")");
-		break;
-	case Why::Timeout:
-		m.append("homing timed out after ")
-			.append(formatDuration(opt_.timeout))
-			.append(": ")
-			.append(homingStatusName(homingStatus(statusword_)))
-			.append(" (statusword ")
-			.append(sw)
-			.append(")");
-		break;
-	case Why::None:
-		break;
-	}
-	return m;
+	auto reason = [this](std::string &m, const std::string &sw) {
+		switch (why_) {
+		case Why::Error:
+			m.append("homing failed: ");
+			break;
+		case Why::Timeout:
+			m.append("homing timed out after ").append(formatDuration(opt_.timeout)).append(": ");
+			break;
+		case Why::NotEnabled:
+		case Why::None:
+			return;
+		}
+		m.append(homingStatusName(homingStatus(statusword_))).append(" (statusword ").append(sw).append(")");
+	};
+	return handshakeFailure(progress_, slave_, "homing", why_, statusword_, reason);
 }
 
 void HomingStepper::throwIfFailed() const

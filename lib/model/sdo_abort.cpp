@@ -15,10 +15,7 @@ namespace {
 
 /// The ETG table of manual ver. 050 (ECM_CMD_ECAT_SDO_ABORTCODE_GET), its
 /// wording.
-constexpr struct {
-	std::uint32_t code;
-	std::string_view text;
-} kSdoAbortTexts[] = {
+constexpr detail::CodeText<std::uint32_t> kSdoAbortTexts[] = {
 	{ 0x00000000, "No SDO error" },
 	{ 0x05030000, "Toggle bit not changed" },
 	{ 0x05040000, "SDO timeout" },

@@ -8,6 +8,8 @@
 
 #include <cstdio>
 
+#include "base/text.hpp"
+
 namespace ecmxf {
 
 namespace {
@@ -33,6 +35,53 @@ constexpr std::string_view kEcmNames[8] = {
 	"async command busy",
 };
 
+/// The interrupt flag bits with a name; the others are reserved.
+constexpr detail::CodeText<unsigned> kIntNames[] = {
+	{ 31, "EtherCAT packet" },
+	{ 29, "encoder" },
+	{ 25, "RxFIFO low mark" },
+	{ 24, "TxFIFO high mark" },
+	{ 23, "CRC error" },
+	{ 22, "WKC error" },
+};
+
+constexpr detail::CodeText<CheckType> kCheckTypeNames[] = {
+	{ CheckType::Fixed, "fixed" },
+	{ CheckType::Crc8, "CRC-8" },
+	{ CheckType::Ccitt, "CRC-CCITT" },
+	{ CheckType::Crc32, "CRC-32" },
+};
+
+constexpr detail::CodeText<MasterSeries> kSeriesNames[] = {
+	{ MasterSeries::XF, "ECM-XF" },
+	{ MasterSeries::XFL, "ECM-XFL" },
+	{ MasterSeries::XFU, "ECM-XFU" },
+	{ MasterSeries::XM, "ECM-XM" },
+};
+
+/// FoE error codes in words.
+constexpr detail::CodeText<std::uint32_t> kFoeErrorTexts[] = {
+	// ETG.1000.6, FoE error request
+	{ 0x8000, "not defined" },
+	{ 0x8001, "file not found" },
+	{ 0x8002, "access denied" },
+	{ 0x8003, "disk full" },
+	{ 0x8004, "illegal" },
+	{ 0x8005, "packet number wrong" },
+	{ 0x8006, "file already exists" },
+	{ 0x8007, "no user" },
+	{ 0x8008, "bootstrap only" },
+	{ 0x8009, "not in bootstrap" },
+	{ 0x800A, "no rights" },
+	{ 0x800B, "program error" },
+	{ 0x800C, "checksum error" },
+	// the chip's own codes (the SDO abort code table of manual ver. 050)
+	{ 0x05040000, "timeout (the slave did not answer)" },
+	{ 0x05040005, "out of memory (the file does not fit the flash)" },
+	{ 0x08000000, "general error (e.g. the slave has no FoE)" },
+	{ 0x08000022, "cannot transfer in the slave's present state" },
+};
+
 std::string joined(const std::vector<StatusBit> &bits)
 {
 	if (bits.empty())
@@ -46,35 +95,22 @@ std::string joined(const std::vector<StatusBit> &bits)
 	return s;
 }
 
-std::string_view intName(unsigned bit)
+/// The bits of @p status from bit @p first up that are set, with their
+/// names from @p names.
+std::vector<StatusBit> namedBits(std::uint8_t status, const std::string_view (&names)[8], unsigned first)
 {
-	switch (bit) {
-	case 31:
-		return "EtherCAT packet";
-	case 29:
-		return "encoder";
-	case 25:
-		return "RxFIFO low mark";
-	case 24:
-		return "TxFIFO high mark";
-	case 23:
-		return "CRC error";
-	case 22:
-		return "WKC error";
-	default:
-		return "reserved";
-	}
+	std::vector<StatusBit> out;
+	for (unsigned b = first; b < 8; b++)
+		if (status & (1u << b))
+			out.push_back({ b, names[b] });
+	return out;
 }
 
 } // namespace
 
 std::vector<StatusBit> errorStatusBits(std::uint8_t status)
 {
-	std::vector<StatusBit> out;
-	for (unsigned b = 0; b < 8; b++)
-		if (status & (1u << b))
-			out.push_back({ b, kErrNames[b] });
-	return out;
+	return namedBits(status, kErrNames, 0);
 }
 
 std::string describeErrorStatus(std::uint8_t status)
@@ -84,11 +120,7 @@ std::string describeErrorStatus(std::uint8_t status)
 
 std::vector<StatusBit> ecmStatusBits(std::uint8_t status)
 {
-	std::vector<StatusBit> out;
-	for (unsigned b = 2; b < 8; b++)
-		if (status & (1u << b))
-			out.push_back({ b, kEcmNames[b] });
-	return out;
+	return namedBits(status, kEcmNames, 2); // bits 1-0 are the check type
 }
 
 std::string describeEcmStatus(std::uint8_t status)
@@ -98,17 +130,7 @@ std::string describeEcmStatus(std::uint8_t status)
 
 std::string_view checkTypeName(CheckType type) noexcept
 {
-	switch (type) {
-	case CheckType::Fixed:
-		return "fixed";
-	case CheckType::Crc8:
-		return "CRC-8";
-	case CheckType::Ccitt:
-		return "CRC-CCITT";
-	case CheckType::Crc32:
-		return "CRC-32";
-	}
-	return "unknown";
+	return detail::textOf(kCheckTypeNames, type, "unknown");
 }
 
 std::vector<StatusBit> interruptFlagBits(std::uint32_t flags)
@@ -116,7 +138,7 @@ std::vector<StatusBit> interruptFlagBits(std::uint32_t flags)
 	std::vector<StatusBit> out;
 	for (unsigned b = 32; b-- > 0;)
 		if (flags & (1u << b))
-			out.push_back({ b, intName(b) });
+			out.push_back({ b, detail::textOf(kIntNames, b, "reserved") });
 	return out;
 }
 
@@ -127,7 +149,7 @@ std::string describeInterruptFlags(std::uint32_t flags)
 
 std::string ecatStateName(std::uint8_t state)
 {
-	// the names are stateName()'s (lib/bus/al_status.cpp): one table
+	// the names are stateName()'s (lib/model/al_status.cpp): one table
 	const bool error = (state & 0x10u) != 0;
 	const auto base = static_cast<std::uint8_t>(state & 0x0Fu);
 	const std::string name = base == 0 ? std::string(error ? "" : "NONE") : stateName(static_cast<State>(base));
@@ -143,62 +165,15 @@ std::string ecatStateName(std::uint8_t state)
 
 std::string masterSeriesName(std::uint8_t seriesCode)
 {
-	switch (seriesCode) {
-	case static_cast<std::uint8_t>(MasterSeries::XF):
-		return "ECM-XF";
-	case static_cast<std::uint8_t>(MasterSeries::XFL):
-		return "ECM-XFL";
-	case static_cast<std::uint8_t>(MasterSeries::XFU):
-		return "ECM-XFU";
-	case static_cast<std::uint8_t>(MasterSeries::XM):
-		return "ECM-XM";
-	default:
+	const std::string_view name = detail::textOf(kSeriesNames, static_cast<MasterSeries>(seriesCode), {});
+	if (name.empty())
 		return std::string("unknown (").append(std::to_string(seriesCode)).append(")");
-	}
+	return std::string(name);
 }
 
 std::string_view foeErrorText(std::uint32_t code) noexcept
 {
-	switch (code) {
-	// ETG.1000.6, FoE error request
-	case 0x8000:
-		return "not defined";
-	case 0x8001:
-		return "file not found";
-	case 0x8002:
-		return "access denied";
-	case 0x8003:
-		return "disk full";
-	case 0x8004:
-		return "illegal";
-	case 0x8005:
-		return "packet number wrong";
-	case 0x8006:
-		return "file already exists";
-	case 0x8007:
-		return "no user";
-	case 0x8008:
-		return "bootstrap only";
-	case 0x8009:
-		return "not in bootstrap";
-	case 0x800A:
-		return "no rights";
-	case 0x800B:
-		return "program error";
-	case 0x800C:
-		return "checksum error";
-	// the chip's own codes (the SDO abort code table of manual ver. 050)
-	case 0x05040000:
-		return "timeout (the slave did not answer)";
-	case 0x05040005:
-		return "out of memory (the file does not fit the flash)";
-	case 0x08000000:
-		return "general error (e.g. the slave has no FoE)";
-	case 0x08000022:
-		return "cannot transfer in the slave's present state";
-	default:
-		return "unknown error code";
-	}
+	return detail::textOf(kFoeErrorTexts, code, "unknown error code");
 }
 
 } // namespace ecmxf

@@ -36,6 +36,20 @@ std::string describe(bool output, std::size_t position, const PdoEntryInfo &e)
 
 constexpr const char *kWhere = "ProcessImage: ";
 
+/// "ProcessImage: slave N maps no output object 0x6040:00", or "... named
+/// \"<name>\"" when @p name is given.
+[[noreturn]] void throwNotMapped(bool output, std::size_t position, std::uint16_t index, std::uint8_t sub,
+				 std::string_view name)
+{
+	std::string msg(kWhere);
+	msg.append("slave ").append(std::to_string(position)).append(output ? " maps no output object " : " maps no input object ");
+	if (name.empty())
+		msg.append(objectName(index, sub));
+	else
+		msg.append("named \"").append(name).append("\"");
+	throw Error(msg, EINVAL);
+}
+
 } // namespace
 
 ProcessImage::ProcessImage(std::vector<SlavePdos> slaves) : slaves_(std::move(slaves))
@@ -143,33 +157,22 @@ const PdoEntryInfo &ProcessImage::outputEntry(std::size_t position, std::uint16_
 {
 	if (const PdoEntryInfo *e = find(true, position, index, sub, {}))
 		return *e;
-	throw Error(std::string(kWhere) + "slave " + std::to_string(position) + " maps no output object " +
-			    objectName(index, sub),
-		    EINVAL);
+	throwNotMapped(true, position, index, sub, {});
 }
 
 const PdoEntryInfo &ProcessImage::inputEntry(std::size_t position, std::uint16_t index, std::uint8_t sub) const
 {
 	if (const PdoEntryInfo *e = find(false, position, index, sub, {}))
 		return *e;
-	throw Error(std::string(kWhere) + "slave " + std::to_string(position) + " maps no input object " +
-			    objectName(index, sub),
-		    EINVAL);
+	throwNotMapped(false, position, index, sub, {});
 }
 
 ProcessImage::Place ProcessImage::place(bool output, std::size_t position, std::uint16_t index, std::uint8_t sub,
 					std::string_view name, TypeTraits t) const
 {
 	const PdoEntryInfo *e = find(output, position, index, sub, name);
-	if (!e) {
-		std::string msg(kWhere);
-		msg.append("slave ").append(std::to_string(position)).append(output ? " maps no output object " : " maps no input object ");
-		if (name.empty())
-			msg.append(objectName(index, sub));
-		else
-			msg.append("named \"").append(name).append("\"");
-		throw Error(msg, EINVAL);
-	}
+	if (!e)
+		throwNotMapped(output, position, index, sub, name);
 	const unsigned bits = e->bitLength;
 	std::string problem;
 	if (t.kind == 1 && bits != 1)

@@ -21,6 +21,7 @@
 #include <ecmxf/model/cia402.hpp>
 #include <ecmxf/sim/network.hpp>
 
+#include "base/text.hpp"
 #include "ecmsk-proto.h"
 #include "le.hpp"
 
@@ -132,15 +133,16 @@ bool driveLike(std::uint8_t type)
 	return type == ECMSK_AXIS_DRIVE || type == ECMSK_AXIS_STEP || type == ECMSK_AXIS_HSP;
 }
 
-const char *stateName(std::uint8_t st)
+constexpr detail::CodeText<std::uint8_t> kStateNames[] = {
+	{ ECMSK_STATE_INIT, "INIT" },
+	{ ECMSK_STATE_PREOP, "PRE-OP" },
+	{ ECMSK_STATE_SAFEOP, "SAFE-OP" },
+	{ ECMSK_STATE_OP, "OP" },
+};
+
+std::string_view stateName(std::uint8_t st)
 {
-	switch (st) {
-	case ECMSK_STATE_INIT: return "INIT";
-	case ECMSK_STATE_PREOP: return "PRE-OP";
-	case ECMSK_STATE_SAFEOP: return "SAFE-OP";
-	case ECMSK_STATE_OP: return "OP";
-	default: return "?";
-	}
+	return detail::textOf(kStateNames, st, "?");
 }
 
 std::vector<std::uint8_t> le(std::uint64_t v, unsigned n)
@@ -396,7 +398,7 @@ struct SimBoard::Impl {
 			const auto &s = *sl[i].s;
 			if ((s.alStatus() & 0x0F) != to)
 				return fail("slave " + std::to_string(i + 1) + " (" + s.typeName() +
-					    ") refused " + stateName(to) + ": AL status code 0x" +
+					    ") refused " + std::string(stateName(to)) + ": AL status code 0x" +
 					    hex(s.alStatusCode()));
 		}
 		return true;

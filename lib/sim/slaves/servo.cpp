@@ -11,6 +11,7 @@
 #include <functional>
 #include <stdexcept>
 
+#include "base/text.hpp"
 #include "slaves/drive.hpp"
 #include "slaves/factory.hpp"
 #include "slaves/options.hpp"
@@ -34,21 +35,18 @@ inline constexpr std::uint32_t DiskFull = 0x8003;
 inline constexpr std::uint32_t BootstrapOnly = 0x8008;
 } // namespace foe
 
-const char *stateName(AlState s)
+/// The state names of the drive's log.
+constexpr detail::CodeText<AlState> kStateNames[] = {
+	{ AlState::Init, "INIT" },
+	{ AlState::PreOp, "PREOP" },
+	{ AlState::Boot, "BOOT" },
+	{ AlState::SafeOp, "SAFEOP" },
+	{ AlState::Op, "OP" },
+};
+
+std::string_view stateName(AlState s)
 {
-	switch (s) {
-	case AlState::Init:
-		return "INIT";
-	case AlState::PreOp:
-		return "PREOP";
-	case AlState::Boot:
-		return "BOOT";
-	case AlState::SafeOp:
-		return "SAFEOP";
-	case AlState::Op:
-		return "OP";
-	}
-	return "?";
+	return detail::textOf(kStateNames, s, "?");
 }
 
 class Servo final : public DriveBase, public ServoModel
@@ -73,7 +71,7 @@ protected:
 	void onAlChange(AlState from, AlState to, bool error) override
 	{
 		DriveBase::onAlChange(from, to, error);
-		log(std::string("AL ") + stateName(from) + " -> " + stateName(to) +
+		log(std::string("AL ").append(stateName(from)).append(" -> ").append(stateName(to)) +
 		    (error ? " error " + hex4(alStatusCode()) : ""));
 	}
 	void onPowerOn() override
