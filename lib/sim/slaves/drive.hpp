@@ -14,23 +14,16 @@
 #include <string>
 #include <vector>
 
+#include <ecmxf/model/types_cia402.hpp>
 #include <ecmxf/sim/slaves.hpp>
 
 #include "slaves/slave_base.hpp"
 
 namespace ecmxf::sim::slaves {
 
-/// CiA-402 states (ECM-XF manual, appendix 1).
-enum class Cia402State : std::uint8_t {
-	NotReadyToSwitchOn,
-	SwitchOnDisabled,
-	ReadyToSwitchOn,
-	SwitchedOn,
-	OperationEnabled,
-	QuickStopActive,
-	FaultReactionActive,
-	Fault,
-};
+/// CiA-402 states (ECM-XF manual, appendix 1): the one state type of the
+/// model (<ecmxf/model/types_cia402.hpp>), which the library decodes too.
+using Cia402State = ecmxf::Cia402State;
 
 /// Controlword commands (CiA 402; bit 7 = fault reset).
 enum class Cia402Command : std::uint8_t {
