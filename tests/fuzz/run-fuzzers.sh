@@ -13,8 +13,9 @@
 # is printed, and this script exits 1.  Exit 0 when all fuzzers ran clean.
 # With CORPUS_DIR (make fuzz-long) each fuzzer's corpus lives on in
 # CORPUS_DIR/<name>/ between runs (seeded from the source tree), so that
-# long runs build on each other.  One fuzzer runs at a time; the summary
-# gives execs/s per target and the total of execs.
+# long runs build on each other.  FUZZ_JOBS fuzzers run at a time (default
+# 1; make fuzz runs one per core); the summary gives execs/s per target,
+# in the order of their names, and the total of execs.
 set -u
 
 if [ $# -ne 2 ] && [ $# -ne 3 ]; then
@@ -41,7 +42,15 @@ failed=0
 summary=""
 total=0
 
-for bin in $fuzzers; do
+jobs=${FUZZ_JOBS:-1}
+case "$jobs" in
+''|*[!0-9]*|0) echo "run-fuzzers.sh: FUZZ_JOBS must be a positive number, not '$jobs'" >&2; exit 2 ;;
+esac
+
+# one fuzzer: its log, its summary line in $work/line and its exit code
+# in $work/rc
+run_one() {
+	bin=$1
 	name=$(basename "$bin")
 	short=${name#fuzz-}
 	seeds="$srcdir/corpus/$short"
@@ -70,21 +79,45 @@ for bin in $fuzzers; do
 	cov=$(grep -o 'cov: [0-9]*' "$work/log" | tail -n 1 | sed 's/cov: //')
 	ft=$(grep -o 'ft: [0-9]*' "$work/log" | tail -n 1 | sed 's/ft: //')
 	corp=$(find "$work/corpus/" -type f | wc -l)
-	total=$((total + ${execs:-0}))
 	stats="execs ${execs:-?} (${rate:-?}/s), cov ${cov:-?}, ft ${ft:-?}, corpus $nseeds -> $corp"
-
+	echo "${execs:-0}" >"$work/execs"
+	echo "$rc" >"$work/rc"
 	if [ "$rc" -eq 0 ]; then
-		line="$name: OK, $stats"
+		echo "$name: OK, $stats" >"$work/line"
 	else
+		echo "$name: FAILED (exit $rc), $stats" >"$work/line"
+	fi
+	cat "$work/line"
+}
+
+# FUZZ_JOBS lanes, each running every FUZZ_JOBS-th fuzzer in turn
+lane=0
+while [ "$lane" -lt "$jobs" ]; do
+	(
+		i=0
+		for bin in $fuzzers; do
+			[ $((i % jobs)) -eq "$lane" ] && run_one "$bin"
+			i=$((i + 1))
+		done
+	) &
+	lane=$((lane + 1))
+done
+wait
+
+for bin in $fuzzers; do
+	name=$(basename "$bin")
+	work="$scratch/$name"
+	line=$(cat "$work/line" 2>/dev/null || echo "$name: FAILED (did not run)")
+	rc=$(cat "$work/rc" 2>/dev/null || echo 1)
+	total=$((total + $(cat "$work/execs" 2>/dev/null || echo 0)))
+	if [ "$rc" -ne 0 ]; then
 		failed=1
-		line="$name: FAILED (exit $rc), $stats"
-		echo "---- last lines of $work/log:"
-		tail -n 60 "$work/log"
+		echo "---- $name: last lines of $work/log:"
+		tail -n 60 "$work/log" 2>/dev/null
 		for a in "$work"/artifacts/*; do
 			[ -e "$a" ] && echo "---- reproducer: $a (replay: $bin $a)"
 		done
 	fi
-	echo "$line"
 	summary="$summary$line
 "
 done
