@@ -130,3 +130,12 @@ def test_network_file():
     with ecmxf.open("sim:" + net) as d:
         assert d.slave_count >= 2
         assert d.slaves()[0].name != "EST-584"
+
+
+def test_a_refused_state_is_an_al_status_error(dev):
+    with pytest.raises(ecmxf.AlStatusError) as e:
+        dev.request_state(ecmxf.State.BOOT)                  # PRE-OP -> BOOT: not a valid change
+    assert e.value.code == 0x0011 and e.value.text == "Invalid requested state change"
+    assert e.value.slave == 0 and e.value.requested == "BOOT" and e.value.reached == "PRE-OP"
+    assert e.value.errno > 0 and isinstance(e.value, ecmxf.Error)
+    assert [(s.state, s.al_status) for s in dev.slaves()] == [(ecmxf.State.PREOP, 0x0011)] * 3
