@@ -387,6 +387,14 @@ void bindDevice(py::module_ &m)
 					py::arg("series_code") = v.seriesCode, py::arg("build_id") = v.buildId);
 		}, "ECM-XF: the chip's firmware version (FIRM_VER_GET): {'version', 'extended', 'series_code', "
 		   "'build_id'}.")
+		.def("set_data_size", [](DeviceObject &d, std::int64_t size) {
+			const auto n = static_cast<std::uint16_t>(checkedRange(size, 32, 1408, "data section size"));
+			Device &dev = d.session->device("set_data_size()");
+			Use use(*d.session);
+			dev.chip().setDataSize(n);
+		}, py::arg("size"),
+		     "ECM-XF: the SPI data section in bytes (SPI_RECONFIG_OP, 32..1408; 112 at power-on): "
+		     "large process images need more than 112 bytes per exchange.")
 		.def("start_trace", [](DeviceObject &d, const std::string &path) {
 			Device &dev = d.session->device("start_trace()");
 			Use use(*d.session);

@@ -104,9 +104,13 @@ def test_cia402_by_sdo(dev):
     assert sw & 0x4F == 0x40
 
 
-def test_chip_firmware(dev):
+def test_chip_firmware_and_data_size(dev):
     fw = dev.firmware_version()
     assert fw["version"] > 0
+    dev.set_data_size(1408)
+    assert dev.sdo.upload(0, 0x2001, 0) == 50000              # the exchanges in the new format
+    with pytest.raises(ValueError, match="data section size 31 is outside 32..1408"):
+        dev.set_data_size(31)
 
 
 def test_trace_and_decoder(dev, tmp_path):
