@@ -102,6 +102,16 @@ py::object decodeValue(const std::vector<std::uint8_t> &bytes, ValueType t, std:
 /// the wrong kind, ValueError out of range).
 std::vector<std::uint8_t> encodeValue(const py::handle &value, ValueType t);
 
+// ---- no half-made instances (module.cpp). pybind11 hands a method of an
+// instance made by T.__new__(T) without __init__ uninitialised memory as
+// its object; so no class of the module has such instances:
+/// Instances of @p cls come only from the module's functions: its __new__
+/// raises TypeError.
+void madeByEcmxfOnly(const py::handle &cls);
+/// Instances of @p cls come whole out of its __new__ (a def_static
+/// "__new__" that constructs); its __init__ is then a no-op.
+void constructedByNew(const py::handle &cls);
+
 // ---- the parts of the module
 void bindDevice(py::module_ &m);
 void bindCyclic(py::module_ &m);

@@ -484,7 +484,8 @@ PyMethodDef gCycleDef = {
 
 void bindCyclic(py::module_ &m)
 {
-	py::class_<ImageBuffer>(m, "_ImageBuffer", py::buffer_protocol())
+	auto buffer = py::class_<ImageBuffer>(m, "_ImageBuffer", py::buffer_protocol());
+	buffer
 		.def_buffer([](ImageBuffer &b) {
 			ProcessImage &img = b.holder->image;
 			std::span<std::uint8_t> s = b.output ? img.outputs() : img.inputs();
@@ -492,7 +493,10 @@ void bindCyclic(py::module_ &m)
 					       { static_cast<py::ssize_t>(s.size()) }, { py::ssize_t{ 1 } }, !b.output);
 		});
 
-	py::class_<Entry>(m, "Entry", "One typed entry of the process image (Cyclic.output(), Cyclic.input()).")
+	madeByEcmxfOnly(buffer);
+
+	auto entry = py::class_<Entry>(m, "Entry", "One typed entry of the process image (Cyclic.output(), Cyclic.input()).");
+	entry
 		.def_property("value", &entryGet, &entrySet, "The entry's value (outputs can be set).")
 		.def("get", &entryGet)
 		.def("set", &entrySet, py::arg("value"))
@@ -500,7 +504,9 @@ void bindCyclic(py::module_ &m)
 		.def_readonly("bits", &Entry::bits)
 		.def("__repr__", [](const Entry &e) { return "<ecmxf.Entry " + e.what + ">"; });
 
-	py::class_<AxisObject>(m, "Axis",
+	madeByEcmxfOnly(entry);
+
+	auto axisClass = py::class_<AxisObject>(m, "Axis",
 			       "A CiA-402 drive over a Cyclic's process image (ecmxf::Cia402Axis): requests are "
 			       "carried out by the cycles (Cyclic.run_until_done(), run(), csp_move()).")
 		.def_property_readonly("position", [](const AxisObject &a) { return a.get().position(); },
@@ -550,12 +556,14 @@ void bindCyclic(py::module_ &m)
 		.def("update", [](AxisObject &a) { a.get().update(); },
 		     "One step of the request (after each cycle() of a Python loop).");
 
+	madeByEcmxfOnly(axisClass);
+
 	auto cls = py::class_<CyclicObject>(m, "Cyclic",
 					    "The cyclic exchange over the process image of Device.bring_up(); a "
 					    "context manager. outputs / inputs: memoryviews of the image (no copies).")
-		.def(py::init([](const py::object &device, double period, bool buffered) {
+		.def_static("__new__", [](const py::object &, const py::object &device, double period, bool buffered) {
 			return std::make_unique<CyclicObject>(sessionOf(device), period, buffered);
-		}), py::arg("device"), py::arg("period") = 0.001, py::arg("buffered") = false,
+		}, py::arg("cls"), py::arg("device"), py::arg("period") = 0.001, py::arg("buffered") = false,
 		     "A Cyclic over device (brought up with bring_up()). period in s (125 us .. 1 s); buffered: "
 		     "a deep RxFIFO (CyclicConfig::buffered) instead of the motion fill level.")
 		.def("start", [](CyclicObject &c) { c.cyc("start()").start(); }, "Starts the exchange.")
@@ -631,6 +639,7 @@ void bindCyclic(py::module_ &m)
 		     py::arg("sample") = std::vector<Entry>{}, py::arg("settle") = 0.05,
 		     "A synchronized CSP move of axes to targets in duration s (cosine profile, "
 		     "ecmxf::CspTrajectory), run in C++; returns the samples as run() does.");
+	constructedByNew(cls);
 	// cycle(): a plain CPython method, no pybind11 dispatch
 	PyObject *descr = PyDescr_NewMethod(reinterpret_cast<PyTypeObject *>(cls.ptr()), &gCycleDef);
 	if (!descr)

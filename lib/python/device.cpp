@@ -273,7 +273,8 @@ std::shared_ptr<Session> sessionOf(const py::handle &device)
 
 void bindDevice(py::module_ &m)
 {
-	py::class_<SlaveRecord>(m, "Slave", "One slave of the bus, as Device.slaves() lists it.")
+	auto slave = py::class_<SlaveRecord>(m, "Slave", "One slave of the bus, as Device.slaves() lists it.");
+	slave
 		.def_readonly("position", &SlaveRecord::position, "Bus position, from 0.")
 		.def_readonly("vendor", &SlaveRecord::vendor, "Vendor ID (0x1018:01 / SII), None when unknown.")
 		.def_readonly("product", &SlaveRecord::product, "Product code, None when unknown.")
@@ -286,7 +287,10 @@ void bindDevice(py::module_ &m)
 			      "AL status code (register 0x0134, ECM-XF), None on the ECM-SK.")
 		.def("__repr__", &slaveRepr);
 
-	py::class_<SdoView>(m, "Sdo", "SDO transfers of a Device (dev.sdo).")
+	madeByEcmxfOnly(slave);
+
+	auto sdo = py::class_<SdoView>(m, "Sdo", "SDO transfers of a Device (dev.sdo).");
+	sdo
 		.def("upload", [](const SdoView &v, std::int64_t pos, std::int64_t index, std::int64_t sub,
 				  const std::optional<std::string> &type) { return upload(*v.session, pos, index, sub, type); },
 		     py::arg("position"), py::arg("index"), py::arg("sub"), py::arg("type") = py::none(),
@@ -305,13 +309,15 @@ void bindDevice(py::module_ &m)
 		     "A whole object, subindex by subindex: [count, sub 1, ..., sub count] (each as upload() "
 		     "with type None).");
 
-	py::class_<DeviceObject>(m, "Device",
+	madeByEcmxfOnly(sdo);
+
+	auto device = py::class_<DeviceObject>(m, "Device",
 				 "One master, ECM-XF or ECM-SK, from a device URI: 'sim:', 'sim:<network>', "
 				 "'unix:PATH', 'spidev:...', '/dev/ecmxfN', 'sk-sim:', 'sk-unix:PATH', 'sk-spidev:...'. "
 				 "A context manager: closed at the end of the with block.")
-		.def(py::init([](const std::string &uri, bool bringUpBus) {
+		.def_static("__new__", [](const py::object &, const std::string &uri, bool bringUpBus) {
 			return DeviceObject{ openSession(uri, bringUpBus) };
-		}), py::arg("uri"), py::arg("bring_up") = true,
+		}, py::arg("cls"), py::arg("uri"), py::arg("bring_up") = true,
 		     "Opens the master uri names. bring_up: a bus no one has initialised is brought to PRE-OP "
 		     "(ECM-XF: ECAT_INIT_OP and PRE-OP; ECM-SK: INIT to PRE-OP), as ecmxf-util does.")
 		.def("close", [](DeviceObject &d) { d.session->close(); },
@@ -408,6 +414,8 @@ void bindDevice(py::module_ &m)
 		.def("__repr__", [](const DeviceObject &d) {
 			return "<ecmxf.Device '" + d.session->uri + "'" + (d.session->verbs ? "" : " closed") + ">";
 		});
+
+	constructedByNew(device);
 
 	m.def("open", [](const std::string &uri, bool bringUpBus) { return DeviceObject{ openSession(uri, bringUpBus) }; },
 	      py::arg("uri"), py::arg("bring_up") = true, "ecmxf.Device(uri): with ecmxf.open('sim:') as dev: ...");

@@ -144,6 +144,25 @@ py::object exceptionClass(const char *name)
 	return py::module_::import("ecmxf._ecmxf").attr(name);
 }
 
+void madeByEcmxfOnly(const py::handle &cls)
+{
+	const std::string name = py::str(cls.attr("__name__"));
+	cls.attr("__new__") = py::staticmethod(py::cpp_function([name](const py::args &, const py::kwargs &) -> py::object {
+		throw py::type_error("ecmxf." + name + " objects are made by ecmxf (e.g. Device.slaves(), "
+							"Cyclic.output()), not directly");
+	}));
+}
+
+void constructedByNew(const py::handle &cls)
+{
+	// after __new__ has constructed the object, Python calls __init__ with
+	// the same arguments: nothing is left to do (named otherwise: pybind11
+	// gives a function named __init__ a constructor's dispatch)
+	cls.attr("__init__") = py::cpp_function([](const py::args &, const py::kwargs &) {},
+						py::name("_constructed_by_new"), py::is_method(cls),
+						"The object was made whole by __new__: nothing to do.");
+}
+
 std::uint64_t checkedRange(std::int64_t v, std::int64_t lo, std::int64_t hi, const char *what)
 {
 	if (v < lo || v > hi)

@@ -191,7 +191,20 @@ def test_cycle_unbound_is_a_type_error():
         ecmxf.Cyclic.cycle(object())
 
 
-def test_cycle_on_an_uninitialised_cyclic_is_a_type_error():
-    c = ecmxf.Cyclic.__new__(ecmxf.Cyclic)
-    with pytest.raises(TypeError, match="not an initialised"):
-        c.cycle()
+@pytest.mark.parametrize("cls", [ecmxf.Device, ecmxf.Cyclic, ecmxf.Sdo, ecmxf.Slave, ecmxf.Entry, ecmxf.Axis])
+def test_no_half_made_objects(cls):
+    # T.__new__(T) without __init__ would hand pybind11 uninitialised memory
+    with pytest.raises(TypeError):
+        cls.__new__(cls)
+    with pytest.raises(TypeError):
+        object.__new__(cls)
+    with pytest.raises(TypeError):
+        cls()
+
+
+def test_the_constructors_construct_whole():
+    d = ecmxf.Device.__new__(ecmxf.Device, "sim:")          # __new__ alone makes a whole object
+    assert d.sdo.upload(0, 0x2001, 0) == 50000
+    d.__init__("sim:")                                       # and __init__ changes nothing
+    assert not d.closed
+    d.close()
