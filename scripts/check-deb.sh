@@ -160,7 +160,7 @@ ok "man pages: ecmxf-util(1), ecmxf-sim(1), ecmxf-demo(1)"
 mod=$(find /usr/lib/python3/dist-packages/ecmxf -name '_ecmxf*.so' | head -n 1)
 [ -n "$mod" ] || fail "python3-ecmxf: no _ecmxf*.so in /usr/lib/python3/dist-packages/ecmxf"
 readelf -d "$mod" | grep -q 'R.*PATH' && fail "$mod has an RPATH/RUNPATH"
-(cd "$work" && python3 -c 'import ecmxf, sys
+(cd "$work" && /usr/bin/python3 -c 'import ecmxf, sys
 assert ecmxf.__file__.startswith("/usr/lib/python3/dist-packages/"), ecmxf.__file__
 with ecmxf.open("sim:") as d:
     assert d.sdo.upload(0, 0x2001, 0) == 50000
