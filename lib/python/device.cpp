@@ -16,7 +16,12 @@
 #include <ecmxf/cia402/cia402_axis.hpp>
 #include <ecmxf/device.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/events/events.hpp>
+#include <ecmxf/link/link.hpp>
+#include <ecmxf/model/status.hpp>
 #include <ecmxf/sk/board.hpp>
+
+#include <deque>
 
 namespace ecmxf::python {
 
@@ -254,6 +259,90 @@ py::dict pdoMapping(Session &s, std::int64_t pos)
 			py::arg("output_bytes") = pdos.outputBytes, py::arg("input_bytes") = pdos.inputBytes);
 }
 
+/// dev.events(): the chip's events (ecmxf::EventDetector over the response
+/// headers of INFO_UPDATE polls) as an iterator.
+struct EventsObject {
+	std::shared_ptr<Session> session;
+	std::unique_ptr<EventDetector> detector;
+	std::chrono::nanoseconds interval{ 0 };
+	std::chrono::nanoseconds end{ 0 }; ///< link time when the iteration stops
+	std::deque<Event> pending;
+};
+
+py::dict eventDict(const Event &e)
+{
+	py::dict d;
+	d["type"] = eventTypeName(e.type);
+	d["time"] = std::chrono::duration<double>(e.time).count();
+	if (e.type == EventType::State) {
+		d["old"] = ecatStateName(static_cast<std::uint8_t>(e.oldValue));
+		d["new"] = ecatStateName(static_cast<std::uint8_t>(e.newValue));
+	} else {
+		d["old"] = e.oldValue;
+		d["new"] = e.newValue;
+	}
+	d["link_up"] = e.linkUp;
+	d["error_status"] = e.errStatus;
+	d["count"] = e.count;
+	d["increase"] = e.increase;
+	py::list slaves;
+	for (const SlaveAlStatus &st : e.slaves)
+		slaves.append(py::make_tuple(st.position, st.alStatus ? py::object(py::int_(*st.alStatus)) : py::none()));
+	d["slaves"] = slaves;
+	d["al_status"] = e.alStatus ? py::object(py::int_(*e.alStatus)) : py::none();
+	return d;
+}
+
+EventsObject makeEvents(const std::shared_ptr<Session> &s, double duration, double interval)
+{
+	if (!(duration >= 0 && duration <= 86400))
+		throw py::value_error("duration " + std::to_string(duration) + " s is outside 0..86400 s");
+	if (!(interval >= 0.0001 && interval <= 10))
+		throw py::value_error("poll_interval " + std::to_string(interval) + " s is outside 0.0001..10 s");
+	Device &d = s->device("events()");
+	EventsObject ev;
+	ev.session = s;
+	ev.interval = std::chrono::nanoseconds(static_cast<std::int64_t>(interval * 1e9));
+	Use use(*s);
+	py::gil_scoped_release nogil;
+	ev.detector = std::make_unique<EventDetector>(d);
+	const auto now = d.link().now();
+	(void)ev.detector->feed(d.chip().infoUpdate(), now); // the baseline
+	ev.end = now + std::chrono::nanoseconds(static_cast<std::int64_t>(duration * 1e9));
+	return ev;
+}
+
+py::dict nextEvent(EventsObject &ev)
+{
+	while (ev.pending.empty()) {
+		Device &d = ev.session->device("events");
+		bool over = false;
+		{
+			Use use(*ev.session);
+			py::gil_scoped_release nogil;
+			for (;;) {
+				const auto now = d.link().now();
+				for (Event &e : ev.detector->feed(d.chip().infoUpdate(), now))
+					ev.pending.push_back(std::move(e));
+				for (Event &e : ev.detector->poll(now))
+					ev.pending.push_back(std::move(e));
+				if (!ev.pending.empty())
+					break;
+				if (now >= ev.end) {
+					over = true;
+					break;
+				}
+				d.link().sleepFor(std::min(ev.interval, ev.end - now));
+			}
+		}
+		if (over)
+			throw py::stop_iteration();
+	}
+	const Event e = std::move(ev.pending.front());
+	ev.pending.pop_front();
+	return eventDict(e);
+}
+
 std::string slaveRepr(const SlaveRecord &r)
 {
 	char id[64];
@@ -416,6 +505,23 @@ void bindDevice(py::module_ &m)
 		});
 
 	constructedByNew(device);
+
+	auto events = py::class_<EventsObject>(m, "Events",
+					       "The chip's events as an iterator (Device.events()): dicts with 'type' "
+					       "('state', 'link', 'error_status', 'wkc_burst', 'fifo', ...), 'time' (s, link "
+					       "time), 'old', 'new', 'link_up', 'error_status', 'count', 'increase', "
+					       "'slaves' ((position, AL status) of the slaves not in OP, for a state that "
+					       "went down) and 'al_status'.");
+	events.def("__iter__", [](py::object self) { return self; })
+		.def("__next__", &nextEvent);
+	madeByEcmxfOnly(events);
+	device.def("events", [](DeviceObject &d, double duration, double interval) {
+		return makeEvents(d.session, duration, interval);
+	}, py::arg("duration"), py::arg("poll_interval") = 0.01,
+		   "ECM-XF: the chip's events for duration s of link time (ecmxf::EventDetector over INFO_UPDATE "
+		   "polls every poll_interval s, the slaves' AL status codes read for a state that went down): an "
+		   "iterator that ends when the time is up. Over /dev/ecmxfN the kernel sends the same events "
+		   "(ecmxf-util monitor).");
 
 	m.def("open", [](const std::string &uri, bool bringUpBus) { return DeviceObject{ openSession(uri, bringUpBus) }; },
 	      py::arg("uri"), py::arg("bring_up") = true, "ecmxf.Device(uri): with ecmxf.open('sim:') as dev: ...");

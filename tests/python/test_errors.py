@@ -191,7 +191,8 @@ def test_cycle_unbound_is_a_type_error():
         ecmxf.Cyclic.cycle(object())
 
 
-@pytest.mark.parametrize("cls", [ecmxf.Device, ecmxf.Cyclic, ecmxf.Sdo, ecmxf.Slave, ecmxf.Entry, ecmxf.Axis])
+@pytest.mark.parametrize("cls", [ecmxf.Device, ecmxf.Cyclic, ecmxf.Sdo, ecmxf.Slave, ecmxf.Entry, ecmxf.Axis,
+                                 ecmxf.Events])
 def test_no_half_made_objects(cls):
     # T.__new__(T) without __init__ would hand pybind11 uninitialised memory
     with pytest.raises(TypeError):

@@ -143,3 +143,34 @@ def test_a_refused_state_is_an_al_status_error(dev):
     assert e.value.slave == 0 and e.value.requested == "BOOT" and e.value.reached == "PRE-OP"
     assert e.value.errno > 0 and isinstance(e.value, ecmxf.Error)
     assert [(s.state, s.al_status) for s in dev.slaves()] == [(ecmxf.State.PREOP, 0x0011)] * 3
+
+
+def test_events_as_an_iterator(dev):
+    ev = dev.events(0.5)                                     # the baseline: PRE-OP
+    dev.request_state(ecmxf.State.SAFEOP)
+    got = list(ev)                                           # ends after 0.5 s of link time
+    states = [(e["old"], e["new"]) for e in got if e["type"] == "state"]
+    assert states == [("PRE-OP", "SAFE-OP")]
+    assert all(e["time"] > 0 for e in got)
+
+
+def test_events_of_a_state_that_went_down_name_the_slaves(dev):
+    ev = dev.events(0.5)
+    dev.request_state(ecmxf.State.INIT)
+    down = [e for e in ev if e["type"] == "state"]
+    assert down and down[0]["new"] == "INIT"
+    assert [p for p, _ in down[0]["slaves"]] == [0, 1, 2]    # the slaves not in OP, read as the kernel does
+
+
+def test_events_bad_input(dev):
+    with pytest.raises(ValueError, match="duration"):
+        dev.events(-1)
+    with pytest.raises(ValueError, match="poll_interval"):
+        dev.events(1, poll_interval=0)
+    ev = dev.events(1)
+    dev.close()
+    with pytest.raises(ecmxf.ClosedError):
+        next(ev)
+    with ecmxf.open("sk-sim:") as sk:
+        with pytest.raises(ecmxf.NotSupportedError):
+            sk.events(1)

@@ -24,6 +24,7 @@ from ._ecmxf import (  # noqa: F401
     Device,
     Entry,
     Error,
+    Events,
     InvalidArgument,
     NotSupportedError,
     Sdo,
@@ -38,7 +39,7 @@ from ._ecmxf import (  # noqa: F401
 )
 
 __all__ = [
-    "AlStatusError", "Axis", "BusyError", "ClosedError", "Cyclic", "Device", "Entry", "Error",
+    "AlStatusError", "Axis", "BusyError", "ClosedError", "Cyclic", "Device", "Entry", "Error", "Events",
     "InvalidArgument", "NotSupportedError", "Sdo", "SdoAbort", "Slave", "State", "Timeout",
     "al_status_text", "decode_trace", "open", "sdo_abort_text",
 ]
