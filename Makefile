@@ -23,12 +23,18 @@ KDIR ?= $(firstword $(wildcard /lib/modules/$(shell uname -r)/build) \
 
 DEPS := scripts/install-deps.sh
 
-.PHONY: all deps configure check check-user check-stress check-debug-kernel check-asan asan-build fuzz fuzz-long fuzz-build soak demo bench kmod kmod-deps \
+.PHONY: all python deps configure check check-user check-stress check-debug-kernel check-asan asan-build fuzz fuzz-long fuzz-build soak demo bench kmod kmod-deps \
 	kmod-check kmod-check-all kmod-check-kernels checkpatch dt-check kernel-lint check-kernel check-kernels \
 	kmod-clean install install-udev deb check-deb clean help
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
+
+# The Python binding alone (lib/python, Documentation/python.rst): the
+# package in $(BUILD)/python, so PYTHONPATH=$(BUILD)/python python3 finds
+# `import ecmxf`.  make all builds it too.
+python: configure
+	cmake --build $(BUILD) -j $(JOBS) --target ecmxf_python
 
 deps:
 	@$(DEPS)
@@ -91,7 +97,7 @@ fuzz-long: fuzz-build
 fuzz-build:
 	@$(DEPS) --ci
 	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DECMXF_BUILD_FUZZ=ON \
-		-DECMXF_BUILD_TESTS=OFF -DECMXF_WERROR=$(WERROR) -DCMAKE_BUILD_TYPE=RelWithDebInfo
+		-DECMXF_BUILD_TESTS=OFF -DECMXF_BUILD_PYTHON=OFF -DECMXF_BUILD_PYTHON=OFF -DECMXF_WERROR=$(WERROR) -DCMAKE_BUILD_TYPE=RelWithDebInfo
 	cmake --build $(FUZZ_BUILD) -j $(JOBS)
 
 # make bench ends with the in-guest round trip /dev/ecmxf0 vs spidev under
@@ -108,6 +114,7 @@ bench:
 	$(BENCH_BUILD)/tests/bench/bench-sdo
 	$(BENCH_BUILD)/tests/bench/bench-cyclic
 	$(BENCH_BUILD)/tests/bench/bench-sk
+	python3 tests/bench/bench-python.py $(BENCH_BUILD)
 	BUILD=$(BENCH_BUILD) tests/kernel/run-qemu.sh --bench $(KBENCH_FLAVOURS)
 
 # The tour of the stack on the simulator (utils/ecmxf-demo.cpp), paced in
@@ -233,6 +240,7 @@ clean: kmod-clean
 
 help:
 	@echo "make [all]     build the library, ecmxf-util and the tests"
+	@echo "make python    the Python binding alone, into $(BUILD)/python (PYTHONPATH=$(BUILD)/python)"
 	@echo "make check     build and run every test: ctest, then check-kernel"
 	@echo "make check-user    the userspace tests only (ctest)"
 	@echo "make check-stress  the userspace tests STRESS_ROUNDS (20) times each under load, then on one core"

@@ -12,7 +12,8 @@
 # working on this script).
 #
 #  1. make deb: dpkg-buildpackage + lintian (no error, no warning);
-#  2. dpkg -i of libecmxf0, libecmxf-dev, ecmxf-tools, ecmxf-dkms: DKMS
+#  2. dpkg -i of libecmxf0, libecmxf-dev, ecmxf-tools, python3-ecmxf,
+#     ecmxf-dkms: DKMS
 #     registers the module source;
 #  3. DKMS has built and installed ecmxf.ko (AUTOINSTALL, from the
 #     package's postinst) for the installed headers of Debian's normal and
@@ -21,6 +22,8 @@
 #  4. the installed ecmxf-util (no RUNPATH in /usr/bin) lists the
 #     simulator's slaves and brings them to OP, also through an installed
 #     ecmxf-sim over a Unix socket; the man pages are found by man -w;
+#     the installed python3-ecmxf imports (no RUNPATH) and reads an object
+#     of the simulator, an abort raising ecmxf.SdoAbort;
 #  5. a consumer builds against the installed -dev package with CMake
 #     (find_package(ecmxf), ecmxf::ecmxf, no standard of its own) and with
 #     pkg-config, and runs;
@@ -34,7 +37,7 @@ build=1
 [ "${1:-}" = --no-build ] && { build=0; shift; }
 out=$1 jobs=${2:-2}
 src=$(cd "$(dirname "$0")/.." && pwd)
-pkgs="libecmxf0 libecmxf-dev ecmxf-tools ecmxf-dkms"
+pkgs="libecmxf0 libecmxf-dev ecmxf-tools python3-ecmxf ecmxf-dkms"
 
 fail() { echo "check-deb: FAIL: $*" >&2; exit 1; }
 t0=$(date +%s)
@@ -83,7 +86,7 @@ done
 
 # ---- 2. install
 debs=""
-for p in libecmxf0 libecmxf-dev ecmxf-tools; do debs="$debs $out/${p}_${version}_${arch}.deb"; done
+for p in libecmxf0 libecmxf-dev ecmxf-tools python3-ecmxf; do debs="$debs $out/${p}_${version}_${arch}.deb"; done
 debs="$debs $out/ecmxf-dkms_${version}_all.deb"
 # shellcheck disable=SC2086
 dpkg -i $debs >"$work/install.log" 2>&1 || { cat "$work/install.log"; fail "dpkg -i"; }
@@ -152,6 +155,23 @@ for m in ecmxf-util ecmxf-sim ecmxf-demo; do
 	man -w "$m" >/dev/null 2>&1 || fail "man -w $m"
 done
 ok "man pages: ecmxf-util(1), ecmxf-sim(1), ecmxf-demo(1)"
+
+# the installed Python module (python3-ecmxf), from outside the source tree
+mod=$(find /usr/lib/python3/dist-packages/ecmxf -name '_ecmxf*.so' | head -n 1)
+[ -n "$mod" ] || fail "python3-ecmxf: no _ecmxf*.so in /usr/lib/python3/dist-packages/ecmxf"
+readelf -d "$mod" | grep -q 'R.*PATH' && fail "$mod has an RPATH/RUNPATH"
+(cd "$work" && /usr/bin/python3 -c 'import ecmxf, sys
+assert ecmxf.__file__.startswith("/usr/lib/python3/dist-packages/"), ecmxf.__file__
+with ecmxf.open("sim:") as d:
+    assert d.sdo.upload(0, 0x2001, 0) == 50000
+    assert len(d.slaves()) == 3
+try:
+    ecmxf.open("sim:").sdo.upload(0, 0x2FFF, 0)
+except ecmxf.SdoAbort as e:
+    assert e.code == 0x06020000
+else:
+    sys.exit("no SdoAbort")') || fail "installed python3-ecmxf: import ecmxf and an SDO upload on sim:"
+ok "installed python3-ecmxf: import ecmxf, SDO upload and abort on sim:"
 
 # ---- 5. a consumer of libecmxf-dev
 cmake -S "$src/tests/install/consumer" -B "$work/consumer" >"$work/consumer.log" 2>&1 &&

@@ -18,7 +18,7 @@
 #                                      (crossbuild-essential-arm64), the :arm64
 #                                      -dev packages the guest programs link,
 #                                      and qemu-system-aarch64
-#   scripts/install-deps.sh --deb      also debhelper, dh-dkms, dkms, lintian
+#   scripts/install-deps.sh --deb      also debhelper, dh-dkms, dkms, dh-python, lintian
 #                                      (make deb, make check-deb)
 #   scripts/install-deps.sh --debug-kernel
 #                                      also linux-source-6.1 and what building
@@ -28,7 +28,9 @@
 # running it on every `make` costs a few milliseconds.
 set -eu
 
-pkgs="build-essential cmake pkg-config catch2 libgpiod-dev libmnl-dev python3-docutils"
+# the Python binding (lib/python, tests/python): pybind11, the headers,
+# pytest and numpy (the buffer-protocol tests)
+pkgs="build-essential cmake pkg-config catch2 libgpiod-dev libmnl-dev python3-docutils pybind11-dev python3-dev python3-pytest python3-numpy"
 arm64=""
 for arg in "$@"; do
 	case "$arg" in
@@ -43,7 +45,7 @@ for arg in "$@"; do
 		arm64=1
 		pkgs="$pkgs crossbuild-essential-arm64 libgpiod-dev:arm64 libmnl-dev:arm64 qemu-system-arm busybox-static cpio"
 		;;
-	--deb) pkgs="$pkgs debhelper dh-dkms dkms lintian fakeroot adduser man-db" ;;
+	--deb) pkgs="$pkgs debhelper dh-dkms dkms dh-python lintian fakeroot adduser man-db" ;;
 	--debug-kernel) pkgs="$pkgs linux-source-6.1 flex bison bc libelf-dev libssl-dev cpio xz-utils kmod" ;;
 	*) echo "install-deps.sh: unknown option '$arg'" >&2; exit 2 ;;
 	esac

@@ -13,6 +13,7 @@
 #include <cstdlib>
 
 #include <ecmxf/error.hpp>
+#include <ecmxf/verbs.hpp>
 
 namespace ecmxf_util {
 
@@ -353,21 +354,15 @@ std::unique_ptr<ecmxf::Device> openDevice(const Globals &g)
 
 bool busDown(ecmxf::Device &dev)
 {
-	const unsigned count = dev.bus().slaveCount();
-	return count == 0 && dev.lastHeader().ecatState == 0;
+	return ecmxf::busDown(dev);
 }
 
 unsigned ensureBus(ecmxf::Device &dev, BusNeed need, bool verbose)
 {
-	if (busDown(dev)) {
-		if (verbose)
-			std::fprintf(stderr, "ecmxf-util: no network initialised yet, running ECAT_INIT_OP%s\n",
-				     need == BusNeed::PreOp ? " and PRE-OP" : "");
-		dev.bus().initNetwork();
-		if (need == BusNeed::PreOp && dev.bus().slaveCount() > 0)
-			dev.bus().stateSet(ecmxf::kAllSlaves, ecmxf::State::PreOp);
-	}
-	return dev.bus().slaveCount();
+	if (verbose && ecmxf::busDown(dev))
+		std::fprintf(stderr, "ecmxf-util: no network initialised yet, running ECAT_INIT_OP%s\n",
+			     need == BusNeed::PreOp ? " and PRE-OP" : "");
+	return ecmxf::ensureBusUp(dev, need == BusNeed::PreOp);
 }
 
 std::uint8_t selectSlave(ecmxf::Device &dev, std::uint8_t position, unsigned count)

@@ -77,15 +77,9 @@ void toOp(Board &b, bool quiet)
 	if (b.states().status().state == State::Op)
 		return;
 	preop(b, quiet);
-	if (b.state() == State::PreOp) {
-		const auto types = b.setup().detectAxes();
-		for (std::size_t i = 0; i < types.size(); i++)
-			if (types[i] != SlaveType::Io)
-				b.drives().setMode(static_cast<unsigned>(i + 1), Mode::Csp);
-	}
 	if (!quiet)
 		std::fprintf(stderr, "ecmxf-util: bringing the ECM-SK to OP\n");
-	b.states().set(State::Op);
+	ecmxf::sk::bringUpToOp(b);
 }
 
 unsigned slot(Board &b, const std::optional<std::string> &posText, const char *cmd, unsigned count)

@@ -117,6 +117,15 @@ public:
 ECMXF_EXPORT std::uint16_t cia402WalkBySdo(Device &device, std::uint8_t position, Cia402State target,
 					   bool faultResetOnly = false);
 
+/// Has no one initialised the bus behind the ECM-XF @p device yet (no
+/// slaves, EtherCAT state 0 in the last header)?
+[[nodiscard]] ECMXF_EXPORT bool busDown(Device &device);
+/// When busDown(): ECAT_INIT_OP, then with @p preOp all slaves to PRE-OP
+/// (when there are any); nothing when the bus is up. The slave count after.
+/// The rule ecmxf-util follows before a bus command, and the Python
+/// binding's open().
+ECMXF_EXPORT unsigned ensureBusUp(Device &device, bool preOp);
+
 /// Error(ENOTSUP): "not on the <master>: <why>".
 [[noreturn]] ECMXF_EXPORT void throwNotOn(MasterKind master, std::string_view why);
 

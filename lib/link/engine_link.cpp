@@ -226,19 +226,19 @@ void EngineLink::Engine::runBatch(std::span<const RawRequest> reqs, std::span<Ra
 	for (std::size_t i = 0; i < n; i++)
 		res[i] = RawResult{};
 
-	// the time the batch's commands start at: one read of the clock
-	const std::uint64_t start = n ? readNowNs() : nowNs();
-	// commands an earlier batch left in flight: their time starts now
-	for (Slot &s : slots_)
-		if (s.used && s.x.status == -EINPROGRESS && !ecmxf_engine_running(&engine, &s.x)) {
-			const std::uint64_t t = s.x.deadline_ns - s.x.started_ns;
-			s.x.started_ns = start;
-			s.x.deadline_ns = s.x.started_ns + t;
-		}
-
 	std::size_t next = 0;  // the next request to submit
 	Slot *last = nullptr; // the slot of request n - 1
 	try {
+		// the time the batch's commands start at: one read of the clock
+		// (which may fail too: a server gone, in the try like the rest)
+		const std::uint64_t start = n ? readNowNs() : nowNs();
+		// commands an earlier batch left in flight: their time starts now
+		for (Slot &s : slots_)
+			if (s.used && s.x.status == -EINPROGRESS && !ecmxf_engine_running(&engine, &s.x)) {
+				const std::uint64_t t = s.x.deadline_ns - s.x.started_ns;
+				s.x.started_ns = start;
+				s.x.deadline_ns = s.x.started_ns + t;
+			}
 		for (;;) {
 			// hand the engine what it takes now, in order
 			while (next < n) {

@@ -35,6 +35,22 @@ void throwNotOn(MasterKind master, std::string_view why)
 
 MasterVerbs::~MasterVerbs() = default;
 
+bool busDown(Device &device)
+{
+	const unsigned count = device.bus().slaveCount();
+	return count == 0 && device.lastHeader().ecatState == 0;
+}
+
+unsigned ensureBusUp(Device &device, bool preOp)
+{
+	if (busDown(device)) {
+		device.bus().initNetwork();
+		if (preOp && device.bus().slaveCount() > 0)
+			device.bus().stateSet(kAllSlaves, State::PreOp);
+	}
+	return device.bus().slaveCount();
+}
+
 namespace {
 
 std::optional<std::uint32_t> identity(MasterVerbs &m, unsigned position, std::uint8_t sub)

@@ -74,4 +74,19 @@ std::unique_ptr<Board> Board::open(std::string_view uri)
 	return std::make_unique<Board>(std::move(ch), o);
 }
 
+void bringUpToOp(Board &b)
+{
+	if (b.states().status().state == ecmxf::State::Op)
+		return;
+	if (b.state() == ecmxf::State::Init)
+		b.states().set(ecmxf::State::PreOp);
+	if (b.state() == ecmxf::State::PreOp) {
+		const auto types = b.setup().detectAxes();
+		for (std::size_t i = 0; i < types.size(); i++)
+			if (types[i] != SlaveType::Io)
+				b.drives().setMode(static_cast<unsigned>(i + 1), Mode::Csp);
+	}
+	b.states().set(ecmxf::State::Op);
+}
+
 } // namespace ecmxf::sk

@@ -7,7 +7,8 @@
 # with CMake (find_package, ecmxf::ecmxf, no C++ standard of its own) and
 # the same program with pkg-config alone, and both open "sim:"; below
 # C++20 the headers stop with one #error; the installed ecmxf-util and
-# ecmxf-sim start without LD_LIBRARY_PATH (RUNPATH $ORIGIN/../LIBDIR).
+# ecmxf-sim start without LD_LIBRARY_PATH (RUNPATH $ORIGIN/../LIBDIR);
+# the Python package (when built) imports from the prefix.
 #
 #   test-install.sh BUILD-DIR PREFIX CXX [EXTRA-FLAGS]
 #
@@ -108,4 +109,23 @@ out=$(env -u LD_LIBRARY_PATH "$prefix/bin/ecmxf-util" slaves) || fail "installed
 echo "ok: installed ecmxf-util starts without LD_LIBRARY_PATH and lists 3 slaves"
 env -u LD_LIBRARY_PATH "$prefix/bin/ecmxf-sim" --help >/dev/null || fail "installed ecmxf-sim --help"
 echo "ok: installed ecmxf-sim starts"
+
+# the Python package, where the build made one (not in sanitizer builds):
+# under the prefix's lib/python3.X/dist-packages, importable from there
+# without LD_LIBRARY_PATH (RUNPATH to LIBDIR)
+if [ -d "$build/python/ecmxf" ]; then
+	need 'lib/python3*/dist-packages/ecmxf/__init__.py'
+	need 'lib/python3*/dist-packages/ecmxf/__init__.pyi'
+	need 'lib/python3*/dist-packages/ecmxf/_ecmxf*.so'
+	pydir=$(cd "$prefix" && find . -path './lib/python3*/dist-packages' | head -n 1)
+	out=$(cd / && env -u LD_LIBRARY_PATH PYTHONPATH="$prefix/$pydir" /usr/bin/python3 -c \
+		'import ecmxf; print(ecmxf.__file__); print(ecmxf.open("sim:").sdo.upload(0, 0x2001, 0))') ||
+		fail "the installed Python package does not import"
+	case $out in
+	"$prefix/"*"/ecmxf/__init__.py
+50000") ;;
+	*) fail "installed Python package: $out" ;;
+	esac
+	echo "ok: the installed Python package imports and reads 0x2001:00"
+fi
 rm -rf "$prefix" "$prefix.log"

@@ -561,6 +561,18 @@ TEST_CASE("unix: a server that closes mid-request (ECONNRESET)", "[unix][errors]
 		CHECK((e.errnoValue() == ECONNRESET || e.errnoValue() == EPIPE));
 		CHECK_THAT(e.what(), StartsWith("unix:" + sock + ": "));
 	}
+	SECTION("a real server killed under a Device: the next command fails, nothing terminates")
+	{
+		// the engine reads the channel's clock before a batch: that read
+		// failing was once outside the engine's catch (std::terminate)
+		auto server = std::make_unique<Server>(sock);
+		auto dev = ecmxf::Device::open("unix:" + sock);
+		(void)dev->bus().slaveCount();
+		server.reset();
+		const auto e = thrown([&] { (void)dev->bus().slaveCount(); });
+		CHECK((e.errnoValue() == ECONNRESET || e.errnoValue() == EPIPE || e.errnoValue() == EIO));
+		CHECK_THAT(e.what(), Contains("unix:" + sock));
+	}
 }
 
 TEST_CASE("unix: an 'E' reply is an error with the server's message (EPROTO)", "[unix][errors]")

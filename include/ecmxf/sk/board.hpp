@@ -173,6 +173,12 @@ private:
 	SlotLink link_;
 };
 
+/// The board to OP the way ecmxf-util brings it there: from INIT to
+/// PRE-OP, the axes detected (SET_AXIS) and every drive set to CSP
+/// (DRIVE_MODE), then OP. Nothing when the board is in OP already.
+/// Documentation/ecm-sk.rst.
+ECMXF_EXPORT void bringUpToOp(Board &board);
+
 } // namespace ecmxf::sk
 
 #undef ECMXF_SK_FLAT
