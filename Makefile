@@ -97,7 +97,7 @@ fuzz-long: fuzz-build
 fuzz-build:
 	@$(DEPS) --ci
 	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DECMXF_BUILD_FUZZ=ON \
-		-DECMXF_BUILD_TESTS=OFF -DECMXF_BUILD_PYTHON=OFF -DECMXF_BUILD_PYTHON=OFF -DECMXF_WERROR=$(WERROR) -DCMAKE_BUILD_TYPE=RelWithDebInfo
+		-DECMXF_BUILD_TESTS=OFF -DECMXF_BUILD_PYTHON=OFF -DECMXF_WERROR=$(WERROR) -DCMAKE_BUILD_TYPE=RelWithDebInfo
 	cmake --build $(FUZZ_BUILD) -j $(JOBS)
 
 # make bench ends with the in-guest round trip /dev/ecmxf0 vs spidev under
