@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/model/types_bus.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/sk/board.hpp>
@@ -224,6 +225,8 @@ unsigned opSlot(Globals &g, Board &b, const std::optional<std::string> &pos, con
 	return s;
 }
 
+int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigned s);
+
 int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
 	   const std::optional<std::string> &)
 {
@@ -231,9 +234,37 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		throw UsageError("cia402: status, enable, disable, fault-reset, move TARGET or home METHOD");
 	const std::string &what = args[0];
 	const unsigned s = opSlot(g, b, pos, "cia402");
+	// enable, move, home: SIGINT, SIGTERM, SIGHUP halt the drive (SV_OFF:
+	// the board owns the controlword and has no quick stop) and exit with
+	// 128 + the signal
+	std::optional<StopSignals> signals;
+	if (what == "enable" || what == "move" || what == "home")
+		signals.emplace();
+	try {
+		return cia402Op(g, b, args, s);
+	} catch (const Interrupted &e) {
+		std::string done;
+		try {
+			const auto a = b.drives().halt(s);
+			const auto st = ecmxf::cia402StateFrom(a.statusword);
+			done = "slave " + std::to_string(s - 1) + ": SV_OFF: " +
+			       (st ? std::string(ecmxf::cia402StateName(*st)) : std::string("no CiA-402 state")) +
+			       " (statusword " + hexString(a.statusword, 4) + "), position " + std::to_string(a.position);
+		} catch (const std::exception &x) {
+			done = std::string("NOT halted: ") + x.what();
+		}
+		std::fprintf(stderr, "ecmxf-util: cia402 %s: %s: %s\n", what.c_str(), e.what(), done.c_str());
+		return StopSignals::exitCode(e.signal());
+	}
+}
+
+int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigned s)
+{
+	const std::string &what = args[0];
 	const auto verbs = ecmxf::verbsOf(b);
 	if (what == "enable") {
 		verbs->driveEnable(s - 1);
+		StopSignals::check();
 	} else if (what == "disable") {
 		verbs->driveDisable(s - 1);
 	} else if (what == "fault-reset") {
@@ -250,7 +281,13 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		// one per cycle); the FIFO's back-pressure paces it
 		const std::int64_t dist = static_cast<std::int64_t>(target) - from;
 		const std::int64_t steps = std::max<std::int64_t>(1, (std::llabs(dist) + 999) / 1000);
+		if (!g.quiet)
+			std::fprintf(stderr,
+				     "ecmxf-util: cia402 move: slave %u: CSP move from %d to %d (SIGINT, SIGTERM or SIGHUP "
+				     "stops the drive)\n",
+				     s - 1, from, target);
 		for (std::int64_t i = 1; i <= steps;) {
+			StopSignals::check();
 			if (b.cyclic().stage(s, Mode::Csp, static_cast<std::int32_t>(from + dist * i / steps)))
 				i++;
 			const auto r = b.cyclic().cycle();
@@ -262,6 +299,7 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 						   ENOBUFS);
 		}
 		for (int i = 0; i < 2000 && std::llabs(static_cast<std::int64_t>(b.drives().axis(s).position) - target) > 0; i++) {
+			StopSignals::check();
 			b.channel().sleepFor(std::chrono::milliseconds(1));
 			(void)b.cyclic().cycle();
 		}
@@ -271,7 +309,9 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		const auto method = static_cast<std::int8_t>(parseSigned("cia402", "METHOD", args[1], -128, 127));
 		b.drives().servoOn(s);
 		b.drives().waitEnabled(s);
+		StopSignals::check();
 		b.drives().home(s, method);
+		StopSignals::check();
 	} else if (what != "status") {
 		throw UsageError("cia402: unknown action '" + what + "'");
 	}

@@ -15,6 +15,8 @@
 
 #include <ecmxf/device.hpp>
 
+#include <signal.h>
+
 #include <uapi/linux/ecmxf.h> // the chip's command codes and header bits
 
 namespace ecmxf_util {
@@ -235,6 +237,44 @@ std::vector<std::uint8_t> encodeValue(std::string_view cmd, DataType t, std::str
 /// bytes ("0x00030192 197010"), else the bytes in hex.
 std::string formatValue(std::optional<DataType> t, const std::vector<std::uint8_t> &b);
 std::string jsonValue(std::optional<DataType> t, const std::vector<std::uint8_t> &b);
+
+// ---- the safe stop (ecmxf-util-signals.cpp)
+
+/// SIGINT, SIGTERM and SIGHUP handled while it lives (the previous
+/// handlers back after): the handler only records the first signal; a
+/// command that enables or moves a drive looks at it every cycle, brings
+/// the drive to a halt and exits with 128 + the signal (exitCode()).
+class StopSignals
+{
+public:
+	StopSignals();
+	~StopSignals();
+	StopSignals(const StopSignals &) = delete;
+	StopSignals &operator=(const StopSignals &) = delete;
+	/// The signal received (0: none yet).
+	[[nodiscard]] static int pending() noexcept;
+	/// Throws Interrupted when a signal came.
+	static void check();
+	/// 130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP.
+	[[nodiscard]] static int exitCode(int sig) noexcept { return 128 + sig; }
+
+private:
+	struct sigaction old_[3];
+};
+
+/// What StopSignals::check() throws: "interrupted by SIGINT".
+class Interrupted : public std::runtime_error
+{
+public:
+	explicit Interrupted(int sig);
+	[[nodiscard]] int signal() const noexcept { return sig_; }
+
+private:
+	int sig_;
+};
+
+/// "SIGINT", "SIGTERM", "SIGHUP".
+std::string_view signalName(int sig) noexcept;
 
 /// cia402 move / home (ecmxf-util-cia402-motion.cpp): @p args are all of
 /// cia402's arguments. The dispatch point for the motion commands.
