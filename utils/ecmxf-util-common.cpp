@@ -231,12 +231,24 @@ std::uint64_t parseUnsigned(std::string_view cmd, std::string_view what, std::st
 	}
 	std::uint64_t v = 0;
 	const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v, base);
+	const auto outOfRange = [&] {
+		return UsageError(std::string(cmd).append(": ").append(what).append(": ").append(text).append(
+			" is out of range ").append(std::to_string(min)).append("..").append(std::to_string(max)));
+	};
+	// a negative number is a number, out of an unsigned range
+	if (text.size() > 1 && text[0] == '-' && text[1] >= '0' && text[1] <= '9') {
+		std::uint64_t m = 0;
+		const auto [e2, ec2] = std::from_chars(text.data() + 1, text.data() + text.size(), m, 10);
+		if (e2 == text.data() + text.size() && ec2 != std::errc::invalid_argument && (m != 0 || min > 0))
+			throw outOfRange();
+		if (e2 == text.data() + text.size() && ec2 != std::errc::invalid_argument)
+			return 0; // -0
+	}
 	if (digits.empty() || end != digits.data() + digits.size() || ec == std::errc::invalid_argument)
 		throw UsageError(std::string(cmd).append(": ").append(what).append(": '").append(text).append(
 			"' is not a number (decimal or 0x hex)"));
 	if (ec == std::errc::result_out_of_range || v > max || v < min)
-		throw UsageError(std::string(cmd).append(": ").append(what).append(": ").append(text).append(
-			" is out of range ").append(std::to_string(min)).append("..").append(std::to_string(max)));
+		throw outOfRange();
 	return v;
 }
 

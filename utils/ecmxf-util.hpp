@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/model/objects.hpp>
 
 #include <signal.h>
 
@@ -230,6 +231,10 @@ DataType parseType(std::string_view cmd, std::string_view text);
 std::string_view typeName(DataType t);
 /// Bytes of a fixed-size type; 0 for string and octet_string.
 std::size_t typeSize(DataType t);
+/// The -t type of a standard object's type (<ecmxf/model/objects.hpp>).
+DataType dataTypeOf(ecmxf::ObjectType t) noexcept;
+/// int8..uint64 and sm8..sm64.
+bool integerType(DataType t) noexcept;
 /// VALUE as the little-endian bytes of @p t (octet_string: hex bytes).
 std::vector<std::uint8_t> encodeValue(std::string_view cmd, DataType t, std::string_view text);
 /// Bytes of an object as text / as a JSON value. Without a type: the

@@ -64,7 +64,13 @@ TEST_CASE("sk cli: upload and download through the SDO slot")
 	r = run("-d sk-sim: upload -p 3 0x1000");
 	CHECK(r.status == 1);
 	CHECK_THAT(r.err, Contains("out of range"));
+	// a standard object has its type from CiA 402 (0x6098 INTEGER8)
 	r = run("-d sk-sim: download -p 1 0x6098 37");
+	CHECK(r.status == 0);
+	r = run("-d sk-sim: download -p 1 0x6098 200");
+	CHECK(r.status == 2);
+	CHECK_THAT(r.err, Contains("200 is out of range -128..127 (0x6098:00 Homing method is INTEGER8)"));
+	r = run("-d sk-sim: download -p 1 0x2001 37");
 	CHECK(r.status == 2);
 	CHECK_THAT(r.err, Contains("-t TYPE is required"));
 	r = run("-d sk-sim: download -p 1 -t int8 0x6098 300");
