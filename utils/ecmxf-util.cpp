@@ -119,6 +119,8 @@ const CommandDesc kCommands[] = {
 	  "lists ECM-XF command codes; the ECM-SK's are in Documentation/ecm-sk.rst" },
 	{ "cstruct", "the PDO mapping as IgH's C structures (pdos --cstruct)", kCstructHelp, cmdCstruct, true, kOnXf,
 	  kOwnMapping },
+	{ "data", "the process image decoded by entry; --set writes an output entry", kDataHelp, cmdData, true,
+	  kOnXf, "the board exchanges the process data itself; 'cia402' and 'io' show a slave's slot" },
 	{ "dac", "set the chip's analog output", kDacHelp, cmdDac, true, kOnXf, "the ECM-SK has no analog output" },
 	{ "decode", "decode a packet trace (--trace FILE) as a protocol log", kDecodeHelp, cmdDecode, false, kOnXf,
 	  "traces are recorded for ECM-XF packets only" },
