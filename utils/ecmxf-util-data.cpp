@@ -14,7 +14,10 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <unistd.h>
 
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/device.hpp>
@@ -27,6 +30,7 @@ namespace ecmxf_util {
 
 const char *const kDataHelp =
 	"Usage: ecmxf-util [global options] data [-p N] [--set NAME=VALUE]... [--json]\n"
+	"                  [--watch [--interval MS] [--count N]]\n"
 	"\n"
 	"The process image (as IgH's 'ethercat data', decoded): for each slave,\n"
 	"or slave N, its output entries (RxPDO, master to slave) and input\n"
@@ -51,6 +55,13 @@ const char *const kDataHelp =
 	"                     TargetPosition) or INDEX:SUB; an input entry or an\n"
 	"                     unknown one is refused with the reason. The chip\n"
 	"                     keeps sending the last outputs after the command.\n"
+	"  -w, --watch        live: the image again every --interval (the bus\n"
+	"                     cycling between), redrawn in place on a terminal,\n"
+	"                     one block (--json: one line) per refresh otherwise;\n"
+	"                     until Ctrl-C (SIGINT, SIGTERM, SIGHUP: exit 0)\n"
+	"  --interval MS      --watch: the refresh period (default 100; 1 = every\n"
+	"                     bus cycle)\n"
+	"  --count N          --watch: stop after N refreshes\n"
 	"  --json             an array of {position, name, outputs: [{index, sub,\n"
 	"                     name, bit_length, type, value}], inputs: [...]}\n"
 	"  -h, --help         show this help\n";
@@ -161,9 +172,23 @@ int cmdData(Globals &g, const Args &args)
 			throw UsageError("data: --set '" + std::string(v) + "': NAME=VALUE expected");
 		sets.push_back({ std::string(v.substr(0, eq)), std::string(v.substr(eq + 1)) });
 	}
-	const auto pos = parseArgs("data", rest, g, kDataHelp, { { "-p", "--position", nullptr, &posText } });
+	bool watch = false;
+	std::optional<std::string> intervalText, countText;
+	const auto pos = parseArgs("data", rest, g, kDataHelp,
+				   { { "-p", "--position", nullptr, &posText },
+				     { "-w", "--watch", &watch, nullptr },
+				     { "", "--interval", nullptr, &intervalText },
+				     { "", "--count", nullptr, &countText } });
 	if (!pos)
 		return 0;
+	if ((intervalText || countText) && !watch)
+		throw UsageError("data: --interval and --count are for --watch");
+	const long intervalMs =
+		intervalText ? static_cast<long>(parseUnsigned("data", "--interval", *intervalText, 3'600'000, 1)) : 100;
+	std::optional<std::uint64_t> count_;
+	if (countText)
+		count_ = parseUnsigned("data", "--count", *countText, UINT32_MAX, 1);
+	const bool tty = isatty(STDOUT_FILENO) != 0;
 	if (!pos->empty())
 		throw UsageError("data: unexpected argument '" + pos->front() + "' (try 'ecmxf-util data --help')");
 	const int position = posText ? parsePosition("data", posText) : -1;
@@ -213,15 +238,18 @@ int cmdData(Globals &g, const Args &args)
 		image.output<std::uint64_t>(p, e.index, e.sub).set(raw);
 	}
 	cyc->start();
-	// enough cycles for the outputs to reach the slaves and their inputs
-	// to come back (the FIFO's pipeline: about 7 cycles)
-	for (int i = 0; i < 20; i++) {
-		const auto &r = cyc->cycle();
-		if (r.error)
-			throw ecmxf::Error(std::string("data: the cyclic exchange failed: ") + r.message, r.error);
-		(void)cyc->waitNextCycle();
-	}
-	cyc->stop();
+	// runs @p n cycles (at least 20 the first time: the outputs reach the
+	// slaves and their inputs come back, the FIFO's pipeline is about 7)
+	const auto runCycles = [&](long n) {
+		for (long i = 0; i < n; i++) {
+			const auto &r = cyc->cycle();
+			if (r.error)
+				throw ecmxf::Error(std::string("data: the cyclic exchange failed: ") + r.message,
+						   r.error);
+			(void)cyc->waitNextCycle();
+		}
+	};
+	runCycles(20);
 
 	// the values through the image's handles (unsigned, as wide as can be)
 	const auto entries = [&](unsigned p, bool out) {
@@ -252,26 +280,50 @@ int cmdData(Globals &g, const Args &args)
 		}
 		return s;
 	};
-	if (g.json)
-		std::printf("[");
-	bool first = true;
-	for (unsigned p = 0; p < count; p++) {
-		if (position >= 0 && p != static_cast<unsigned>(position))
-			continue;
-		const std::string name = m.slaves()[p].name;
-		const std::string outs = entries(p, true);
-		const std::string ins = entries(p, false);
-		if (g.json) {
-			std::printf("%s\n  {\"position\": %u, \"name\": %s, \"outputs\": [%s], \"inputs\": [%s]}",
-				    first ? "" : ",", p, jsonString(name).c_str(), outs.c_str(), ins.c_str());
-		} else {
-			std::printf("slave %u%s%s\n%s%s", p, name.empty() ? "" : ": ", name.c_str(), outs.c_str(),
-				    ins.c_str());
+	const auto printImage = [&] {
+		std::string text = g.json ? "[" : "";
+		bool first = true;
+		for (unsigned p = 0; p < count; p++) {
+			if (position >= 0 && p != static_cast<unsigned>(position))
+				continue;
+			const std::string name = m.slaves()[p].name;
+			if (g.json)
+				text += std::string(first ? "" : ",") + (watch ? " " : "\n  ") + "{\"position\": " +
+					std::to_string(p) + ", \"name\": " + jsonString(name) + ", \"outputs\": [" +
+					entries(p, true) + "], \"inputs\": [" + entries(p, false) + "]}";
+			else
+				text += "slave " + std::to_string(p) + (name.empty() ? "" : ": ") + name + "\n" +
+					entries(p, true) + entries(p, false);
+			first = false;
 		}
-		first = false;
+		if (g.json)
+			text += watch ? "]\n" : "\n]\n";
+		// live on a terminal: redrawn in place (cursor home, clear)
+		if (watch && tty && !g.json)
+			std::fputs("\x1b[H\x1b[2J", stdout);
+		std::fputs(text.c_str(), stdout);
+		std::fflush(stdout);
+	};
+	if (!watch) {
+		cyc->stop();
+		printImage();
+		return 0;
 	}
-	if (g.json)
-		std::printf("\n]\n");
+	// --watch: a refresh per --interval (cycles of the bus between them,
+	// paced to the wall clock as monitor is), until --count refreshes or a
+	// signal (exit 0); --json: one array per line (JSON Lines)
+	const StopSignals signals;
+	for (std::uint64_t n = 0; !StopSignals::pending();) {
+		printImage();
+		if (count_ && ++n >= *count_)
+			break;
+		const auto w0 = std::chrono::steady_clock::now();
+		runCycles(intervalMs);
+		const auto left = std::chrono::milliseconds(intervalMs) - (std::chrono::steady_clock::now() - w0);
+		if (left.count() > 0 && !StopSignals::pending())
+			std::this_thread::sleep_for(left);
+	}
+	cyc->stop();
 	return 0;
 }
 

@@ -80,3 +80,23 @@ TEST_CASE("data: a bus left in PRE-OP is refused naming its state", "[cli][data]
 	CHECK_THAT(r.err, Contains("data: process data runs in SAFE-OP and OP: "));
 	CHECK_THAT(r.err, Contains("PRE-OP"));
 }
+
+TEST_CASE("data --watch: one refresh per --interval, --count of them; JSON Lines; no escapes off a terminal",
+	  "[cli][data]")
+{
+	auto r = run("data -p 0 --watch --interval 5 --count 3 --json");
+	REQUIRE(r.status == 0);
+	const auto lines = testjson::parseLines(r.out);
+	REQUIRE(lines.size() == 3);
+	for (const auto &l : lines)
+		CHECK(l[0]["inputs"][0]["name"].str == "Statusword");
+	r = run("data -p 2 -w --interval 1 --count 2");
+	REQUIRE(r.status == 0);
+	CHECK(clitest::lines(r.out).size() == 2 * 3); // per refresh: the slave, its output, its input
+	CHECK(r.out.find('\x1b') == std::string::npos);
+	r = run("data --count 3");
+	CHECK(r.status == 2);
+	CHECK(r.err == "ecmxf-util: data: --interval and --count are for --watch\n");
+	r = run("data -w --interval 0");
+	CHECK(r.err == "ecmxf-util: data: --interval: 0 is out of range 1..3600000\n");
+}
