@@ -143,7 +143,9 @@ int cmdFoeWrite(Globals &g, const Args &args)
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
-	dev->slaves().foeWrite(position, remote, data, opt);
+	Progress progress(g, "foe_write: staging " + remote, "bytes");
+	dev->slaves().foeWrite(position, remote, data, opt,
+			       [&](std::size_t done, std::size_t total) { progress(done, total); });
 	return 0;
 }
 

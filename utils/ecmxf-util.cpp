@@ -220,6 +220,8 @@ void usage(std::FILE *out, bool sk)
 		     "                    (ecmxf-util decode FILE shows it)\n"
 		     "  --json            JSON output for scripts\n"
 		     "  -q, --quiet       print nothing but errors and the data asked for\n"
+		     "  --progress        progress of long transfers (foe_write, sii_write) on\n"
+		     "                    stderr even when stdout is not a terminal\n"
 		     "  -h, --help        show this help\n"
 		     "  -V, --version     print the version\n"
 		     "\n"
@@ -270,6 +272,8 @@ int run(int argc, char **argv)
 			g.json = true;
 		} else if (a == "-q" || a == "--quiet") {
 			g.quiet = true;
+		} else if (a == "--progress") {
+			g.progress = true;
 		} else if (a == "-d" || a == "--device") {
 			if (i + 1 >= argc)
 				throw UsageError("option '" + std::string(a) + "' needs a device URI");

@@ -5,6 +5,7 @@
  */
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -28,6 +29,26 @@ struct Globals {
 	bool json = false;           ///< --json
 	std::string trace;           ///< --trace FILE (added to the URI as trace=FILE)
 	bool quiet = false;          ///< -q/--quiet: nothing but errors and the data asked for
+	bool progress = false;       ///< --progress: progress lines on stderr even off a terminal
+};
+
+/// Progress of a long transfer on stderr: "foe_write: 51200/204800 bytes
+/// (25%), 7.8 kB/s, 20 s left". Shown when stdout and stderr are
+/// terminals (not with -q or --json: redrawn in place, at most 10 times a
+/// second), or with --progress (then a line at most once a second off a
+/// terminal); silent otherwise. The last update ends the line.
+class Progress
+{
+public:
+	Progress(const Globals &g, std::string what, std::string unit);
+	/// @p done of @p total units.
+	void operator()(std::size_t done, std::size_t total);
+	[[nodiscard]] bool shown() const noexcept { return on_; }
+
+private:
+	std::string what_, unit_;
+	bool on_ = false, tty_ = false, ended_ = false;
+	std::chrono::steady_clock::time_point t0_, last_;
 };
 
 /// Bad command-line usage: reported as "ecmxf-util: <reason>", exit code 2.
