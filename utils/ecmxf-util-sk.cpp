@@ -65,11 +65,10 @@ std::string stateText(State s)
 // INIT -> PRE-OP if needed
 void preop(Board &b, bool quiet)
 {
-	if (b.states().status().state == State::Init) {
-		if (!quiet)
-			std::fprintf(stderr, "ecmxf-util: bringing the ECM-SK to PRE-OP\n");
+	// silently, as the ECM-XF's ensureBus() does
+	(void)quiet;
+	if (b.states().status().state == State::Init)
 		b.states().set(State::PreOp);
-	}
 }
 
 // up to OP: types found, DRIVE_MODE CSP for drives
@@ -84,8 +83,6 @@ void toOp(Board &b, bool quiet)
 			if (types[i] != SlaveType::Io)
 				b.drives().setMode(static_cast<unsigned>(i + 1), Mode::Csp);
 	}
-	if (!quiet)
-		std::fprintf(stderr, "ecmxf-util: bringing the ECM-SK to OP\n");
 	b.states().set(State::Op);
 }
 

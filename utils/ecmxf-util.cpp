@@ -41,9 +41,9 @@ const char *const kCommandsHelp =
 	"  --json      a JSON array instead of the table\n"
 	"  -h, --help  show this help\n";
 
-const char *const kVersionHelp = "Usage: ecmxf-util version\n"
+const char *const kVersionHelp = "Usage: ecmxf-util version [--json]\n"
 				 "\n"
-				 "Print the version of ecmxf-util and libecmxf.\n";
+				 "Print the version of ecmxf-util and libecmxf (--json: {\"version\": ...}).\n";
 
 std::string partnerName(const ecmxf::CommandInfo &ci)
 {
@@ -99,7 +99,10 @@ int cmdVersion(Globals &g, const Args &args)
 {
 	if (parseFlags("version", args, g, kVersionHelp, {}))
 		return 0;
-	printVersion();
+	if (g.json)
+		std::printf("{\"version\": %s}\n", jsonString(ecmxf::version()).c_str());
+	else
+		printVersion();
 	return 0;
 }
 

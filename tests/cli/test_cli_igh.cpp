@@ -560,3 +560,14 @@ TEST_CASE("bad input: output that cannot be written fails with exit 1", "[cli][i
 	r = run("frobnicate >/dev/full");
 	CHECK(r.status == 2);
 }
+
+TEST_CASE("smaller (issue 29): version --json, decode of a directory", "[cli][igh]")
+{
+	auto r = run("version --json");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, StartsWith("{\"version\": \""));
+	CHECK(testjson::parse(r.out)["version"].str.size() > 0);
+	r = run("decode /tmp");
+	CHECK(r.status == 1);
+	CHECK(r.err == "ecmxf-util: decode: \"/tmp\" is a directory, not a trace file\n");
+}

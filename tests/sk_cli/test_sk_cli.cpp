@@ -50,6 +50,12 @@ TEST_CASE("sk cli: upload and download through the SDO slot")
 	auto r = run("-d sk-sim: upload -p 1 -t uint32 0x1018:2");
 	REQUIRE(r.status == 0);
 	CHECK_THAT(r.out, Contains("1412")); // 0x584
+	// the board brought up silently, as the ECM-XF's bus (issue 29)
+	CHECK(r.err.empty());
+	// IgH's split form INDEX SUB
+	r = run("-d sk-sim: upload -p 1 -t uint32 0x1018 2");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("1412"));
 	r = run("-d sk-sim: --json upload -p 0 0x1018:1");
 	REQUIRE(r.status == 0);
 	CHECK_THAT(r.out, Contains("\"size\": 4"));
