@@ -317,8 +317,6 @@ std::optional<std::string> ighAlternative(std::string_view name)
 			    "mapping, 'ecmxf-util slaves -v' the slaves" },
 		{ "crc", "'ecmxf-util master' and 'ecmxf-util info' show the chip's CRC and working-counter error "
 			 "counters; 'ecmxf-util monitor' reports them as they rise" },
-		{ "data", "the process image is the library's: ecmxf::Cyclic (Documentation/process-data.rst); "
-			  "'ecmxf-util monitor' shows the FIFO levels" },
 		{ "debug", "'ecmxf-util --trace FILE COMMAND' records every exchange with the chip, 'ecmxf-util "
 			   "decode FILE' shows it" },
 		{ "domains", "the ECM-XF has one process image and no domains: 'ecmxf-util pdos', and ecmxf::Cyclic "

@@ -336,7 +336,7 @@ TEST_CASE("igh: every IgH command the ECM-XF cannot do says what to use instead"
 {
 	const std::pair<const char *, const char *> cases[] = {
 		{ "sdos", "no SDO information service" }, { "domains", "no domains" },
-		{ "data", "ecmxf::Cyclic" },		  { "alias", "eeprom -p N write 4" },
+		{ "alias", "eeprom -p N write 4" },
 		{ "config", "ecmxf-util pdos" },	  { "crc", "ecmxf-util master" },
 		{ "debug", "--trace FILE" },		  { "eoe", "no Ethernet over EtherCAT" },
 		{ "graph", "slaves" },			  { "ip", "no Ethernet over EtherCAT" },
@@ -387,13 +387,22 @@ TEST_CASE("igh: sii_read writes the binary image into a pipe, --hex the dump", "
 	CHECK(r.err == "ecmxf-util: sii_read: --raw and --hex exclude each other\n");
 }
 
-TEST_CASE("igh: monitor on a simulator without a bound is paced to the wall clock", "[cli][igh][monitor]")
+namespace {
+
+/// The CPU seconds of a monitor run for a second, then stopped by @p sig
+/// (its stderr joins stdout: run()'s 2> redirects the last command only).
+std::pair<clitest::Result, double> monitorForASecond(const std::string &options, const char *sig)
 {
 	const double cpu0 = childCpuSeconds();
-	// one second of an unbounded monitor, stopped by SIGINT
-	// (its stderr joins stdout: run()'s 2> redirects the last command only)
-	const auto r = run("monitor 2>&1 & pid=$!; sleep 1; kill -INT $pid; wait $pid");
-	const double cpu = childCpuSeconds() - cpu0;
+	const auto r = run("monitor " + options + " 2>&1 & pid=$!; sleep 1; kill -" + sig + " $pid; wait $pid");
+	return { r, childCpuSeconds() - cpu0 };
+}
+
+} // namespace
+
+TEST_CASE("igh: monitor on a simulator without a bound is paced to the wall clock", "[cli][igh][monitor]")
+{
+	const auto [r, cpu] = monitorForASecond("", "INT");
 	CHECK(r.status == 0);
 	CHECK_THAT(r.out, Contains("paced to the wall clock"));
 	// spinning in virtual time would take a core for the whole second
@@ -406,12 +415,9 @@ TEST_CASE("igh: monitor on a simulator without a bound is paced to the wall cloc
 
 TEST_CASE("igh: monitor --count on a quiet simulated bus is paced too (issue 29)", "[cli][igh][monitor]")
 {
-	const double cpu0 = childCpuSeconds();
 	// --count 1 on a bus where nothing happens: the count is never
-	// reached; stopped by SIGTERM after a second (it used to spin a core
-	// polling in virtual time, saying nothing)
-	const auto r = run("monitor --count 1 2>&1 & pid=$!; sleep 1; kill -TERM $pid; wait $pid");
-	const double cpu = childCpuSeconds() - cpu0;
+	// reached (it used to spin a core polling in virtual time)
+	const auto [r, cpu] = monitorForASecond("--count 1", "TERM");
 	CHECK(r.status == 0);
 	CHECK_THAT(r.out, Contains("paced to the wall clock"));
 	CHECK(cpu < 0.5);

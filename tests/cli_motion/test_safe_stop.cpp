@@ -21,6 +21,7 @@
 
 #include <ecmxf/model/cia402.hpp>
 
+#include "cli/cli_run.hpp"
 #include "common/sim_server.hpp"
 
 using Catch::Matchers::Contains;
@@ -129,14 +130,13 @@ long long jsonNumber(const std::string &json, const std::string &key)
 	return std::stoll(m[1].str());
 }
 
-/// ecmxf-util ARGS run to its end: stdout.
-std::string runUtil(const std::vector<std::string> &args)
+/// ecmxf-util ARGS run to its end (tests/cli/cli_run.hpp): stdout.
+std::string runUtil(const std::string &args)
 {
-	Child c(args);
-	const int rc = c.wait();
-	INFO("ecmxf-util stderr: " << c.errText);
-	REQUIRE(rc == 0);
-	return c.outText;
+	const auto r = clitest::run(args);
+	INFO("ecmxf-util stderr: " << r.err);
+	REQUIRE(r.status == 0);
+	return r.out;
 }
 
 const std::vector<std::string> kPvMove = { "cia402", "-p", "0", "move", "--pv", "20000", "--time", "0" };
@@ -177,10 +177,10 @@ TEST_CASE("safe stop: SIGTERM during a PV move on unix: leaves the server's driv
 	}
 	// the drive as the server's chip has it now (before the fix: OPERATION
 	// ENABLED at velocity 20000, the chip sending the last outputs)
-	const std::string s1 = runUtil({ "-d", dev, "cia402", "-p", "0", "status", "--json" });
+	const std::string s1 = runUtil("-d " + dev + " cia402 -p 0 status --json");
 	CHECK_THAT(s1, Contains("\"state\": \"SWITCH ON DISABLED\""));
 	CHECK(jsonNumber(s1, "velocity_actual") == 0);
-	const std::string s2 = runUtil({ "-d", dev, "cia402", "-p", "0", "status", "--json" });
+	const std::string s2 = runUtil("-d " + dev + " cia402 -p 0 status --json");
 	CHECK(jsonNumber(s2, "position_actual") == jsonNumber(s1, "position_actual"));
 }
 
@@ -209,10 +209,10 @@ TEST_CASE("safe stop: SIGINT during a move on sk-unix: leaves the board's drive 
 		CHECK(c.wait() == 130);
 		CHECK_THAT(c.errText, Contains("interrupted by SIGINT: slave 0: SV_OFF: "));
 	}
-	const std::string s1 = runUtil({ "-d", dev, "cia402", "-p", "0", "status", "--json" });
+	const std::string s1 = runUtil("-d " + dev + " cia402 -p 0 status --json");
 	const auto st = ecmxf::cia402StateFrom(static_cast<std::uint16_t>(jsonNumber(s1, "statusword")));
 	CHECK(st != ecmxf::Cia402State::OperationEnabled);
 	CHECK(st != ecmxf::Cia402State::SwitchedOn);
-	const std::string s2 = runUtil({ "-d", dev, "cia402", "-p", "0", "status", "--json" });
+	const std::string s2 = runUtil("-d " + dev + " cia402 -p 0 status --json");
 	CHECK(jsonNumber(s2, "actual_position") == jsonNumber(s1, "actual_position"));
 }
