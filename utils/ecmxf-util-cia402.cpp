@@ -119,6 +119,17 @@ int cmdCia402(Globals &g, const Args &args)
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	ecmxf::Device &d = *dev;
+	// an I/O terminal has no statusword: say what it is not, not only the abort
+	try {
+		(void)d.sdo().read<std::uint16_t>(position, 0x6041, 0);
+	} catch (const ecmxf::SdoError &e) {
+		// 0x06020000 object does not exist, 0x08000023 no object dictionary
+		if (e.abortCode() != 0x06020000 && e.abortCode() != 0x08000023)
+			throw;
+		throw ecmxf::Error("slave " + std::to_string(position) +
+					   " is not a CiA-402 drive: it has no statusword 0x6041 (" + e.what() + ")",
+				   ENODEV);
+	}
 
 	if (!target) {
 		const auto sw = d.sdo().read<std::uint16_t>(position, 0x6041, 0);
