@@ -145,32 +145,27 @@ int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		throw ecmxf::Error("slaves: the types are found in PRE-OP; the ECM-SK is in " +
 					   stateText(b.state()) + " (ecmxf-util states PREOP)",
 				   EPERM);
-	const auto types = b.setup().detectAxes();
-	std::vector<std::string> idents;
-	for (std::size_t i = 0; i < types.size(); i++) {
-		std::string id = "-";
-		try {
-			const auto v = b.sdo().read(static_cast<unsigned>(i + 1), 0x1018, 1);
-			const auto p = b.sdo().read(static_cast<unsigned>(i + 1), 0x1018, 2);
-			id = hexString(v, 8) + ":" + hexString(p, 8);
-		} catch (const ecmxf::Error &) {
-			// no CoE: no identity to show
-		}
-		idents.push_back(id);
-	}
+	// the slave list of both masters (MasterVerbs): types by SET_AXIS,
+	// identity by SDO 0x1018 where the slave answers
+	const auto list = ecmxf::verbsOf(b)->slaves();
+	const auto num = [](const std::optional<std::uint32_t> &v) { return v ? std::to_string(*v) : "null"; };
 	if (g.json) {
+		// the ECM-XF's field names (vendor_id, product_code), null when unknown
 		std::printf("[");
-		for (std::size_t i = 0; i < types.size(); i++)
-			std::printf("%s\n  {\"position\": %zu, \"state\": %s, \"type\": %s, \"identity\": %s}",
-				    i ? "," : "", i, jsonString(stateText(b.state())).c_str(),
-				    jsonString(ecmxf::sk::slaveTypeName(types[i])).c_str(),
-				    idents[i] == "-" ? "null" : jsonString(idents[i]).c_str());
+		for (std::size_t i = 0; i < list.size(); i++)
+			std::printf("%s\n  {\"position\": %u, \"state\": %s, \"type\": %s, \"vendor_id\": %s, "
+				    "\"product_code\": %s}",
+				    i ? "," : "", list[i].position, jsonString(stateText(list[i].state)).c_str(),
+				    jsonString(list[i].kind).c_str(), num(list[i].vendorId).c_str(),
+				    num(list[i].productCode).c_str());
 		std::printf("\n]\n");
 		return 0;
 	}
-	for (std::size_t i = 0; i < types.size(); i++)
-		std::printf("%-3zu %-6s %-6s %s\n", i, stateText(b.state()).c_str(),
-			    std::string(ecmxf::sk::slaveTypeName(types[i])).c_str(), idents[i].c_str());
+	for (const auto &sl : list)
+		std::printf("%-3u %-6s %-6s %s\n", sl.position, stateText(sl.state).c_str(), sl.kind.c_str(),
+			    sl.vendorId && sl.productCode
+				    ? (hexString(*sl.vendorId, 8) + ":" + hexString(*sl.productCode, 8)).c_str()
+				    : "-");
 	return 0;
 }
 
@@ -315,9 +310,13 @@ int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigne
 	b.states().status();
 	const auto a = b.drives().axis(s);
 	if (g.json) {
-		std::printf("{\"position\": %u, \"statusword\": %u, \"actual_position\": %d, \"torque\": %d, "
-			    "\"error_code\": %u}\n",
-			    s - 1, a.statusword, a.position, a.torque, a.errorCode);
+		// the ECM-XF's field names where the two show the same thing
+		const auto st = ecmxf::cia402StateFrom(a.statusword);
+		std::printf("{\"position\": %u, \"statusword\": %u, \"state\": %s, \"position_actual\": %d, "
+			    "\"torque_actual\": %d, \"error_code\": %u}\n",
+			    s - 1, a.statusword,
+			    jsonString(st ? ecmxf::cia402StateName(*st) : std::string_view("no CiA-402 state")).c_str(),
+			    a.position, a.torque, a.errorCode);
 		return 0;
 	}
 	if (!g.quiet || what == "status")

@@ -43,6 +43,10 @@ TEST_CASE("sk cli: info and slaves on a fresh sk-sim:, as text and JSON")
 	r = run("-d sk-sim: --json slaves");
 	REQUIRE(r.status == 0);
 	CHECK_THAT(r.out, Contains("{\"position\": 1, \"state\": \"PREOP\", \"type\": \"STEP\""));
+	// the ECM-XF's field names (issue 29): vendor_id, product_code as numbers
+	CHECK_THAT(r.out, Contains("{\"position\": 0, \"state\": \"PREOP\", \"type\": \"Drive\", \"vendor_id\": 3676, "
+				   "\"product_code\": 41682}"));
+	CHECK_THAT(r.out, !Contains("identity"));
 }
 
 TEST_CASE("sk cli: upload and download through the SDO slot")
@@ -89,7 +93,8 @@ TEST_CASE("sk cli: cia402 enable, move, status; io; lio; states; reset")
 	REQUIRE(r.status == 0);
 	r = run("-d sk-sim: --json cia402 -p 1 move -2500");
 	REQUIRE(r.status == 0);
-	CHECK_THAT(r.out, Contains("\"actual_position\": -2500"));
+	CHECK_THAT(r.out, Contains("\"position_actual\": -2500"));
+	CHECK_THAT(r.out, Contains("\"state\": \"OPERATION ENABLED\""));
 	r = run("-d sk-sim: cia402 -p 0 enable");
 	REQUIRE(r.status == 0);
 	CHECK_THAT(r.out, Contains("statusword 0x"));
