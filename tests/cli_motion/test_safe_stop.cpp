@@ -214,5 +214,5 @@ TEST_CASE("safe stop: SIGINT during a move on sk-unix: leaves the board's drive 
 	CHECK(st != ecmxf::Cia402State::OperationEnabled);
 	CHECK(st != ecmxf::Cia402State::SwitchedOn);
 	const std::string s2 = runUtil("-d " + dev + " cia402 -p 0 status --json");
-	CHECK(jsonNumber(s2, "actual_position") == jsonNumber(s1, "actual_position"));
+	CHECK(jsonNumber(s2, "position_actual") == jsonNumber(s1, "position_actual"));
 }
