@@ -169,9 +169,14 @@ int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std
 	return 0;
 }
 
-int states(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &,
+int states(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
 	   const std::optional<std::string> &)
 {
+	// -p N would move the whole board: refused, not done silently
+	if (pos)
+		ecmxf::throwNotOn(ecmxf::MasterKind::EcmSk,
+				  "states -p N: the board has one state for the whole bus (SET_STATE); 'states STATE' "
+				  "moves every slave");
 	if (args.size() != 1)
 		throw UsageError("states: which state? (INIT, PREOP, SAFEOP, OP)");
 	std::string want = args[0];

@@ -43,6 +43,10 @@ TEST_CASE("sk cli: info and slaves on a fresh sk-sim:, as text and JSON")
 	r = run("-d sk-sim: --json slaves");
 	REQUIRE(r.status == 0);
 	CHECK_THAT(r.out, Contains("{\"position\": 1, \"state\": \"PREOP\", \"type\": \"STEP\""));
+	// states -p N would move the whole board: refused (issue 29)
+	const auto st = run("-d sk-sim: states -p 1 PREOP");
+	CHECK(st.status == 1);
+	CHECK_THAT(st.err, Contains("states: not on the ECM-SK: states -p N: the board has one state for the whole bus"));
 	// the ECM-XF's field names (issue 29): vendor_id, product_code as numbers
 	CHECK_THAT(r.out, Contains("{\"position\": 0, \"state\": \"PREOP\", \"type\": \"Drive\", \"vendor_id\": 3676, "
 				   "\"product_code\": 41682}"));
