@@ -50,8 +50,9 @@ const char *const kCia402MotionHelp =
 	"                  --accel = 0x6083 and 0x6084; --time MS limits the move\n"
 	"                  (default 60000)\n"
 	"  --pv TARGET     profile velocity (mode 3): TARGET is the velocity\n"
-	"                  (units/s); held for --time MS (default 1000) once\n"
-	"                  reached, then ramped to 0; --accel = 0x6083/0x6084\n"
+	"                  (units/s); held for --time MS (default 1000; 0: until\n"
+	"                  stopped by a signal) once reached, then ramped to 0;\n"
+	"                  --accel = 0x6083/0x6084\n"
 	"  --csp TARGET    cyclic synchronous position (mode 8): a cosine\n"
 	"                  trajectory of --time MS (default: the shortest that\n"
 	"                  keeps to --velocity, default 50000 units/s)\n"
@@ -59,6 +60,11 @@ const char *const kCia402MotionHelp =
 	"                  previous target, controlword bit 6)\n"
 	"home:\n"
 	"  --method M      homing method (0x6098; the EST-584: 19, 20, 35, 37)\n"
+	"\n"
+	"SIGINT (Ctrl-C), SIGTERM or SIGHUP stop the drive: quick stop to\n"
+	"standstill, then disable, through the process data (in OP its\n"
+	"controlword overrides SDO writes), each step at most 1 s; what was done\n"
+	"goes to stderr and the exit code is 128 + the signal (130, 143, 129).\n"
 	"\n"
 	"Options:\n"
 	"  -p, --position N  the drive's bus position (required)\n"
@@ -143,7 +149,7 @@ Options parse(const Args &args, Globals &g)
 		} else if (a == "--relative") {
 			o.relative = true;
 		} else if (a == "--time") {
-			o.timeMs = number<std::uint32_t>(a, value(i, a), 1, 3'600'000);
+			o.timeMs = number<std::uint32_t>(a, value(i, a), 0, 3'600'000);
 		} else if (a == "--method") {
 			o.method = number<std::int8_t>(a, value(i, a), -128, 127);
 		} else {
@@ -160,6 +166,9 @@ Options parse(const Args &args, Globals &g)
 			throw UsageError("cia402 move: which mode? (--pp, --pv or --csp TARGET)");
 		if (o.method)
 			throw UsageError("cia402 move: --method is for home");
+		if (o.timeMs == 0u && o.mode != "pv")
+			throw UsageError("cia402 move: --time 0 (until stopped) is for --pv only; --" + o.mode +
+					 " needs 1..3600000 ms");
 	} else {
 		if (!o.mode.empty() || o.velocity || o.accel || o.relative || o.timeMs)
 			throw UsageError("cia402 home: only --method M");
@@ -176,15 +185,23 @@ struct Rig {
 	std::unique_ptr<ecmxf::Cia402Axis> axis;
 
 	nanoseconds now() const { return dev->link().now(); }
+	/// Cycles until the axis is done; a stop signal throws Interrupted.
 	void run(nanoseconds timeout, std::string_view what)
 	{
-		ecmxf::Cia402Axis *a = axis.get();
-		(void)ecmxf::runUntilDone(*cyc, std::span<ecmxf::Cia402Axis *const>(&a, 1), timeout, what);
+		(void)runUntil([this] { return axis->done(); }, timeout, what);
 	}
+	/// Cycles until @p f; a stop signal (looked at every cycle) throws
+	/// Interrupted.
 	std::uint64_t runUntil(const std::function<bool()> &f, nanoseconds timeout, std::string_view what)
 	{
 		ecmxf::Cia402Axis *a = axis.get();
-		return ecmxf::runUntil(*cyc, std::span<ecmxf::Cia402Axis *const>(&a, 1), f, timeout, what);
+		return ecmxf::runUntil(
+			*cyc, std::span<ecmxf::Cia402Axis *const>(&a, 1),
+			[&f] {
+				StopSignals::check();
+				return f();
+			},
+			timeout, what);
 	}
 };
 
@@ -247,6 +264,12 @@ int cia402Motion(Globals &g, const Args &args)
 	return cia402Motion(g, args, std::cout);
 }
 
+namespace {
+
+int motion(Globals &g, const Options &o, std::int8_t mode, Rig &r, std::ostream &out);
+
+} // namespace
+
 int cia402Motion(Globals &g, const Args &args, std::ostream &out)
 {
 	Options o = parse(args, g);
@@ -254,13 +277,43 @@ int cia402Motion(Globals &g, const Args &args, std::ostream &out)
 		out << kCia402MotionHelp;
 		return 0;
 	}
-	const unsigned pos = *o.position;
 	const std::int8_t mode = o.op == "home"  ? ecmxf::cia402::kModeHm
 				 : o.mode == "pp" ? ecmxf::cia402::kModePp
 				 : o.mode == "pv" ? ecmxf::cia402::kModePv
 						  : ecmxf::cia402::kModeCsp;
-	Rig r = bringUp(g, pos, mode);
+	// SIGINT, SIGTERM, SIGHUP: the drive brought to a halt through the
+	// process data (in OP its controlword overrides SDO writes), said on
+	// stderr, exit 128 + the signal
+	const StopSignals signals;
+	Rig r = bringUp(g, *o.position, mode);
+	try {
+		return motion(g, o, mode, r, out);
+	} catch (const Interrupted &e) {
+		ecmxf::Cia402Axis *a = r.axis.get();
+		const auto done = ecmxf::stopAxes(*r.cyc, std::span<ecmxf::Cia402Axis *const>(&a, 1), 1s);
+		std::cerr << "ecmxf-util: cia402 " << o.op << ": " << e.what() << ": "
+			  << (done.empty() ? std::string("the drive could not be reached") : done.front().text) << "\n";
+		try {
+			r.cyc->stop();
+		} catch (const ecmxf::Error &) {
+			// the chip keeps sending the last outputs: the halted drive's
+		}
+		return StopSignals::exitCode(e.signal());
+	}
+}
+
+namespace {
+
+int motion(Globals &g, const Options &o, std::int8_t mode, Rig &r, std::ostream &out)
+{
+	const unsigned pos = *o.position;
 	ecmxf::Cia402Axis &axis = *r.axis;
+	// says on stderr that the drive moves and how to stop it
+	const auto moving = [&](const std::string &what) {
+		if (!g.quiet)
+			std::cerr << "ecmxf-util: cia402 " << o.op << ": slave " << pos << ": " << what
+				  << " (SIGINT, SIGTERM or SIGHUP stops the drive)\n";
+	};
 	const nanoseconds t0 = r.now();
 
 	// let the first inputs arrive, then the mode and the enable
@@ -283,14 +336,19 @@ int cia402Motion(Globals &g, const Args &args, std::ostream &out)
 		axis.moveTo(target, m, r.now());
 		if (o.relative)
 			target = start + target; // from rest: the previous target is the position
+		moving("PP move from " + std::to_string(start) + " to " + std::to_string(target));
 		r.run(std::chrono::milliseconds(o.timeMs.value_or(60000)), "target reached (PP)");
 	} else if (mode == ecmxf::cia402::kModePv) {
 		axis.setVelocity(target, r.now(), o.accel, o.accel);
 		r.run(60s, "velocity reached (PV)");
 		velocityReached = axis.velocity();
 		const nanoseconds hold = std::chrono::milliseconds(o.timeMs.value_or(1000));
+		moving("velocity " + std::to_string(velocityReached.value_or(target)) + " reached, held " +
+		       (hold.count() ? "for " + std::to_string(o.timeMs.value_or(1000)) + " ms" : std::string("until stopped")));
 		const nanoseconds h0 = r.now();
-		(void)r.runUntil([&] { return r.now() - h0 >= hold; }, hold + 1s, "the hold time");
+		// --time 0: until a signal stops it (no timeout)
+		(void)r.runUntil([&] { return hold.count() && r.now() - h0 >= hold; }, hold.count() ? hold + 1s : 0s,
+				 "the hold time");
 		axis.setVelocity(0, r.now(), o.accel, o.accel);
 		r.run(60s, "standstill (PV)");
 	} else if (mode == ecmxf::cia402::kModeCsp) {
@@ -303,6 +361,7 @@ int cia402Motion(Globals &g, const Args &args, std::ostream &out)
 				 : ecmxf::CspTrajectory::minimumDuration(from, to, o.velocity.value_or(50000), 1ms);
 		const ecmxf::CspTrajectory traj(from, to, duration);
 		axis.startCsp(r.now());
+		moving("CSP move from " + std::to_string(start) + " to " + std::to_string(target));
 		ecmxf::Cia402Axis *a = &axis;
 		const nanoseconds c0 = r.now();
 		(void)r.runUntil(
@@ -315,6 +374,7 @@ int cia402Motion(Globals &g, const Args &args, std::ostream &out)
 		ecmxf::HomingParams h;
 		h.method = o.method;
 		axis.home(h, r.now());
+		moving("homing");
 		r.run(120s, "homing attained");
 	}
 	const std::int32_t final = axis.position();
@@ -360,5 +420,7 @@ int cia402Motion(Globals &g, const Args &args, std::ostream &out)
 	    << static_cast<long>(ms) << " ms (bus time); drive disabled\n";
 	return 0;
 }
+
+} // namespace
 
 } // namespace ecmxf_util

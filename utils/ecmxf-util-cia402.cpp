@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <ecmxf/model/cia402.hpp>
@@ -44,7 +45,9 @@ const char *const kCia402Help =
 	"\n"
 	"A fresh bus is brought up to PRE-OP first (SDO needs a mailbox); a bus\n"
 	"that is already up is used as it is. In OP the controlword of the\n"
-	"process data overrides the SDO writes.\n"
+	"process data overrides the SDO writes (cia402 move stops a drive through\n"
+	"the process data). A signal (SIGINT, SIGTERM, SIGHUP) during enable\n"
+	"walks the drive back to SWITCH ON DISABLED; exit 128 + the signal.\n"
 	"\n"
 	"Options:\n"
 	"  -p, --position N  the drive (bus position, from 0); required\n"
@@ -116,6 +119,17 @@ int cmdCia402(Globals &g, const Args &args)
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	ecmxf::Device &d = *dev;
+	// an I/O terminal has no statusword: say what it is not, not only the abort
+	try {
+		(void)d.sdo().read<std::uint16_t>(position, 0x6041, 0);
+	} catch (const ecmxf::SdoError &e) {
+		// 0x06020000 object does not exist, 0x08000023 no object dictionary
+		if (e.abortCode() != 0x06020000 && e.abortCode() != 0x08000023)
+			throw;
+		throw ecmxf::Error("slave " + std::to_string(position) +
+					   " is not a CiA-402 drive: it has no statusword 0x6041 (" + e.what() + ")",
+				   ENODEV);
+	}
 
 	if (!target) {
 		const auto sw = d.sdo().read<std::uint16_t>(position, 0x6041, 0);
@@ -137,8 +151,19 @@ int cmdCia402(Globals &g, const Args &args)
 		return 0;
 	}
 
-	// the verbs of both masters (include/ecmxf/verbs.hpp): the state machine over SDO
+	// the verbs of both masters (include/ecmxf/verbs.hpp): the state machine over SDO.
+	// enable: a stop signal during the walk walks the drive back to
+	// SWITCH ON DISABLED (said on stderr, exit 128 + the signal)
+	std::optional<StopSignals> signals;
+	if (*target == ecmxf::Cia402State::OperationEnabled)
+		signals.emplace();
 	const std::uint16_t sw = ecmxf::cia402WalkBySdo(d, position, *target, faultResetOnly);
+	if (const int sig = StopSignals::pending()) {
+		const std::uint16_t off = ecmxf::cia402WalkBySdo(d, position, ecmxf::Cia402State::SwitchOnDisabled);
+		std::fprintf(stderr, "ecmxf-util: cia402 enable: interrupted by %s: slave %u: disabled: %s (statusword 0x%04x)\n",
+			     std::string(signalName(sig)).c_str(), position, stateText(off).c_str(), off);
+		return StopSignals::exitCode(sig);
+	}
 	if (g.json) {
 		std::printf("{\"position\": %u, \"state\": %s, \"statusword\": %u}\n", position,
 			    jsonString(stateText(sw)).c_str(), sw);

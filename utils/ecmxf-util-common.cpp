@@ -15,6 +15,8 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/verbs.hpp>
 
+#include <unistd.h>
+
 namespace ecmxf_util {
 
 bool parseFlags(std::string_view cmd, const Args &args, Globals &g, const char *help,
@@ -232,12 +234,24 @@ std::uint64_t parseUnsigned(std::string_view cmd, std::string_view what, std::st
 	}
 	std::uint64_t v = 0;
 	const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v, base);
+	const auto outOfRange = [&] {
+		return UsageError(std::string(cmd).append(": ").append(what).append(": ").append(text).append(
+			" is out of range ").append(std::to_string(min)).append("..").append(std::to_string(max)));
+	};
+	// a negative number is a number, out of an unsigned range
+	if (text.size() > 1 && text[0] == '-' && text[1] >= '0' && text[1] <= '9') {
+		std::uint64_t m = 0;
+		const auto [e2, ec2] = std::from_chars(text.data() + 1, text.data() + text.size(), m, 10);
+		if (e2 == text.data() + text.size() && ec2 != std::errc::invalid_argument && (m != 0 || min > 0))
+			throw outOfRange();
+		if (e2 == text.data() + text.size() && ec2 != std::errc::invalid_argument)
+			return 0; // -0
+	}
 	if (digits.empty() || end != digits.data() + digits.size() || ec == std::errc::invalid_argument)
 		throw UsageError(std::string(cmd).append(": ").append(what).append(": '").append(text).append(
 			"' is not a number (decimal or 0x hex)"));
 	if (ec == std::errc::result_out_of_range || v > max || v < min)
-		throw UsageError(std::string(cmd).append(": ").append(what).append(": ").append(text).append(
-			" is out of range ").append(std::to_string(min)).append("..").append(std::to_string(max)));
+		throw outOfRange();
 	return v;
 }
 
@@ -399,6 +413,42 @@ void checkPosition(unsigned position, unsigned count)
 	if (count > 0)
 		msg.append(" (0..").append(std::to_string(count - 1)).append(")");
 	throw ecmxf::Error(msg, ENODEV);
+}
+
+// ---------------------------------------------------------------------------
+// progress
+// ---------------------------------------------------------------------------
+
+Progress::Progress(const Globals &g, std::string what, std::string unit)
+	: what_(std::move(what)), unit_(std::move(unit)), t0_(std::chrono::steady_clock::now()), last_(t0_)
+{
+	tty_ = isatty(STDOUT_FILENO) && isatty(STDERR_FILENO);
+	on_ = g.progress || (tty_ && !g.quiet && !g.json);
+}
+
+void Progress::operator()(std::size_t done, std::size_t total)
+{
+	if (!on_ || ended_)
+		return;
+	const auto now = std::chrono::steady_clock::now();
+	const bool end = done >= total;
+	if (!end && now - last_ < (tty_ ? std::chrono::milliseconds(100) : std::chrono::milliseconds(1000)))
+		return;
+	last_ = now;
+	const double s = std::chrono::duration<double>(now - t0_).count();
+	const double rate = s > 0 ? static_cast<double>(done) / s : 0;
+	char line[200];
+	int n = std::snprintf(line, sizeof line, "%s: %zu/%zu %s (%zu%%)", what_.c_str(), done, total, unit_.c_str(),
+			      total ? done * 100 / total : 100);
+	if (rate > 0 && n > 0 && static_cast<std::size_t>(n) < sizeof line)
+		n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ", %.1f %s/s", rate, unit_.c_str());
+	if (!end && rate > 0 && n > 0 && static_cast<std::size_t>(n) < sizeof line)
+		std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ", %.0f s left",
+			      static_cast<double>(total - done) / rate);
+	// on a terminal the line is redrawn in place (clear to its end)
+	std::fprintf(stderr, tty_ ? "\r%s\x1b[K%s" : "%s%s", line, end || !tty_ ? "\n" : "");
+	std::fflush(stderr);
+	ended_ = end;
 }
 
 } // namespace ecmxf_util

@@ -5,9 +5,12 @@
  */
 #include "ecmxf-util.hpp"
 
+#include <ecmxf/error.hpp>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -60,6 +63,9 @@ int cmdDecode(Globals &g, const Args &args)
 	std::ifstream f;
 	std::istream *in = &std::cin;
 	if (file != "-") {
+		std::error_code ec;
+		if (std::filesystem::is_directory(file, ec))
+			throw ecmxf::Error("decode: \"" + file + "\" is a directory, not a trace file", EISDIR);
 		f.open(file);
 		if (!f)
 			throw std::runtime_error("cannot open the trace file \"" + file + "\": " + std::strerror(errno));

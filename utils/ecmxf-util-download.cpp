@@ -14,6 +14,7 @@
 #include <ecmxf/device.hpp>
 #include <ecmxf/bus/sdo.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/model/objects.hpp>
 #include <ecmxf/verbs.hpp>
 
 namespace ecmxf_util {
@@ -31,17 +32,25 @@ const char *const kDownloadHelp =
 	"IgH's unicode_string, sm8..sm64 (sign and magnitude) and raw (= hex\n"
 	"bytes), aliases sint8..sint64, real32, real64. A float or double VALUE\n"
 	"must be finite and within the type's range (1e99 is refused for float,\n"
-	"not sent as +inf); inf, -inf and nan are taken when spelled so. Without -t the object is uploaded\n"
-	"first to learn its size (the ECM-XF has no SDO information service):\n"
-	"an object of 1, 2, 4 or 8 bytes takes VALUE as an integer of that size\n"
-	"(signed or unsigned, decimal or 0x hex); other sizes need -t.\n"
+	"not sent as +inf); inf, -inf and nan are taken when spelled so; integer\n"
+	"types take integers only (no nan, no inf, no negative number for an\n"
+	"unsigned type): a VALUE outside the type's range is refused naming it.\n"
+	"\n"
+	"The standard CiA 402 objects the tools know (0x6040 controlword, 0x607A\n"
+	"target position, 0x6081 profile velocity...) have their type from CiA\n"
+	"402, with or without -t: VALUE must fit it, and -t must be an integer\n"
+	"type. Any other object without -t is uploaded first to learn its size\n"
+	"(the masters have no SDO information service): an object of 1, 2, 4 or\n"
+	"8 bytes takes VALUE as an unsigned integer of that size (decimal or 0x\n"
+	"hex; a negative VALUE needs -t intN); other sizes need -t.\n"
 	"\n"
 	"A fresh bus is brought up to PRE-OP first; a bus that is already up is\n"
 	"used as it is. An SDO abort fails with the abort code and its text.\n"
 	"Prints nothing on success.\n"
 	"\n"
 	"On an ECM-SK (-d sk-...): SDO_WR through the board's SDO slot; -t TYPE is\n"
-	"required (1, 2 or 4 bytes: the board cannot tell an object's size), and\n"
+	"required but for the standard objects (1, 2 or 4 bytes: the board cannot\n"
+	"tell an object's size), and\n"
 	"--json prints {position, index, sub, size}.\n"
 	"\n"
 	"Options:\n"
@@ -66,17 +75,38 @@ int cmdDownload(Globals &g, const Args &args)
 						   : parseObjectAddress("download", (*pos)[0]);
 	const std::string &valueText = pos->back();
 	std::vector<std::uint8_t> bytes;
+	// a standard object's type (CiA 402) decides VALUE's range, with or
+	// without -t: the masters cannot ask a slave for an object's type
+	const auto known = ecmxf::standardObject(obj.index, obj.sub);
+	const auto knownText = [&] {
+		return objectName(obj) + " " + std::string(known->name) + " is " +
+		       std::string(ecmxf::objectTypeName(known->type));
+	};
+	const auto encodeKnown = [&] {
+		try {
+			return encodeValue("download", dataTypeOf(known->type), valueText);
+		} catch (const UsageError &e) {
+			throw UsageError(std::string(e.what()) + " (" + knownText() + ")");
+		}
+	};
 	if (typeText) {
 		const DataType type = parseType("download", *typeText);
 		checkSdoType(g, "download", type);
 		bytes = encodeValue("download", type, valueText);
+		if (known && !integerType(type))
+			throw UsageError("download: -t " + std::string(typeName(type)) + ": " + knownText() +
+					 " (CiA 402), an integer");
+		if (known)
+			(void)encodeKnown();
+	} else if (known) {
+		bytes = encodeKnown();
 	} else if (skDevice(g)) {
 		throw UsageError("download: -t TYPE is required (the ECM-SK cannot tell an object's size)");
 	}
 
 	const auto master = openMaster(g); // either master: MasterVerbs
 	position = sdoPosition(g, *master, position);
-	if (!typeText) {
+	if (!typeText && !known) {
 		// the size probe is an upload: a failure is the download's
 		std::size_t n = 0;
 		try {
@@ -94,7 +124,14 @@ int cmdDownload(Globals &g, const Args &args)
 												    : DataType::Uint64;
 		const DataType s = n == 1 ? DataType::Int8 : n == 2 ? DataType::Int16 : n == 4 ? DataType::Int32
 												  : DataType::Int64;
-		bytes = encodeValue("download", !valueText.empty() && valueText[0] == '-' ? s : u, valueText);
+		// its size is all that is known: a negative VALUE could be meant
+		// for a signed object or wrap round in an unsigned one
+		if (!valueText.empty() && valueText[0] == '-')
+			throw UsageError("download: VALUE " + valueText + ": slave " + std::to_string(position) + " " +
+					 objectName(obj) + " has " + std::to_string(n) +
+					 " bytes and a type the master cannot learn (no SDO information service): "
+					 "give -t " + std::string(typeName(s)) + " if it is signed");
+		bytes = encodeValue("download", u, valueText);
 	}
 	master->download(position, obj.index, obj.sub, bytes);
 	if (g.json && master->kind() == ecmxf::MasterKind::EcmSk) // as the ECM-SK's download always did

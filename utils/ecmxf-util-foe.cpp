@@ -33,7 +33,8 @@ const char *const kFoeReadHelp =
 	"\n"
 	"Options:\n"
 	"  -p, --position N  the slave (bus position, from 0); required\n"
-	"  -o, --output FILE where to write the file (default: standard output)\n"
+	"  -o, --output FILE where to write the file (default, and '-': standard\n"
+	"                    output)\n"
 	"  --password P      the FoE password (32 bits, default 0)\n"
 	"  -h, --help        show this help\n";
 
@@ -87,7 +88,7 @@ int cmdFoeRead(Globals &g, const Args &args)
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	const std::vector<std::uint8_t> data = dev->slaves().foeRead(position, pos->front(), opt);
-	if (out) {
+	if (out && *out != "-") { // -o -: standard output, as without -o
 		std::ofstream f(*out, std::ios::binary | std::ios::trunc);
 		if (!f)
 			throw ecmxf::Error("cannot create \"" + *out + "\": " + std::strerror(errno), errno);
@@ -143,7 +144,9 @@ int cmdFoeWrite(Globals &g, const Args &args)
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
-	dev->slaves().foeWrite(position, remote, data, opt);
+	Progress progress(g, "foe_write: staging " + remote, "bytes");
+	dev->slaves().foeWrite(position, remote, data, opt,
+			       [&](std::size_t done, std::size_t total) { progress(done, total); });
 	return 0;
 }
 

@@ -258,9 +258,12 @@ int cmdSiiWrite(Globals &g, const Args &args)
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
-	for (std::size_t w = 0; w < b.size() / 2; w++)
+	Progress progress(g, "sii_write", "words");
+	for (std::size_t w = 0; w < b.size() / 2; w++) {
 		dev->slaves().eepromWrite(position, static_cast<std::uint16_t>(w),
 					  static_cast<std::uint16_t>(b[2 * w] | b[2 * w + 1] << 8));
+		progress(w + 1, b.size() / 2);
+	}
 	if (!g.quiet)
 		std::fprintf(stderr, "ecmxf-util: sii_write: %zu words written to slave %u\n", b.size() / 2,
 			     position);
@@ -314,8 +317,6 @@ std::optional<std::string> ighAlternative(std::string_view name)
 			    "mapping, 'ecmxf-util slaves -v' the slaves" },
 		{ "crc", "'ecmxf-util master' and 'ecmxf-util info' show the chip's CRC and working-counter error "
 			 "counters; 'ecmxf-util monitor' reports them as they rise" },
-		{ "data", "the process image is the library's: ecmxf::Cyclic (Documentation/process-data.rst); "
-			  "'ecmxf-util monitor' shows the FIFO levels" },
 		{ "debug", "'ecmxf-util --trace FILE COMMAND' records every exchange with the chip, 'ecmxf-util "
 			   "decode FILE' shows it" },
 		{ "domains", "the ECM-XF has one process image and no domains: 'ecmxf-util pdos', and ecmxf::Cyclic "

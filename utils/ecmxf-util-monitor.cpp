@@ -75,8 +75,8 @@ const char *const kMonitorHelp =
 	"  device         (kernel) the device was probed or is being removed\n"
 	"A quiet bus prints nothing. Times are since the start: CLOCK_MONOTONIC\n"
 	"for the kernel's events, the device's clock when polling (virtual time\n"
-	"on sim:). On a simulator without --count or --duration the polls are\n"
-	"paced to the wall clock (one per --interval) instead of spinning a core.\n"
+	"on sim:). On a simulator the polls are paced to the wall clock (one per\n"
+	"--interval), with --count and --duration too, instead of spinning a core.\n"
 	"\n"
 	"Options:\n"
 	"  --count N      stop after N events\n"
@@ -458,13 +458,6 @@ std::string countersJson(const ecmxf::NetlinkCounters &c)
 
 namespace {
 
-volatile std::sig_atomic_t gStop = 0;
-
-extern "C" void onSigint(int)
-{
-	gStop = 1;
-}
-
 constexpr std::uint8_t kWarmReset = ECMXF_CMD_WARM_RESET;
 
 std::uint64_t number(std::string_view opt, std::string_view text, std::uint64_t min, std::uint64_t max)
@@ -572,28 +565,18 @@ std::chrono::nanoseconds monotonicNow()
 	return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
 }
 
-void installSignals()
-{
-	gStop = 0;
-	struct sigaction sa {};
-	sa.sa_handler = onSigint;
-	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, &sa, nullptr);
-	sigaction(SIGTERM, &sa, nullptr);
-}
-
 /// The kernel's events of /dev/ecmxf@p minor over generic netlink.
 int monitorNetlink(const Globals &g, std::uint32_t minorNo, std::optional<std::uint64_t> count,
 		   std::optional<std::uint64_t> durationMs)
 {
 	ecmxf::EventSubscriber sub;
-	installSignals();
+	const StopSignals signals; // SIGINT, SIGTERM, SIGHUP end the monitor (exit 0)
 	const std::chrono::nanoseconds t0 = monotonicNow();
 	std::uint64_t events = 0;
 	// say when the subscription stands (stderr: stdout is the events)
 	if (!g.quiet)
 		std::fprintf(stderr, "monitor: listening to the kernel's events of ecmxf%u\n", minorNo);
-	while (!gStop) {
+	while (!StopSignals::pending()) {
 		auto wait = std::chrono::milliseconds(200);
 		if (durationMs) {
 			const auto left = std::chrono::milliseconds(*durationMs) -
@@ -690,15 +673,15 @@ int cmdMonitor(Globals &g, const Args &args)
 	if (!actions.empty() && !dev->link().simulator())
 		throw UsageError("monitor: --sim-at needs a sim: device");
 	ecmxf::Link &tr = dev->link();
-	// A simulator runs in virtual time: without --count or --duration the
-	// loop would spin a core polling as fast as it can. Pace it to the
-	// wall clock instead (one poll per --interval), as a real chip would.
-	const bool pace = tr.simulator() && !count && !durationMs;
-	if (pace && !g.quiet)
-		std::fprintf(stderr, "monitor: a simulator without --count or --duration: paced to the wall clock, "
-				     "one poll every %lld ms (Ctrl-C stops)\n",
+	// A simulator runs in virtual time: unpaced, the loop would spin a
+	// core polling as fast as it can (for ever with --count on a quiet
+	// bus). The polls are paced to the wall clock always (below), as a
+	// real chip's are.
+	if (tr.simulator() && !durationMs && !g.quiet)
+		std::fprintf(stderr, "monitor: a simulator: paced to the wall clock, one poll every %lld ms "
+				     "(Ctrl-C stops)\n",
 			     static_cast<long long>(interval.count()));
-	installSignals();
+	const StopSignals signals; // SIGINT, SIGTERM, SIGHUP end the monitor (exit 0)
 
 	const std::chrono::nanoseconds t0 = tr.now();
 	// a burst ends after 100 ms without new errors, as in the kernel, but
@@ -712,11 +695,15 @@ int cmdMonitor(Globals &g, const Args &args)
 	const ecmxf::Command poll = simpleCommand(0); // INFO_UPDATE_OP
 
 	bool first = true;
-	while (!gStop) {
+	while (!StopSignals::pending()) {
 		if (!first) {
+			// one poll per --interval of the wall clock, whatever the
+			// link's clock does (virtual on sim: and an unpaced unix:)
+			const auto w0 = std::chrono::steady_clock::now();
 			tr.sleepFor(interval);
-			if (pace)
-				std::this_thread::sleep_for(interval);
+			const auto left = interval - (std::chrono::steady_clock::now() - w0);
+			if (left.count() > 0)
+				std::this_thread::sleep_for(left);
 		}
 		const std::chrono::nanoseconds t = tr.now() - t0;
 		if (durationMs && t > std::chrono::milliseconds(*durationMs))

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <ecmxf/model/cia402.hpp>
 #include <ecmxf/model/types_bus.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/sk/board.hpp>
@@ -64,11 +65,10 @@ std::string stateText(State s)
 // INIT -> PRE-OP if needed
 void preop(Board &b, bool quiet)
 {
-	if (b.states().status().state == State::Init) {
-		if (!quiet)
-			std::fprintf(stderr, "ecmxf-util: bringing the ECM-SK to PRE-OP\n");
+	// silently, as the ECM-XF's ensureBus() does
+	(void)quiet;
+	if (b.states().status().state == State::Init)
 		b.states().set(State::PreOp);
-	}
 }
 
 // up to OP: types found, DRIVE_MODE CSP for drives
@@ -77,8 +77,6 @@ void toOp(Board &b, bool quiet)
 	if (b.states().status().state == State::Op)
 		return;
 	preop(b, quiet);
-	if (!quiet)
-		std::fprintf(stderr, "ecmxf-util: bringing the ECM-SK to OP\n");
 	ecmxf::sk::bringUpToOp(b);
 }
 
@@ -141,38 +139,38 @@ int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		throw ecmxf::Error("slaves: the types are found in PRE-OP; the ECM-SK is in " +
 					   stateText(b.state()) + " (ecmxf-util states PREOP)",
 				   EPERM);
-	const auto types = b.setup().detectAxes();
-	std::vector<std::string> idents;
-	for (std::size_t i = 0; i < types.size(); i++) {
-		std::string id = "-";
-		try {
-			const auto v = b.sdo().read(static_cast<unsigned>(i + 1), 0x1018, 1);
-			const auto p = b.sdo().read(static_cast<unsigned>(i + 1), 0x1018, 2);
-			id = hexString(v, 8) + ":" + hexString(p, 8);
-		} catch (const ecmxf::Error &) {
-			// no CoE: no identity to show
-		}
-		idents.push_back(id);
-	}
+	// the slave list of both masters (MasterVerbs): types by SET_AXIS,
+	// identity by SDO 0x1018 where the slave answers
+	const auto list = ecmxf::verbsOf(b)->slaves();
+	const auto num = [](const std::optional<std::uint32_t> &v) { return v ? std::to_string(*v) : "null"; };
 	if (g.json) {
+		// the ECM-XF's field names (vendor_id, product_code), null when unknown
 		std::printf("[");
-		for (std::size_t i = 0; i < types.size(); i++)
-			std::printf("%s\n  {\"position\": %zu, \"state\": %s, \"type\": %s, \"identity\": %s}",
-				    i ? "," : "", i, jsonString(stateText(b.state())).c_str(),
-				    jsonString(ecmxf::sk::slaveTypeName(types[i])).c_str(),
-				    idents[i] == "-" ? "null" : jsonString(idents[i]).c_str());
+		for (std::size_t i = 0; i < list.size(); i++)
+			std::printf("%s\n  {\"position\": %u, \"state\": %s, \"type\": %s, \"vendor_id\": %s, "
+				    "\"product_code\": %s}",
+				    i ? "," : "", list[i].position, jsonString(stateText(list[i].state)).c_str(),
+				    jsonString(list[i].kind).c_str(), num(list[i].vendorId).c_str(),
+				    num(list[i].productCode).c_str());
 		std::printf("\n]\n");
 		return 0;
 	}
-	for (std::size_t i = 0; i < types.size(); i++)
-		std::printf("%-3zu %-6s %-6s %s\n", i, stateText(b.state()).c_str(),
-			    std::string(ecmxf::sk::slaveTypeName(types[i])).c_str(), idents[i].c_str());
+	for (const auto &sl : list)
+		std::printf("%-3u %-6s %-6s %s\n", sl.position, stateText(sl.state).c_str(), sl.kind.c_str(),
+			    sl.vendorId && sl.productCode
+				    ? (hexString(*sl.vendorId, 8) + ":" + hexString(*sl.productCode, 8)).c_str()
+				    : "-");
 	return 0;
 }
 
-int states(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &,
+int states(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
 	   const std::optional<std::string> &)
 {
+	// -p N would move the whole board: refused, not done silently
+	if (pos)
+		ecmxf::throwNotOn(ecmxf::MasterKind::EcmSk,
+				  "states -p N: the board has one state for the whole bus (SET_STATE); 'states STATE' "
+				  "moves every slave");
 	if (args.size() != 1)
 		throw UsageError("states: which state? (INIT, PREOP, SAFEOP, OP)");
 	std::string want = args[0];
@@ -218,6 +216,8 @@ unsigned opSlot(Globals &g, Board &b, const std::optional<std::string> &pos, con
 	return s;
 }
 
+int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigned s);
+
 int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
 	   const std::optional<std::string> &)
 {
@@ -225,9 +225,37 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		throw UsageError("cia402: status, enable, disable, fault-reset, move TARGET or home METHOD");
 	const std::string &what = args[0];
 	const unsigned s = opSlot(g, b, pos, "cia402");
+	// enable, move, home: SIGINT, SIGTERM, SIGHUP halt the drive (SV_OFF:
+	// the board owns the controlword and has no quick stop) and exit with
+	// 128 + the signal
+	std::optional<StopSignals> signals;
+	if (what == "enable" || what == "move" || what == "home")
+		signals.emplace();
+	try {
+		return cia402Op(g, b, args, s);
+	} catch (const Interrupted &e) {
+		std::string done;
+		try {
+			const auto a = b.drives().halt(s);
+			const auto st = ecmxf::cia402StateFrom(a.statusword);
+			done = "slave " + std::to_string(s - 1) + ": SV_OFF: " +
+			       (st ? std::string(ecmxf::cia402StateName(*st)) : std::string("no CiA-402 state")) +
+			       " (statusword " + hexString(a.statusword, 4) + "), position " + std::to_string(a.position);
+		} catch (const std::exception &x) {
+			done = std::string("NOT halted: ") + x.what();
+		}
+		std::fprintf(stderr, "ecmxf-util: cia402 %s: %s: %s\n", what.c_str(), e.what(), done.c_str());
+		return StopSignals::exitCode(e.signal());
+	}
+}
+
+int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigned s)
+{
+	const std::string &what = args[0];
 	const auto verbs = ecmxf::verbsOf(b);
 	if (what == "enable") {
 		verbs->driveEnable(s - 1);
+		StopSignals::check();
 	} else if (what == "disable") {
 		verbs->driveDisable(s - 1);
 	} else if (what == "fault-reset") {
@@ -244,7 +272,13 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		// one per cycle); the FIFO's back-pressure paces it
 		const std::int64_t dist = static_cast<std::int64_t>(target) - from;
 		const std::int64_t steps = std::max<std::int64_t>(1, (std::llabs(dist) + 999) / 1000);
+		if (!g.quiet)
+			std::fprintf(stderr,
+				     "ecmxf-util: cia402 move: slave %u: CSP move from %d to %d (SIGINT, SIGTERM or SIGHUP "
+				     "stops the drive)\n",
+				     s - 1, from, target);
 		for (std::int64_t i = 1; i <= steps;) {
+			StopSignals::check();
 			if (b.cyclic().stage(s, Mode::Csp, static_cast<std::int32_t>(from + dist * i / steps)))
 				i++;
 			const auto r = b.cyclic().cycle();
@@ -256,6 +290,7 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 						   ENOBUFS);
 		}
 		for (int i = 0; i < 2000 && std::llabs(static_cast<std::int64_t>(b.drives().axis(s).position) - target) > 0; i++) {
+			StopSignals::check();
 			b.channel().sleepFor(std::chrono::milliseconds(1));
 			(void)b.cyclic().cycle();
 		}
@@ -265,16 +300,22 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		const auto method = static_cast<std::int8_t>(parseSigned("cia402", "METHOD", args[1], -128, 127));
 		b.drives().servoOn(s);
 		b.drives().waitEnabled(s);
+		StopSignals::check();
 		b.drives().home(s, method);
+		StopSignals::check();
 	} else if (what != "status") {
 		throw UsageError("cia402: unknown action '" + what + "'");
 	}
 	b.states().status();
 	const auto a = b.drives().axis(s);
 	if (g.json) {
-		std::printf("{\"position\": %u, \"statusword\": %u, \"actual_position\": %d, \"torque\": %d, "
-			    "\"error_code\": %u}\n",
-			    s - 1, a.statusword, a.position, a.torque, a.errorCode);
+		// the ECM-XF's field names where the two show the same thing
+		const auto st = ecmxf::cia402StateFrom(a.statusword);
+		std::printf("{\"position\": %u, \"statusword\": %u, \"state\": %s, \"position_actual\": %d, "
+			    "\"torque_actual\": %d, \"error_code\": %u}\n",
+			    s - 1, a.statusword,
+			    jsonString(st ? ecmxf::cia402StateName(*st) : std::string_view("no CiA-402 state")).c_str(),
+			    a.position, a.torque, a.errorCode);
 		return 0;
 	}
 	if (!g.quiet || what == "status")

@@ -164,6 +164,25 @@ std::size_t typeSize(DataType t)
 	return 0;
 }
 
+DataType dataTypeOf(ecmxf::ObjectType t) noexcept
+{
+	switch (t) {
+	case ecmxf::ObjectType::Int8: return DataType::Int8;
+	case ecmxf::ObjectType::Int16: return DataType::Int16;
+	case ecmxf::ObjectType::Int32: return DataType::Int32;
+	case ecmxf::ObjectType::Uint8: return DataType::Uint8;
+	case ecmxf::ObjectType::Uint16: return DataType::Uint16;
+	case ecmxf::ObjectType::Uint32: return DataType::Uint32;
+	}
+	return DataType::Uint32;
+}
+
+bool integerType(DataType t) noexcept
+{
+	return t != DataType::Float && t != DataType::Double && t != DataType::String && t != DataType::OctetString &&
+	       t != DataType::Bool;
+}
+
 std::vector<std::uint8_t> encodeValue(std::string_view cmd, DataType t, std::string_view text)
 {
 	const std::size_t n = typeSize(t);

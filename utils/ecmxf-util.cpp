@@ -41,9 +41,9 @@ const char *const kCommandsHelp =
 	"  --json      a JSON array instead of the table\n"
 	"  -h, --help  show this help\n";
 
-const char *const kVersionHelp = "Usage: ecmxf-util version\n"
+const char *const kVersionHelp = "Usage: ecmxf-util version [--json]\n"
 				 "\n"
-				 "Print the version of ecmxf-util and libecmxf.\n";
+				 "Print the version of ecmxf-util and libecmxf (--json: {\"version\": ...}).\n";
 
 std::string partnerName(const ecmxf::CommandInfo &ci)
 {
@@ -99,7 +99,10 @@ int cmdVersion(Globals &g, const Args &args)
 {
 	if (parseFlags("version", args, g, kVersionHelp, {}))
 		return 0;
-	printVersion();
+	if (g.json)
+		std::printf("{\"version\": %s}\n", jsonString(ecmxf::version()).c_str());
+	else
+		printVersion();
 	return 0;
 }
 
@@ -119,6 +122,8 @@ const CommandDesc kCommands[] = {
 	  "lists ECM-XF command codes; the ECM-SK's are in Documentation/ecm-sk.rst" },
 	{ "cstruct", "the PDO mapping as IgH's C structures (pdos --cstruct)", kCstructHelp, cmdCstruct, true, kOnXf,
 	  kOwnMapping },
+	{ "data", "the process image decoded by entry; --set writes an output entry", kDataHelp, cmdData, true,
+	  kOnXf, "the board exchanges the process data itself; 'cia402' and 'io' show a slave's slot" },
 	{ "dac", "set the chip's analog output", kDacHelp, cmdDac, true, kOnXf, "the ECM-SK has no analog output" },
 	{ "decode", "decode a packet trace (--trace FILE) as a protocol log", kDecodeHelp, cmdDecode, false, kOnXf,
 	  "traces are recorded for ECM-XF packets only" },
@@ -218,6 +223,8 @@ void usage(std::FILE *out, bool sk)
 		     "                    (ecmxf-util decode FILE shows it)\n"
 		     "  --json            JSON output for scripts\n"
 		     "  -q, --quiet       print nothing but errors and the data asked for\n"
+		     "  --progress        progress of long transfers (foe_write, sii_write) on\n"
+		     "                    stderr even when stdout is not a terminal\n"
 		     "  -h, --help        show this help\n"
 		     "  -V, --version     print the version\n"
 		     "\n"
@@ -268,6 +275,8 @@ int run(int argc, char **argv)
 			g.json = true;
 		} else if (a == "-q" || a == "--quiet") {
 			g.quiet = true;
+		} else if (a == "--progress") {
+			g.progress = true;
 		} else if (a == "-d" || a == "--device") {
 			if (i + 1 >= argc)
 				throw UsageError("option '" + std::string(a) + "' needs a device URI");

@@ -5,6 +5,7 @@
  */
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -14,6 +15,9 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/model/objects.hpp>
+
+#include <signal.h>
 
 #include <uapi/linux/ecmxf.h> // the chip's command codes and header bits
 
@@ -25,6 +29,26 @@ struct Globals {
 	bool json = false;           ///< --json
 	std::string trace;           ///< --trace FILE (added to the URI as trace=FILE)
 	bool quiet = false;          ///< -q/--quiet: nothing but errors and the data asked for
+	bool progress = false;       ///< --progress: progress lines on stderr even off a terminal
+};
+
+/// Progress of a long transfer on stderr: "foe_write: 51200/204800 bytes
+/// (25%), 7.8 kB/s, 20 s left". Shown when stdout and stderr are
+/// terminals (not with -q or --json: redrawn in place, at most 10 times a
+/// second), or with --progress (then a line at most once a second off a
+/// terminal); silent otherwise. The last update ends the line.
+class Progress
+{
+public:
+	Progress(const Globals &g, std::string what, std::string unit);
+	/// @p done of @p total units.
+	void operator()(std::size_t done, std::size_t total);
+	[[nodiscard]] bool shown() const noexcept { return on_; }
+
+private:
+	std::string what_, unit_;
+	bool on_ = false, tty_ = false, ended_ = false;
+	std::chrono::steady_clock::time_point t0_, last_;
 };
 
 /// Bad command-line usage: reported as "ecmxf-util: <reason>", exit code 2.
@@ -193,6 +217,7 @@ ECMXF_UTIL_COMMAND(cmdStates, kStatesHelp)
 ECMXF_UTIL_COMMAND(cmdUpload, kUploadHelp)
 ECMXF_UTIL_COMMAND(cmdDownload, kDownloadHelp)
 ECMXF_UTIL_COMMAND(cmdPdos, kPdosHelp)
+ECMXF_UTIL_COMMAND(cmdData, kDataHelp)
 ECMXF_UTIL_COMMAND(cmdCstruct, kCstructHelp)
 ECMXF_UTIL_COMMAND(cmdXml, kXmlHelp)
 ECMXF_UTIL_COMMAND(cmdSiiRead, kSiiReadHelp)
@@ -228,6 +253,10 @@ DataType parseType(std::string_view cmd, std::string_view text);
 std::string_view typeName(DataType t);
 /// Bytes of a fixed-size type; 0 for string and octet_string.
 std::size_t typeSize(DataType t);
+/// The -t type of a standard object's type (<ecmxf/model/objects.hpp>).
+DataType dataTypeOf(ecmxf::ObjectType t) noexcept;
+/// int8..uint64 and sm8..sm64.
+bool integerType(DataType t) noexcept;
 /// VALUE as the little-endian bytes of @p t (octet_string: hex bytes).
 std::vector<std::uint8_t> encodeValue(std::string_view cmd, DataType t, std::string_view text);
 /// Bytes of an object as text / as a JSON value. Without a type: the
@@ -235,6 +264,44 @@ std::vector<std::uint8_t> encodeValue(std::string_view cmd, DataType t, std::str
 /// bytes ("0x00030192 197010"), else the bytes in hex.
 std::string formatValue(std::optional<DataType> t, const std::vector<std::uint8_t> &b);
 std::string jsonValue(std::optional<DataType> t, const std::vector<std::uint8_t> &b);
+
+// ---- the safe stop (ecmxf-util-signals.cpp)
+
+/// SIGINT, SIGTERM and SIGHUP handled while it lives (the previous
+/// handlers back after): the handler only records the first signal; a
+/// command that enables or moves a drive looks at it every cycle, brings
+/// the drive to a halt and exits with 128 + the signal (exitCode()).
+class StopSignals
+{
+public:
+	StopSignals();
+	~StopSignals();
+	StopSignals(const StopSignals &) = delete;
+	StopSignals &operator=(const StopSignals &) = delete;
+	/// The signal received (0: none yet).
+	[[nodiscard]] static int pending() noexcept;
+	/// Throws Interrupted when a signal came.
+	static void check();
+	/// 130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP.
+	[[nodiscard]] static int exitCode(int sig) noexcept { return 128 + sig; }
+
+private:
+	struct sigaction old_[3];
+};
+
+/// What StopSignals::check() throws: "interrupted by SIGINT".
+class Interrupted : public std::runtime_error
+{
+public:
+	explicit Interrupted(int sig);
+	[[nodiscard]] int signal() const noexcept { return sig_; }
+
+private:
+	int sig_;
+};
+
+/// "SIGINT", "SIGTERM", "SIGHUP".
+std::string_view signalName(int sig) noexcept;
 
 /// cia402 move / home (ecmxf-util-cia402-motion.cpp): @p args are all of
 /// cia402's arguments. The dispatch point for the motion commands.

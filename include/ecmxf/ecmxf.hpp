@@ -49,6 +49,7 @@
 // process data: dev.pdo(), ProcessImage, Cyclic
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/model/pdo_mapping.hpp>
+#include <ecmxf/model/objects.hpp>
 #include <ecmxf/pdo/process_data.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 #include <ecmxf/pdo/realtime.hpp>

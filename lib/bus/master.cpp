@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include <ecmxf/model/objects.hpp>
+
 #include "ecmxf-proto.h"
 
 namespace ecmxf {
@@ -36,39 +38,13 @@ constexpr std::uint16_t kSiiCatRxPdo = 51;
 constexpr std::uint16_t kSiiCatEnd = 0xFFFF;
 constexpr std::uint16_t kMbxCoE = 0x0004;
 
-/// Standard names (CiA 301 / CiA 402) of objects often mapped; 0x6099 is
-/// objectName()'s own (a name for each subindex).
-constexpr detail::CodeText<std::uint16_t> kObjectNames[] = {
-	{ 0x603F, "Error code" },
-	{ 0x6040, "Controlword" },
-	{ 0x6041, "Statusword" },
-	{ 0x6060, "Modes of operation" },
-	{ 0x6061, "Modes of operation display" },
-	{ 0x6064, "Position actual value" },
-	{ 0x606C, "Velocity actual value" },
-	{ 0x6071, "Target torque" },
-	{ 0x6077, "Torque actual value" },
-	{ 0x607A, "Target position" },
-	{ 0x607C, "Home offset" },
-	{ 0x6081, "Profile velocity" },
-	{ 0x6083, "Profile acceleration" },
-	{ 0x6084, "Profile deceleration" },
-	{ 0x6098, "Homing method" },
-	{ 0x609A, "Homing acceleration" },
-	{ 0x60B0, "Position offset" },
-	{ 0x60B8, "Touch probe function" },
-	{ 0x60B9, "Touch probe status" },
-	{ 0x60BA, "Touch probe 1 positive edge" },
-	{ 0x60FD, "Digital inputs" },
-	{ 0x60FF, "Target velocity" },
-};
-
-/// The name of object @p index, @p sub; "" when it has none here.
+/// The name of object @p index, @p sub (the standard objects of
+/// <ecmxf/model/objects.hpp>); "" when it has none there.
 std::string objectName(std::uint16_t index, std::uint8_t sub)
 {
-	if (index == 0x6099)
-		return sub == 1 ? "Speed during search for switch" : "Speed during search for zero";
-	return std::string(detail::textOf(kObjectNames, index, {}));
+	// 0x6099 has a name for each subindex; the others are named by index
+	const auto o = standardObject(index, index == 0x6099 ? sub : 0);
+	return o ? std::string(o->name) : std::string();
 }
 
 /// Where the bytes of slave @p position start in the process image: the

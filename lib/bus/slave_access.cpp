@@ -279,7 +279,8 @@ std::vector<std::uint8_t> SlaveAccess::flashRead(std::uint32_t address, std::uin
 	return out;
 }
 
-void SlaveAccess::flashWrite(std::uint32_t address, std::span<const std::uint8_t> data) const
+void SlaveAccess::flashWrite(std::uint32_t address, std::span<const std::uint8_t> data,
+			     const std::function<void(std::size_t, std::size_t)> &progress) const
 {
 	const std::string base = "FOE_FUNC_REQ flash write";
 	checkFlash(base, address, data.size());
@@ -290,6 +291,8 @@ void SlaveAccess::flashWrite(std::uint32_t address, std::span<const std::uint8_t
 		const std::string what = base + " of " + std::to_string(n) + " bytes at " + hex(at, 5);
 		async(*dev_, foeRequest(0, 4, 0, static_cast<std::uint32_t>(n), 0, at, data.subspan(done, n)), what, {});
 		done += n;
+		if (progress)
+			progress(done, data.size());
 	}
 }
 
@@ -304,13 +307,20 @@ std::vector<std::uint8_t> SlaveAccess::foeRead(unsigned slave, std::string_view 
 	return flashRead(o.flashAddress, size);
 }
 
-void SlaveAccess::foeWrite(unsigned slave, std::string_view name, std::span<const std::uint8_t> data, const FoeOptions &o) const
+void SlaveAccess::foeWrite(unsigned slave, std::string_view name, std::span<const std::uint8_t> data, const FoeOptions &o,
+			   const std::function<void(std::size_t, std::size_t)> &progress) const
 {
 	const std::string what = "FoE write of " + quoted(name) + " to " + slaveText(slave);
 	checkSlave(what, slave);
 	checkFoeName(*dev_, what, name);
 	checkFlash(what, o.flashAddress, data.size());
-	flashWrite(o.flashAddress, data);
+	// FoE needs the slave's mailbox: say so before the file is staged
+	const State st = Bus(*dev_).slaveInfo(static_cast<std::uint8_t>(slave)).state;
+	if ((static_cast<unsigned>(st) & 0x0Fu) == static_cast<unsigned>(State::Init))
+		throw Error(what + ": the slave is in INIT and has no mailbox (PRE-OP, SAFE-OP, OP or BOOT; firmware "
+				   "files usually need BOOT)",
+			    EPERM);
+	flashWrite(o.flashAddress, data, progress);
 	foeDownloadFromFlash(slave, name, static_cast<std::uint32_t>(data.size()), o);
 }
 

@@ -14,6 +14,8 @@
 #include <cerrno>
 #include <cmath>
 #include <numbers>
+#include <span>
+#include <vector>
 #include <string>
 
 #include "base/text.hpp"
@@ -152,6 +154,37 @@ Cia402Axis::Cia402Axis(Device &device, ProcessImage &image, std::uint8_t slave, 
 	velActual_ = optInput<std::int32_t>(image, slave, 0x606C);
 	followErr_ = optInput<std::int32_t>(image, slave, 0x60F4);
 	cwOut_.set(0);
+}
+
+Cia402Axis::~Cia402Axis()
+{
+	if (Cyclic *c = stopVia_) {
+		c->removeExitHook(this);
+		stopVia_ = nullptr;
+		Cia402Axis *self = this;
+		(void)stopAxes(*c, std::span<Cia402Axis *const>(&self, 1), stopTimeout_);
+	}
+}
+
+void Cia402Axis::stopOnExit(Cyclic &cyclic, nanoseconds timeout)
+{
+	if (stopVia_ && stopVia_ != &cyclic)
+		stopVia_->removeExitHook(this);
+	// the Cyclic goes first: it halts the drive and the axis forgets it
+	cyclic.addExitHook(this, [](void *owner, Cyclic &c) noexcept {
+		auto *self = static_cast<Cia402Axis *>(owner);
+		self->stopVia_ = nullptr;
+		(void)stopAxes(c, std::span<Cia402Axis *const>(&self, 1), self->stopTimeout_);
+	});
+	stopVia_ = &cyclic;
+	stopTimeout_ = timeout;
+}
+
+void Cia402Axis::stopOnExit(std::nullptr_t) noexcept
+{
+	if (stopVia_)
+		stopVia_->removeExitHook(this);
+	stopVia_ = nullptr;
 }
 
 std::vector<std::string> Cia402Axis::missingFor(std::int8_t mode) const
@@ -630,6 +663,11 @@ std::uint64_t runUntil(Cyclic &cyclic, std::span<Cia402Axis *const> axes, const 
 	for (Cia402Axis *a : axes)
 		if (a)
 			dev = &a->device();
+	// stop on scope exit: an exception out of here, or the caller's scope
+	// ending, halts the drives rather than leaving them on the last outputs
+	for (Cia402Axis *a : axes)
+		if (a && !a->stopsVia())
+			a->stopOnExit(cyclic);
 	std::uint64_t cycles = 0;
 	nanoseconds start{ -1 };
 	for (;;) {
@@ -692,6 +730,130 @@ std::uint64_t runUntil(Cyclic &cyclic, std::span<Cia402Axis *const> axes, const 
 		if (const int e = cyclic.waitNextCycle())
 			throw Error("runUntil: waiting for the next cycle failed (the transport failed)", e);
 	}
+}
+
+// ------------------------------------------------------------ stopAxes
+
+namespace {
+
+/// The power stage is on (the drive can move).
+bool powered(std::optional<Cia402State> s)
+{
+	return s == Cia402State::OperationEnabled || s == Cia402State::QuickStopActive ||
+	       s == Cia402State::SwitchedOn || s == Cia402State::FaultReactionActive;
+}
+
+} // namespace
+
+std::vector<Cia402StopOutcome> stopAxes(Cyclic &cyclic, std::span<Cia402Axis *const> axes,
+					nanoseconds timeout) noexcept
+{
+	std::vector<Cia402StopOutcome> out;
+	try {
+		Device *dev = nullptr;
+		for (Cia402Axis *a : axes)
+			if (a)
+				dev = &a->device();
+		if (!dev)
+			return out;
+		out.resize(axes.size());
+		const bool restart = !cyclic.running();
+		if (restart)
+			cyclic.start();
+		const nanoseconds period = cyclic.config().period;
+		// bounded by the transport's clock and by a count of cycles (a
+		// clock that stands still does not hold the stop up forever)
+		const std::int64_t maxCycles = timeout / period + 2;
+		int lost = 0;
+		auto cycleOnce = [&]() -> bool {
+			const CycleResult &r = cyclic.cycle();
+			lost = r.error ? lost + 1 : 0;
+			const nanoseconds t = dev->link().now();
+			for (Cia402Axis *a : axes)
+				if (a)
+					a->update(t);
+			return lost <= 3 && cyclic.waitNextCycle() == 0;
+		};
+		auto phase = [&](const auto &finished) {
+			const nanoseconds t0 = dev->link().now();
+			for (std::int64_t n = 0; n < maxCycles; n++) {
+				if (!cycleOnce())
+					return;
+				if (finished() || dev->link().now() - t0 >= timeout)
+					return;
+			}
+		};
+		// fresh inputs, then Quick Stop for every enabled drive
+		(void)cycleOnce();
+		std::vector<std::int32_t> lastPos(axes.size());
+		std::vector<unsigned> still(axes.size());
+		for (std::size_t i = 0; i < axes.size(); i++) {
+			Cia402Axis *a = axes[i];
+			if (!a)
+				continue;
+			out[i].slave = a->slave();
+			const auto st = a->state();
+			out[i].wasEnabled = st == Cia402State::OperationEnabled || st == Cia402State::QuickStopActive;
+			a->setHalt(false);
+			if (st == Cia402State::OperationEnabled)
+				a->requestState(Cia402State::QuickStopActive, dev->link().now());
+			lastPos[i] = a->position();
+		}
+		phase([&] {
+			bool all = true;
+			for (std::size_t i = 0; i < axes.size(); i++) {
+				Cia402Axis *a = axes[i];
+				if (!a || !out[i].wasEnabled)
+					continue;
+				const auto st = a->state();
+				still[i] = a->position() == lastPos[i] ? still[i] + 1 : 0;
+				lastPos[i] = a->position();
+				const bool standstill =
+					a->velocity() ? *a->velocity() == 0 : still[i] >= a->config().latencyCycles;
+				if (st == Cia402State::OperationEnabled || (st == Cia402State::QuickStopActive && !standstill))
+					all = false;
+			}
+			return all;
+		});
+		// Disable Voltage for every drive whose power stage is on
+		for (Cia402Axis *a : axes)
+			if (a && powered(a->state()) && a->state() != Cia402State::FaultReactionActive)
+				a->disable(dev->link().now());
+		phase([&] {
+			for (Cia402Axis *a : axes)
+				if (a && powered(a->state()))
+					return false;
+			return true;
+		});
+		for (std::size_t i = 0; i < axes.size(); i++) {
+			Cia402Axis *a = axes[i];
+			if (!a)
+				continue;
+			Cia402StopOutcome &o = out[i];
+			const auto st = a->state();
+			o.halted = !powered(st);
+			o.statusword = a->statusword();
+			o.position = a->position();
+			o.velocity = a->velocity();
+			o.text = slaveText(a->slave());
+			if (!o.halted)
+				o.text.append("NOT halted within ").append(durationText(timeout)).append(": ");
+			else
+				o.text.append(o.wasEnabled ? "quick stop, then disabled: " : "not enabled: ");
+			o.text.append(st ? std::string(cia402StateName(*st)) : std::string("no CiA-402 state"))
+				.append(" (statusword ")
+				.append(cia402Hex16(o.statusword))
+				.append("), position ")
+				.append(std::to_string(o.position));
+			if (o.velocity)
+				o.text.append(", velocity ").append(std::to_string(*o.velocity));
+		}
+		if (restart)
+			cyclic.stop();
+	} catch (...) {
+		// noexcept: what was reached is in the outcomes (halted false)
+	}
+	return out;
 }
 
 std::uint64_t runUntilDone(Cyclic &cyclic, std::span<Cia402Axis *const> axes, nanoseconds timeout,

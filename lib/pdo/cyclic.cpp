@@ -28,6 +28,7 @@
 #include <ctime>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ecmxf-proto.h"
@@ -429,6 +430,7 @@ public:
 	CycleResult last;
 	CyclicStats stats;
 	bool started = false;
+	std::vector<std::pair<void *, Cyclic::ExitHook>> exitHooks;
 	nanoseconds epoch{ 0 };
 	std::uint64_t tick = 0; ///< the cycle boundary waited for last
 };
@@ -438,7 +440,32 @@ Cyclic::Cyclic(Device &device, ProcessImage &image, CyclicConfig config)
 {
 }
 
-Cyclic::~Cyclic() = default;
+Cyclic::~Cyclic()
+{
+	// newest first; a hook may remove itself (and only itself) meanwhile
+	while (!impl_->exitHooks.empty()) {
+		const auto [owner, hook] = impl_->exitHooks.back();
+		impl_->exitHooks.pop_back();
+		hook(owner, *this);
+	}
+}
+
+bool Cyclic::running() const noexcept
+{
+	return impl_->started;
+}
+
+void Cyclic::addExitHook(void *owner, ExitHook hook)
+{
+	removeExitHook(owner);
+	impl_->exitHooks.emplace_back(owner, hook);
+}
+
+void Cyclic::removeExitHook(void *owner) noexcept
+{
+	auto &v = impl_->exitHooks;
+	v.erase(std::remove_if(v.begin(), v.end(), [owner](const auto &h) { return h.first == owner; }), v.end());
+}
 
 void Cyclic::start()
 {

@@ -44,6 +44,28 @@ void BoardDrives::waitEnabled(unsigned slave, std::chrono::milliseconds timeout)
 	}
 }
 
+AxisStatus BoardDrives::halt(unsigned slave, std::chrono::milliseconds timeout)
+{
+	auto &k = link_->impl();
+	k.checkSlave(slave, "SV_OFF");
+	servoOff(slave);
+	const auto end = k.ch.now() + timeout;
+	for (;;) {
+		k.xfer();
+		const auto a = axis(slave);
+		const auto s = cia402StateFrom(a.statusword);
+		if (s != Cia402State::OperationEnabled && s != Cia402State::QuickStopActive &&
+		    s != Cia402State::SwitchedOn)
+			return a;
+		if (k.ch.now() >= end)
+			throw Error("slave " + std::to_string(slave - 1) + ": SV_OFF: the drive stays " +
+					    std::string(cia402StateName(*s)) + " after " + std::to_string(timeout.count()) +
+					    " ms (statusword " + skHex(a.statusword, 4) + ")",
+				    ETIMEDOUT);
+		k.ch.sleepFor(500us);
+	}
+}
+
 void BoardDrives::home(unsigned slave, std::int8_t method, std::chrono::milliseconds timeout)
 {
 	auto &k = link_->impl();

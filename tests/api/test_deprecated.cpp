@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
-// The names before 0.4 (Documentation/library.rst, "API changes in 0.4")
+// The names before "one model for two masters" (Documentation/library.rst,
+// "API changes before 0.1.0: one model for two masters")
 // still compile and do what the new names do: each deprecated alias is
 // called here next to its new name, against the simulator. Only this file
 // silences the deprecation warning; everything else in the tree uses the

@@ -315,6 +315,13 @@ TEST_CASE("foe_read of the servo's log.txt, to stdout and to a file", "[cli][foe
 	const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
 	CHECK_THAT(text, Contains("power on"));
 	std::filesystem::remove(file);
+	// -o -: standard output, no file named '-' (issue 29; the program runs
+	// in this test's working directory)
+	REQUIRE_FALSE(std::filesystem::exists("-"));
+	r = run(kServo + "foe_read -p 0 -o - log.txt");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("power on"));
+	CHECK_FALSE(std::filesystem::exists("-"));
 }
 
 TEST_CASE("foe errors name the FoE error code and its text", "[cli][foe][errors]")
@@ -465,7 +472,12 @@ TEST_CASE("cia402 errors: no object dictionary, unknown operation, no drive to m
 {
 	auto r = run("cia402 -p 2 status");
 	CHECK(r.status == 1);
-	CHECK_THAT(r.err, StartsWith("ecmxf-util: cia402: SDO upload 0x6041:00 from slave 2 aborted: 0x08000023"));
+	// said as what it is not (issue 29), the abort after it
+	CHECK_THAT(r.err, StartsWith("ecmxf-util: cia402: slave 2 is not a CiA-402 drive: it has no statusword "
+				     "0x6041 (SDO upload 0x6041:00 from slave 2 aborted: 0x08000023"));
+	r = run("cia402 -p 2 enable");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, StartsWith("ecmxf-util: cia402: slave 2 is not a CiA-402 drive"));
 	r = run("cia402 -p 0 dance");
 	CHECK(r.status == 2);
 	CHECK(r.err == "ecmxf-util: cia402: unknown operation 'dance' (status, enable, disable, fault-reset, "

@@ -107,6 +107,10 @@ TEST_CASE("cia402 move: usage errors", "[cli-motion]")
 	CHECK_THAT(usageError({ "-p", "200", "move", "--pp", "1" }), Equals("cia402: -p 200 out of range 0..127"));
 	CHECK_THAT(usageError({ "-p", "0", "home", "--velocity", "5" }), Equals("cia402 home: only --method M"));
 	CHECK_THAT(usageError({ "-p", "0", "move", "--pp" }), Equals("cia402: option '--pp' needs a value"));
+	CHECK_THAT(usageError({ "-p", "0", "move", "--pp", "1", "--time", "0" }),
+		   Equals("cia402 move: --time 0 (until stopped) is for --pv only; --pp needs 1..3600000 ms"));
+	CHECK_THAT(usageError({ "-p", "0", "move", "--pv", "1", "--time", "3600001" }),
+		   Equals("cia402: --time 3600001 out of range 0..3600000"));
 	CHECK_THAT(usageError({ "-p", "0", "move", "--fast" }),
 		   Equals("cia402: unknown argument '--fast' (try 'ecmxf-util cia402 move --help')"));
 }

@@ -38,6 +38,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			const std::uint64_t max = sel & 0x80 ? 0xFFFF : UINT64_MAX;
 			const std::uint64_t v = parseUnsigned("fuzz", "n", text, max, sel & 0x40 ? 1 : 0);
 			FUZZ_ASSERT(v <= max && (!(sel & 0x40) || v >= 1));
+			// a negative number is out of any unsigned range (but -0)
+			FUZZ_ASSERT(text.empty() || text[0] != '-' || v == 0);
 			break;
 		}
 		case 1: {

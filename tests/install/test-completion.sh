@@ -51,13 +51,13 @@ comp()
 	fi
 }
 
-all="adc cia402 commands cstruct dac decode download eeprom emergency foe_read foe_write gpio info
+all="adc cia402 commands cstruct dac data decode download eeprom emergency foe_read foe_write gpio info
 master monitor pdos qei raw reg_read reg_write reset sii_read sii_write slaves states upload version xml"
 # shellcheck disable=SC2086
 comp "ecmxf-util " $all help
 comp "ecmxf-util s" sii_read sii_write slaves states
 comp "ecmxf-util foe" foe_read foe_write
-comp "ecmxf-util -" -d --device --json --trace -q --quiet -h --help -V --version
+comp "ecmxf-util -" -d --device --json --trace -q --quiet --progress -h --help -V --version
 comp "ecmxf-util --j" --json
 comp "ecmxf-util --json -d sim: st" states
 comp "ecmxf-util help mon" monitor

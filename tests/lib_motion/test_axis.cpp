@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include <ecmxf/cia402/cia402_axis.hpp>
@@ -462,4 +463,90 @@ TEST_CASE("axis: the requests without now run on the link's clock (issue 15)", "
 	CHECK(a.state() == Cia402State::SwitchOnDisabled);
 	// a request that is not allowed throws as its timed form does
 	CHECK_THROWS_AS(a.startCsp(), Error);
+}
+
+// ---- the safe stop (issue 29): stopAxes() and stop on scope exit
+
+namespace {
+
+/// A PV axis of @p b at velocity 40000 (the drive moving).
+void spinUp(Bench &b, Cia402Axis &a)
+{
+	modeAndEnable(b, { &a }, cia402::kModePv);
+	a.setVelocity(40000, b.now(), 400000u, 400000u);
+	std::vector<Cia402Axis *> v{ &a };
+	ecmxf::runUntilDone(*b.cyc, v, 2s, "velocity reached");
+	REQUIRE(b.drive(0).velocityActual() == 40000);
+}
+
+std::optional<Cia402State> simState(Bench &b)
+{
+	return ecmxf::cia402StateFrom(b.drive(0).statusword());
+}
+
+} // namespace
+
+TEST_CASE("axis: stopAxes() quick-stops a moving drive to standstill, then disables it", "[axis][stop]")
+{
+	Bench b;
+	Cia402Axis a(*b.dev, *b.image, 0, { .modes = { cia402::kModePv } });
+	spinUp(b, a);
+	std::vector<Cia402Axis *> v{ &a };
+	const auto out = ecmxf::stopAxes(*b.cyc, v);
+	REQUIRE(out.size() == 1);
+	CHECK(out[0].wasEnabled);
+	CHECK(out[0].halted);
+	CHECK(out[0].velocity == 0);
+	CHECK(simState(b) == Cia402State::SwitchOnDisabled);
+	CHECK(b.drive(0).velocityActual() == 0);
+	CHECK(b.drive(0).controlword() == 0x0000); // Disable Voltage, by PDO
+	CHECK_THAT(out[0].text, Contains("slave 0: quick stop, then disabled: SWITCH ON DISABLED (statusword 0x"));
+	CHECK_THAT(out[0].text, Contains(", velocity 0"));
+	// a drive already disabled: nothing to do, said so
+	const auto again = ecmxf::stopAxes(*b.cyc, v);
+	REQUIRE(again.size() == 1);
+	CHECK_FALSE(again[0].wasEnabled);
+	CHECK(again[0].halted);
+	CHECK_THAT(again[0].text, Contains("slave 0: not enabled: SWITCH ON DISABLED"));
+}
+
+TEST_CASE("axis: an exception out of the application's loop halts the drive on scope exit", "[axis][stop]")
+{
+	Bench b;
+	{
+		Cia402Axis a(*b.dev, *b.image, 0, { .modes = { cia402::kModePv } });
+		spinUp(b, a);
+		std::vector<Cia402Axis *> v{ &a };
+		CHECK_THROWS_WITH(ecmxf::runUntil(
+					  *b.cyc, v, []() -> bool { throw std::runtime_error("the application failed"); },
+					  1s),
+				  "the application failed");
+		// still moving: the chip keeps sending the last outputs
+		CHECK(simState(b) == Cia402State::OperationEnabled);
+	} // the axis goes: runUntil() set stop-on-exit
+	CHECK(simState(b) == Cia402State::SwitchOnDisabled);
+	CHECK(b.drive(0).velocityActual() == 0);
+}
+
+TEST_CASE("axis: the Cyclic going first halts the drive, and the axis outlives it safely", "[axis][stop]")
+{
+	Bench b;
+	Cia402Axis a(*b.dev, *b.image, 0, { .modes = { cia402::kModePv } });
+	spinUp(b, a);
+	CHECK(a.stopsVia() == b.cyc.get());
+	b.cyc.reset();
+	CHECK(a.stopsVia() == nullptr);
+	CHECK(simState(b) == Cia402State::SwitchOnDisabled);
+	CHECK(b.drive(0).velocityActual() == 0);
+}
+
+TEST_CASE("axis: stopOnExit(nullptr) leaves the drive as it is", "[axis][stop]")
+{
+	Bench b;
+	{
+		Cia402Axis a(*b.dev, *b.image, 0, { .modes = { cia402::kModePv } });
+		spinUp(b, a);
+		a.stopOnExit(nullptr);
+	}
+	CHECK(simState(b) == Cia402State::OperationEnabled);
 }

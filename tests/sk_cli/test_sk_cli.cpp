@@ -43,6 +43,14 @@ TEST_CASE("sk cli: info and slaves on a fresh sk-sim:, as text and JSON")
 	r = run("-d sk-sim: --json slaves");
 	REQUIRE(r.status == 0);
 	CHECK_THAT(r.out, Contains("{\"position\": 1, \"state\": \"PREOP\", \"type\": \"STEP\""));
+	// states -p N would move the whole board: refused (issue 29)
+	const auto st = run("-d sk-sim: states -p 1 PREOP");
+	CHECK(st.status == 1);
+	CHECK_THAT(st.err, Contains("states: not on the ECM-SK: states -p N: the board has one state for the whole bus"));
+	// the ECM-XF's field names (issue 29): vendor_id, product_code as numbers
+	CHECK_THAT(r.out, Contains("{\"position\": 0, \"state\": \"PREOP\", \"type\": \"Drive\", \"vendor_id\": 3676, "
+				   "\"product_code\": 41682}"));
+	CHECK_THAT(r.out, !Contains("identity"));
 }
 
 TEST_CASE("sk cli: upload and download through the SDO slot")
@@ -50,6 +58,12 @@ TEST_CASE("sk cli: upload and download through the SDO slot")
 	auto r = run("-d sk-sim: upload -p 1 -t uint32 0x1018:2");
 	REQUIRE(r.status == 0);
 	CHECK_THAT(r.out, Contains("1412")); // 0x584
+	// the board brought up silently, as the ECM-XF's bus (issue 29)
+	CHECK(r.err.empty());
+	// IgH's split form INDEX SUB
+	r = run("-d sk-sim: upload -p 1 -t uint32 0x1018 2");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("1412"));
 	r = run("-d sk-sim: --json upload -p 0 0x1018:1");
 	REQUIRE(r.status == 0);
 	CHECK_THAT(r.out, Contains("\"size\": 4"));
@@ -64,7 +78,13 @@ TEST_CASE("sk cli: upload and download through the SDO slot")
 	r = run("-d sk-sim: upload -p 3 0x1000");
 	CHECK(r.status == 1);
 	CHECK_THAT(r.err, Contains("out of range"));
+	// a standard object has its type from CiA 402 (0x6098 INTEGER8)
 	r = run("-d sk-sim: download -p 1 0x6098 37");
+	CHECK(r.status == 0);
+	r = run("-d sk-sim: download -p 1 0x6098 200");
+	CHECK(r.status == 2);
+	CHECK_THAT(r.err, Contains("200 is out of range -128..127 (0x6098:00 Homing method is INTEGER8)"));
+	r = run("-d sk-sim: download -p 1 0x2001 37");
 	CHECK(r.status == 2);
 	CHECK_THAT(r.err, Contains("-t TYPE is required"));
 	r = run("-d sk-sim: download -p 1 -t int8 0x6098 300");
@@ -77,7 +97,8 @@ TEST_CASE("sk cli: cia402 enable, move, status; io; lio; states; reset")
 	REQUIRE(r.status == 0);
 	r = run("-d sk-sim: --json cia402 -p 1 move -2500");
 	REQUIRE(r.status == 0);
-	CHECK_THAT(r.out, Contains("\"actual_position\": -2500"));
+	CHECK_THAT(r.out, Contains("\"position_actual\": -2500"));
+	CHECK_THAT(r.out, Contains("\"state\": \"OPERATION ENABLED\""));
 	r = run("-d sk-sim: cia402 -p 0 enable");
 	REQUIRE(r.status == 0);
 	CHECK_THAT(r.out, Contains("statusword 0x"));

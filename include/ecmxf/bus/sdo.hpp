@@ -95,7 +95,7 @@ public:
 	}
 
 	// ---- the names before 0.4, kept for one release: each forwards to
-	// the call above (Documentation/library.rst, "API changes in 0.4")
+	// the call above (Documentation/library.rst, "API changes before 0.1.0: one model for two masters")
 	[[deprecated("use Sdo::upload")]] [[nodiscard]] std::vector<std::uint8_t>
 	sdoUpload(std::uint8_t slave, std::uint16_t index, std::uint8_t sub, const SdoOptions &options = {}) const
 	{

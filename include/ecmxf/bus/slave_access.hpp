@@ -25,6 +25,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -67,9 +68,12 @@ public:
 	[[nodiscard]] std::vector<std::uint8_t> foeRead(unsigned slave, std::string_view name,
 							const FoeOptions &options = {}) const;
 	/// FoE write of @p data as file @p name to @p slave (flash writes in
-	/// chunks, then FOE_FUNC_REQ download).
+	/// chunks, then FOE_FUNC_REQ download). A slave in INIT (no mailbox) is
+	/// refused (EPERM, naming its state) before anything is staged;
+	/// @p progress (may be empty) follows the staging (bytes done, in all).
 	void foeWrite(unsigned slave, std::string_view name, std::span<const std::uint8_t> data,
-		      const FoeOptions &options = {}) const;
+		      const FoeOptions &options = {},
+		      const std::function<void(std::size_t, std::size_t)> &progress = {}) const;
 	/// The FOE_FUNC_REQ steps on their own: upload a slave's file into the
 	/// flash (returns its size), download flash bytes as a file, read and
 	/// write the flash (any size; chunked as the data section allows).
@@ -77,7 +81,9 @@ public:
 	void foeDownloadFromFlash(unsigned slave, std::string_view name, std::uint32_t length,
 				  const FoeOptions &options = {}) const;
 	[[nodiscard]] std::vector<std::uint8_t> flashRead(std::uint32_t address, std::uint32_t length) const;
-	void flashWrite(std::uint32_t address, std::span<const std::uint8_t> data) const;
+	/// @p progress (may be empty) after each chunk: bytes done, in all.
+	void flashWrite(std::uint32_t address, std::span<const std::uint8_t> data,
+			const std::function<void(std::size_t, std::size_t)> &progress = {}) const;
 
 	// ---- mailbox (143/144), emergencies (83), direct assign (82) ----
 

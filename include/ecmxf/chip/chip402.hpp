@@ -64,7 +64,7 @@ public:
 				      std::chrono::nanoseconds poll = std::chrono::milliseconds(1)) const;
 
 	// ---- the names before 0.4, kept for one release: each forwards to
-	// the call above (Documentation/library.rst, "API changes in 0.4")
+	// the call above (Documentation/library.rst, "API changes before 0.1.0: one model for two masters")
 	[[deprecated("use Chip402::configure")]] void chip402Configure(unsigned motor,
 								       const Chip402Config &config) const
 	{

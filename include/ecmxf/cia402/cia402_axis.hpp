@@ -17,7 +17,10 @@
  * profile velocity); their progress is progress() / done() / failed().
  *
  * @code
+ *   ecmxf::Cyclic cyc(dev, image, ecmxf::CyclicConfig::motion(1ms));
+ *   cyc.start();                                   // the exchange runs from here
  *   ecmxf::Cia402Axis axis(dev, image, 0);
+ *   axis.stopOnExit(cyc);                          // halted on scope exit
  *   axis.setMode(ecmxf::cia402::kModePp, now);    // SDO or PDO
  *   ... cycles until axis.done()
  *   axis.enable(now);                              // -> OPERATION ENABLED
@@ -28,6 +31,11 @@
  *
  * runUntil() does that loop for tools and tests. Documentation/motion.rst
  * describes the choices.
+ *
+ * Stopping: stopAxes() brings drives to a halt (quick stop, then disable)
+ * through the process data in one call; an axis run by runUntil(), or
+ * given stopOnExit(), does that by itself when it or its Cyclic goes out
+ * of scope (an exception included).
  */
 #pragma once
 
@@ -116,6 +124,22 @@ public:
 	/// 0x607A; PV: 0x60FF); else ecmxf::Error (EINVAL) naming what is
 	/// missing, for which mode, and what is mapped.
 	Cia402Axis(Device &device, ProcessImage &image, std::uint8_t slave, Cia402AxisConfig config = {});
+	/// With stopOnExit() in force (runUntil() sets it): brings the drive
+	/// to a halt through that Cyclic first (stopAxes()), so that leaving
+	/// the axis's scope, by an exception too, never leaves the drive
+	/// running on the last outputs the chip keeps sending.
+	~Cia402Axis();
+	Cia402Axis(const Cia402Axis &) = delete;
+	Cia402Axis &operator=(const Cia402Axis &) = delete;
+
+	/// Stop on scope exit: when the axis or @p cyclic goes away, whichever
+	/// goes first, the drive is brought to a halt through @p cyclic
+	/// (stopAxes() with @p timeout). runUntil() and runUntilDone() set it
+	/// for their axes. stopOnExit(nullptr) turns it off.
+	void stopOnExit(Cyclic &cyclic, std::chrono::nanoseconds timeout = std::chrono::seconds(1));
+	void stopOnExit(std::nullptr_t) noexcept;
+	/// The Cyclic of stopOnExit(), or null.
+	[[nodiscard]] Cyclic *stopsVia() const noexcept { return stopVia_; }
 
 	[[nodiscard]] std::uint8_t slave() const noexcept { return slave_; }
 	[[nodiscard]] Device &device() const noexcept { return dev_; }
@@ -248,7 +272,44 @@ private:
 	std::uint16_t failSw_ = 0;
 	unsigned steps_ = 0; ///< update() calls since the request
 	std::chrono::nanoseconds since_{ 0 };
+	Cyclic *stopVia_ = nullptr;
+	std::chrono::nanoseconds stopTimeout_{ 0 };
 };
+
+/// What stopAxes() did to one axis.
+struct Cia402StopOutcome {
+	std::uint8_t slave = 0;
+	/// The drive was in OPERATION ENABLED or QUICK STOP ACTIVE: it was
+	/// quick-stopped and disabled; false: it was only disabled (or left
+	/// as it was, in FAULT).
+	bool wasEnabled = false;
+	/// It reached a state with the power stage off (SWITCH ON DISABLED,
+	/// READY TO SWITCH ON, FAULT...) within the time given.
+	bool halted = false;
+	std::uint16_t statusword = 0;
+	std::int32_t position = 0;
+	std::optional<std::int32_t> velocity; ///< 0x606C if mapped
+	/// "slave 0: quick stop, then disabled: SWITCH ON DISABLED (statusword
+	/// 0x0250), position 41210, velocity 0"
+	std::string text;
+};
+
+/**
+ * Brings @p axes to a halt through @p cyclic's process data (in OP the
+ * process data's controlword overrides SDO writes, so this is the path
+ * that controls the drive): each axis in OPERATION ENABLED gets Quick
+ * Stop (controlword 0x0002) until it stands still in QUICK STOP ACTIVE
+ * (velocity actual 0 when 0x606C is mapped, else the position unchanged
+ * over latencyCycles cycles) or leaves it by itself (quick stop option
+ * codes 1..4), then Disable Voltage until SWITCH ON DISABLED. Each phase
+ * takes at most @p timeout on the transport's clock. A Cyclic that was
+ * stopped is started again for it (and stopped after). Never throws: an
+ * axis that could not be halted says so in its outcome (halted false).
+ * Not for the cyclic path (it allocates).
+ */
+[[nodiscard]] ECMXF_EXPORT std::vector<Cia402StopOutcome>
+stopAxes(Cyclic &cyclic, std::span<Cia402Axis *const> axes,
+	 std::chrono::nanoseconds timeout = std::chrono::seconds(1)) noexcept;
 
 /// The shape of a CspTrajectory.
 enum class TrajectoryShape : std::uint8_t {

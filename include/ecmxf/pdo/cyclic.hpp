@@ -256,6 +256,17 @@ public:
 	void start();
 	/// FIFO_ENABLE 0: the chip keeps sending the last outputs. Throws.
 	void stop();
+	/// Between start() and stop().
+	[[nodiscard]] bool running() const noexcept;
+
+	/// Something to do with this Cyclic before it goes away (what
+	/// Cia402Axis::stopOnExit() registers: the drive brought to a halt
+	/// while the exchange still runs). The destructor calls each hook still
+	/// registered, newest first, then forgets it; @p owner removes its own
+	/// with removeExitHook() (in its destructor, if it goes first).
+	using ExitHook = void (*)(void *owner, Cyclic &cyclic) noexcept;
+	void addExitHook(void *owner, ExitHook hook);
+	void removeExitHook(void *owner) noexcept;
 
 	/// One exchange: see the file comment and process-data.rst.
 	/// Allocates nothing, throws nothing.

@@ -88,7 +88,7 @@ public:
 	void fifoSetThresholds(const FifoThresholds &thresholds) const;
 
 	// ---- the names before 0.4, kept for one release: each forwards to
-	// the call above (Documentation/library.rst, "API changes in 0.4")
+	// the call above (Documentation/library.rst, "API changes before 0.1.0: one model for two masters")
 	[[deprecated("use ProcessData::slaveCounts")]] [[nodiscard]] PdoSlaveCounts pdoSlaveCounts() const
 	{
 		return slaveCounts();

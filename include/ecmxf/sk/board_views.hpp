@@ -115,6 +115,13 @@ public:
 	/// GET_STATUS until slave @p slave is in Operation enabled (the
 	/// CiA-402 decoder of <ecmxf/model/cia402.hpp>).
 	void waitEnabled(unsigned slave, std::chrono::milliseconds timeout = std::chrono::seconds(2));
+	/// Brings slave @p slave's drive to a halt in the board's terms (the
+	/// ECM-SK has no quick-stop command and owns the controlword): SV_OFF,
+	/// then GET_STATUS until the power stage is off (neither OPERATION
+	/// ENABLED, QUICK STOP ACTIVE nor SWITCHED ON) and returns its slot;
+	/// ETIMEDOUT naming the statusword after @p timeout. What
+	/// `ecmxf-util cia402` does on SIGINT/SIGTERM/SIGHUP.
+	AxisStatus halt(unsigned slave, std::chrono::milliseconds timeout = std::chrono::seconds(1));
 	/// Homing: SDO_WR 0x6060 = 6 and 0x6098 = @p method, GO_HOME, then
 	/// GET_STATUS until statusword bits 10 and 12 (EIO on bit 13).
 	void home(unsigned slave, std::int8_t method, std::chrono::milliseconds timeout = std::chrono::seconds(30));
