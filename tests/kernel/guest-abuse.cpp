@@ -434,7 +434,8 @@ void argsIoctlNumbers(int fd)
 	} unknown[] = {
 		{ "ioctl of another type ('V' 0x01, the vspi's)", _IOW('V', 0x01, __u32) },
 		{ "ioctl of another type (0xE8 with CMD's nr and size)", _IOWR(0xE8, 0x02, struct ecmxf_cmd) },
-		{ "our type, nr 0x09 (unused)", _IO(ECMXF_IOC_MAGIC, 0x09) },
+		{ "our type, nr 0x0A (unused)", _IO(ECMXF_IOC_MAGIC, 0x0A) },
+		{ "CLAIM_BREAK with an argument (_IOW int)", _IOW(ECMXF_IOC_MAGIC, 0x09, int) },
 		{ "our type, nr 0x1F (unused, end of range)", _IOWR(ECMXF_IOC_MAGIC, 0x1F, struct ecmxf_cmd) },
 		{ "our type, nr 0xFF", _IO(ECMXF_IOC_MAGIC, 0xFF) },
 		// the size field of a known number too short / too long
@@ -519,6 +520,25 @@ void argsCmdFields(int fd)
 	c.hdr.reserved = 0x80000000u;
 	r = ioc(fd, ECMXF_IOC_CMD, &c);
 	expectErr("CMD hdr.reserved bit 31", r.ret, r.err, EINVAL);
+	// the reserved word: bit 15 always, bits 11 and 12 with ECAT_INIT_OP
+	// only, no other bit (Documentation/uapi.rst, "Commands")
+	for (unsigned bit = 0; bit < 16; bit++) {
+		if (bit == 15)
+			continue;
+		c = cmdOf(kFwVersionGet);
+		c.hdr.rsv_word = static_cast<std::uint16_t>(1u << bit);
+		r = ioc(fd, ECMXF_IOC_CMD, &c);
+		expectErr("CMD FW_VERSION_GET with rsv_word bit " + std::to_string(bit), r.ret, r.err, EINVAL);
+		ecmxf_submit sb = subOf(kFwVersionGet, 1);
+		sb.hdr.rsv_word = static_cast<std::uint16_t>(1u << bit);
+		r = ioc(fd, ECMXF_IOC_SUBMIT, &sb);
+		expectErr("SUBMIT FW_VERSION_GET with rsv_word bit " + std::to_string(bit), r.ret, r.err, EINVAL);
+	}
+	c = cmdOf(kFwVersionGet);
+	c.hdr.rsv_word = ECMXF_RSV_GPIO_OUT;
+	c.hdr.gpio_out[0] = 0;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD FW_VERSION_GET with rsv_word bit 15 (GPIO outputs valid)", r.ret, r.err, 0);
 	for (unsigned i = 0; i < sizeof(c.fetch); i += 4) {
 		c = cmdOf(kFwVersionGet);
 		reinterpret_cast<unsigned char *>(&c.fetch)[i] = 1;
@@ -727,6 +747,9 @@ void argsFetch(int fd)
 		{ "fetch.padding 1", [](FetchParts k) { k.fetch.padding = 1; } },
 		{ "fetch.reserved 1", [](FetchParts k) { k.fetch.reserved = 1; } },
 		{ "fetch.len 4 (a fetch carries no data)", [](FetchParts k) { k.fetch.len = 4; } },
+		{ "fetch.rsv_word bit 0 (reserved)", [](FetchParts k) { k.fetch.rsv_word = 1; } },
+		{ "fetch.rsv_word bit 11 (LRW: ECAT_INIT_OP only)",
+		  [](FetchParts k) { k.fetch.rsv_word = ECMXF_RSV_LRW; } },
 		{ "with the output flag F_FETCHED", [](FetchParts k) { k.flags |= ECMXF_CMD_F_FETCHED; } },
 		{ "a fetch header without F_FETCH", [](FetchParts k) { k.flags = 0; } },
 	};
@@ -1084,6 +1107,37 @@ void argsOpenLimit()
 	for (int fd : fds)
 		::close(fd);
 	expectEq("devinfo.open_count after closing them", devinfo(probe.get()).open_count, 1);
+
+	// read-only openers (a group member's query tools) cannot take the
+	// slots a writer needs: the last 8 (ECMXF_WRITER_SLOTS) are writers'
+	fds.clear();
+	last = 0;
+	for (unsigned i = 0; i < d.max_open + 4; i++) {
+		const int fd = ::open(gPath.c_str(), O_RDONLY | O_CLOEXEC);
+		if (fd < 0) {
+			last = errno;
+			break;
+		}
+		fds.push_back(fd);
+	}
+	const unsigned roSlots = d.max_open > 16 ? d.max_open - 8 : d.max_open - d.max_open / 2;
+	expectEq("read-only opens that succeed (max_open - 8, one writer open)", fds.size(), roSlots);
+	expectErr("the next read-only open()", -1, last, EMFILE);
+	std::vector<int> writers;
+	for (unsigned i = 0; i + 1 + roSlots < d.max_open; i++) {
+		const int fd = ::open(gPath.c_str(), O_RDWR | O_CLOEXEC);
+		if (fd < 0) {
+			last = errno;
+			break;
+		}
+		writers.push_back(fd);
+	}
+	expectEq("writers still open the remaining slots", writers.size(), d.max_open - 1 - roSlots);
+	for (int fd : writers)
+		::close(fd);
+	for (int fd : fds)
+		::close(fd);
+	expectEq("devinfo.open_count after closing them all", devinfo(probe.get()).open_count, 1);
 }
 
 void partArgs()
@@ -1278,6 +1332,53 @@ bool asUser(const std::string &who, uid_t uid, const std::vector<gid_t> &groups,
 	return WIFEXITED(st) && WEXITSTATUS(st) == 0;
 }
 
+/// Commands of another file queued before the claim was taken do not run
+/// beside the holder: the worker checks the claim again when it takes
+/// them.  The holder's async command is held busy in the chip (bridge
+/// "async-stuck"), so that the other file's async command, and its FIFO
+/// command behind it, wait in its queue while the claim is taken.
+void claimQueuedBefore()
+{
+	Fd holder(O_RDWR), other(O_RDWR);
+	ctl("async-stuck 1");
+	ecmxf_submit s = subOf(kStateUpdate, 1);
+	Res r = ioc(holder.get(), ECMXF_IOC_SUBMIT, &s);
+	expectErr("queued before the claim: the holder's async command (held busy)", r.ret, r.err, 0);
+	if (!waitChipTookStuck("queued before the claim"))
+		return;
+	s = subOf(kStateUpdate, 2);
+	r = ioc(other.get(), ECMXF_IOC_SUBMIT, &s);
+	expectErr("  another file's async command, queued behind it", r.ret, r.err, 0);
+	s = subOf(kPdoDataFifoOp, 3);
+	r = ioc(other.get(), ECMXF_IOC_SUBMIT, &s);
+	expectErr("  and its FIFO command, queued behind that", r.ret, r.err, 0);
+	r = ioc(holder.get(), ECMXF_IOC_CLAIM, 0);
+	expectErr("  CLAIM", r.ret, r.err, 0);
+	r = doReset(holder.get(), ECMXF_RESET_F_ASYNC_CMD,
+		    ECMXF_RESET_ASYNC_CLEAR_BUSY | ECMXF_RESET_ASYNC_ABANDON);
+	expectErr("  the holder abandons its async command", r.ret, r.err, 0);
+	ecmxf_completion rec[2]{};
+	long n = ::read(holder.get(), rec, kRec);
+	expectTrue("  the holder's command: ECANCELED",
+		   n == static_cast<long>(kRec) && rec[0].cookie == 1 && rec[0].status == -ECANCELED,
+		   errText(n, errno) + " status " + std::to_string(rec[0].status));
+	int got = 0;
+	while (got < 2) {
+		n = ::read(other.get(), &rec[got], kRec);
+		if (n != static_cast<long>(kRec))
+			break;
+		got++;
+	}
+	expectEq("  the other file's completions", got, 2);
+	for (int i = 0; i < got; i++)
+		expectTrue("  the other file's command " + std::to_string(rec[i].cookie) +
+				   " was refused when the worker took it (EBUSY), not run",
+			   rec[i].status == -EBUSY, "status " + std::to_string(rec[i].status));
+	r = ioc(holder.get(), ECMXF_IOC_RELEASE, 0);
+	expectErr("  RELEASE", r.ret, r.err, 0);
+	ctl("clear");
+}
+
 int openAs(int flags)
 {
 	return ::open(gPath.c_str(), flags | O_CLOEXEC);
@@ -1350,7 +1451,8 @@ void partPerm()
 		Fd holder(O_RDWR), other(O_RDWR);
 		Res r = ioc(holder.get(), ECMXF_IOC_CLAIM, 0);
 		expectErr("root: CLAIM", r.ret, r.err, 0);
-		const auto claimed = [](Perm p) { return p == Perm::Process ? EBUSY : 0; };
+		// the holder owns the machine: the others may only ask
+		const auto claimed = [](Perm p) { return p == Perm::Query ? 0 : EBUSY; };
 		permCheck(other.get(), "root, another file while the claim is held", wmax, claimed);
 		expectEq("  devinfo names the holder", devinfo(other.get()).claim_pid,
 			 static_cast<std::uint32_t>(::getpid()));
@@ -1360,13 +1462,24 @@ void partPerm()
 				   const int fd = openAs(O_RDWR);
 				   expectErr("member during another's claim: open", fd, errno, 0);
 				   permCheck(fd, "member during another's claim", wmax, [](Perm p) {
-					   return p == Perm::Process ? EBUSY : p == Perm::Admin ? EPERM : 0;
+					   return p == Perm::Query ? 0 : p == Perm::Admin ? EPERM : EBUSY;
 				   });
+				   Res rb = ioc(fd, ECMXF_IOC_CLAIM_BREAK, 0);
+				   expectErr("member during another's claim: CLAIM_BREAK (no CAP_SYS_ADMIN)", rb.ret,
+					     rb.err, EPERM);
 				   ::close(fd);
 			   }));
+		{
+			Fd ro(O_RDONLY);
+			r = ioc(ro.get(), ECMXF_IOC_CLAIM_BREAK, 0);
+			expectErr("read-only (root): CLAIM_BREAK", r.ret, r.err, EPERM);
+		}
+		expectTrue("devinfo: the claim is exclusive (ECMXF_DEVINFO_F_CLAIM_EXCLUSIVE)",
+			   devinfo(other.get()).flags & ECMXF_DEVINFO_F_CLAIM_EXCLUSIVE);
 		r = ioc(holder.get(), ECMXF_IOC_RELEASE, 0);
 		expectErr("root: RELEASE", r.ret, r.err, 0);
 	}
+	claimQueuedBefore();
 	// give the node back as it was
 	if (::chown(gPath.c_str(), was.st_uid, was.st_gid) < 0 || ::chmod(gPath.c_str(), was.st_mode & 07777) < 0)
 		fatal("restoring " + gPath);
