@@ -48,16 +48,19 @@ static int ecmxf_check_perm(struct ecmxf_client *c, enum ecmxf_perm perm)
 
 /*
  * The class of a command header's side-effect fields: clearing interrupt
- * flags (the PDO pump waits on them) is process data's; clearing error or
- * GPIO interrupt bits and driving the GPIO outputs change the chip.  The
- * refresh-state bit of the control byte and the INIT_OP bits of the
+ * flags (the PDO pump waits on them) is process data's; clearing error
+ * counts or status bits, GPIO interrupt bits and driving the GPIO outputs
+ * change the chip.  The refresh-state bit of the control byte, its clear
+ * of the command-error bit (which only makes this command's answer its
+ * own: the library sets it on every command, and the kernel clears the
+ * bit after any file's failed command anyway) and the INIT_OP bits of the
  * reserved word only ask (or belong to a command of their own class).
  */
 static enum ecmxf_perm ecmxf_hdr_perm(const struct ecmxf_cmd_hdr *h)
 {
 	if (h->int_clear)
 		return ECMXF_PERM_PROCESS;
-	if ((h->control & ~ECMXF_CTL_REFRESH_STATE) ||
+	if ((h->control & ~(ECMXF_CTL_REFRESH_STATE | ECMXF_CTL_CLR_CMD_ERR)) ||
 	    h->gpio_int_clear[0] || h->gpio_int_clear[1] ||
 	    (h->reserved & ECMXF_RSV_GPIO_OUT) ||
 	    h->gpio_out[0] || h->gpio_out[1])

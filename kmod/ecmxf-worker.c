@@ -315,7 +315,8 @@ static bool ecmxf_stopping(struct ecmxf_dev *edev)
 /*
  * Run one command on an otherwise idle engine and exchange until it is
  * done (probe and link reset).  @x->timeout_us bounds the loop; a stop of
- * the worker ends it at the next exchange (-ESHUTDOWN).
+ * the worker (unbind) ends it at the next exchange (-ENODEV, as for
+ * everything in flight then).
  */
 static int ecmxf_run_xfer(struct ecmxf_dev *edev, struct ecmxf_xfer *x)
 {
@@ -326,7 +327,7 @@ static int ecmxf_run_xfer(struct ecmxf_dev *edev, struct ecmxf_xfer *x)
 	while (x->status == -EINPROGRESS) {
 		if (ecmxf_stopping(edev)) {
 			ecmxf_engine_cancel(&edev->e, x);
-			return -ESHUTDOWN;
+			return -ENODEV;
 		}
 		ecmxf_exchange(edev);
 	}
@@ -499,7 +500,7 @@ static int ecmxf_find_format(struct ecmxf_dev *edev)
 			 */
 			for (k = 0; k < ECMXF_PROBE_TRIES; k++) {
 				if (ecmxf_stopping(edev))
-					return -ESHUTDOWN;
+					return -ENODEV;
 				ret = ecmxf_read_fw_version(edev);
 				dev_dbg(&edev->spi->dev,
 					"FW_VERSION_GET with %u bytes and the %s check word: %d\n",

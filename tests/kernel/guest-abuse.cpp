@@ -39,6 +39,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cerrno>
 #include <cinttypes>
 #include <cstdint>
@@ -468,8 +469,9 @@ void argsDevinfoCounters(int fd)
 	expectEq("devinfo.data_size", d.data_size, kDataSize);
 	expectEq("devinfo.check_type", d.check_type, kCheckCrc32);
 	expectEq("devinfo.fw_version", d.fw_version, kFwVersion);
-	expectEq("devinfo.flags INT0|INT1|FW_VERSION, no claim, no rings", d.flags,
-		 ECMXF_DEVINFO_F_INT0 | ECMXF_DEVINFO_F_INT1 | ECMXF_DEVINFO_F_FW_VERSION);
+	expectEq("devinfo.flags INT0|INT1|FW_VERSION, no claim, no rings, the claim exclusive", d.flags,
+		 ECMXF_DEVINFO_F_INT0 | ECMXF_DEVINFO_F_INT1 | ECMXF_DEVINFO_F_FW_VERSION |
+			 ECMXF_DEVINFO_F_CLAIM_EXCLUSIVE);
 	expectEq("devinfo.max_open (module default)", d.max_open, 64);
 	expectEq("devinfo.queue_depth (module default)", d.queue_depth, 16);
 	expectEq("devinfo.open_count (this test's one file)", d.open_count, 1);
@@ -1233,8 +1235,13 @@ std::vector<PermRow> permRows(int wmax)
 	cmd("MDIO", Perm::Chip, false, kMdio);
 	cmd("EEPROM_REQ read", Perm::Chip, false, kEepromReq, 0, std::vector<std::uint8_t>(12, 0));
 	cmd("RAW_ECAT_FUNC_REQ APRD", Perm::Chip, false, kRawReq, 0, { 1, 0, 1, 0 });
-	cmd("header control: clear the command error bit", Perm::Chip, true, kInfoUpdate).cmd.hdr.control =
+	// the command-error clear only makes the answer this command's own (the
+	// library sets it on every command): a query, as the library's reads
+	// beside a claim holder need
+	cmd("header control: clear the command error bit", Perm::Query, true, kInfoUpdate).cmd.hdr.control =
 		kCtlClrCmdErr;
+	cmd("header control: clear the CRC error count", Perm::Chip, true, kInfoUpdate).cmd.hdr.control =
+		ECMXF_CTL_CLR_CRC_CNT;
 	cmd("header gpio_int_clear", Perm::Chip, true, kInfoUpdate).cmd.hdr.gpio_int_clear[0] = 1;
 	auto &g = cmd("header GPIO outputs (rsv_word bit 15, gpio_out)", Perm::Chip, true, kInfoUpdate);
 	g.cmd.hdr.rsv_word = ECMXF_RSV_GPIO_OUT;
@@ -1415,7 +1422,8 @@ void partPerm()
 		const long n = ::read(ro.get(), &rec, sizeof(rec));
 		expectTrue("read-only: its completion",
 			   n == static_cast<long>(kRec) && rec.cookie == 9 && rec.status == 0 && rec.rsp.ret == kSlaves,
-			   errText(n, errno));
+			   errText(n, errno) + ", cookie " + std::to_string(rec.cookie) + ", status " +
+				   std::to_string(rec.status) + ", ret " + std::to_string(rec.rsp.ret));
 	}
 	// root, writable: every class
 	{
@@ -2037,6 +2045,47 @@ void partFaults()
 	expectWorks("at the end of the fault checks", f.get());
 }
 
+/// Unbind during a link reset: with every answer "not ready" the reset's
+/// format search takes seconds (FW_VERSION_GET times out in each format,
+/// three tries each); the unbind must stop it at the next exchange, not
+/// wait for the search. The reset then ends with ENODEV.
+void partUnbindReset(const std::string &spidev)
+{
+	Fd f;
+	ctl("not-ready 1000000");
+	const std::uint64_t before = counters(f.get()).bad_not_ready;
+	Res reset{ 0, 0 };
+	std::atomic<bool> done{ false };
+	std::thread t([&] {
+		reset = doReset(f.get(), ECMXF_RESET_F_LINK, 0, 60'000'000);
+		done.store(true);
+	});
+	// the search is on once the worker counts "not ready" answers
+	bool searching = false;
+	for (int i = 0; i < 3000 && !searching; i++) {
+		searching = counters(f.get()).bad_not_ready > before + 20;
+		if (!searching)
+			::usleep(10'000);
+	}
+	expectTrue("unbind during a link reset: the reset's format search runs", searching);
+	const auto t0 = std::chrono::steady_clock::now();
+	const int u = ::open("/sys/bus/spi/drivers/ecmxf/unbind", O_WRONLY | O_CLOEXEC);
+	const bool written = u >= 0 && ::write(u, spidev.data(), spidev.size()) == static_cast<ssize_t>(spidev.size());
+	if (u >= 0)
+		::close(u);
+	const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0)
+				.count();
+	expectTrue("  the unbind", written, std::strerror(errno));
+	std::printf("guest-test: info unbind during a link reset took %lld ms\n", static_cast<long long>(ms));
+	// a search left to run takes seconds; one stopped at the next
+	// exchange, milliseconds (the bound leaves TCG's slowness room)
+	expectTrue("  the unbind returned within 1 s, not after the search (" + std::to_string(ms) + " ms)",
+		   ms < 1000);
+	t.join();
+	expectErr("  the reset ends with ENODEV", reset.ret, reset.err, ENODEV);
+	ctl("clear");
+}
+
 void partSmoke()
 {
 	Fd f;
@@ -2049,7 +2098,8 @@ void partSmoke()
 int main(int argc, char **argv)
 {
 	if (argc < 2) {
-		std::fprintf(stderr, "usage: ecmxf-guest-abuse args|perm|concurrency|signals|faults|smoke [/dev/ecmxfN]\n");
+		std::fprintf(stderr, "usage: ecmxf-guest-abuse args|perm|concurrency|signals|faults|smoke [/dev/ecmxfN]\n"
+				     "       ecmxf-guest-abuse unbind-reset /dev/ecmxfN SPIDEV\n");
 		return 2;
 	}
 	const std::string_view part = argv[1];
@@ -2071,6 +2121,8 @@ int main(int argc, char **argv)
 		partFaults();
 	else if (part == "smoke")
 		partSmoke();
+	else if (part == "unbind-reset" && argc > 3)
+		partUnbindReset(argv[3]);
 	else {
 		std::fprintf(stderr, "ecmxf-guest-abuse: unknown part %s\n", argv[1]);
 		return 2;

@@ -289,7 +289,8 @@ private:
 };
 
 /// Rings the test makes itself on the holder's descriptor @p holder (the
-/// library's Cyclic stopped, the bus still in OP with the FIFOs on), one
+/// library's Cyclic stopped, the bus still in OP; @p dev, the holder's
+/// device, turns the FIFOs on), one
 /// bus cycle every @p period of guest time:
 ///  - what the kernel writes into the mapping (the output ring's head, the
 ///    input ring's tail, the dropped counts) it never reads back: a process
@@ -297,8 +298,10 @@ private:
 ///  - ECMXF_IOC_CLAIM_BREAK by another descriptor stops the holder's rings
 ///    (ECONNABORTED), wakes its poll()ers, and leaves it only queries;
 ///  - RELEASE tears the rings down and wakes the holder's poll()ers.
-void kernelOwnedChecks(const std::string &path, int holder, std::chrono::nanoseconds period)
+void kernelOwnedChecks(ecmxf::Device &dev, const std::string &path, int holder, std::chrono::nanoseconds period)
 {
+	// Cyclic::stop() turned the chip's FIFOs off: on again for the pump
+	dev.pdo().fifoEnable(true);
 	// a loop of setup + mmap: the replaced rings live on while mapped, so
 	// the kernel bounds how many sets exist (3: the library's, still
 	// mapped, counts) and refuses the rest
@@ -715,7 +718,7 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale, b
 	std::printf("guest-test: info rings %u Hz: counters exchanges %llu int1 %llu\n", hz,
 		    static_cast<unsigned long long>(kt->counters().exchanges),
 		    static_cast<unsigned long long>(kt->counters().int1Irqs));
-	kernelOwnedChecks(path, kt->fd(), period);
+	kernelOwnedChecks(*dev, path, kt->fd(), period);
 	return gFailures ? 1 : 0;
 }
 
