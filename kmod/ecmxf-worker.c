@@ -303,6 +303,8 @@ static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
 	return ev;
 }
 
+static void ecmxf_snapshot(struct ecmxf_dev *edev);
+
 /*
  * The worker is asked to stop (unbind): a link reset's format search
  * gives up.  Probe runs before the worker exists (not in a kthread).
@@ -330,6 +332,10 @@ static int ecmxf_run_xfer(struct ecmxf_dev *edev, struct ecmxf_xfer *x)
 			return -ENODEV;
 		}
 		ecmxf_exchange(edev);
+		/* the counters move during a reset's search too */
+		mutex_lock(&edev->lock);
+		ecmxf_snapshot(edev);
+		mutex_unlock(&edev->lock);
 	}
 	return x->status;
 }
