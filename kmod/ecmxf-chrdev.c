@@ -26,9 +26,9 @@
 /*
  * May @c send something of class @perm (Documentation/uapi.rst,
  * "Permissions")?  Queries: any file.  The rest: a file open for writing;
- * process data and FIFOs only from the claim holder while a claim is held
- * (-EBUSY; devinfo names the holder); resets and reflashes also
- * CAP_SYS_ADMIN, whoever holds the claim.  Lock held (for the claim).
+ * resets and reflashes also CAP_SYS_ADMIN; and while a claim is held, only
+ * its holder (-EBUSY; devinfo names the holder): the claim holder owns the
+ * machine.  Lock held (for the claim).
  */
 static int ecmxf_check_perm(struct ecmxf_client *c, enum ecmxf_perm perm)
 {
@@ -41,23 +41,26 @@ static int ecmxf_check_perm(struct ecmxf_client *c, enum ecmxf_perm perm)
 		return -EPERM;
 	if (perm == ECMXF_PERM_ADMIN && !capable(CAP_SYS_ADMIN))
 		return -EPERM;
-	if (perm == ECMXF_PERM_PROCESS && edev->claim && edev->claim != c)
+	if (!ecmxf_claim_allows(edev, c, true))
 		return -EBUSY;
 	return 0;
 }
 
 /*
  * The class of a command header's side-effect fields: clearing interrupt
- * flags (the PDO pump waits on them) is process data's; clearing error or
- * GPIO interrupt bits and driving the GPIO outputs change the chip.  The
- * refresh-state bit of the control byte and the INIT_OP bits of the
+ * flags (the PDO pump waits on them) is process data's; clearing error
+ * counts or status bits, GPIO interrupt bits and driving the GPIO outputs
+ * change the chip.  The refresh-state bit of the control byte, its clear
+ * of the command-error bit (which only makes this command's answer its
+ * own: the library sets it on every command, and the kernel clears the
+ * bit after any file's failed command anyway) and the INIT_OP bits of the
  * reserved word only ask (or belong to a command of their own class).
  */
 static enum ecmxf_perm ecmxf_hdr_perm(const struct ecmxf_cmd_hdr *h)
 {
 	if (h->int_clear)
 		return ECMXF_PERM_PROCESS;
-	if ((h->control & ~ECMXF_CTL_REFRESH_STATE) ||
+	if ((h->control & ~(ECMXF_CTL_REFRESH_STATE | ECMXF_CTL_CLR_CMD_ERR)) ||
 	    h->gpio_int_clear[0] || h->gpio_int_clear[1] ||
 	    (h->reserved & ECMXF_RSV_GPIO_OUT) ||
 	    h->gpio_out[0] || h->gpio_out[1])
@@ -77,7 +80,8 @@ static int ecmxf_check_fetch(const struct ecmxf_cmd_header *h,
 	if (!ci || !ecmxf_cmd_is_async(h->code, h->param) ||
 	    ci->partner != f->code)
 		return -EINVAL;
-	if (f->padding || f->reserved || f->len)
+	if (f->padding || f->reserved || f->len ||
+	    !ecmxf_rsv_valid(f->code, f->rsv_word))
 		return -EINVAL;
 	return 0;
 }
@@ -91,7 +95,8 @@ static int ecmxf_check_cmd(const struct ecmxf_cmd_header *h, u32 tx_len,
 			   u64 tx_ptr, u32 rx_size, u64 rx_ptr, u32 flags,
 			   u32 allowed, const struct ecmxf_cmd_header *fetch)
 {
-	if (h->padding || h->reserved || (flags & ~allowed))
+	if (h->padding || h->reserved || (flags & ~allowed) ||
+	    !ecmxf_rsv_valid(h->code, h->rsv_word))
 		return -EINVAL;
 	if (flags & ECMXF_CMD_F_FETCH) {
 		if (ecmxf_check_fetch(h, fetch))
@@ -215,25 +220,30 @@ static int ecmxf_queue_req(struct ecmxf_client *c, struct ecmxf_req *req)
 {
 	struct ecmxf_dev *edev = c->edev;
 	const struct ecmxf_cmd_hdr *h = &req->x.hdr;
-	enum ecmxf_perm perm = ecmxf_cmd_perm(h->code, h->param, req->tx,
-					      req->x.tx_len);
-	int ret;
+	enum ecmxf_perm perm[4] = {
+		ecmxf_cmd_perm(h->code, h->param, req->tx, req->x.tx_len),
+		ecmxf_hdr_perm(h),
+	};
+	unsigned int i, n = 2;
+	int ret = 0;
+
+	/* a result fetch is a command of its own class */
+	if (req->x.fetch) {
+		perm[n++] = ecmxf_cmd_perm(req->fx.hdr.code, req->fx.hdr.param,
+					   NULL, 0);
+		perm[n++] = ecmxf_hdr_perm(&req->fx.hdr);
+	}
+	for (i = 0; i < n; i++)
+		if (perm[i] != ECMXF_PERM_QUERY)
+			req->exclusive = true;
 
 	mutex_lock(&edev->lock);
 	if (edev->gone) {
 		ret = -ENODEV;
 		goto out_unlock;
 	}
-	ret = ecmxf_check_perm(c, perm);
-	if (!ret)
-		ret = ecmxf_check_perm(c, ecmxf_hdr_perm(h));
-	/* a result fetch is a command of its own class */
-	if (!ret && req->x.fetch)
-		ret = ecmxf_check_perm(c, ecmxf_cmd_perm(req->fx.hdr.code,
-							 req->fx.hdr.param,
-							 NULL, 0));
-	if (!ret && req->x.fetch)
-		ret = ecmxf_check_perm(c, ecmxf_hdr_perm(&req->fx.hdr));
+	for (i = 0; i < n && !ret; i++)
+		ret = ecmxf_check_perm(c, perm[i]);
 	if (ret)
 		goto out_unlock;
 	/* while the rings exist, the pump owns the FIFO exchange */
@@ -253,9 +263,11 @@ static int ecmxf_queue_req(struct ecmxf_client *c, struct ecmxf_req *req)
 		c->in_flight++;
 	}
 	list_add_tail(&req->node, &c->queue);
-	ecmxf_worker_kick(edev);
 out_unlock:
 	mutex_unlock(&edev->lock);
+	/* after the unlock: the worker it wakes takes the lock first thing */
+	if (!ret)
+		ecmxf_worker_kick(edev);
 	return ret;
 }
 
@@ -318,10 +330,14 @@ static long ecmxf_ioc_cmd(struct ecmxf_client *c, void __user *argp)
 	ret = ecmxf_wait_req(edev, req);
 	if (ret)
 		return ret;
-	/* the chip went away while the command waited: as every later call */
-	if (req->x.status == -ENODEV) {
+	/*
+	 * the chip went away while the command waited, or the worker refused
+	 * it (a claim taken meanwhile): as when it is queued
+	 */
+	if (req->x.status == -ENODEV || req->refused) {
+		ret = req->x.status;
 		kfree(req);
-		return -ENODEV;
+		return ret;
 	}
 
 	/* the outcome is the fetch's once it ran (ecmxf_done()) */
@@ -419,18 +435,18 @@ static long ecmxf_ioc_reset(struct ecmxf_client *c, void __user *argp)
 		return PTR_ERR(req);
 	req->reset_flags = r.flags;
 	req->reset_param = r.param;
+	req->exclusive = true;
 
 	mutex_lock(&edev->lock);
 	ret = edev->gone ? -ENODEV : ecmxf_check_perm(c, perm);
-	if (!ret) {
+	if (!ret)
 		list_add_tail(&req->node, &edev->resets);
-		ecmxf_worker_kick(edev);
-	}
 	mutex_unlock(&edev->lock);
 	if (ret) {
 		kfree(req);
 		return ret;
 	}
+	ecmxf_worker_kick(edev);
 	ret = ecmxf_wait_req(edev, req);
 	if (ret)
 		return ret;
@@ -459,6 +475,7 @@ static long ecmxf_ioc_devinfo(struct ecmxf_client *c, void __user *argp)
 		d.flags |= ECMXF_DEVINFO_F_CLAIM_MINE;
 	if (edev->rings)
 		d.flags |= ECMXF_DEVINFO_F_RINGS;
+	d.flags |= ECMXF_DEVINFO_F_CLAIM_EXCLUSIVE;
 	d.data_size = edev->data_size;
 	d.check_type = edev->check;
 	d.fw_version = edev->fw_version;
@@ -512,6 +529,42 @@ static bool ecmxf_unclaim(struct ecmxf_client *c, struct ecmxf_rings **old)
 	put_pid(edev->claim_pid);
 	edev->claim_pid = NULL;
 	return true;
+}
+
+/*
+ * ECMXF_IOC_CLAIM_BREAK: an operator takes the claim from a holder that
+ * hangs, to stop the machine.  The holder's rings stop (-ECONNABORTED:
+ * %ECMXF_RING_S_ERROR, its poll()ers woken with EPOLLERR) and go; the
+ * claim passes to @c in the same critical section, so that the old holder
+ * cannot take it back, nor send anything but queries, until @c releases
+ * it.  Needs a file open for writing and CAP_SYS_ADMIN.
+ */
+static long ecmxf_ioc_claim_break(struct ecmxf_client *c)
+{
+	struct ecmxf_dev *edev = c->edev;
+	struct ecmxf_rings *old = NULL;
+	pid_t was = 0;
+	int ret = 0;
+
+	if (!c->writable || !capable(CAP_SYS_ADMIN))
+		return -EPERM;
+	mutex_lock(&edev->lock);
+	if (!edev->claim) {
+		ret = -ENOENT;
+	} else if (edev->claim != c) {
+		was = pid_nr(edev->claim_pid);
+		ecmxf_rings_stop(edev, -ECONNABORTED);
+		old = ecmxf_rings_teardown(edev);
+		put_pid(edev->claim_pid);
+		edev->claim = c;
+		edev->claim_pid = get_pid(task_tgid(current));
+	}
+	mutex_unlock(&edev->lock);
+	ecmxf_rings_put(old);
+	if (was)
+		dev_warn(&edev->dev, "claim of pid %d broken by pid %d\n", was,
+			 task_tgid_nr(current));
+	return ret;
 }
 
 /*
@@ -601,10 +654,12 @@ static long ecmxf_ioc_ring_setup(struct ecmxf_client *c, void __user *argp)
 		/* new rings replace the old ones (whose mappings stay memory) */
 		old = ecmxf_rings_teardown(edev);
 		edev->rings = r;
+		c->rings_lost = false;
 		r = NULL;
-		ecmxf_worker_kick(edev);
 	}
 	mutex_unlock(&edev->lock);
+	if (!ret)
+		ecmxf_worker_kick(edev);
 	/* freed (when nothing maps them) after the lock: &ecmxf_dev.lock */
 	ecmxf_rings_put(old);
 	if (ret) {
@@ -655,6 +710,8 @@ static long ecmxf_ioctl(struct file *f, unsigned int cmd, unsigned long arg)
 		return ret;
 	case ECMXF_IOC_RING_SETUP:
 		return ecmxf_ioc_ring_setup(c, argp);
+	case ECMXF_IOC_CLAIM_BREAK:
+		return ecmxf_ioc_claim_break(c);
 	default:
 		return -ENOTTY;
 	}
@@ -754,17 +811,29 @@ static __poll_t ecmxf_poll(struct file *f, poll_table *wait)
 	struct ecmxf_client *c = f->private_data;
 	struct ecmxf_dev *edev = c->edev;
 	__poll_t mask = 0;
+	__poll_t ring_events = EPOLLRDBAND | EPOLLOUT | EPOLLWRNORM;
 
 	poll_wait(f, &c->wq, wait);
 	mutex_lock(&edev->lock);
 	if (!list_empty(&c->done))
 		mask |= EPOLLIN | EPOLLRDNORM;
-	if (edev->claim == c)
+	if (edev->claim == c && edev->rings)
 		mask |= ecmxf_rings_poll(edev);
+	else if (c->rings_lost && (poll_requested_events(wait) & ring_events))
+		mask |= EPOLLERR;
 	if (edev->gone)
 		mask |= EPOLLERR | EPOLLHUP;
 	mutex_unlock(&edev->lock);
 	return mask;
+}
+
+/* Files a read-only opener may take (&ecmxf_dev.open_readonly). */
+static unsigned int ecmxf_readonly_slots(void)
+{
+	unsigned int max = ecmxf_param_max_open;
+
+	return max > 2 * ECMXF_WRITER_SLOTS ? max - ECMXF_WRITER_SLOTS :
+					       max - max / 2;
 }
 
 static int ecmxf_open(struct inode *inode, struct file *f)
@@ -788,8 +857,13 @@ static int ecmxf_open(struct inode *inode, struct file *f)
 		ret = -ENODEV;
 	else if (edev->open_count >= ecmxf_param_max_open)
 		ret = -EMFILE;
+	else if (!c->writable &&
+		 edev->open_readonly >= ecmxf_readonly_slots())
+		ret = -EMFILE;
 	if (!ret) {
 		edev->open_count++;
+		if (!c->writable)
+			edev->open_readonly++;
 		list_add_tail(&c->node, &edev->clients);
 	}
 	mutex_unlock(&edev->lock);
@@ -811,6 +885,8 @@ static int ecmxf_release(struct inode *inode, struct file *f)
 	mutex_lock(&edev->lock);
 	list_del(&c->node);
 	edev->open_count--;
+	if (!c->writable)
+		edev->open_readonly--;
 	ecmxf_unclaim(c, &old);
 	list_for_each_entry_safe(req, tmp, &c->queue, node) {
 		list_del(&req->node);

@@ -243,10 +243,11 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 	freed = ecmxf_pump_sched_sent(&p->flight, i, r->sched.next_tick_ns);
 	p->turn = false;
 	/* the command has its copy: the slots are the application's again */
-	if (freed) {
+	if (freed)
 		ecmxf_ring_out_release(r, freed, 0);
+	/* and so are those of frames skipped (ecmxf_pump_prepare()) */
+	if (freed || (i != ECMXF_PUMP_SLOT_WKC && p->flight.plan[i].skip))
 		ecmxf_rings_wake(edev, EPOLLOUT | EPOLLWRNORM);
-	}
 	mutex_unlock(&edev->lock);
 	return 0;
 drop:
@@ -257,6 +258,8 @@ drop:
 	if (skipped && edev->rings == r && !r->stopped) {
 		r->cur.out_skipped += skipped;
 		ecmxf_rings_publish(r);
+		/* their slots are free (ecmxf_pump_prepare()) */
+		ecmxf_rings_wake(edev, EPOLLOUT | EPOLLWRNORM);
 	}
 	if (ret == -EFAULT && edev->rings == r)
 		ecmxf_rings_stop(edev, -EFAULT);

@@ -33,6 +33,7 @@
 #include <linux/vmalloc.h>
 
 #include "ecmxf.h"
+#include "ecmxf-latch.h"
 
 /* where things are in each ring's memory (reported as offsets) */
 #define ECMXF_RING_HEAD_OFF	0
@@ -71,6 +72,7 @@ static void ecmxf_rings_release(struct kref *ref)
 	kfree(r->rx_buf[0]);
 	kfree(r->rx_buf[1]);
 	kfree(r->wkc_buf);
+	atomic_dec(&r->edev->rings_alive);
 	kfree(r);
 }
 
@@ -166,9 +168,16 @@ int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
 	if (ret)
 		return ret;
 
+	/* released when the last reference goes (ecmxf_rings_release()) */
+	if (atomic_inc_return(&edev->rings_alive) > ECMXF_RINGS_MAX) {
+		atomic_dec(&edev->rings_alive);
+		return -EBUSY;
+	}
 	r = kzalloc(sizeof(*r), GFP_KERNEL);
-	if (!r)
+	if (!r) {
+		atomic_dec(&edev->rings_alive);
 		return -ENOMEM;
+	}
 	kref_init(&r->ref);
 	r->edev = edev;
 	for (i = 0; i < ARRAY_SIZE(r->tx_buf); i++) {
@@ -302,7 +311,9 @@ void ecmxf_rings_wake(struct ecmxf_dev *edev, __poll_t mask)
  *
  * The flags words lose %ECMXF_RING_S_ACTIVE and the rings are no longer
  * the device's; the memory lives on while mappings (or the worker's
- * command) hold references.
+ * command) hold references.  The holder's poll()ers wake: a new setup's
+ * rings report their own bits, and without rings a poll() for ring
+ * events gets EPOLLERR (&ecmxf_client.rings_lost).
  *
  * Return: the device's reference, or NULL without rings.  The caller
  * drops it with ecmxf_rings_put() after unlocking.
@@ -310,13 +321,23 @@ void ecmxf_rings_wake(struct ecmxf_dev *edev, __poll_t mask)
 struct ecmxf_rings *ecmxf_rings_teardown(struct ecmxf_dev *edev)
 {
 	struct ecmxf_rings *r = edev->rings;
+	u32 flags;
 
 	lockdep_assert_held(&edev->lock);
 	if (!r)
 		return NULL;
-	WRITE_ONCE(*r->out.flags, READ_ONCE(*r->out.flags) & ~ECMXF_RING_S_ACTIVE);
-	WRITE_ONCE(*r->in.flags, READ_ONCE(*r->in.flags) & ~ECMXF_RING_S_ACTIVE);
+	/* the kernel's own state, not what the mapping says now */
+	flags = r->stopped ? ECMXF_RING_S_ERROR : 0;
+	/* pairs with the application's load-acquire of the flags word */
+	smp_store_release(r->out.flags, flags);
+	/* the same for the input ring */
+	smp_store_release(r->in.flags, flags);
 	edev->rings = NULL;
+	if (edev->claim) {
+		edev->claim->rings_lost = true;
+		wake_up_interruptible_poll(&edev->claim->wq,
+					   EPOLLERR | EPOLLOUT | EPOLLRDBAND);
+	}
 	return r;
 }
 
@@ -336,14 +357,8 @@ void ecmxf_rings_publish(struct ecmxf_rings *r)
 	struct ecmxf_ring_status_block *b = r->status;
 
 	r->cur.generation++;
-	smp_wmb();	/* copy 1 complete before readers are sent to it */
-	WRITE_ONCE(b->seq, ++r->status_seq);
-	smp_wmb();	/* readers see the count before copy 0 changes */
-	memcpy(&b->copy[0], &r->cur, sizeof(r->cur));
-	smp_wmb();	/* copy 0 complete before readers are sent back */
-	WRITE_ONCE(b->seq, ++r->status_seq);
-	smp_wmb();	/* readers see the count before copy 1 changes */
-	memcpy(&b->copy[1], &r->cur, sizeof(r->cur));
+	ecmxf_latch_write(&b->seq, &r->status_seq, &b->copy[0], &b->copy[1],
+			  &r->cur, sizeof(r->cur));
 }
 
 /**
@@ -397,12 +412,12 @@ __poll_t ecmxf_rings_poll(struct ecmxf_dev *edev)
 	if (r->setup_flags & ECMXF_RING_F_POLL_IN) {
 		/* pairs with the consumer's store-release of head */
 		head = smp_load_acquire(r->in.head);
-		tail = READ_ONCE(*r->in.tail);
+		tail = r->in.kidx;
 		if (head != tail)
 			mask |= EPOLLRDBAND;
 	}
 	if (r->setup_flags & ECMXF_RING_F_POLL_OUT) {
-		head = READ_ONCE(*r->out.head);
+		head = r->out.kidx;
 		/* pairs with the producer's store-release of tail */
 		tail = smp_load_acquire(r->out.tail);
 		if (tail - head < r->out.entries)
@@ -423,7 +438,7 @@ int ecmxf_ring_out_avail(struct ecmxf_rings *r)
 {
 	/* pairs with the producer's store-release: the frames are written */
 	u32 tail = smp_load_acquire(r->out.tail);
-	u32 avail = tail - READ_ONCE(*r->out.head);
+	u32 avail = tail - r->out.kidx;
 
 	return avail > r->out.entries ? -EFAULT : (int)avail;
 }
@@ -437,7 +452,7 @@ int ecmxf_ring_out_avail(struct ecmxf_rings *r)
 void ecmxf_ring_out_copy(struct ecmxf_rings *r, u8 *dst, u32 n)
 {
 	const struct ecmxf_ring *out = &r->out;
-	u32 head = READ_ONCE(*out->head);
+	u32 head = out->kidx;
 	u32 i;
 
 	for (i = 0; i < n; i++)
@@ -456,11 +471,13 @@ void ecmxf_ring_out_copy(struct ecmxf_rings *r, u8 *dst, u32 n)
  */
 void ecmxf_ring_out_release(struct ecmxf_rings *r, u32 n, u32 dropped)
 {
+	r->out.kidx += n;
 	/* the slots are read: pairs with the producer's acquire */
-	smp_store_release(r->out.head, READ_ONCE(*r->out.head) + n);
-	if (dropped)
-		WRITE_ONCE(*r->out.dropped,
-			   READ_ONCE(*r->out.dropped) + dropped);
+	smp_store_release(r->out.head, r->out.kidx);
+	if (dropped) {
+		r->out.kdropped += dropped;
+		WRITE_ONCE(*r->out.dropped, r->out.kdropped);
+	}
 }
 
 /**
@@ -477,7 +494,7 @@ void ecmxf_ring_out_release(struct ecmxf_rings *r, u32 n, u32 dropped)
 u32 ecmxf_ring_in_store(struct ecmxf_rings *r, const u8 *src, u32 n)
 {
 	struct ecmxf_ring *in = &r->in;
-	u32 tail = READ_ONCE(*in->tail);
+	u32 tail = in->kidx;
 	/* pairs with the consumer's store-release: its slots are free */
 	u32 head = smp_load_acquire(in->head);
 	u32 i, room, want = n;
@@ -487,9 +504,12 @@ u32 ecmxf_ring_in_store(struct ecmxf_rings *r, const u8 *src, u32 n)
 	for (i = 0; i < n; i++)
 		memcpy(in->frames + ((tail + i) & (in->entries - 1)) * in->stride,
 		       src + i * in->frame_size, in->frame_size);
+	in->kidx = tail + n;
 	/* the frames before the index: pairs with the consumer's acquire */
-	smp_store_release(in->tail, tail + n);
-	if (n < want)
-		WRITE_ONCE(*in->dropped, READ_ONCE(*in->dropped) + want - n);
+	smp_store_release(in->tail, in->kidx);
+	if (n < want) {
+		in->kdropped += want - n;
+		WRITE_ONCE(*in->dropped, in->kdropped);
+	}
 	return n;
 }

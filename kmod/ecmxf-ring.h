@@ -37,10 +37,16 @@ struct vm_area_struct;
  * @entries: slots (a power of two)
  * @frame_size: process data bytes per slot
  * @stride: bytes from slot to slot
+ * @kidx: the index the kernel moves (the output ring's head, the input
+ *	ring's tail), kernel-private
+ * @kdropped: the dropped-frames count, kernel-private
  *
  * The indices live in shared memory: the kernel reads the one userspace
  * writes with smp_load_acquire() and never trusts it further than
- * "at most @entries frames apart".
+ * "at most @entries frames apart".  What the kernel writes there (its
+ * index, the dropped count) it only writes: it goes by @kidx and
+ * @kdropped, so that a process that scribbles on the mapping changes no
+ * kernel count (as io_uring and AF_XDP keep kernel-private shadows).
  */
 struct ecmxf_ring {
 	void *mem;
@@ -54,6 +60,8 @@ struct ecmxf_ring {
 	u32 entries;
 	u32 frame_size;
 	u32 stride;
+	u32 kidx;
+	u32 kdropped;
 };
 
 /**

@@ -412,6 +412,11 @@ static struct spi_driver ecmxf_spi_driver = {
 	.driver = {
 		.name = ECMXF_DRV_NAME,
 		.of_match_table = ecmxf_of_match,
+		/*
+		 * probe waits for the chip (up to seconds when none answers):
+		 * not on the path of the boot or of whoever binds the device
+		 */
+		.probe_type = PROBE_PREFER_ASYNCHRONOUS,
 	},
 	.id_table = ecmxf_spi_ids,
 	.probe = ecmxf_probe,

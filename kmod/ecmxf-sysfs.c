@@ -19,6 +19,12 @@
  *                  frames are lost, never sent again)
  *   counters/...   one file per field of struct ecmxf_counters
  *
+ * The counters, ring_skipped/ring_failures, data_size, packet_size,
+ * check_type and crc_coverage come from the snapshot the worker publishes
+ * (ecmxf_get_snap()) and open_count is one word: reading them takes no lock
+ * the real-time worker takes, however often a reader reads.  fw_version,
+ * fw_info and claim_pid take &ecmxf_dev.lock briefly.
+ *
  * Copyright (C) 2026 The ecmxf authors
  */
 #include <linux/device.h>
@@ -61,55 +67,49 @@ static ssize_t fw_info_show(struct device *dev,
 }
 static DEVICE_ATTR_RO(fw_info);
 
+/* What the worker published last (ecmxf_get_snap(): no lock taken). */
+static void ecmxf_snap_of(struct device *dev, struct ecmxf_snap *v)
+{
+	ecmxf_get_snap(ecmxf_from_dev(dev), v);
+}
+
 static ssize_t data_size_show(struct device *dev,
 			      struct device_attribute *attr, char *buf)
 {
-	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
-	unsigned int v;
+	struct ecmxf_snap v;
 
-	mutex_lock(&edev->lock);
-	v = edev->data_size;
-	mutex_unlock(&edev->lock);
-	return sysfs_emit(buf, "%u\n", v);
+	ecmxf_snap_of(dev, &v);
+	return sysfs_emit(buf, "%u\n", v.data_size);
 }
 static DEVICE_ATTR_RO(data_size);
 
 static ssize_t packet_size_show(struct device *dev,
 				struct device_attribute *attr, char *buf)
 {
-	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
-	unsigned int v;
+	struct ecmxf_snap v;
 
-	mutex_lock(&edev->lock);
-	v = ECMXF_PKT_SIZE(edev->data_size);
-	mutex_unlock(&edev->lock);
-	return sysfs_emit(buf, "%u\n", v);
+	ecmxf_snap_of(dev, &v);
+	return sysfs_emit(buf, "%u\n", (unsigned int)ECMXF_PKT_SIZE(v.data_size));
 }
 static DEVICE_ATTR_RO(packet_size);
 
 static ssize_t check_type_show(struct device *dev,
 			       struct device_attribute *attr, char *buf)
 {
-	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
-	unsigned int v;
+	struct ecmxf_snap v;
 
-	mutex_lock(&edev->lock);
-	v = edev->check;
-	mutex_unlock(&edev->lock);
-	return sysfs_emit(buf, "%s\n", ecmxf_check_name(v));
+	ecmxf_snap_of(dev, &v);
+	return sysfs_emit(buf, "%s\n", ecmxf_check_name(v.check));
 }
 static DEVICE_ATTR_RO(check_type);
 
 static ssize_t crc_coverage_show(struct device *dev,
 				 struct device_attribute *attr, char *buf)
 {
-	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
-	unsigned int v;
+	struct ecmxf_snap v;
 
-	mutex_lock(&edev->lock);
-	v = edev->cover;
-	mutex_unlock(&edev->lock);
-	return sysfs_emit(buf, "%s\n", ecmxf_cover_name(v));
+	ecmxf_snap_of(dev, &v);
+	return sysfs_emit(buf, "%s\n", ecmxf_cover_name(v.cover));
 }
 static DEVICE_ATTR_RO(crc_coverage);
 
@@ -132,13 +132,9 @@ static DEVICE_ATTR_RO(int1);
 static ssize_t open_count_show(struct device *dev,
 			       struct device_attribute *attr, char *buf)
 {
-	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
-	unsigned int v;
-
-	mutex_lock(&edev->lock);
-	v = edev->open_count;
-	mutex_unlock(&edev->lock);
-	return sysfs_emit(buf, "%u\n", v);
+	/* one word written under the lock: no lock needed to read it */
+	return sysfs_emit(buf, "%u\n",
+			  READ_ONCE(ecmxf_from_dev(dev)->open_count));
 }
 static DEVICE_ATTR_RO(open_count);
 
@@ -158,26 +154,20 @@ static DEVICE_ATTR_RO(claim_pid);
 static ssize_t ring_skipped_show(struct device *dev,
 				 struct device_attribute *attr, char *buf)
 {
-	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
-	u64 v;
+	struct ecmxf_snap v;
 
-	mutex_lock(&edev->lock);
-	v = edev->out_ring_skipped;
-	mutex_unlock(&edev->lock);
-	return sysfs_emit(buf, "%llu\n", (unsigned long long)v);
+	ecmxf_snap_of(dev, &v);
+	return sysfs_emit(buf, "%llu\n", (unsigned long long)v.ring_skipped);
 }
 static DEVICE_ATTR_RO(ring_skipped);
 
 static ssize_t ring_failures_show(struct device *dev,
 				  struct device_attribute *attr, char *buf)
 {
-	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
-	u64 v;
+	struct ecmxf_snap v;
 
-	mutex_lock(&edev->lock);
-	v = edev->pump_failures;
-	mutex_unlock(&edev->lock);
-	return sysfs_emit(buf, "%llu\n", (unsigned long long)v);
+	ecmxf_snap_of(dev, &v);
+	return sysfs_emit(buf, "%llu\n", (unsigned long long)v.ring_failures);
 }
 static DEVICE_ATTR_RO(ring_failures);
 

@@ -27,6 +27,7 @@
  */
 #include <linux/delay.h>
 #include <linux/hrtimer.h>
+#include <linux/interrupt.h>
 #include <linux/kthread.h>
 #include <linux/ktime.h>
 #include <linux/poll.h>
@@ -35,6 +36,7 @@
 #include <linux/slab.h>
 
 #include "ecmxf.h"	/* get_unaligned_le32(): core/ecmxf-compat.h */
+#include "ecmxf-latch.h"
 
 /* the watcher's callbacks (ecmxf-netlink.c), set at module load */
 static const struct ecmxf_watch_ops *ecmxf_watch __read_mostly;
@@ -127,8 +129,10 @@ const char *ecmxf_check_name(unsigned int check)
  * ecmxf_worker_kick() - wake the task that owns the link
  * @edev: the device
  *
- * Called by the IRQ threads and, under &ecmxf_dev.lock, by the file
- * operations after they queued work.
+ * Called by the IRQ threads, by the file operations after they queued work
+ * and dropped &ecmxf_dev.lock (the worker, at a higher priority, would
+ * otherwise wake only to block on the lock its waker holds), and by the
+ * worker's own watcher.
  */
 void ecmxf_worker_kick(struct ecmxf_dev *edev)
 {
@@ -299,9 +303,22 @@ static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
 	return ev;
 }
 
+static void ecmxf_snapshot(struct ecmxf_dev *edev);
+
+/*
+ * The worker is asked to stop (unbind): a link reset's format search
+ * gives up.  Probe runs before the worker exists (not in a kthread).
+ */
+static bool ecmxf_stopping(struct ecmxf_dev *edev)
+{
+	return current == edev->worker && kthread_should_stop();
+}
+
 /*
  * Run one command on an otherwise idle engine and exchange until it is
- * done (probe and link reset).  @x->timeout_us bounds the loop.
+ * done (probe and link reset).  @x->timeout_us bounds the loop; a stop of
+ * the worker (unbind) ends it at the next exchange (-ENODEV, as for
+ * everything in flight then).
  */
 static int ecmxf_run_xfer(struct ecmxf_dev *edev, struct ecmxf_xfer *x)
 {
@@ -309,8 +326,17 @@ static int ecmxf_run_xfer(struct ecmxf_dev *edev, struct ecmxf_xfer *x)
 
 	if (ret)
 		return ret;
-	while (x->status == -EINPROGRESS)
+	while (x->status == -EINPROGRESS) {
+		if (ecmxf_stopping(edev)) {
+			ecmxf_engine_cancel(&edev->e, x);
+			return -ENODEV;
+		}
 		ecmxf_exchange(edev);
+		/* the counters move during a reset's search too */
+		mutex_lock(&edev->lock);
+		ecmxf_snapshot(edev);
+		mutex_unlock(&edev->lock);
+	}
 	return x->status;
 }
 
@@ -364,6 +390,47 @@ static void ecmxf_engine_reinit(struct ecmxf_dev *edev, unsigned int size,
 	ecmxf_engine_init(&edev->e, size, check);
 }
 
+/*
+ * Publish the counters and the format for the lock-free readers
+ * (&ecmxf_dev.snap); call with the lock held (the one writer).
+ */
+static void ecmxf_publish(struct ecmxf_dev *edev)
+{
+	const struct ecmxf_engine_stats *s = &edev->stats;
+	struct ecmxf_snap v;
+	struct ecmxf_counters *k = &v.k;
+
+	lockdep_assert_held(&edev->lock);
+	memset(&v, 0, sizeof(v));
+	k->exchanges = s->exchanges;
+	k->bad_not_ready = s->faults[ECMXF_FAULT_NOT_READY];
+	k->bad_start = s->faults[ECMXF_FAULT_START];
+	k->bad_end = s->faults[ECMXF_FAULT_END];
+	k->bad_check = s->faults[ECMXF_FAULT_CHECK];
+	k->bad_length = s->faults[ECMXF_FAULT_LENGTH];
+	k->retries = s->retries;
+	k->polls = s->polls;
+	k->exhausted = s->exhausted;
+	k->timeouts = s->timeouts + edev->queue_timeouts;
+	k->async_errors = s->async_errors;
+	k->busy_rejects = s->busy_rejects;
+	k->lost_answers = s->lost_answers;
+	k->chip_resets = s->chip_resets;
+	k->wkc_errors = edev->wkc_errors;
+	k->out_ring_underruns = edev->out_ring_underruns;
+	k->in_ring_overruns = edev->in_ring_overruns;
+	k->rx_fifo_underruns = edev->rx_fifo_underruns;
+	k->rx_fifo_overruns = edev->rx_fifo_overruns;
+	k->tx_fifo_overruns = edev->tx_fifo_overruns;
+	v.ring_skipped = edev->out_ring_skipped;
+	v.ring_failures = edev->pump_failures;
+	v.data_size = edev->data_size;
+	v.check = edev->check;
+	v.cover = edev->cover;
+	ecmxf_latch_write(&edev->snap_seq, &edev->snap_kseq, &edev->snap[0],
+			  &edev->snap[1], &v, sizeof(v));
+}
+
 /* Copy what the file operations and sysfs show; call with the lock held. */
 static void ecmxf_snapshot(struct ecmxf_dev *edev)
 {
@@ -376,13 +443,15 @@ static void ecmxf_snapshot(struct ecmxf_dev *edev)
 	/* no getter for the check type: read the field the engine keeps */
 	edev->check = edev->e.check;
 	edev->cover = ecmxf_engine_cover(&edev->e);
-	if (!h)
-		return;
-	edev->last = *h;
-	if (edev->wkc_valid && h->wkc_err_cnt != edev->wkc_last)
-		edev->wkc_errors += (u8)(h->wkc_err_cnt - edev->wkc_last);
-	edev->wkc_last = h->wkc_err_cnt;
-	edev->wkc_valid = true;
+	if (h) {
+		edev->last = *h;
+		if (edev->wkc_valid && h->wkc_err_cnt != edev->wkc_last)
+			edev->wkc_errors += (u8)(h->wkc_err_cnt -
+						 edev->wkc_last);
+		edev->wkc_last = h->wkc_err_cnt;
+		edev->wkc_valid = true;
+	}
+	ecmxf_publish(edev);
 }
 
 static int ecmxf_read_fw_version(struct ecmxf_dev *edev)
@@ -436,6 +505,8 @@ static int ecmxf_find_format(struct ecmxf_dev *edev)
 			 * to be scheduled.  Ask again in the same format.
 			 */
 			for (k = 0; k < ECMXF_PROBE_TRIES; k++) {
+				if (ecmxf_stopping(edev))
+					return -ENODEV;
 				ret = ecmxf_read_fw_version(edev);
 				dev_dbg(&edev->spi->dev,
 					"FW_VERSION_GET with %u bytes and the %s check word: %d\n",
@@ -515,6 +586,11 @@ int ecmxf_link_bringup(struct ecmxf_dev *edev)
 	WRITE_ONCE(edev->owner, current);
 	ret = ecmxf_link_up(edev);
 	WRITE_ONCE(edev->owner, NULL);
+	/* no IRQ thread still holds this task to wake it after it leaves */
+	if (edev->int0_irq)
+		synchronize_irq(edev->int0_irq);
+	if (edev->int1_irq)
+		synchronize_irq(edev->int1_irq);
 	return ret;
 }
 
@@ -555,6 +631,49 @@ void ecmxf_req_finish(struct ecmxf_dev *edev, struct ecmxf_req *req,
 		return;
 	}
 	complete(&req->done);
+}
+
+/**
+ * ecmxf_claim_allows() - may a file send something while the claim is held?
+ * @edev: the device, lock held
+ * @c: the file (NULL: a client inside the module, which is never refused)
+ * @exclusive: the request is of a class above query, or a reset
+ *
+ * While a file holds the claim, the machine is its own: every other file
+ * may send queries only (Documentation/uapi.rst, "Permissions").  Checked
+ * when a request is queued and again when the worker takes it, so that a
+ * request queued before the claim was taken does not run beside it.
+ *
+ * Return: true when @c may send it now.
+ */
+bool ecmxf_claim_allows(struct ecmxf_dev *edev, const struct ecmxf_client *c,
+			bool exclusive)
+{
+	lockdep_assert_held(&edev->lock);
+	return !c || !exclusive || !edev->claim || edev->claim == c;
+}
+
+/*
+ * The worker takes @req: is it still allowed?  The claim may have been
+ * taken, and the rings set up (the pump then owns the FIFO exchange),
+ * since it was queued.  Lock held.
+ */
+static bool ecmxf_req_refused(struct ecmxf_dev *edev,
+			      const struct ecmxf_req *req)
+{
+	if (req->kind == ECMXF_REQ_KERNEL)
+		return false;
+	if (!ecmxf_claim_allows(edev, req->client, req->exclusive))
+		return true;
+	return req->x.hdr.code == ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP &&
+	       req->kind != ECMXF_REQ_RESET && edev->rings;
+}
+
+/* Finish @req, taken off its queue, as refused (-EBUSY); lock held. */
+static void ecmxf_req_refuse(struct ecmxf_dev *edev, struct ecmxf_req *req)
+{
+	req->refused = true;
+	ecmxf_req_finish(edev, req, -EBUSY);
 }
 
 /* Fail the requests queued on every file; call with the lock held. */
@@ -601,6 +720,13 @@ static struct ecmxf_req *ecmxf_pick(struct ecmxf_dev *edev)
 	list_for_each_entry(c, &edev->clients, node) {
 		req = list_first_entry_or_null(&c->queue, struct ecmxf_req,
 					       node);
+		/* refused ones end here, whatever the engine could take */
+		while (req && ecmxf_req_refused(edev, req)) {
+			list_del_init(&req->node);
+			ecmxf_req_refuse(edev, req);
+			req = list_first_entry_or_null(&c->queue,
+						       struct ecmxf_req, node);
+		}
 		if (!req || !ecmxf_engine_can_submit(&edev->e, &req->x))
 			continue;
 		/* an ended async command's fetch still holds async_req */
@@ -734,6 +860,8 @@ static void ecmxf_collect(struct ecmxf_dev *edev,
 		ecmxf_done(edev, req);
 	}
 	ecmxf_pump_collect(edev, put);
+	/* the pump's counts too */
+	ecmxf_publish(edev);
 }
 
 /* Drop the pump's references to the rings; the lock not held. */
@@ -884,10 +1012,15 @@ static int ecmxf_worker_fn(void *data)
 				list_del_init(&reset->node);
 				reset->state = ECMXF_RS_ACTIVE;
 			}
+			if (reset && ecmxf_req_refused(edev, reset)) {
+				ecmxf_req_refuse(edev, reset);
+				reset = NULL;
+			}
 		}
 		if (!reset && now >= edev->next_expire_ns) {
 			ecmxf_expire_queued(edev, now);
 			edev->next_expire_ns = now + ECMXF_EXPIRE_PERIOD_NS;
+			ecmxf_publish(edev);
 		}
 		/*
 		 * The pump and the files take turns.  One new command per
@@ -1027,37 +1160,29 @@ void ecmxf_worker_stop(struct ecmxf_dev *edev)
 }
 
 /**
- * ecmxf_get_counters() - the link statistics since probe
+ * ecmxf_get_counters() - the link statistics since probe, without a lock
  * @edev: the device
  * @k: filled in, reserved fields zero
  */
 void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k)
 {
-	const struct ecmxf_engine_stats *s = &edev->stats;
+	struct ecmxf_snap v;
 
-	memset(k, 0, sizeof(*k));
-	mutex_lock(&edev->lock);
-	k->exchanges = s->exchanges;
-	k->bad_not_ready = s->faults[ECMXF_FAULT_NOT_READY];
-	k->bad_start = s->faults[ECMXF_FAULT_START];
-	k->bad_end = s->faults[ECMXF_FAULT_END];
-	k->bad_check = s->faults[ECMXF_FAULT_CHECK];
-	k->bad_length = s->faults[ECMXF_FAULT_LENGTH];
-	k->retries = s->retries;
-	k->polls = s->polls;
-	k->exhausted = s->exhausted;
-	k->timeouts = s->timeouts + edev->queue_timeouts;
-	k->async_errors = s->async_errors;
-	k->busy_rejects = s->busy_rejects;
-	k->lost_answers = s->lost_answers;
-	k->chip_resets = s->chip_resets;
-	k->wkc_errors = edev->wkc_errors;
-	k->out_ring_underruns = edev->out_ring_underruns;
-	k->in_ring_overruns = edev->in_ring_overruns;
-	k->rx_fifo_underruns = edev->rx_fifo_underruns;
-	k->rx_fifo_overruns = edev->rx_fifo_overruns;
-	k->tx_fifo_overruns = edev->tx_fifo_overruns;
-	mutex_unlock(&edev->lock);
+	ecmxf_get_snap(edev, &v);
+	*k = v.k;
 	k->int0_irqs = atomic64_read(&edev->int0_irqs);
 	k->int1_irqs = atomic64_read(&edev->int1_irqs);
+}
+
+/**
+ * ecmxf_get_snap() - what the worker published last, without a lock
+ * @edev: the device
+ * @snap: filled in (&struct ecmxf_snap; its interrupt counts 0)
+ *
+ * Never waits for the worker, nor makes it wait (ecmxf-latch.h).
+ */
+void ecmxf_get_snap(struct ecmxf_dev *edev, struct ecmxf_snap *snap)
+{
+	ecmxf_latch_read(&edev->snap_seq, &edev->snap[0], &edev->snap[1], snap,
+			 sizeof(*snap));
 }

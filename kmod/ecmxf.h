@@ -60,6 +60,20 @@
  * clears then costs one header refresh per period, not an interrupt storm
  */
 #define ECMXF_INT1_HOLDOFF_NS	(10 * NSEC_PER_MSEC)
+/*
+ * open files that only a file opened for writing may take: read-only
+ * openers (any member of the device's group, and every query tool) cannot
+ * fill max_open and lock the cyclic application out when it restarts
+ * (at most half of max_open when it is small)
+ */
+#define ECMXF_WRITER_SLOTS	8
+/*
+ * PDO ring sets that may exist at once per device: the current one, the
+ * one a new setup replaces (its mappings outlive it) and one more; a setup
+ * beyond is -EBUSY until old mappings go, so a loop of setup + mmap cannot
+ * pin unbounded kernel memory
+ */
+#define ECMXF_RINGS_MAX		3
 /* how often the worker expires queued (not yet sent) commands */
 #define ECMXF_EXPIRE_PERIOD_NS	(1 * NSEC_PER_MSEC)
 /*
@@ -107,6 +121,11 @@ enum ecmxf_req_state {
  * @state: &enum ecmxf_req_state
  * @abandoned: %ECMXF_REQ_SYNC only: the waiter left on a signal after the
  *	command was sent; the worker frees the request when it finishes
+ * @exclusive: of a class above query (or a reset): while another file
+ *	holds the claim it is refused, when queued and again when the worker
+ *	takes it (ecmxf_claim_allows())
+ * @refused: the worker refused it when it took it (the claim or the rings
+ *	changed since it was queued); nothing was sent
  * @deadline_ns: absolute time (ktime_get_ns()) by which it must finish,
  *	counted from the ioctl
  * @cookie: %ECMXF_REQ_SUBMIT: the caller's cookie
@@ -132,6 +151,8 @@ struct ecmxf_req {
 	enum ecmxf_req_kind kind;
 	enum ecmxf_req_state state;
 	bool abandoned;
+	bool exclusive;
+	bool refused;
 	u64 deadline_ns;
 	u64 cookie;
 	u32 reset_flags;
@@ -146,6 +167,25 @@ struct ecmxf_req {
 };
 
 /**
+ * struct ecmxf_snap - what the worker publishes for lock-free readers
+ * @k: the counters (int0_irqs and int1_irqs stay 0: they are atomics the
+ *	readers add themselves)
+ * @ring_skipped: &ecmxf_dev.out_ring_skipped
+ * @ring_failures: &ecmxf_dev.pump_failures
+ * @data_size: &ecmxf_dev.data_size
+ * @check: &ecmxf_dev.check
+ * @cover: &ecmxf_dev.cover
+ */
+struct ecmxf_snap {
+	struct ecmxf_counters k;
+	u64 ring_skipped;
+	u64 ring_failures;
+	u16 data_size;
+	u8 check;
+	u8 cover;
+};
+
+/**
  * struct ecmxf_client - one open file of /dev/ecmxfN, or a client inside
  *	the module (the netlink unit's AL status query)
  * @edev: the device
@@ -155,6 +195,9 @@ struct ecmxf_req {
  * @in_flight: %ECMXF_REQ_SUBMIT requests queued, running or unread
  * @wq: read() and poll() wait here for @done
  * @writable: opened with FMODE_WRITE
+ * @rings_lost: the rings this file had were torn down (RELEASE, or
+ *	%ECMXF_IOC_CLAIM_BREAK by another file) and it has set up none
+ *	since: a poll() for ring events gets EPOLLERR
  *
  * @queue, @done, @in_flight and the position in &ecmxf_dev.clients are
  * protected by &ecmxf_dev.lock.
@@ -167,6 +210,7 @@ struct ecmxf_client {
 	unsigned int in_flight;
 	wait_queue_head_t wq;
 	bool writable;
+	bool rings_lost;
 };
 
 /**
@@ -233,6 +277,7 @@ struct ecmxf_client {
  * @clients: open files, in round-robin order
  * @resets: %ECMXF_REQ_RESET requests waiting for the worker
  * @open_count: files open
+ * @open_readonly: of those, files opened without FMODE_WRITE
  * @claim: the file holding the cyclic claim, or NULL
  * @claim_pid: the thread group that took @claim
  * @data_size: data section size in force (snapshot of the engine's)
@@ -252,6 +297,8 @@ struct ecmxf_client {
  *	read and write are enough)
  * @int1_irqs: INT1 interrupts handled (as @int0_irqs)
  * @rings: the PDO rings of the claim holder, or NULL (a reference held)
+ * @rings_alive: ring sets whose memory exists (current, replaced or
+ *	released but still mapped); at most %ECMXF_RINGS_MAX
  * @pump: the PDO pump's command (worker only)
  * @out_ring_underruns: &struct ecmxf_counters.out_ring_underruns
  * @in_ring_overruns: &struct ecmxf_counters.in_ring_overruns
@@ -262,6 +309,12 @@ struct ecmxf_client {
  * @pump_failures: pump commands that failed (sysfs ring_failures)
  * @nl: generic netlink events (ecmxf-netlink.c; worker only, see
  *	&struct ecmxf_nl_dev)
+ * @snap_seq: the count of @snap (ecmxf-latch.h), read without the lock
+ * @snap_kseq: the writer's own count (under @lock)
+ * @snap: the counters and the link format in two copies, published under
+ *	@lock after every exchange (ecmxf_publish()) and read by sysfs,
+ *	netlink and %ECMXF_IOC_COUNTERS without any lock: no reader can delay
+ *	the real-time worker
  */
 struct ecmxf_dev {
 	struct spi_device *spi;
@@ -305,6 +358,7 @@ struct ecmxf_dev {
 	struct list_head clients;
 	struct list_head resets;
 	unsigned int open_count;
+	unsigned int open_readonly;
 	struct ecmxf_client *claim;
 	struct pid *claim_pid;
 	u16 data_size;
@@ -321,6 +375,7 @@ struct ecmxf_dev {
 	atomic64_t int0_irqs;
 	atomic64_t int1_irqs;
 	struct ecmxf_rings *rings;
+	atomic_t rings_alive;
 	struct ecmxf_pump_slot pump;
 	u64 out_ring_underruns;
 	u64 in_ring_overruns;
@@ -331,6 +386,10 @@ struct ecmxf_dev {
 	u64 pump_failures;
 
 	struct ecmxf_nl_dev nl;
+
+	u32 snap_seq;
+	u32 snap_kseq;
+	struct ecmxf_snap snap[2];
 };
 
 /* module parameters (ecmxf-main.c) */
@@ -394,7 +453,10 @@ void ecmxf_wake_owner(struct ecmxf_dev *edev);
 void ecmxf_req_finish(struct ecmxf_dev *edev, struct ecmxf_req *req,
 		      int status);
 void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k);
+void ecmxf_get_snap(struct ecmxf_dev *edev, struct ecmxf_snap *snap);
 const char *ecmxf_check_name(unsigned int check);
+bool ecmxf_claim_allows(struct ecmxf_dev *edev, const struct ecmxf_client *c,
+			bool exclusive);
 
 /* ecmxf-chrdev.c */
 extern const struct file_operations ecmxf_fops;

@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,7 +20,7 @@
 namespace ecmxf_util {
 
 const char *const kStatesHelp =
-	"Usage: ecmxf-util [global options] states [-p N] [--no-dc] [--json] STATE\n"
+	"Usage: ecmxf-util [global options] states [-p N] [--no-dc] [--break-claim] [--json] STATE\n"
 	"\n"
 	"Request STATE (INIT, PREOP, SAFEOP, OP or BOOT, in any case; PRE-OP and\n"
 	"SAFE-OP are accepted too) for the slave at position N, or for all slaves\n"
@@ -41,6 +42,11 @@ const char *const kStatesHelp =
 	"\n"
 	"A refused transition fails (exit 1) with the slave, the state it stays in\n"
 	"and its AL status code and text.\n"
+	"\n"
+	"--break-claim (/dev/ecmxfN, CAP_SYS_ADMIN): first take the claim from the\n"
+	"process that holds it (ECMXF_IOC_CLAIM_BREAK: its PDO rings stop), so that\n"
+	"a machine whose cyclic application hangs can be brought to SAFEOP or INIT;\n"
+	"while a process holds the claim nobody else may change the machine.\n"
 	"\n"
 	"Options:\n"
 	"  -p, --position N  the slave at bus position N (default: all slaves)\n"
@@ -83,9 +89,11 @@ struct Row {
 int cmdStates(Globals &g, const Args &args)
 {
 	std::optional<std::string> posText;
-	bool noDc = false;
+	bool noDc = false, breakClaim = false;
 	const auto pos = parseArgs("states", args, g, kStatesHelp,
-				   { { "-p", "--position", nullptr, &posText }, { "", "--no-dc", &noDc, nullptr } });
+				   { { "-p", "--position", nullptr, &posText },
+				     { "", "--no-dc", &noDc, nullptr },
+				     { "", "--break-claim", &breakClaim, nullptr } });
 	if (!pos)
 		return 0;
 	if (pos->size() != 1)
@@ -97,6 +105,14 @@ int cmdStates(Globals &g, const Args &args)
 	const bool one = position >= 0;
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	if (breakClaim) {
+		// this command's file holds the claim from here until it exits
+		const std::optional<std::uint32_t> was = dev->link().breakClaim();
+		std::fprintf(stderr, "%s\n",
+			     !was ? "states: no claim was held"
+			     : *was ? ("states: broke the claim of process " + std::to_string(*was)).c_str()
+				    : "states: broke the claim of a process in another pid namespace");
+	}
 	unsigned count = 0;
 	if (busDown(*dev)) {
 		ecmxf::InitConfig init;

@@ -333,3 +333,25 @@ enum ecmxf_perm ecmxf_cmd_perm(unsigned int code, unsigned int param,
 		return ECMXF_PERM_QUERY;
 	return ECMXF_PERM_CHIP;
 }
+
+/**
+ * ecmxf_rsv_valid() - are the bits of a header's reserved word allowed?
+ * @code: command code
+ * @rsv: the 16-bit word at packet offset 0x08 (%ECMXF_RSV_*)
+ *
+ * The manuals give the word three meanings: bit 15 marks the GPIO
+ * outputs of the header valid (any command), bits 11 (LRW) and 12 (bus
+ * shift mode) are options of ECAT_INIT_OP.  Every other bit, and bits 11
+ * and 12 with another command, is reserved and must be zero
+ * (Documentation/uapi.rst, "Commands").
+ *
+ * Return: true when @rsv sets no reserved bit.
+ */
+bool ecmxf_rsv_valid(unsigned int code, unsigned int rsv)
+{
+	unsigned int allowed = ECMXF_RSV_GPIO_OUT;
+
+	if (code == ECMXF_CMD_ECAT_INIT_OP)
+		allowed |= ECMXF_RSV_LRW | ECMXF_RSV_BUS_SHIFT;
+	return !(rsv & ~allowed);
+}

@@ -252,6 +252,7 @@ const struct ecmxf_cmd_info *ecmxf_cmd_table(size_t *count);
 bool ecmxf_cmd_is_async(unsigned int code, unsigned int param);
 enum ecmxf_perm ecmxf_cmd_perm(unsigned int code, unsigned int param,
 			       const u8 *data, size_t len);
+bool ecmxf_rsv_valid(unsigned int code, unsigned int rsv);
 
 /* ---------------------------------------------------------------------- */
 /* Exchange engine                                                        */

@@ -366,6 +366,21 @@ std::unique_ptr<detail::PdoRings> KernelLink::openPdoRings()
 	return std::make_unique<detail::PdoRings>(fd(), name());
 }
 
+std::optional<std::uint32_t> KernelLink::breakClaim()
+{
+	const std::uint32_t holder = devInfo().claimPid;
+	if (::ioctl(fd(), ECMXF_IOC_CLAIM_BREAK) == 0)
+		return holder;
+	const int err = errno;
+	if (err == ENOENT)
+		return std::nullopt;
+	if (err == EPERM)
+		throw Error(name() + ": breaking the claim needs CAP_SYS_ADMIN and the device opened for writing "
+				     "(ECMXF_IOC_CLAIM_BREAK: EPERM)",
+			    EPERM);
+	ioctlFailed(name(), "ECMXF_IOC_CLAIM_BREAK", err);
+}
+
 namespace detail {
 
 PdoRings::~PdoRings()

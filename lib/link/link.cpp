@@ -128,4 +128,9 @@ std::unique_ptr<detail::PdoRings> Link::openPdoRings()
 	return nullptr;
 }
 
+std::optional<std::uint32_t> Link::breakClaim()
+{
+	throw Error(name() + ": no claim to break (only the kernel module's /dev/ecmxfN has one)", EOPNOTSUPP);
+}
+
 } // namespace ecmxf

@@ -40,6 +40,17 @@ TEST_CASE("states PREOP brings a fresh bus up and lists every slave in PRE-OP", 
 	CHECK(r.out == "0    PREOP  +\n1    PREOP  +\n2    PREOP  +\n");
 }
 
+TEST_CASE("states --break-claim: only the kernel module has a claim to break; nothing else happens",
+	  "[cli][states]")
+{
+	const auto r = run("states --break-claim SAFEOP");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("no claim to break (only the kernel module's /dev/ecmxfN has one)"));
+	CHECK(r.out.empty());
+	const auto bad = run("states --break-claim=yes SAFEOP");
+	CHECK(bad.status == 2);
+}
+
 TEST_CASE("states OP --json: every slave of the default network in OP without error", "[cli][states][json]")
 {
 	const auto r = run("states OP --json");

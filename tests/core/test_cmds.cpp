@@ -170,3 +170,27 @@ TEST_CASE("command table: the C++ view matches the C table", "[cmds]")
 	CHECK(ecmxf::packetSize(ecmxf::kDataMax) == 1440);
 	CHECK(ecmxf::version() == ECMXF_TEST_VERSION);
 }
+
+// The reserved word at packet offset 0x08 (ECM-XF user manual ver. 050, the
+// command header table): bit 15 = "GPIO output valid" for any command, bits
+// 11 and 12 = "enable LRW" and "bus shift mode" of ECAT_INIT_OP (1); every
+// other bit is reserved.  Vectors written by hand from that table.
+TEST_CASE("reserved word: only the manual's bits, and 11/12 only with ECAT_INIT_OP", "[cmds]")
+{
+	CHECK(ecmxf_rsv_valid(0, 0));
+	CHECK(ecmxf_rsv_valid(0, 0x8000));	// INFO_UPDATE_OP with GPIO outputs
+	CHECK(ecmxf_rsv_valid(1, 0x0800));	// ECAT_INIT_OP, LRW
+	CHECK(ecmxf_rsv_valid(1, 0x1000));	// ECAT_INIT_OP, bus shift
+	CHECK(ecmxf_rsv_valid(1, 0x9800));	// all three
+	CHECK_FALSE(ecmxf_rsv_valid(0, 0x0800));	// LRW on INFO_UPDATE_OP
+	CHECK_FALSE(ecmxf_rsv_valid(6, 0x1000));	// bus shift on PDO_DATA_OP
+	CHECK_FALSE(ecmxf_rsv_valid(2, 0x0800));	// RECONFIG_OP is not INIT_OP
+	for (unsigned bit = 0; bit < 16; bit++) {
+		if (bit == 11 || bit == 12 || bit == 15)
+			continue;
+		INFO("bit " << bit);
+		CHECK_FALSE(ecmxf_rsv_valid(1, 1u << bit));
+		CHECK_FALSE(ecmxf_rsv_valid(0, 1u << bit));
+	}
+	CHECK_FALSE(ecmxf_rsv_valid(1, 0x10000));	// wider than the word
+}

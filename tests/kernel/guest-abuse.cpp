@@ -39,6 +39,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cerrno>
 #include <cinttypes>
 #include <cstdint>
@@ -434,7 +435,8 @@ void argsIoctlNumbers(int fd)
 	} unknown[] = {
 		{ "ioctl of another type ('V' 0x01, the vspi's)", _IOW('V', 0x01, __u32) },
 		{ "ioctl of another type (0xE8 with CMD's nr and size)", _IOWR(0xE8, 0x02, struct ecmxf_cmd) },
-		{ "our type, nr 0x09 (unused)", _IO(ECMXF_IOC_MAGIC, 0x09) },
+		{ "our type, nr 0x0A (unused)", _IO(ECMXF_IOC_MAGIC, 0x0A) },
+		{ "CLAIM_BREAK with an argument (_IOW int)", _IOW(ECMXF_IOC_MAGIC, 0x09, int) },
 		{ "our type, nr 0x1F (unused, end of range)", _IOWR(ECMXF_IOC_MAGIC, 0x1F, struct ecmxf_cmd) },
 		{ "our type, nr 0xFF", _IO(ECMXF_IOC_MAGIC, 0xFF) },
 		// the size field of a known number too short / too long
@@ -467,8 +469,9 @@ void argsDevinfoCounters(int fd)
 	expectEq("devinfo.data_size", d.data_size, kDataSize);
 	expectEq("devinfo.check_type", d.check_type, kCheckCrc32);
 	expectEq("devinfo.fw_version", d.fw_version, kFwVersion);
-	expectEq("devinfo.flags INT0|INT1|FW_VERSION, no claim, no rings", d.flags,
-		 ECMXF_DEVINFO_F_INT0 | ECMXF_DEVINFO_F_INT1 | ECMXF_DEVINFO_F_FW_VERSION);
+	expectEq("devinfo.flags INT0|INT1|FW_VERSION, no claim, no rings, the claim exclusive", d.flags,
+		 ECMXF_DEVINFO_F_INT0 | ECMXF_DEVINFO_F_INT1 | ECMXF_DEVINFO_F_FW_VERSION |
+			 ECMXF_DEVINFO_F_CLAIM_EXCLUSIVE);
 	expectEq("devinfo.max_open (module default)", d.max_open, 64);
 	expectEq("devinfo.queue_depth (module default)", d.queue_depth, 16);
 	expectEq("devinfo.open_count (this test's one file)", d.open_count, 1);
@@ -519,6 +522,25 @@ void argsCmdFields(int fd)
 	c.hdr.reserved = 0x80000000u;
 	r = ioc(fd, ECMXF_IOC_CMD, &c);
 	expectErr("CMD hdr.reserved bit 31", r.ret, r.err, EINVAL);
+	// the reserved word: bit 15 always, bits 11 and 12 with ECAT_INIT_OP
+	// only, no other bit (Documentation/uapi.rst, "Commands")
+	for (unsigned bit = 0; bit < 16; bit++) {
+		if (bit == 15)
+			continue;
+		c = cmdOf(kFwVersionGet);
+		c.hdr.rsv_word = static_cast<std::uint16_t>(1u << bit);
+		r = ioc(fd, ECMXF_IOC_CMD, &c);
+		expectErr("CMD FW_VERSION_GET with rsv_word bit " + std::to_string(bit), r.ret, r.err, EINVAL);
+		ecmxf_submit sb = subOf(kFwVersionGet, 1);
+		sb.hdr.rsv_word = static_cast<std::uint16_t>(1u << bit);
+		r = ioc(fd, ECMXF_IOC_SUBMIT, &sb);
+		expectErr("SUBMIT FW_VERSION_GET with rsv_word bit " + std::to_string(bit), r.ret, r.err, EINVAL);
+	}
+	c = cmdOf(kFwVersionGet);
+	c.hdr.rsv_word = ECMXF_RSV_GPIO_OUT;
+	c.hdr.gpio_out[0] = 0;
+	r = ioc(fd, ECMXF_IOC_CMD, &c);
+	expectErr("CMD FW_VERSION_GET with rsv_word bit 15 (GPIO outputs valid)", r.ret, r.err, 0);
 	for (unsigned i = 0; i < sizeof(c.fetch); i += 4) {
 		c = cmdOf(kFwVersionGet);
 		reinterpret_cast<unsigned char *>(&c.fetch)[i] = 1;
@@ -727,6 +749,9 @@ void argsFetch(int fd)
 		{ "fetch.padding 1", [](FetchParts k) { k.fetch.padding = 1; } },
 		{ "fetch.reserved 1", [](FetchParts k) { k.fetch.reserved = 1; } },
 		{ "fetch.len 4 (a fetch carries no data)", [](FetchParts k) { k.fetch.len = 4; } },
+		{ "fetch.rsv_word bit 0 (reserved)", [](FetchParts k) { k.fetch.rsv_word = 1; } },
+		{ "fetch.rsv_word bit 11 (LRW: ECAT_INIT_OP only)",
+		  [](FetchParts k) { k.fetch.rsv_word = ECMXF_RSV_LRW; } },
 		{ "with the output flag F_FETCHED", [](FetchParts k) { k.flags |= ECMXF_CMD_F_FETCHED; } },
 		{ "a fetch header without F_FETCH", [](FetchParts k) { k.flags = 0; } },
 	};
@@ -1084,6 +1109,37 @@ void argsOpenLimit()
 	for (int fd : fds)
 		::close(fd);
 	expectEq("devinfo.open_count after closing them", devinfo(probe.get()).open_count, 1);
+
+	// read-only openers (a group member's query tools) cannot take the
+	// slots a writer needs: the last 8 (ECMXF_WRITER_SLOTS) are writers'
+	fds.clear();
+	last = 0;
+	for (unsigned i = 0; i < d.max_open + 4; i++) {
+		const int fd = ::open(gPath.c_str(), O_RDONLY | O_CLOEXEC);
+		if (fd < 0) {
+			last = errno;
+			break;
+		}
+		fds.push_back(fd);
+	}
+	const unsigned roSlots = d.max_open > 16 ? d.max_open - 8 : d.max_open - d.max_open / 2;
+	expectEq("read-only opens that succeed (max_open - 8, one writer open)", fds.size(), roSlots);
+	expectErr("the next read-only open()", -1, last, EMFILE);
+	std::vector<int> writers;
+	for (unsigned i = 0; i + 1 + roSlots < d.max_open; i++) {
+		const int fd = ::open(gPath.c_str(), O_RDWR | O_CLOEXEC);
+		if (fd < 0) {
+			last = errno;
+			break;
+		}
+		writers.push_back(fd);
+	}
+	expectEq("writers still open the remaining slots", writers.size(), d.max_open - 1 - roSlots);
+	for (int fd : writers)
+		::close(fd);
+	for (int fd : fds)
+		::close(fd);
+	expectEq("devinfo.open_count after closing them all", devinfo(probe.get()).open_count, 1);
 }
 
 void partArgs()
@@ -1179,8 +1235,13 @@ std::vector<PermRow> permRows(int wmax)
 	cmd("MDIO", Perm::Chip, false, kMdio);
 	cmd("EEPROM_REQ read", Perm::Chip, false, kEepromReq, 0, std::vector<std::uint8_t>(12, 0));
 	cmd("RAW_ECAT_FUNC_REQ APRD", Perm::Chip, false, kRawReq, 0, { 1, 0, 1, 0 });
-	cmd("header control: clear the command error bit", Perm::Chip, true, kInfoUpdate).cmd.hdr.control =
+	// the command-error clear only makes the answer this command's own (the
+	// library sets it on every command): a query, as the library's reads
+	// beside a claim holder need
+	cmd("header control: clear the command error bit", Perm::Query, true, kInfoUpdate).cmd.hdr.control =
 		kCtlClrCmdErr;
+	cmd("header control: clear the CRC error count", Perm::Chip, true, kInfoUpdate).cmd.hdr.control =
+		ECMXF_CTL_CLR_CRC_CNT;
 	cmd("header gpio_int_clear", Perm::Chip, true, kInfoUpdate).cmd.hdr.gpio_int_clear[0] = 1;
 	auto &g = cmd("header GPIO outputs (rsv_word bit 15, gpio_out)", Perm::Chip, true, kInfoUpdate);
 	g.cmd.hdr.rsv_word = ECMXF_RSV_GPIO_OUT;
@@ -1278,6 +1339,53 @@ bool asUser(const std::string &who, uid_t uid, const std::vector<gid_t> &groups,
 	return WIFEXITED(st) && WEXITSTATUS(st) == 0;
 }
 
+/// Commands of another file queued before the claim was taken do not run
+/// beside the holder: the worker checks the claim again when it takes
+/// them.  The holder's async command is held busy in the chip (bridge
+/// "async-stuck"), so that the other file's async command, and its FIFO
+/// command behind it, wait in its queue while the claim is taken.
+void claimQueuedBefore()
+{
+	Fd holder(O_RDWR), other(O_RDWR);
+	ctl("async-stuck 1");
+	ecmxf_submit s = subOf(kStateUpdate, 1);
+	Res r = ioc(holder.get(), ECMXF_IOC_SUBMIT, &s);
+	expectErr("queued before the claim: the holder's async command (held busy)", r.ret, r.err, 0);
+	if (!waitChipTookStuck("queued before the claim"))
+		return;
+	s = subOf(kStateUpdate, 2);
+	r = ioc(other.get(), ECMXF_IOC_SUBMIT, &s);
+	expectErr("  another file's async command, queued behind it", r.ret, r.err, 0);
+	s = subOf(kPdoDataFifoOp, 3);
+	r = ioc(other.get(), ECMXF_IOC_SUBMIT, &s);
+	expectErr("  and its FIFO command, queued behind that", r.ret, r.err, 0);
+	r = ioc(holder.get(), ECMXF_IOC_CLAIM, 0);
+	expectErr("  CLAIM", r.ret, r.err, 0);
+	r = doReset(holder.get(), ECMXF_RESET_F_ASYNC_CMD,
+		    ECMXF_RESET_ASYNC_CLEAR_BUSY | ECMXF_RESET_ASYNC_ABANDON);
+	expectErr("  the holder abandons its async command", r.ret, r.err, 0);
+	ecmxf_completion rec[2]{};
+	long n = ::read(holder.get(), rec, kRec);
+	expectTrue("  the holder's command: ECANCELED",
+		   n == static_cast<long>(kRec) && rec[0].cookie == 1 && rec[0].status == -ECANCELED,
+		   errText(n, errno) + " status " + std::to_string(rec[0].status));
+	int got = 0;
+	while (got < 2) {
+		n = ::read(other.get(), &rec[got], kRec);
+		if (n != static_cast<long>(kRec))
+			break;
+		got++;
+	}
+	expectEq("  the other file's completions", got, 2);
+	for (int i = 0; i < got; i++)
+		expectTrue("  the other file's command " + std::to_string(rec[i].cookie) +
+				   " was refused when the worker took it (EBUSY), not run",
+			   rec[i].status == -EBUSY, "status " + std::to_string(rec[i].status));
+	r = ioc(holder.get(), ECMXF_IOC_RELEASE, 0);
+	expectErr("  RELEASE", r.ret, r.err, 0);
+	ctl("clear");
+}
+
 int openAs(int flags)
 {
 	return ::open(gPath.c_str(), flags | O_CLOEXEC);
@@ -1314,7 +1422,8 @@ void partPerm()
 		const long n = ::read(ro.get(), &rec, sizeof(rec));
 		expectTrue("read-only: its completion",
 			   n == static_cast<long>(kRec) && rec.cookie == 9 && rec.status == 0 && rec.rsp.ret == kSlaves,
-			   errText(n, errno));
+			   errText(n, errno) + ", cookie " + std::to_string(rec.cookie) + ", status " +
+				   std::to_string(rec.status) + ", ret " + std::to_string(rec.rsp.ret));
 	}
 	// root, writable: every class
 	{
@@ -1350,7 +1459,8 @@ void partPerm()
 		Fd holder(O_RDWR), other(O_RDWR);
 		Res r = ioc(holder.get(), ECMXF_IOC_CLAIM, 0);
 		expectErr("root: CLAIM", r.ret, r.err, 0);
-		const auto claimed = [](Perm p) { return p == Perm::Process ? EBUSY : 0; };
+		// the holder owns the machine: the others may only ask
+		const auto claimed = [](Perm p) { return p == Perm::Query ? 0 : EBUSY; };
 		permCheck(other.get(), "root, another file while the claim is held", wmax, claimed);
 		expectEq("  devinfo names the holder", devinfo(other.get()).claim_pid,
 			 static_cast<std::uint32_t>(::getpid()));
@@ -1360,13 +1470,24 @@ void partPerm()
 				   const int fd = openAs(O_RDWR);
 				   expectErr("member during another's claim: open", fd, errno, 0);
 				   permCheck(fd, "member during another's claim", wmax, [](Perm p) {
-					   return p == Perm::Process ? EBUSY : p == Perm::Admin ? EPERM : 0;
+					   return p == Perm::Query ? 0 : p == Perm::Admin ? EPERM : EBUSY;
 				   });
+				   Res rb = ioc(fd, ECMXF_IOC_CLAIM_BREAK, 0);
+				   expectErr("member during another's claim: CLAIM_BREAK (no CAP_SYS_ADMIN)", rb.ret,
+					     rb.err, EPERM);
 				   ::close(fd);
 			   }));
+		{
+			Fd ro(O_RDONLY);
+			r = ioc(ro.get(), ECMXF_IOC_CLAIM_BREAK, 0);
+			expectErr("read-only (root): CLAIM_BREAK", r.ret, r.err, EPERM);
+		}
+		expectTrue("devinfo: the claim is exclusive (ECMXF_DEVINFO_F_CLAIM_EXCLUSIVE)",
+			   devinfo(other.get()).flags & ECMXF_DEVINFO_F_CLAIM_EXCLUSIVE);
 		r = ioc(holder.get(), ECMXF_IOC_RELEASE, 0);
 		expectErr("root: RELEASE", r.ret, r.err, 0);
 	}
+	claimQueuedBefore();
 	// give the node back as it was
 	if (::chown(gPath.c_str(), was.st_uid, was.st_gid) < 0 || ::chmod(gPath.c_str(), was.st_mode & 07777) < 0)
 		fatal("restoring " + gPath);
@@ -1924,6 +2045,63 @@ void partFaults()
 	expectWorks("at the end of the fault checks", f.get());
 }
 
+/// Writes @p value to the sysfs file @p path; false when it cannot.
+bool writeSysfs(const std::string &path, const std::string &value)
+{
+	const int f = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+	const bool ok = f >= 0 && ::write(f, value.data(), value.size()) == static_cast<ssize_t>(value.size());
+	if (f >= 0)
+		::close(f);
+	return ok;
+}
+
+/// Unbind during a link reset: the chip silent and each transfer failing
+/// after 300 ms (ecmxf-vspi's timeout_ms), every FW_VERSION_GET of the
+/// reset's format search times out, three tries in each of the formats:
+/// seconds in all. The unbind must stop the search at the next exchange
+/// (at most one transfer's 300 ms), not wait for it. The reset then ends
+/// with ENODEV. On hardware a transfer takes microseconds.
+void partUnbindReset(const std::string &spidev)
+{
+	const std::string vspiTimeout = "/sys/module/ecmxf_vspi/parameters/timeout_ms";
+	std::string was = "2000";
+	if (FILE *p = std::fopen(vspiTimeout.c_str(), "r")) {
+		char buf[32] = {};
+		if (std::fgets(buf, sizeof(buf), p))
+			was = std::to_string(std::strtoul(buf, nullptr, 10));
+		std::fclose(p);
+	}
+	Fd f;
+	expectTrue("unbind during a link reset: ecmxf-vspi's timeout_ms set to 300", writeSysfs(vspiTimeout, "300"));
+	const std::uint64_t before = counters(f.get()).exchanges;
+	ctl("silent 1");
+	Res reset{ 0, 0 };
+	std::thread t([&] { reset = doReset(f.get(), ECMXF_RESET_F_LINK, 0, 120'000'000); });
+	// the search is on once the worker exchanges again
+	bool searching = false;
+	for (int i = 0; i < 3000 && !searching; i++) {
+		searching = counters(f.get()).exchanges > before + 1;
+		if (!searching)
+			::usleep(10'000);
+	}
+	expectTrue("  the reset's format search runs (exchanges with a silent chip)", searching);
+	const auto t0 = std::chrono::steady_clock::now();
+	const bool written = writeSysfs("/sys/bus/spi/drivers/ecmxf/unbind", spidev);
+	const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0)
+				.count();
+	expectTrue("  the unbind", written, std::strerror(errno));
+	std::printf("guest-test: info unbind during a link reset took %lld ms (a transfer fails after 300 ms)\n",
+		    static_cast<long long>(ms));
+	// the search left to run takes seconds (three tries of at least one
+	// 300 ms transfer in each of four formats); stopped, one transfer
+	expectTrue("  the unbind returned within 1 s, not after the search (" + std::to_string(ms) + " ms)",
+		   ms < 1000);
+	t.join();
+	expectErr("  the reset ends with ENODEV", reset.ret, reset.err, ENODEV);
+	ctl("clear");
+	expectTrue("  ecmxf-vspi's timeout_ms back to " + was, writeSysfs(vspiTimeout, was));
+}
+
 void partSmoke()
 {
 	Fd f;
@@ -1936,7 +2114,8 @@ void partSmoke()
 int main(int argc, char **argv)
 {
 	if (argc < 2) {
-		std::fprintf(stderr, "usage: ecmxf-guest-abuse args|perm|concurrency|signals|faults|smoke [/dev/ecmxfN]\n");
+		std::fprintf(stderr, "usage: ecmxf-guest-abuse args|perm|concurrency|signals|faults|smoke [/dev/ecmxfN]\n"
+				     "       ecmxf-guest-abuse unbind-reset /dev/ecmxfN SPIDEV\n");
 		return 2;
 	}
 	const std::string_view part = argv[1];
@@ -1958,6 +2137,8 @@ int main(int argc, char **argv)
 		partFaults();
 	else if (part == "smoke")
 		partSmoke();
+	else if (part == "unbind-reset" && argc > 3)
+		partUnbindReset(argv[3]);
 	else {
 		std::fprintf(stderr, "ecmxf-guest-abuse: unknown part %s\n", argv[1]);
 		return 2;

@@ -63,6 +63,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdint>
@@ -72,6 +73,7 @@
 #include <exception>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -237,6 +239,185 @@ void claimChecks(const std::string &path, int holder, std::uint32_t outEntries)
 	// Cyclic::waitInputs() waits for in the lock-step runs)
 	pollfd p{ holder, POLLIN | POLLRDNORM, 0 };
 	eq("holder: poll() for POLLIN with the rings running and no completion: nothing", ::poll(&p, 1, 200), 0);
+}
+
+/// A u32 of a ring mapping, as the other side of the ring sees it.
+volatile std::uint32_t *ringWord(void *map, std::uint32_t off)
+{
+	return reinterpret_cast<volatile std::uint32_t *>(static_cast<std::uint8_t *>(map) + off);
+}
+
+/// poll() for POLLRDBAND on @p fd in a thread; the revents it returned, or
+/// -1 when it was still blocked after 5 s (then it is left to the exit).
+class Poller
+{
+public:
+	explicit Poller(int fd)
+	{
+		t_ = std::thread([this, fd] {
+			pollfd p{ fd, POLLRDBAND, 0 };
+			const int n = ::poll(&p, 1, 20000);
+			revents_.store(n > 0 ? p.revents : 0);
+			done_.store(true);
+		});
+		// the thread is inside poll() before the caller acts, or soon
+		// after: either way poll() sees the state the caller makes
+		std::this_thread::sleep_for(50ms);
+	}
+	~Poller()
+	{
+		if (t_.joinable())
+			t_.detach();
+	}
+	Poller(const Poller &) = delete;
+	Poller &operator=(const Poller &) = delete;
+	/// Blocks until poll() returned or 5 s passed.
+	int result()
+	{
+		for (int i = 0; i < 500 && !done_.load(); i++)
+			std::this_thread::sleep_for(10ms);
+		if (!done_.load())
+			return -1;
+		t_.join();
+		return revents_.load();
+	}
+
+private:
+	std::thread t_;
+	std::atomic<int> revents_{ 0 };
+	std::atomic<bool> done_{ false };
+};
+
+/// Rings the test makes itself on the holder's descriptor @p holder (the
+/// library's Cyclic stopped, the bus still in OP; @p dev, the holder's
+/// device, turns the FIFOs on), one
+/// bus cycle every @p period of guest time:
+///  - what the kernel writes into the mapping (the output ring's head, the
+///    input ring's tail, the dropped counts) it never reads back: a process
+///    that scribbles on them changes no kernel count and stops nothing;
+///  - ECMXF_IOC_CLAIM_BREAK by another descriptor stops the holder's rings
+///    (ECONNABORTED), wakes its poll()ers, and leaves it only queries;
+///  - RELEASE tears the rings down and wakes the holder's poll()ers.
+void kernelOwnedChecks(ecmxf::Device &dev, const std::string &path, int holder, std::chrono::nanoseconds period)
+{
+	// Cyclic::stop() turned the chip's FIFOs off: on again for the pump
+	dev.pdo().fifoEnable(true);
+	// a loop of setup + mmap: the replaced rings live on while mapped, so
+	// the kernel bounds how many sets exist (3: the library's, still
+	// mapped, counts) and refuses the rest
+	{
+		std::vector<std::pair<void *, std::size_t>> maps;
+		int refusedAt = -1;
+		for (int i = 0; i < 8 && refusedAt < 0; i++) {
+			ecmxf_ring_setup l{};
+			l.out_entries = l.in_entries = 16;
+			const Res lr = ioc(holder, ECMXF_IOC_RING_SETUP, &l);
+			if (lr.ret < 0) {
+				eq("setup + mmap loop: the refusal is EBUSY", lr.err, EBUSY);
+				refusedAt = i;
+				break;
+			}
+			void *m = ::mmap(nullptr, l.in.mmap_size, PROT_READ, MAP_SHARED, holder, ECMXF_RING_OFF_IN);
+			if (m != MAP_FAILED)
+				maps.emplace_back(m, l.in.mmap_size);
+		}
+		eq("setup + mmap loop: refused at the 3rd setup (the library's rings, two of the loop's mapped)",
+		   refusedAt, 2);
+		for (auto [m, n] : maps)
+			::munmap(m, n);
+	}
+	ecmxf_ring_setup rs{};
+	rs.out_entries = 256;
+	rs.in_entries = 16;
+	Res r = ioc(holder, ECMXF_IOC_RING_SETUP, &rs);
+	eq("raw rings: RING_SETUP on the holder's descriptor", r.err, 0);
+	if (r.ret < 0)
+		return;
+	void *om = ::mmap(nullptr, rs.out.mmap_size, PROT_READ | PROT_WRITE, MAP_SHARED, holder, ECMXF_RING_OFF_OUT);
+	void *im = ::mmap(nullptr, rs.in.mmap_size, PROT_READ | PROT_WRITE, MAP_SHARED, holder, ECMXF_RING_OFF_IN);
+	ok(om != MAP_FAILED && im != MAP_FAILED, "raw rings: both mapped");
+	if (om == MAP_FAILED || im == MAP_FAILED)
+		return;
+	volatile std::uint32_t *outHead = ringWord(om, rs.out.head), *outTail = ringWord(om, rs.out.tail),
+			       *outFlags = ringWord(om, rs.out.flags), *inTail = ringWord(im, rs.in.tail),
+			       *inDropped = ringWord(im, rs.in.dropped);
+	// one (all-zero) output frame per bus cycle; the input ring is never
+	// read, so it fills (16) and overflows
+	std::uint32_t tail = 0;
+	const auto produce = [&](int cycles) {
+		for (int i = 0; i < cycles; i++) {
+			*outTail = ++tail;
+			std::this_thread::sleep_for(period);
+		}
+	};
+	produce(30);
+	ok(*inDropped > 0, "raw rings: the input ring overflowed (" + std::to_string(*inDropped) + " dropped)");
+	// scribble on what only the kernel writes
+	*outHead = 0xDEAD0000u;
+	*inTail = 0x12340000u;
+	*inDropped = 999999u;
+	produce(60);
+	eq("scribbled: the output ring still runs (flags ACTIVE, not ERROR: the kernel's head is its own)",
+	   *outFlags, ECMXF_RING_S_ACTIVE);
+	ok(*outHead != 0xDEAD0000u && tail - *outHead <= rs.out_entries,
+	   "scribbled: the kernel wrote its own output head back (" + std::to_string(*outHead) + ", tail " +
+		   std::to_string(tail) + ")");
+	eq("scribbled: the kernel wrote its own input tail back (16 frames stored, none read)", *inTail, 16);
+	ok(*inDropped > 0 && *inDropped < 999999u,
+	   "scribbled: the input ring's dropped count is the kernel's own, not added to the scribble (" +
+		   std::to_string(*inDropped) + ")");
+
+	// an operator breaks the claim
+	{
+		Poller waiter(holder); // no POLL_IN in the setup: blocks
+		const int other = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+		eq("CLAIM_BREAK by another descriptor (root)", ioc(other, ECMXF_IOC_CLAIM_BREAK, 0).err, 0);
+		const int rev = waiter.result();
+		ok(rev >= 0 && (rev & POLLERR), "  the holder's poll() for its rings woke with POLLERR (revents " +
+							 std::to_string(rev) + ")");
+		eq("  the holder's rings stopped (flags ERROR)", *outFlags, ECMXF_RING_S_ERROR);
+		eq("  the old holder: CLAIM is EBUSY", ioc(holder, ECMXF_IOC_CLAIM, 0).err, EBUSY);
+		ecmxf_cmd c{};
+		c.hdr.code = ECMXF_CMD_ECAT_STATE_UPDATE;
+		eq("  the old holder: ECAT_STATE_UPDATE (chip class) is EBUSY", ioc(holder, ECMXF_IOC_CMD, &c).err,
+		   EBUSY);
+		ecmxf_devinfo d{};
+		(void)ioc(other, ECMXF_IOC_DEVINFO, &d);
+		ok(d.flags & ECMXF_DEVINFO_F_CLAIM_MINE, "  the breaker holds the claim");
+		eq("  the breaker: CLAIM_BREAK of its own claim (nothing to break)",
+		   ioc(other, ECMXF_IOC_CLAIM_BREAK, 0).err, 0);
+		(void)ioc(other, ECMXF_IOC_DEVINFO, &d);
+		ok(d.flags & ECMXF_DEVINFO_F_CLAIM_MINE, "  and keeps it");
+		eq("  the breaker: RELEASE", ioc(other, ECMXF_IOC_RELEASE, 0).err, 0);
+		eq("  CLAIM_BREAK with no claim held: ENOENT", ioc(other, ECMXF_IOC_CLAIM_BREAK, 0).err, ENOENT);
+		::close(other);
+	}
+	::munmap(om, rs.out.mmap_size);
+	::munmap(im, rs.in.mmap_size);
+	// RELEASE wakes the holder's poll()ers
+	eq("the old holder claims again", ioc(holder, ECMXF_IOC_CLAIM, 0).err, 0);
+	rs = {};
+	rs.out_entries = rs.in_entries = 16;
+	eq("  and sets up rings", ioc(holder, ECMXF_IOC_RING_SETUP, &rs).err, 0);
+	{
+		Poller waiter(holder);
+		eq("  RELEASE", ioc(holder, ECMXF_IOC_RELEASE, 0).err, 0);
+		const int rev = waiter.result();
+		ok(rev >= 0 && (rev & POLLERR),
+		   "  a poll() for the released rings woke with POLLERR (revents " + std::to_string(rev) + ")");
+	}
+	// the library's way to it (ecmxf-util states --break-claim)
+	{
+		auto op = ecmxf::Device::open(path);
+		ok(!op->link().breakClaim(), "Link::breakClaim() with no claim held: nullopt");
+		eq("the old holder claims again", ioc(holder, ECMXF_IOC_CLAIM, 0).err, 0);
+		const std::optional<std::uint32_t> was = op->link().breakClaim();
+		ok(was && *was == static_cast<std::uint32_t>(::getpid()),
+		   "Link::breakClaim() names the holder's pid (" + std::to_string(was.value_or(0)) + ")");
+		eq("  the old holder: CLAIM is EBUSY while the operator's file is open",
+		   ioc(holder, ECMXF_IOC_CLAIM, 0).err, EBUSY);
+	}
+	eq("the operator's file closed: the old holder may claim", ioc(holder, ECMXF_IOC_CLAIM, 0).err, 0);
 }
 
 int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale, bool fifoNext)
@@ -537,6 +718,7 @@ int run(const std::string &path, unsigned hz, unsigned cycles, unsigned scale, b
 	std::printf("guest-test: info rings %u Hz: counters exchanges %llu int1 %llu\n", hz,
 		    static_cast<unsigned long long>(kt->counters().exchanges),
 		    static_cast<unsigned long long>(kt->counters().int1Irqs));
+	kernelOwnedChecks(*dev, path, kt->fd(), period);
 	return gFailures ? 1 : 0;
 }
 

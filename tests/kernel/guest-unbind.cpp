@@ -24,7 +24,8 @@
 //      the status block's error is ENODEV;
 //  (b) a thread blocks in ECMXF_IOC_CMD with an async command the chip
 //      runs (the bridge's async-stuck fault), a second one in a CMD queued
-//      behind it: both return -1/ENODEV;
+//      behind it, both on the claim holder's open file: both return
+//      -1/ENODEV;
 //  (c) a thread sleeps in poll() for POLLIN: it wakes with POLLERR |
 //      POLLHUP, and read() then gives ENODEV; another sleeps in read():
 //      ENODEV; a descriptor with a SUBMIT queued reads its completion
@@ -447,6 +448,15 @@ int openDev(const std::string &path)
 	return fd;
 }
 
+/// Another descriptor of the open file behind @p fd (its claim included).
+int dupOf(int fd)
+{
+	const int d = ::fcntl(fd, F_DUPFD_CLOEXEC, 0);
+	if (d < 0)
+		fatal(std::string("dup: ") + std::strerror(errno));
+	return d;
+}
+
 ecmxf_cmd stuckCmd()
 {
 	ecmxf_cmd c{};
@@ -474,9 +484,11 @@ void unbindUnderLoad(const std::string &path, const std::string &spidev, long ba
 	const bool running = waitUntil([&] { return loop.cycles >= 50 || loop.done; }, 60s) && !loop.done;
 	ok(running, "(a) the cyclic loop runs (" + std::to_string(loop.cycles.load()) + " cycles)");
 
-	// (b) a sync command the chip runs, one queued behind it
+	// (b) a sync command the chip runs, one queued behind it; through the
+	// claim holder's open file (dup()s of it): while the claim is held no
+	// other file may send them (uapi.rst, "Permissions")
 	bridge("async-stuck 1");
-	const int fdB = openDev(path), fdB2 = openDev(path);
+	const int fdB = dupOf(fdA), fdB2 = dupOf(fdA);
 	Blocked b1([fdB](int &err) {
 		ecmxf_cmd c = stuckCmd();
 		const long ret = ::ioctl(fdB, ECMXF_IOC_CMD, &c);
@@ -493,8 +505,8 @@ void unbindUnderLoad(const std::string &path, const std::string &spidev, long ba
 		return ret;
 	});
 	ok(b2.asleep({ kSysIoctl }), "(b) a second one sleeps in ECMXF_IOC_CMD, queued behind it");
-	// a completion that the unbind ends
-	const int fdE = openDev(path);
+	// a completion that the unbind ends (the holder's file too)
+	const int fdE = dupOf(fdA);
 	ecmxf_submit s{};
 	s.hdr.code = kStateUpdate;
 	s.cookie = 0xE1;

@@ -102,6 +102,9 @@ public:
 	/// ECMXF_IOC_CLAIM; the rings made by its setup (ECMXF_IOC_RING_SETUP,
 	/// mmap) live as long as the returned object, which releases the claim.
 	[[nodiscard]] std::unique_ptr<detail::PdoRings> openPdoRings() override;
+	/// ECMXF_IOC_CLAIM_BREAK (EPERM without CAP_SYS_ADMIN or a writable
+	/// file, named in the error).
+	std::optional<std::uint32_t> breakClaim() override;
 	void attachTrace(detail::TraceWriter *trace) noexcept override;
 
 	/// ECMXF_IOC_DEVINFO now (the value read at open: openInfo()); also

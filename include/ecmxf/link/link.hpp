@@ -283,6 +283,15 @@ public:
 	/// by another process). Internal type: lib/link/pdo_rings.hpp.
 	[[nodiscard]] virtual std::unique_ptr<detail::PdoRings> openPdoRings();
 
+	/// An operator's way out when the process that holds the kernel
+	/// module's claim hangs (ECMXF_IOC_CLAIM_BREAK, needs CAP_SYS_ADMIN):
+	/// its rings stop and this link's file holds the claim until it is
+	/// closed, so that it can bring the bus to a safe state. Returns the
+	/// pid of the process whose claim was broken (0 when it is not visible
+	/// in the caller's pid namespace), or nullopt when no claim was held. Links without a claim (everything but the kernel module)
+	/// throw ecmxf::Error with EOPNOTSUPP.
+	virtual std::optional<std::uint32_t> breakClaim();
+
 	/// Records every exchange to @p trace (null: stop), in the records of
 	/// the link's kind: SPI packets (engine link) or request/response
 	/// (kernel link); writes the link's first record (its format) at once.

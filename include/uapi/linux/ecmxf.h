@@ -16,7 +16,8 @@
  *    returns -EINVAL otherwise) and are zeroed by the kernel on output, so
  *    that later versions can give them a meaning.
  *
- * ABI version 2.  See Documentation/uapi.rst.
+ * ABI version 4 (%ECMXF_UAPI_VERSION).  See Documentation/uapi.rst, which
+ * also gives the compatibility policy.
  *
  * Copyright (C) 2026 The ecmxf authors
  */
@@ -64,10 +65,10 @@
 /**
  * struct ecmxf_cmd_header - command header fields that userspace chooses
  * @data: parametric data 0..3 (packet offsets 0x04..0x07)
- * @rsv_word: the 16-bit word at 0x08 that the manual calls "reserved";
- *	despite its name it is sent as given and not checked: bit 11 enables
- *	LRW and bit 12 bus shift mode for ECAT_INIT_OP, bit 15 marks @gpio_out
- *	valid
+ * @rsv_word: the 16-bit word at 0x08 that the manual calls "reserved":
+ *	bit 15 marks @gpio_out valid, bits 11 (enable LRW) and 12 (bus shift
+ *	mode) are options of ECAT_INIT_OP; any other bit, or 11 and 12 with
+ *	another command, is -EINVAL
  * @control: control byte at 0x0A (manual ver. 050: refresh state, clear
  *	error bits); the kernel may OR in clear bits of its own
  * @padding: the index byte at 0x0B, which the kernel allocates; must be zero
@@ -277,6 +278,12 @@ struct ecmxf_completion {
 #define ECMXF_DEVINFO_F_CLAIMED		(1U << 3)	/* someone holds the claim */
 #define ECMXF_DEVINFO_F_CLAIM_MINE	(1U << 4)	/* this fd holds the claim */
 #define ECMXF_DEVINFO_F_RINGS		(1U << 5)	/* PDO rings are set up */
+/*
+ * the claim reserves every class above query to its holder, checked when a
+ * command is queued and when it is sent, reserved header bits are refused,
+ * and %ECMXF_IOC_CLAIM_BREAK exists (Documentation/uapi.rst, "Permissions")
+ */
+#define ECMXF_DEVINFO_F_CLAIM_EXCLUSIVE	(1U << 6)
 
 /**
  * struct ecmxf_devinfo - the chip and the link (%ECMXF_IOC_DEVINFO)
@@ -650,6 +657,14 @@ struct ecmxf_ring_setup {
  * ECMXF_IOC_RING_SETUP - create the two PDO rings; &struct ecmxf_ring_setup
  */
 #define ECMXF_IOC_RING_SETUP	_IOWR(ECMXF_IOC_MAGIC, 0x08, struct ecmxf_ring_setup)
+/**
+ * ECMXF_IOC_CLAIM_BREAK - take the claim from its holder (no argument), to
+ * stop a machine whose claim holder hangs: its rings stop with
+ * -ECONNABORTED and go, and this file descriptor holds the claim until it
+ * releases it; -ENOENT when no claim is held, -EPERM without a file open
+ * for writing and CAP_SYS_ADMIN
+ */
+#define ECMXF_IOC_CLAIM_BREAK	_IO(ECMXF_IOC_MAGIC, 0x09)
 
 /*
  * The chip's protocol numbers

@@ -100,7 +100,42 @@ echo "guest-test: ok   the kernel refuses SCHED_FIFO 0 and 100 for the worker"
 # (a failed one loses its frames, which the strict runs would report)
 echo 10000 >/sys/module/ecmxf/parameters/pump_timeout_ms || fail "setting pump_timeout_ms"
 rings_lockstep 1000
-rings_lockstep 8000 fifo-next
+# the 8 kHz run with a reader hammering the counters (sysfs and netlink
+# GET_COUNTERS): they are a snapshot the worker publishes and readers copy
+# without the worker's lock (driver.rst "Locking and PREEMPT_RT"); the strict
+# run must keep its bar, and every counter read must be whole (never
+# smaller than the one before: a torn copy would be)
+counters_hammer() {
+	prev=0
+	while [ ! -e /tmp/hammer.stop ]; do
+		for f in /sys/class/ecmxf/ecmxf0/counters/*; do cat "$f" >/dev/null; done
+		v=$(cat /sys/class/ecmxf/ecmxf0/counters/exchanges)
+		if [ "$v" -lt "$prev" ]; then
+			echo "sysfs exchanges went back: $prev -> $v" >>/tmp/hammer.fail
+		fi
+		prev=$v
+		/bin/ecmxf-util -d /dev/ecmxf0 monitor --counters >/tmp/hammer.nl 2>&1 ||
+			echo "monitor --counters failed: $(cat /tmp/hammer.nl)" >>/tmp/hammer.fail
+		n=$(sed -n 's/^exchanges *//p' /tmp/hammer.nl)
+		if [ -n "$n" ] && [ "$n" -lt "$v" ]; then
+			echo "netlink exchanges $n below the sysfs value read before it ($v)" >>/tmp/hammer.fail
+		fi
+		reads=$((reads + 1))
+		echo "$reads" >/tmp/hammer.reads
+	done
+}
+rm -f /tmp/hammer.stop /tmp/hammer.fail /tmp/hammer.reads
+reads=0
+rings_bridge --lockstep
+counters_hammer &
+hpid=$!
+/bin/ecmxf-guest-rings run-lockstep /dev/ecmxf0 8000 10000 fifo-next ||
+	fail "ecmxf-guest-rings lock-step at 8000 Hz fifo-next, counters read meanwhile"
+touch /tmp/hammer.stop
+wait "$hpid"
+bridge_ctl state
+[ -s /tmp/hammer.fail ] && fail "counters under the 8 kHz run: $(head -3 /tmp/hammer.fail)"
+echo "guest-test: ok   $(cat /tmp/hammer.reads 2>/dev/null || echo 0) rounds of sysfs + netlink counter reads during the 8 kHz lock-step run, each whole"
 rings_with 1000 5 monitor
 rings_with 8000 40 fifo-next
 echo 500 >/sys/module/ecmxf/parameters/pump_timeout_ms

@@ -16,6 +16,13 @@ echo "$spidev" >/sys/bus/spi/drivers/ecmxf/bind || fail "bind $spidev after the 
 [ -c /dev/ecmxf0 ] || fail "no /dev/ecmxf0 after binding again"
 /bin/ecmxf-guest-test /dev/ecmxf0 || fail "ecmxf-guest-test after binding again"
 echo "guest-test: ok   bind again after the unbind under load: /dev/ecmxf0 works"
+# unbind during a link reset's format search (every answer "not ready"):
+# the worker stops at the next exchange instead of finishing the search
+/bin/ecmxf-guest-abuse unbind-reset /dev/ecmxf0 "$spidev" || fail "ecmxf-guest-abuse unbind-reset"
+bridge_ctl clear
+echo "$spidev" >/sys/bus/spi/drivers/ecmxf/bind || fail "bind $spidev after the unbind during a link reset"
+[ -c /dev/ecmxf0 ] || fail "no /dev/ecmxf0 after binding again"
+/bin/ecmxf-guest-abuse smoke /dev/ecmxf0 || fail "ecmxf-guest-abuse smoke after the unbind during a link reset"
 # every file closed and unmapped: the module unloads (removing the chip)
 # and loads again (the chip keeps the bus the guest test scanned)
 rmmod ecmxf || fail "rmmod ecmxf after the unbind under load"
