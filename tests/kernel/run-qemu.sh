@@ -103,10 +103,13 @@ build_guest_programs() {
 			dpkg-deb -x "$bbdir"/busybox-static_*.deb "$bbdir"
 			rm -f "$bbdir"/*.deb
 		fi
-		# pkg-config must find the :arm64 libgpiod and libmnl
+		# pkg-config must find the :arm64 libgpiod and libmnl; no Python
+		# binding (the guest has no Python, and this machine no arm64
+		# python3-dev)
 		PKG_CONFIG_LIBDIR=/usr/lib/aarch64-linux-gnu/pkgconfig:/usr/share/pkgconfig \
 			cmake -S "$top" -B "$gbuild" -DCMAKE_SYSTEM_NAME=Linux -DCMAKE_SYSTEM_PROCESSOR=aarch64 \
-			-DCMAKE_C_COMPILER=$cc -DCMAKE_CXX_COMPILER=$cxxc -DECMXF_BUILD_TESTS=OFF >/dev/null
+			-DCMAKE_C_COMPILER=$cc -DCMAKE_CXX_COMPILER=$cxxc -DECMXF_BUILD_TESTS=OFF \
+			-DECMXF_BUILD_PYTHON=OFF >/dev/null
 	fi
 	cmake --build "$gbuild" --target ecmxf_static -j "$(nproc)"
 	lib="$gbuild/lib/libecmxf_static.a"
