@@ -247,7 +247,7 @@ static int ecmxf_queue_req(struct ecmxf_client *c, struct ecmxf_req *req)
 	if (ret)
 		goto out_unlock;
 	/* while the rings exist, the pump owns the FIFO exchange */
-	if (req->x.hdr.code == ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP && edev->rings) {
+	if (ecmxf_req_refused(edev, req)) {
 		ret = -EBUSY;
 		goto out_unlock;
 	}

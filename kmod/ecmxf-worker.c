@@ -653,13 +653,18 @@ bool ecmxf_claim_allows(struct ecmxf_dev *edev, const struct ecmxf_client *c,
 	return !c || !exclusive || !edev->claim || edev->claim == c;
 }
 
-/*
- * The worker takes @req: is it still allowed?  The claim may have been
- * taken, and the rings set up (the pump then owns the FIFO exchange),
- * since it was queued.  Lock held.
+/**
+ * ecmxf_req_refused() - does the claim or the rings refuse @req now?
+ * @edev: the device, lock held
+ * @req: a request of a file (a kernel client's is never refused)
+ *
+ * The one rule for both moments it is asked: when the file queues @req,
+ * and when the worker takes it, since the claim may have been taken and
+ * the rings set up (the pump then owns the FIFO exchange) in between.
+ *
+ * Return: true when @req must end with -EBUSY, unsent.
  */
-static bool ecmxf_req_refused(struct ecmxf_dev *edev,
-			      const struct ecmxf_req *req)
+bool ecmxf_req_refused(struct ecmxf_dev *edev, const struct ecmxf_req *req)
 {
 	if (req->kind == ECMXF_REQ_KERNEL)
 		return false;

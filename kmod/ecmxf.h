@@ -457,6 +457,7 @@ void ecmxf_get_snap(struct ecmxf_dev *edev, struct ecmxf_snap *snap);
 const char *ecmxf_check_name(unsigned int check);
 bool ecmxf_claim_allows(struct ecmxf_dev *edev, const struct ecmxf_client *c,
 			bool exclusive);
+bool ecmxf_req_refused(struct ecmxf_dev *edev, const struct ecmxf_req *req);
 
 /* ecmxf-chrdev.c */
 extern const struct file_operations ecmxf_fops;
