@@ -106,7 +106,8 @@ bool ecmxf_pump_answer_waits(struct ecmxf_dev *edev)
  *
  * While rings exist and the pump has not stopped, the protocol core picks
  * (ecmxf_pump_sched_pick()) from the last header, the timers, INT1 (the
- * FIFO threshold flags) and the commands in flight.  A FIFO command is
+ * FIFO threshold flags; at most one INT1-driven command per period) and
+ * the commands in flight.  A FIFO command is
  * the exchange INT1 asks for.  The choice is kept for ecmxf_pump_submit().
  *
  * Return: the rings with a reference for the command, or NULL.
@@ -119,6 +120,14 @@ struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now)
 	lockdep_assert_held(&edev->lock);
 	if (!r || r->stopped)
 		return NULL;
+	/*
+	 * INT1 while the schedule holds it (one INT1-driven command per
+	 * period): seen, and asking for nothing the timer will not do; left
+	 * set it would make the worker spin or refresh the header at the
+	 * rate a level INT1 that nobody clears fires again
+	 */
+	if (ecmxf_pump_sched_kick_held(&r->sched, now))
+		atomic_set(&edev->int1_flag, 0);
 	p->pick = ecmxf_pump_sched_pick(&r->sched, &p->flight, &edev->last,
 					now, atomic_read(&edev->int1_flag),
 					ecmxf_engine_sent(&edev->e,

@@ -100,8 +100,11 @@ static bool ecmxf_pump_fifo_on(const struct ecmxf_rsp_hdr *h)
  * Nothing while the chip's FIFOs are off.  The FIFO command may go when
  * none is in flight, or, with %ECMXF_PUMP_S_FIFO_NEXT, when the one in
  * flight has gone out and the older slot is free (the new one fetches its
- * answer); it is due when its timer expired, @kick, or the last answer
- * left work.  The working counter read is due when it is not in flight
+ * answer); it is due when its timer expired, the last answer left work,
+ * or @kick unless ecmxf_pump_sched_kick_held(): INT1 brings at most one
+ * FIFO command forward per timer period, so a level INT1 held by a source
+ * the pump does not clear (a frame, WKC or encoder flag) at most doubles
+ * the pump's rate instead of running it at the link's.  The working counter read is due when it is not in flight
  * and its timer expired.  The FIFO command goes first: it carries the
  * process data, and the read rides behind it.  While one is in flight,
  * the read goes next: it rides in the exchange that fetches its answer,
@@ -123,12 +126,30 @@ int ecmxf_pump_sched_pick(const struct ecmxf_pump_sched *s,
 		return ECMXF_PUMP_PICK_NONE;
 	fifo = !newest || ((s->flags & ECMXF_PUMP_S_FIFO_NEXT) && !older &&
 			   newest_sent);
+	kick = kick && !ecmxf_pump_sched_kick_held(s, now);
 	fifo = fifo && (s->again || now >= s->next_tick_ns || kick);
 	wkc = !f->busy[ECMXF_PUMP_SLOT_WKC] && s->wkc_ns &&
 	      now >= s->next_wkc_ns;
 	if (wkc && (!fifo || newest))
 		return ECMXF_PUMP_PICK_WKC;
 	return fifo ? ECMXF_PUMP_PICK_FIFO : ECMXF_PUMP_PICK_NONE;
+}
+
+/**
+ * ecmxf_pump_sched_kick_held() - does the schedule ignore INT1 now?
+ * @s: the schedule
+ * @now: the time
+ *
+ * The last FIFO command was brought forward by INT1, its timer has not
+ * expired since and its answer left no work: INT1 cannot bring the next
+ * one forward.  The caller may consume the INT1 it saw (it asks for
+ * nothing the timer-driven command will not do).
+ *
+ * Return: true while INT1 is held.
+ */
+bool ecmxf_pump_sched_kick_held(const struct ecmxf_pump_sched *s, u64 now)
+{
+	return s->kicked && !s->again && now < s->next_tick_ns;
 }
 
 /**
@@ -163,6 +184,8 @@ u64 ecmxf_pump_sched_deadline(const struct ecmxf_pump_sched *s,
  * one in flight is then the older).  Its plan and skip count are cleared
  * for ecmxf_pump_sched_plan(); with %ECMXF_PUMP_S_FIFO_NEXT its frames
  * leave the ring when it is sent (the answer waits for the next command).
+ * A command before its timer with no work left was brought forward by
+ * INT1 (&ecmxf_pump_sched.kicked).
  *
  * Return: the slot, 0 or 1.
  */
@@ -177,6 +200,7 @@ unsigned int ecmxf_pump_sched_fifo(struct ecmxf_pump_sched *s,
 	memset(&f->plan[i], 0, sizeof(f->plan[i]));
 	f->skipped[i] = 0;
 	f->released[i] = s->flags & ECMXF_PUMP_S_FIFO_NEXT;
+	s->kicked = !s->again && now < s->next_tick_ns;
 	s->again = false;
 	s->next_tick_ns = now + s->poll_ns;
 	return i;

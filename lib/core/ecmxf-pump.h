@@ -127,6 +127,9 @@ struct ecmxf_pump_result {
  * @next_wkc_ns: the next working counter read
  * @again: the last answer left work (frames queued either way): the next
  *	FIFO command is due at once
+ * @kicked: the last FIFO command was brought forward by INT1 (before its
+ *	timer, with no work left): INT1 brings no other one forward until a
+ *	timer-driven or work-driven one went (ecmxf_pump_sched_kick_held())
  */
 struct ecmxf_pump_sched {
 	unsigned int flags;
@@ -135,6 +138,7 @@ struct ecmxf_pump_sched {
 	u64 next_tick_ns;
 	u64 next_wkc_ns;
 	bool again;
+	bool kicked;
 };
 
 /**
@@ -267,6 +271,7 @@ int ecmxf_pump_sched_pick(const struct ecmxf_pump_sched *s,
 			  const struct ecmxf_pump_flight *f,
 			  const struct ecmxf_rsp_hdr *h, u64 now, bool kick,
 			  bool newest_sent);
+bool ecmxf_pump_sched_kick_held(const struct ecmxf_pump_sched *s, u64 now);
 u64 ecmxf_pump_sched_deadline(const struct ecmxf_pump_sched *s,
 			      const struct ecmxf_rsp_hdr *h);
 unsigned int ecmxf_pump_sched_fifo(struct ecmxf_pump_sched *s,

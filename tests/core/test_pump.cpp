@@ -547,6 +547,66 @@ TEST_CASE("pump schedule: which command goes next", "[pump][sched]")
 	}
 }
 
+// A level INT1 that a source the pump does not clear holds asserted fires
+// again as soon as the worker unmasks it after each FIFO command's clear;
+// were every INT1 a reason to send, the pump would run at the link's rate.
+// The rule (worked out by hand, period 1000): INT1 brings one command
+// forward; the next INT1 before the timer is held; the timer's command (or
+// one that work left) frees INT1 again.
+TEST_CASE("pump schedule: INT1 brings at most one FIFO command forward per period", "[pump][sched]")
+{
+	ecmxf_pump_flight f{};
+	const ecmxf_rsp_hdr on = answer(1, 0, 0);
+	ecmxf_pump_sched s = sched(0, 1000, 0);
+
+	// t=0: the timer's first command
+	REQUIRE(ecmxf_pump_sched_pick(&s, &f, &on, 0, true, false) == ECMXF_PUMP_PICK_FIFO);
+	(void)ecmxf_pump_sched_fifo(&s, &f, 0);
+	CHECK(s.next_tick_ns == 1000);
+	CHECK_FALSE(s.kicked);
+	CHECK_FALSE(ecmxf_pump_sched_kick_held(&s, 10));
+	// t=100: INT1 brings the next one forward
+	REQUIRE(ecmxf_pump_sched_pick(&s, &f, &on, 100, true, false) == ECMXF_PUMP_PICK_FIFO);
+	(void)ecmxf_pump_sched_fifo(&s, &f, 100);
+	CHECK(s.kicked);
+	CHECK(s.next_tick_ns == 1100);
+	// t=150..1099: INT1 again and again: held, nothing is due
+	for (u64 t : { 150u, 500u, 1099u }) {
+		CHECK(ecmxf_pump_sched_kick_held(&s, t));
+		CHECK(ecmxf_pump_sched_pick(&s, &f, &on, t, true, false) == ECMXF_PUMP_PICK_NONE);
+	}
+	// work left by an answer is no INT1: due at once, and frees INT1
+	s.again = true;
+	CHECK_FALSE(ecmxf_pump_sched_kick_held(&s, 600));
+	REQUIRE(ecmxf_pump_sched_pick(&s, &f, &on, 600, false, false) == ECMXF_PUMP_PICK_FIFO);
+	(void)ecmxf_pump_sched_fifo(&s, &f, 600);
+	CHECK_FALSE(s.kicked);
+	CHECK(s.next_tick_ns == 1600);
+	// INT1 brings one forward again (t=700), then is held until the timer
+	REQUIRE(ecmxf_pump_sched_pick(&s, &f, &on, 700, true, false) == ECMXF_PUMP_PICK_FIFO);
+	(void)ecmxf_pump_sched_fifo(&s, &f, 700);
+	CHECK(s.kicked);
+	CHECK(ecmxf_pump_sched_pick(&s, &f, &on, 1699, true, false) == ECMXF_PUMP_PICK_NONE);
+	// t=1700: the timer; its command frees INT1
+	REQUIRE(ecmxf_pump_sched_pick(&s, &f, &on, 1700, true, false) == ECMXF_PUMP_PICK_FIFO);
+	CHECK_FALSE(ecmxf_pump_sched_kick_held(&s, 1700));
+	(void)ecmxf_pump_sched_fifo(&s, &f, 1700);
+	CHECK_FALSE(s.kicked);
+	REQUIRE(ecmxf_pump_sched_pick(&s, &f, &on, 1701, true, false) == ECMXF_PUMP_PICK_FIFO);
+
+	// over 10 periods of INT1 at every 10 ns: at most 2 commands a period
+	ecmxf_pump_sched s2 = sched(0, 1000, 0);
+	unsigned sent = 0;
+	for (u64 t = 0; t < 10000; t += 10) {
+		if (ecmxf_pump_sched_pick(&s2, &f, &on, t, true, false) == ECMXF_PUMP_PICK_FIFO) {
+			(void)ecmxf_pump_sched_fifo(&s2, &f, t);
+			sent++;
+		}
+	}
+	CHECK(sent <= 20);
+	CHECK(sent >= 10);
+}
+
 TEST_CASE("pump schedule: a pump cycle with FIFO_NEXT and a read every 500 ns, step by step", "[pump][sched]")
 {
 	// poll 1000 ns, read period 500 ns; times in ns

@@ -8,6 +8,7 @@
 //   ecmxf-guest-rings --network                  print the network file
 //   ecmxf-guest-rings run DEV HZ CYCLES K        the cyclic run (below)
 //   ecmxf-guest-rings run-lockstep DEV HZ CYCLES the strict run (below)
+//   ecmxf-guest-rings int1-storm DEV HZ CYCLES   a level INT1 held (below)
 //
 // run-lockstep: the bridge runs a lock-step bus (bridge --lockstep: a bus
 // cycle only when the chip's RxFIFO has its frame and the TxFIFO room, as
@@ -44,8 +45,20 @@
 //    overflows the input ring (in.dropped = in_ring_overruns = what the
 //    Cyclic reports); producing outputs without waiting fills the output
 //    ring (refused frames reported).
+//
+// int1-storm: the rings running while a level INT1 is held asserted by a
+// source the pump never clears (the EtherCAT-frame flag, enabled by
+// ECAT_INT_SET_ENABLE and never cleared): the pump's commands carry the
+// FIFO flags' clear bits, after which the worker unmasks INT1 at once, and
+// the line fires again at once. The pump may let one INT1 bring a FIFO
+// command forward per period (lib/core ecmxf_pump_sched_kick_held()), so
+// its commands stay within 3 per period (timer, one INT1, the WKC read
+// every 10th and work left) and the exchanges within twice that plus one
+// header refresh per 10 ms hold-off; at the link's rate they would be
+// tens per period. The bridge runs at the guest's time (no scaling).
 // Exit status 0 when every check holds.
 
+#include <ecmxf/chip/chip.hpp>
 #include <ecmxf/cia402/cia402_axis.hpp>
 #include <ecmxf/pdo/cyclic.hpp>
 #include <ecmxf/device.hpp>
@@ -993,6 +1006,74 @@ int runLockstep(const std::string &path, unsigned hz, unsigned cycles, bool fifo
 	return gFailures ? 1 : 0;
 }
 
+/// int1-storm (above)
+int int1Storm(const std::string &path, unsigned hz, unsigned cycles, bool fifoNext)
+{
+	using namespace std::chrono;
+	const auto bus = nanoseconds(1'000'000'000LL / hz);
+	auto dev = ecmxf::Device::open(path);
+	auto *kt = dynamic_cast<ecmxf::KernelLink *>(&dev->link());
+	if (!kt) {
+		ok(false, "the device is opened by the kernel transport");
+		return 1;
+	}
+	dev->setMinimumTimeout(seconds(2));
+	ecmxf::Master master(*dev);
+	ecmxf::MasterConfig mc;
+	mc.init.dc.sync0Ns = static_cast<std::uint32_t>(bus.count());
+	mc.pdoAssignments = { ecmxf::est584MotionPdos(0), ecmxf::est584MotionPdos(1) };
+	master.bringUp(mc);
+	ecmxf::ProcessImage image(master.pdos());
+
+	// the frame flag held: set every bus cycle, cleared by nobody
+	ecmxf::InterruptConfig ic;
+	ic.sources = ecmxf::irq::kEcatPacket;
+	dev->chip().setInterruptConfig(ic);
+
+	ecmxf::CyclicConfig cc;
+	cc.period = bus;
+	cc.busCycle = 0ns;
+	cc.rxFill = 4;
+	cc.wkcEvery = 10;
+	cc.fifoAnswerNextCycle = fifoNext;
+	ecmxf::Cyclic cyc(*dev, image, cc);
+	ok(cyc.usesKernelRings(), "Cyclic over /dev/ecmxf0 uses the kernel's PDO rings");
+	cyc.start();
+	for (unsigned i = 0; i < 50; i++) {
+		(void)cyc.cycle();
+		cyc.waitNextCycle();
+	}
+	const auto k0 = kt->counters();
+	const auto t0 = steady_clock::now();
+	std::uint64_t commands = 0;
+	for (unsigned i = 0; i < cycles; i++) {
+		commands += cyc.cycle().commands;
+		cyc.waitNextCycle();
+	}
+	const auto k1 = kt->counters();
+	const auto us = duration_cast<microseconds>(steady_clock::now() - t0).count();
+	cyc.stop();
+	ic.sources = 0;
+	dev->chip().setInterruptConfig(ic);
+
+	const std::uint64_t periods = static_cast<std::uint64_t>(us) * hz / 1'000'000 + 1;
+	const std::uint64_t irqs = k1.int1Irqs - k0.int1Irqs;
+	const std::uint64_t exchanges = k1.exchanges - k0.exchanges;
+	const std::uint64_t holdoffs = static_cast<std::uint64_t>(us) / 10'000 + 1;
+	std::printf("guest-test: info int1-storm at %u Hz%s: %u cycles in %lld us (%llu periods): %llu pump commands, "
+		    "%llu exchanges, %llu INT1 interrupts\n",
+		    hz, fifoNext ? " (fifo-next)" : "", cycles, static_cast<long long>(us),
+		    static_cast<unsigned long long>(periods), static_cast<unsigned long long>(commands),
+		    static_cast<unsigned long long>(exchanges), static_cast<unsigned long long>(irqs));
+	ok(irqs > 1, "the level INT1 fired during the run (the frame flag held it asserted)");
+	ok(commands <= 3 * periods + 20, "pump commands within 3 per period (no INT1 storm): " +
+						 std::to_string(commands) + " in " + std::to_string(periods) +
+						 " periods");
+	ok(exchanges <= 6 * periods + 2 * holdoffs + 40,
+	   "exchanges within 6 per period + 2 per 10 ms hold-off (no INT1 storm): " + std::to_string(exchanges));
+	return gFailures ? 1 : 0;
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -1017,8 +1098,15 @@ int main(int argc, char **argv)
 			std::printf("guest-test: rings (lock-step): %d failure(s)\n", gFailures);
 			return rc;
 		}
+		if ((argc == 5 || (argc == 6 && std::string_view(argv[5]) == "fifo-next")) &&
+		    std::string_view(argv[1]) == "int1-storm") {
+			const int rc = int1Storm(argv[2], static_cast<unsigned>(std::atoi(argv[3])),
+						 static_cast<unsigned>(std::atoi(argv[4])), argc == 6);
+			std::printf("guest-test: rings (int1-storm): %d failure(s)\n", gFailures);
+			return rc;
+		}
 		std::fprintf(stderr, "usage: ecmxf-guest-rings --network | run DEV HZ CYCLES SCALE [fifo-next] | "
-				     "run-lockstep DEV HZ CYCLES [fifo-next]\n");
+				     "run-lockstep DEV HZ CYCLES [fifo-next] | int1-storm DEV HZ CYCLES [fifo-next]\n");
 		return 2;
 	} catch (const std::exception &e) {
 		std::printf("guest-test: FAIL exception: %s\n", e.what());
