@@ -7,10 +7,13 @@
  * `ecmxf-util monitor` applies to the headers it polls on other
  * transports) and adds what it does itself: async commands that failed,
  * WARM_RESET and link resets, the device coming and going.  The events
- * wait in a small per-device queue and are multicast on the "events" group
- * by the worker when it holds no lock (ecmxf_nl_flush()), with allocations
- * that do not sleep: never from an IRQ, never under a spinlock or
- * &ecmxf_dev.lock, never waiting in memory reclaim.
+ * wait in a small per-device queue; when the worker holds no lock
+ * (ecmxf_nl_flush()) it applies the rate limit, numbers them and copies
+ * them into the sender's ring (&struct ecmxf_nl_out), and a work item on
+ * the unbound workqueue builds the messages and multicasts them on the
+ * "events" group (ecmxf_nl_send_work()).  The real-time worker neither
+ * allocates an skb nor enters the netlink core: a slow listener, memory
+ * reclaim or a socket lock delays the events, never the bus.
  *
  * A state change down or into ERROR first runs an "AL status query":
  * ECAT_SLV_CNT_GET, then for every slave ECAT_STATE_GET and, for the
@@ -38,6 +41,7 @@
 #include <linux/device.h>
 #include <linux/ktime.h>
 #include <linux/math64.h>
+#include <linux/mm.h>
 #include <linux/module.h>
 #include <linux/moduleparam.h>
 #include <linux/slab.h>
@@ -150,9 +154,10 @@ static int ecmxf_nl_put_dev(struct sk_buff *skb, struct ecmxf_dev *edev)
 	return 0;
 }
 
-static int ecmxf_nl_put_slaves(struct sk_buff *skb, struct ecmxf_dev *edev,
-			       const struct ecmxf_nl_ev *ev)
+static int ecmxf_nl_put_slaves(struct sk_buff *skb,
+			       const struct ecmxf_nl_msg *m)
 {
+	const struct ecmxf_nl_ev *ev = &m->ev;
 	const struct ecmxf_nl_slave *first = NULL;
 	struct nlattr *all, *one;
 	unsigned int i;
@@ -165,7 +170,7 @@ static int ecmxf_nl_put_slaves(struct sk_buff *skb, struct ecmxf_dev *edev,
 	if (!all)
 		return -EMSGSIZE;
 	for (i = 0; i < ev->n_slaves; i++) {
-		const struct ecmxf_nl_slave *s = &edev->nl.slaves[i];
+		const struct ecmxf_nl_slave *s = &m->slaves[i];
 
 		one = nla_nest_start(skb, ECMXF_NL_A_SLAVE);
 		if (!one ||
@@ -186,9 +191,10 @@ static int ecmxf_nl_put_slaves(struct sk_buff *skb, struct ecmxf_dev *edev,
 }
 
 /* The attributes that depend on the event type. */
-static int ecmxf_nl_put_event(struct sk_buff *skb, struct ecmxf_dev *edev,
-			      const struct ecmxf_nl_ev *ev)
+static int ecmxf_nl_put_event(struct sk_buff *skb,
+			      const struct ecmxf_nl_msg *m)
 {
+	const struct ecmxf_nl_ev *ev = &m->ev;
 	const struct ecmxf_det_event *d = &ev->d;
 	int bad = 0;
 
@@ -218,7 +224,7 @@ static int ecmxf_nl_put_event(struct sk_buff *skb, struct ecmxf_dev *edev,
 	case ECMXF_NL_EV_STATE:
 		bad = nla_put_u32(skb, ECMXF_NL_A_OLD, d->old_val) ||
 		      nla_put_u32(skb, ECMXF_NL_A_NEW, d->new_val) ||
-		      (ev->slaves && ecmxf_nl_put_slaves(skb, edev, ev));
+		      (ev->slaves && ecmxf_nl_put_slaves(skb, m));
 		break;
 	case ECMXF_NL_EV_ERROR_STATUS:
 	case ECMXF_NL_EV_ECM_STATUS:
@@ -260,21 +266,19 @@ static int ecmxf_nl_put_event(struct sk_buff *skb, struct ecmxf_dev *edev,
 }
 
 /*
- * Multicast one event; 0, or why not (-ESRCH: nobody listens).  The
- * worker runs SCHED_FIFO and drives a bus: it must not wait in memory
- * reclaim for an event, so the allocations do not sleep (GFP_NOWAIT); a
- * failure is counted like any other.
+ * Multicast one event; 0, or why not (-ESRCH: nobody listens).  Called by
+ * the sender (ecmxf_nl_send_work()) in process context: the allocation
+ * may sleep.
  */
-static int ecmxf_nl_send(struct ecmxf_dev *edev, const struct ecmxf_nl_ev *ev,
-			 u32 seq, u32 suppressed)
+static int ecmxf_nl_send(struct ecmxf_dev *edev, const struct ecmxf_nl_msg *m)
 {
-	const gfp_t gfp = GFP_NOWAIT | __GFP_NOWARN;
+	const struct ecmxf_nl_ev *ev = &m->ev;
 	struct sk_buff *skb;
 	void *hdr;
-	int ret;
 
 	/* a state event with its slaves needs up to about 2 KiB */
-	skb = genlmsg_new(ev->slaves ? NLMSG_GOODSIZE : ECMXF_NL_EVENT_SIZE, gfp);
+	skb = genlmsg_new(ev->slaves ? NLMSG_GOODSIZE : ECMXF_NL_EVENT_SIZE,
+			  GFP_KERNEL);
 	if (!skb)
 		return -ENOMEM;
 	hdr = genlmsg_put(skb, 0, 0, &ecmxf_nl_family, 0, ECMXF_NL_CMD_EVENT);
@@ -284,18 +288,87 @@ static int ecmxf_nl_send(struct ecmxf_dev *edev, const struct ecmxf_nl_ev *ev,
 	    nla_put_u32(skb, ECMXF_NL_A_EVENT_TYPE, ev->d.type) ||
 	    nla_put_u64_64bit(skb, ECMXF_NL_A_TIMESTAMP_NS, ev->d.time_ns,
 			      ECMXF_NL_A_PAD) ||
-	    nla_put_u32(skb, ECMXF_NL_A_SEQ, seq) ||
-	    (suppressed &&
-	     nla_put_u32(skb, ECMXF_NL_A_SUPPRESSED, suppressed)) ||
-	    ecmxf_nl_put_event(skb, edev, ev))
+	    nla_put_u32(skb, ECMXF_NL_A_SEQ, m->seq) ||
+	    (m->suppressed &&
+	     nla_put_u32(skb, ECMXF_NL_A_SUPPRESSED, m->suppressed)) ||
+	    ecmxf_nl_put_event(skb, m))
 		goto too_big;
 	genlmsg_end(skb, hdr);
-	ret = genlmsg_multicast(&ecmxf_nl_family, skb, 0, 0, gfp);
-	return ret;
+	return genlmsg_multicast(&ecmxf_nl_family, skb, 0, 0, GFP_KERNEL);
 
 too_big:
 	nlmsg_free(skb);
 	return -EMSGSIZE;
+}
+
+/**
+ * ecmxf_nl_send_work() - the sender: multicast what the worker handed over
+ * @work: &ecmxf_nl_out.work
+ *
+ * Oldest first; a slot is given back to the worker once its message went
+ * (or could not).  No listener is not an error.
+ */
+static void ecmxf_nl_send_work(struct work_struct *work)
+{
+	struct ecmxf_nl_out *out = container_of(work, struct ecmxf_nl_out,
+						work);
+	struct ecmxf_dev *edev = out->edev;
+	unsigned int head;
+	int ret;
+
+	for (;;) {
+		spin_lock(&out->lock);
+		head = out->head;
+		if (!out->count) {
+			spin_unlock(&out->lock);
+			return;
+		}
+		spin_unlock(&out->lock);
+		ret = ecmxf_nl_listening() ? ecmxf_nl_send(edev, &out->msg[head])
+					   : -ESRCH;
+		if (ret && ret != -ESRCH)
+			atomic64_inc(&edev->nl.events_failed);
+		spin_lock(&out->lock);
+		out->head = (head + 1) % ECMXF_NL_QUEUE;
+		out->count--;
+		spin_unlock(&out->lock);
+	}
+}
+
+/*
+ * Hand one event to the sender: copied into a free slot of its ring (with
+ * the query's slaves for a state event that has them); 0, or -ENOSPC when
+ * the ring is full (or was never allocated).
+ */
+static int ecmxf_nl_hand_over(struct ecmxf_dev *edev,
+			      const struct ecmxf_nl_ev *ev, u32 seq,
+			      u32 suppressed)
+{
+	struct ecmxf_nl_out *out = edev->nl.out;
+	struct ecmxf_nl_msg *m;
+	unsigned int slot;
+
+	if (!out)
+		return -ENOSPC;
+	spin_lock(&out->lock);
+	slot = (out->head + out->count) % ECMXF_NL_QUEUE;
+	if (out->count >= ECMXF_NL_QUEUE) {
+		spin_unlock(&out->lock);
+		return -ENOSPC;
+	}
+	spin_unlock(&out->lock);
+	/* the slot is free: only the worker writes free slots */
+	m = &out->msg[slot];
+	m->ev = *ev;
+	m->seq = seq;
+	m->suppressed = suppressed;
+	if (ev->slaves)
+		memcpy(m->slaves, edev->nl.slaves,
+		       ev->n_slaves * sizeof(m->slaves[0]));
+	spin_lock(&out->lock);
+	out->count++;
+	spin_unlock(&out->lock);
+	return 0;
 }
 
 /* May an event of @type go now (token bucket)?  Device events always may. */
@@ -391,23 +464,22 @@ static void ecmxf_nl_losses(struct ecmxf_dev *edev, u64 now)
 }
 
 /**
- * ecmxf_nl_flush() - send the events that wait in the device's queue
+ * ecmxf_nl_flush() - hand the events that wait in the device's queue over
  * @edev: the device
  *
- * Worker only, with no lock held: it allocates (GFP_NOWAIT) and
- * multicasts.  No listener is not an error.
+ * Worker only, with no lock held: the rate limit, the numbers, then the
+ * sender's ring (ecmxf_nl_hand_over()) and a wake-up of the sender; a
+ * full ring counts the event as failed.  Nothing is allocated or sent
+ * here.
  */
 static void ecmxf_nl_flush(struct ecmxf_dev *edev)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
 	u64 now = ktime_get_ns();
-	bool listening;
+	bool handed = false;
 	unsigned int i;
-	int ret;
 
 	ecmxf_nl_losses(edev, now);
-	listening = nl->queued && ecmxf_nl_listening();
-
 	for (i = 0; i < nl->queued; i++) {
 		const struct ecmxf_nl_ev *ev = &nl->queue[i];
 		struct ecmxf_nl_rate *r = &nl->rate[ev->d.type];
@@ -420,16 +492,15 @@ static void ecmxf_nl_flush(struct ecmxf_dev *edev)
 			atomic64_inc(&nl->events_suppressed);
 			continue;
 		}
-		if (!listening) {
-			r->suppressed = 0;
-			continue;
-		}
-		ret = ecmxf_nl_send(edev, ev, seq, r->suppressed);
-		r->suppressed = 0;
-		if (ret && ret != -ESRCH)
+		if (ecmxf_nl_hand_over(edev, ev, seq, r->suppressed))
 			atomic64_inc(&nl->events_failed);
+		else
+			handed = true;
+		r->suppressed = 0;
 	}
 	nl->queued = 0;
+	if (handed)
+		queue_work(system_unbound_wq, &nl->out->work);
 }
 
 static void ecmxf_nl_queue(struct ecmxf_dev *edev, const struct ecmxf_nl_ev *ev)
@@ -859,6 +930,12 @@ static void ecmxf_nl_start(struct ecmxf_dev *edev)
 		nl->query = q;
 		mutex_unlock(&edev->lock);
 	}
+	nl->out = kvzalloc(sizeof(*nl->out), GFP_KERNEL);
+	if (nl->out) {
+		nl->out->edev = edev;
+		spin_lock_init(&nl->out->lock);
+		INIT_WORK(&nl->out->work, ecmxf_nl_send_work);
+	}
 	ecmxf_det_init(&nl->det, NULL);
 	memset(&ev, 0, sizeof(ev));
 	if (h) {
@@ -876,6 +953,9 @@ static void ecmxf_nl_start(struct ecmxf_dev *edev)
 	ev.action = ECMXF_NL_DEV_ADDED;
 	ecmxf_nl_queue(edev, &ev);
 	ecmxf_nl_flush(edev);
+	/* sent before probe goes on to create /dev/ecmxfN */
+	if (nl->out)
+		flush_work(&nl->out->work);
 }
 
 /**
@@ -918,6 +998,12 @@ static void ecmxf_nl_stop(struct ecmxf_dev *edev)
 	ecmxf_nl_queue(edev, &ev);
 	ecmxf_nl_flush(edev);
 	nl->active = false;
+	/* every event sent before the device can go */
+	if (nl->out) {
+		flush_work(&nl->out->work);
+		kvfree(nl->out);
+		nl->out = NULL;
+	}
 }
 
 /* what the link worker tells this unit (ecmxf_worker_watch()) */

@@ -13,7 +13,9 @@
 #define ECMXF_NETLINK_H
 
 #include <linux/atomic.h>
+#include <linux/spinlock.h>
 #include <linux/types.h>
+#include <linux/workqueue.h>
 
 #include "ecmxf-events.h"
 
@@ -72,6 +74,42 @@ struct ecmxf_nl_slave {
 };
 
 /**
+ * struct ecmxf_nl_msg - one event handed to the sender, self-contained
+ * @ev: the event
+ * @seq: its number
+ * @suppressed: events of its type not sent before it
+ * @slaves: %ECMXF_NL_EV_STATE with @ev.slaves: the first @ev.n_slaves
+ *	slaves of the query, copied when the event was handed over
+ */
+struct ecmxf_nl_msg {
+	struct ecmxf_nl_ev ev;
+	u32 seq;
+	u32 suppressed;
+	struct ecmxf_nl_slave slaves[ECMXF_NL_MAX_SLAVES];
+};
+
+/**
+ * struct ecmxf_nl_out - the events on their way from the worker to the
+ *	sender (a ring of %ECMXF_NL_QUEUE messages)
+ * @edev: the device
+ * @lock: protects @head and @count (held for index updates only; the
+ *	worker fills a free slot and the sender reads a taken one outside it)
+ * @head: the oldest message
+ * @count: messages in the ring
+ * @work: the sender (ecmxf_nl_send_work()): allocates and multicasts in
+ *	process context at normal priority, never in the real-time worker
+ * @msg: the ring
+ */
+struct ecmxf_nl_out {
+	struct ecmxf_dev *edev;
+	spinlock_t lock;	/* @head and @count */
+	unsigned int head;
+	unsigned int count;
+	struct work_struct work;
+	struct ecmxf_nl_msg msg[ECMXF_NL_QUEUE];
+};
+
+/**
  * struct ecmxf_nl_rate - rate limit of one event type (a token bucket)
  * @tokens: events that may be sent now
  * @last_ns: when the bucket was last refilled
@@ -103,12 +141,15 @@ struct ecmxf_nl_rate {
  * @loss_seen: the cyclic path's counters as the last %ECMXF_NL_EV_PDO_LOSS
  *	events reported them (&enum ecmxf_nl_loss order)
  * @next_loss_ns: when the worker looks at those counters again
+ * @out: the sender's ring; allocated while the worker runs, NULL before
+ *	(or when there was no memory: the events are then counted as failed)
  * @events: events detected (atomic: read by the counters command)
  * @events_suppressed: events not sent because of the rate limit
  * @events_failed: events that could not be sent
  *
- * Everything but the three counters belongs to the worker (and to probe
- * before the worker runs); the counters are atomics.  The query's request
+ * Everything but the three counters and @out's ring belongs to the worker
+ * (and to probe before the worker runs); the counters are atomics, the
+ * ring is shared with the sender under its lock (&struct ecmxf_nl_out).  The query's request
  * is queued and finished under &ecmxf_dev.lock, as every request.
  */
 struct ecmxf_nl_dev {
@@ -128,6 +169,7 @@ struct ecmxf_nl_dev {
 	struct ecmxf_nl_slave slaves[ECMXF_NL_MAX_SLAVES];
 	u64 loss_seen[ECMXF_NL_LOSS_KINDS];
 	u64 next_loss_ns;
+	struct ecmxf_nl_out *out;
 	atomic64_t events;
 	atomic64_t events_suppressed;
 	atomic64_t events_failed;

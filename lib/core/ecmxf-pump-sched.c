@@ -104,11 +104,12 @@ static bool ecmxf_pump_fifo_on(const struct ecmxf_rsp_hdr *h)
  * or @kick unless ecmxf_pump_sched_kick_held(): INT1 brings at most one
  * FIFO command forward per timer period, so a level INT1 held by a source
  * the pump does not clear (a frame, WKC or encoder flag) at most doubles
- * the pump's rate instead of running it at the link's.  The working counter read is due when it is not in flight
- * and its timer expired.  The FIFO command goes first: it carries the
- * process data, and the read rides behind it.  While one is in flight,
- * the read goes next: it rides in the exchange that fetches its answer,
- * and a busy pump would otherwise never read.
+ * the pump's rate instead of running it at the link's.  The working
+ * counter read is due when it is not in flight and its timer expired.
+ * The FIFO command goes first: it carries the process data, and the read
+ * rides behind it.  While one is in flight, the read goes next: it rides
+ * in the exchange that fetches its answer, and a busy pump would
+ * otherwise never read.
  *
  * Return: %ECMXF_PUMP_PICK_NONE, %ECMXF_PUMP_PICK_FIFO or
  * %ECMXF_PUMP_PICK_WKC.

@@ -42,6 +42,24 @@ for c in /proc/[0-9]*/comm; do
 	pump=$c
 done
 [ -n "$pump" ] || fail "no message pump thread $ctlr"
+# driver.rst "Threads and their priorities": by default what the worker
+# waits for (the message pump, ecmxf's IRQ threads where the handlers are
+# threaded, as on PREEMPT_RT) runs at least at the worker's priority
+rt_prio() { cut -d' ' -f18 "$1/stat" | sed 's/^-//' | awk '{ print $1 - 1 }'; }
+wprio=""
+for c in /proc/[0-9]*/comm; do
+	[ "$(cat "$c" 2>/dev/null)" = ecmxf0 ] && wprio=$(rt_prio "${c%/comm}")
+done
+[ -n "$wprio" ] || fail "no ecmxf0 worker thread"
+nirq=0
+for c in /proc/[0-9]*/comm; do
+	name=$(cat "$c" 2>/dev/null) || continue
+	# a comm is cut at 15 characters: irq/NN-ecmxf-int0 -> irq/NN-ecmxf-in
+	case "$name" in "$ctlr") ;; irq/*-ecmxf-i*) nirq=$((nirq + 1)) ;; *) continue ;; esac
+	p=$(rt_prio "${c%/comm}")
+	[ "$p" -ge "$wprio" ] || fail "$name runs at real-time priority $p, below the worker's $wprio"
+done
+echo "guest-test: ok   the message pump $ctlr and $nirq ecmxf IRQ thread(s) at or above the worker's priority $wprio"
 
 vspi_reload int1=irq-edge
 ecmxf_load
