@@ -251,7 +251,7 @@ static int ecmxf_queue_req(struct ecmxf_client *c, struct ecmxf_req *req)
 		ret = -EBUSY;
 		goto out_unlock;
 	}
-	if (req->x.tx_len > edev->data_size) {
+	if (req->x.tx_len > edev->chip.data_size) {
 		ret = -EINVAL;
 		goto out_unlock;
 	}
@@ -463,31 +463,71 @@ static long ecmxf_ioc_devinfo(struct ecmxf_client *c, void __user *argp)
 	memset(&d, 0, sizeof(d));
 	d.uapi_version = ECMXF_UAPI_VERSION;
 	mutex_lock(&edev->lock);
-	if (edev->int0_irq)
+	if (edev->irq.int0_irq)
 		d.flags |= ECMXF_DEVINFO_F_INT0;
-	if (edev->int1_irq)
+	if (edev->irq.int1_irq)
 		d.flags |= ECMXF_DEVINFO_F_INT1;
-	if (edev->fw_valid)
+	if (edev->chip.fw_valid)
 		d.flags |= ECMXF_DEVINFO_F_FW_VERSION;
-	if (edev->claim)
+	if (edev->claim.holder)
 		d.flags |= ECMXF_DEVINFO_F_CLAIMED;
-	if (edev->claim == c)
+	if (edev->claim.holder == c)
 		d.flags |= ECMXF_DEVINFO_F_CLAIM_MINE;
-	if (edev->rings)
+	if (edev->pdo.rings)
 		d.flags |= ECMXF_DEVINFO_F_RINGS;
 	d.flags |= ECMXF_DEVINFO_F_CLAIM_EXCLUSIVE;
-	d.data_size = edev->data_size;
-	d.check_type = edev->check;
-	d.fw_version = edev->fw_version;
-	memcpy(d.fw_info, edev->fw_info, sizeof(d.fw_info));
-	d.slave_count = edev->slave_count;
+	d.data_size = edev->chip.data_size;
+	d.check_type = edev->chip.check;
+	d.fw_version = edev->chip.fw_version;
+	memcpy(d.fw_info, edev->chip.fw_info, sizeof(d.fw_info));
+	d.slave_count = edev->chip.slave_count;
 	d.max_open = ecmxf_param_max_open;
 	d.open_count = edev->open_count;
-	d.claim_pid = edev->claim_pid ? pid_vnr(edev->claim_pid) : 0;
+	d.claim_pid = edev->claim.pid ? pid_vnr(edev->claim.pid) : 0;
 	d.queue_depth = ecmxf_param_queue_depth;
 	d.spi_speed_hz = edev->spi ? edev->spi->max_speed_hz : 0;
 	mutex_unlock(&edev->lock);
 	return copy_to_user(argp, &d, sizeof(d)) ? -EFAULT : 0;
+}
+
+/*
+ * The claim's thread group becomes @pid (a reference the device takes
+ * over, or NULL); &ecmxf_dev.lock held.  Readers that do not take that
+ * lock (sysfs) see the old or the new one whole
+ * (ecmxf_claim_pid_vnr()).
+ */
+static void ecmxf_claim_pid_set(struct ecmxf_dev *edev, struct pid *pid)
+{
+	struct pid *old;
+
+	lockdep_assert_held(&edev->lock);
+	spin_lock(&edev->claim.pid_lock);
+	old = edev->claim.pid;
+	edev->claim.pid = pid;
+	spin_unlock(&edev->claim.pid_lock);
+	put_pid(old);
+}
+
+/**
+ * ecmxf_claim_pid_vnr() - the claim holder's process, without &ecmxf_dev.lock
+ * @edev: the device
+ *
+ * For readers that any local user may run (sysfs): they take the claim's
+ * own spinlock, never the mutex the real-time worker takes.
+ *
+ * Return: its pid in the caller's pid namespace, 0 when none.
+ */
+pid_t ecmxf_claim_pid_vnr(struct ecmxf_dev *edev)
+{
+	struct pid *pid;
+	pid_t v;
+
+	spin_lock(&edev->claim.pid_lock);
+	pid = get_pid(edev->claim.pid);
+	spin_unlock(&edev->claim.pid_lock);
+	v = pid ? pid_vnr(pid) : 0;
+	put_pid(pid);
+	return v;
 }
 
 static long ecmxf_ioc_claim(struct ecmxf_client *c)
@@ -502,11 +542,11 @@ static long ecmxf_ioc_claim(struct ecmxf_client *c)
 	if (!c->writable)
 		return -EPERM;
 	mutex_lock(&edev->lock);
-	if (edev->claim && edev->claim != c) {
+	if (edev->claim.holder && edev->claim.holder != c) {
 		ret = -EBUSY;
-	} else if (!edev->claim) {
-		edev->claim = c;
-		edev->claim_pid = get_pid(task_tgid(current));
+	} else if (!edev->claim.holder) {
+		edev->claim.holder = c;
+		ecmxf_claim_pid_set(edev, get_pid(task_tgid(current)));
 	}
 	mutex_unlock(&edev->lock);
 	return ret;
@@ -522,12 +562,11 @@ static bool ecmxf_unclaim(struct ecmxf_client *c, struct ecmxf_rings **old)
 	struct ecmxf_dev *edev = c->edev;
 
 	*old = NULL;
-	if (edev->claim != c)
+	if (edev->claim.holder != c)
 		return false;
 	*old = ecmxf_rings_teardown(edev);
-	edev->claim = NULL;
-	put_pid(edev->claim_pid);
-	edev->claim_pid = NULL;
+	edev->claim.holder = NULL;
+	ecmxf_claim_pid_set(edev, NULL);
 	return true;
 }
 
@@ -549,15 +588,14 @@ static long ecmxf_ioc_claim_break(struct ecmxf_client *c)
 	if (!c->writable || !capable(CAP_SYS_ADMIN))
 		return -EPERM;
 	mutex_lock(&edev->lock);
-	if (!edev->claim) {
+	if (!edev->claim.holder) {
 		ret = -ENOENT;
-	} else if (edev->claim != c) {
-		was = pid_nr(edev->claim_pid);
+	} else if (edev->claim.holder != c) {
+		was = pid_nr(edev->claim.pid);
 		ecmxf_rings_stop(edev, -ECONNABORTED);
 		old = ecmxf_rings_teardown(edev);
-		put_pid(edev->claim_pid);
-		edev->claim = c;
-		edev->claim_pid = get_pid(task_tgid(current));
+		edev->claim.holder = c;
+		ecmxf_claim_pid_set(edev, get_pid(task_tgid(current)));
 	}
 	mutex_unlock(&edev->lock);
 	ecmxf_rings_put(old);
@@ -623,7 +661,7 @@ static long ecmxf_ioc_ring_setup(struct ecmxf_client *c, void __user *argp)
 	if (!ecmxf_ring_setup_valid(&rs))
 		return -EINVAL;
 	mutex_lock(&edev->lock);
-	ret = edev->claim != c ? -EPERM : 0;
+	ret = edev->claim.holder != c ? -EPERM : 0;
 	mutex_unlock(&edev->lock);
 	if (ret)
 		return ret;
@@ -649,11 +687,11 @@ static long ecmxf_ioc_ring_setup(struct ecmxf_client *c, void __user *argp)
 		return ret;
 	mutex_lock(&edev->lock);
 	/* the claim may have gone meanwhile (RELEASE from another thread) */
-	ret = edev->gone ? -ENODEV : edev->claim != c ? -EPERM : 0;
+	ret = edev->gone ? -ENODEV : edev->claim.holder != c ? -EPERM : 0;
 	if (!ret) {
 		/* new rings replace the old ones (whose mappings stay memory) */
 		old = ecmxf_rings_teardown(edev);
-		edev->rings = r;
+		edev->pdo.rings = r;
 		c->rings_lost = false;
 		r = NULL;
 	}
@@ -817,7 +855,7 @@ static __poll_t ecmxf_poll(struct file *f, poll_table *wait)
 	mutex_lock(&edev->lock);
 	if (!list_empty(&c->done))
 		mask |= EPOLLIN | EPOLLRDNORM;
-	if (edev->claim == c && edev->rings)
+	if (edev->claim.holder == c && edev->pdo.rings)
 		mask |= ecmxf_rings_poll(edev);
 	else if (c->rings_lost && (poll_requested_events(wait) & ring_events))
 		mask |= EPOLLERR;
@@ -953,12 +991,12 @@ static int ecmxf_mmap(struct file *f, struct vm_area_struct *vma)
 	mutex_lock(&edev->lock);
 	if (edev->gone)
 		ret = -ENODEV;
-	else if (edev->claim != c)
+	else if (edev->claim.holder != c)
 		ret = -EPERM;
-	else if (!edev->rings)
+	else if (!edev->pdo.rings)
 		ret = -EINVAL;
 	else
-		r = edev->rings;
+		r = edev->pdo.rings;
 	if (r)
 		kref_get(&r->ref);
 	mutex_unlock(&edev->lock);

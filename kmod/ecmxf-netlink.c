@@ -403,13 +403,13 @@ static void ecmxf_nl_queue(struct ecmxf_dev *edev,
 static void ecmxf_nl_loss_counters(const struct ecmxf_dev *edev,
 				   u64 v[ECMXF_NL_LOSS_KINDS])
 {
-	v[ECMXF_NL_LOSS_OUT_RING_UNDERRUN] = edev->out_ring_underruns;
-	v[ECMXF_NL_LOSS_IN_RING_OVERRUN] = edev->in_ring_overruns;
-	v[ECMXF_NL_LOSS_RX_FIFO_UNDERRUN] = edev->rx_fifo_underruns;
-	v[ECMXF_NL_LOSS_RX_FIFO_OVERRUN] = edev->rx_fifo_overruns;
-	v[ECMXF_NL_LOSS_TX_FIFO_OVERRUN] = edev->tx_fifo_overruns;
-	v[ECMXF_NL_LOSS_OUT_RING_SKIPPED] = edev->out_ring_skipped;
-	v[ECMXF_NL_LOSS_PUMP_FAILURE] = edev->pump_failures;
+	v[ECMXF_NL_LOSS_OUT_RING_UNDERRUN] = edev->cnt.out_ring_underruns;
+	v[ECMXF_NL_LOSS_IN_RING_OVERRUN] = edev->cnt.in_ring_overruns;
+	v[ECMXF_NL_LOSS_RX_FIFO_UNDERRUN] = edev->cnt.rx_fifo_underruns;
+	v[ECMXF_NL_LOSS_RX_FIFO_OVERRUN] = edev->cnt.rx_fifo_overruns;
+	v[ECMXF_NL_LOSS_TX_FIFO_OVERRUN] = edev->cnt.tx_fifo_overruns;
+	v[ECMXF_NL_LOSS_OUT_RING_SKIPPED] = edev->cnt.out_ring_skipped;
+	v[ECMXF_NL_LOSS_PUMP_FAILURE] = edev->cnt.pump_failures;
 }
 
 /* A counter of the cyclic path went up since the last look. */
@@ -625,7 +625,7 @@ static void ecmxf_nl_query_queue(struct ecmxf_dev *edev)
 	req->state = ECMXF_RS_QUEUED;
 	req->deadline_ns = ktime_get_ns() +
 			   (u64)ECMXF_NL_QUERY_TIMEOUT_US * NSEC_PER_USEC;
-	q->err_before = edev->last.err_status;
+	q->err_before = edev->chip.last.err_status;
 	q->gen = nl->q_gen;
 	q->busy = true;
 	list_add_tail(&req->node, &q->client.queue);
@@ -675,7 +675,7 @@ static void ecmxf_nl_query_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 	cmd_err = x->rsp.err_status & ECMXF_ERR_CMD;
 	/* leave no command error behind that was not there before */
 	if (!x->status && cmd_err && !(q->err_before & ECMXF_ERR_CMD))
-		ecmxf_engine_clear_errors(&edev->e, ECMXF_CTL_CLR_CMD_ERR);
+		ecmxf_engine_clear_errors(&edev->link.e, ECMXF_CTL_CLR_CMD_ERR);
 	if (q->gen != nl->q_gen)
 		goto next;	/* the answer of a query that ended */
 	if ((x->status && x->status != -EMSGSIZE) || cmd_err) {
@@ -761,7 +761,7 @@ static void ecmxf_nl_detected(struct ecmxf_dev *edev,
 static void ecmxf_nl_header(struct ecmxf_dev *edev, u64 now_ns)
 {
 	struct ecmxf_det_event d[ECMXF_DET_MAX_EVENTS];
-	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
+	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->link.e);
 	unsigned int n;
 
 	if (!edev->nl.active || !h)
@@ -838,7 +838,7 @@ static void ecmxf_nl_link_reset(struct ecmxf_dev *edev)
 	memset(&ev, 0, sizeof(ev));
 	ev.d.type = ECMXF_NL_EV_RESET;
 	ev.d.time_ns = now;
-	h = ecmxf_engine_last_header(&edev->e);
+	h = ecmxf_engine_last_header(&edev->link.e);
 	if (h) {
 		ev.d.new_val = h->ecat_state;
 		ev.d.err_status = h->err_status;
@@ -911,7 +911,7 @@ static u64 ecmxf_nl_wake_at(struct ecmxf_dev *edev, u64 now_ns)
 static void ecmxf_nl_start(struct ecmxf_dev *edev)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
-	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
+	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->link.e);
 	struct ecmxf_det_event d[ECMXF_DET_MAX_EVENTS];
 	struct ecmxf_nl_query *q;
 	struct ecmxf_nl_ev ev;

@@ -54,7 +54,7 @@ MODULE_PARM_DESC(pump_timeout_ms,
  */
 bool ecmxf_pump_busy(const struct ecmxf_dev *edev)
 {
-	return ecmxf_pump_flight_busy(&edev->pump.flight);
+	return ecmxf_pump_flight_busy(&edev->pdo.pump.flight);
 }
 
 /* the time allowed for each pump command, in microseconds */
@@ -79,18 +79,18 @@ static u32 ecmxf_pump_timeout_us(void)
  */
 bool ecmxf_pump_answer_waits(struct ecmxf_dev *edev)
 {
-	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_pump_slot *p = &edev->pdo.pump;
 	unsigned int i = p->flight.newest;
 	struct ecmxf_rings *r;
 	bool waits;
 
-	if (!ecmxf_engine_waits_only(&edev->e, &p->cmd[i].x)) {
+	if (!ecmxf_engine_waits_only(&edev->link.e, &p->cmd[i].x)) {
 		i = ECMXF_PUMP_SLOT_WKC;
-		if (!ecmxf_engine_waits_only(&edev->e, &p->cmd[i].x))
+		if (!ecmxf_engine_waits_only(&edev->link.e, &p->cmd[i].x))
 			return false;
 	}
 	mutex_lock(&edev->lock);
-	r = edev->rings;
+	r = edev->pdo.rings;
 	waits = r && ecmxf_pump_sched_waits(&r->sched, &p->flight, i,
 					    (u64)p->cmd[i].x.timeout_us *
 					    NSEC_PER_USEC, ktime_get_ns()) &&
@@ -114,8 +114,8 @@ bool ecmxf_pump_answer_waits(struct ecmxf_dev *edev)
  */
 struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now)
 {
-	struct ecmxf_rings *r = edev->rings;
-	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_rings *r = edev->pdo.rings;
+	struct ecmxf_pump_slot *p = &edev->pdo.pump;
 
 	lockdep_assert_held(&edev->lock);
 	if (!r || r->stopped)
@@ -127,15 +127,15 @@ struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now)
 	 * rate a level INT1 that nobody clears fires again
 	 */
 	if (ecmxf_pump_sched_kick_held(&r->sched, now))
-		atomic_set(&edev->int1_flag, 0);
-	p->pick = ecmxf_pump_sched_pick(&r->sched, &p->flight, &edev->last,
-					now, atomic_read(&edev->int1_flag),
-					ecmxf_engine_sent(&edev->e,
+		atomic_set(&edev->irq.int1_flag, 0);
+	p->pick = ecmxf_pump_sched_pick(&r->sched, &p->flight, &edev->chip.last,
+					now, atomic_read(&edev->irq.int1_flag),
+					ecmxf_engine_sent(&edev->link.e,
 							  &p->cmd[p->flight.newest].x));
 	if (p->pick == ECMXF_PUMP_PICK_NONE)
 		return NULL;
 	if (p->pick == ECMXF_PUMP_PICK_FIFO)
-		atomic_set(&edev->int1_flag, 0);
+		atomic_set(&edev->irq.int1_flag, 0);
 	kref_get(&r->ref);
 	return r;
 }
@@ -148,19 +148,19 @@ struct ecmxf_rings *ecmxf_pump_take(struct ecmxf_dev *edev, u64 now)
  */
 u64 ecmxf_pump_deadline(struct ecmxf_dev *edev)
 {
-	struct ecmxf_rings *r = edev->rings;
+	struct ecmxf_rings *r = edev->pdo.rings;
 
 	lockdep_assert_held(&edev->lock);
 	if (!r || r->stopped)
 		return 0;
-	return ecmxf_pump_sched_deadline(&r->sched, &edev->last);
+	return ecmxf_pump_sched_deadline(&r->sched, &edev->chip.last);
 }
 
 /* Build the working counter read in its slot; its timer moves on. */
 static void ecmxf_pump_prepare_wkc(struct ecmxf_dev *edev,
 				   struct ecmxf_rings *r, u64 now)
 {
-	struct ecmxf_xfer *x = &edev->pump.cmd[ECMXF_PUMP_SLOT_WKC].x;
+	struct ecmxf_xfer *x = &edev->pdo.pump.cmd[ECMXF_PUMP_SLOT_WKC].x;
 
 	memset(x, 0, sizeof(*x));
 	x->rx_buf = r->wkc_buf;
@@ -180,7 +180,7 @@ static void ecmxf_pump_prepare_wkc(struct ecmxf_dev *edev,
 static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 			       unsigned int i)
 {
-	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_pump_slot *p = &edev->pdo.pump;
 	const struct ecmxf_pump_plan *pl = &p->flight.plan[i];
 	struct ecmxf_xfer *x = &p->cmd[i].x;
 	u32 level;
@@ -196,9 +196,9 @@ static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 	avail = ecmxf_ring_out_avail(r);
 	if (avail < 0)
 		return false;	/* ecmxf_pump_submit() stops the rings */
-	r->pump.data_size = ecmxf_engine_data_size(&edev->e);
+	r->pump.data_size = ecmxf_engine_data_size(&edev->link.e);
 	level = ecmxf_pump_sched_level(&r->pump, &p->flight,
-				       ecmxf_engine_last_header(&edev->e));
+				       ecmxf_engine_last_header(&edev->link.e));
 	send = ecmxf_pump_sched_plan(&r->pump, &p->flight, i, level,
 				     (u32)avail, ECMXF_PUMP_F_READ);
 	ecmxf_ring_out_release(r, pl->skip, pl->skip);
@@ -223,7 +223,7 @@ static bool ecmxf_pump_prepare(struct ecmxf_dev *edev, struct ecmxf_rings *r,
  */
 int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 {
-	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_pump_slot *p = &edev->pdo.pump;
 	unsigned int i = ECMXF_PUMP_SLOT_WKC;
 	struct ecmxf_pump_cmd *c;
 	u32 freed, skipped;
@@ -240,11 +240,11 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 	}
 	c = &p->cmd[i];
 	c->x.timeout_us = ecmxf_pump_timeout_us();
-	if (!ecmxf_engine_can_submit(&edev->e, &c->x)) {
+	if (!ecmxf_engine_can_submit(&edev->link.e, &c->x)) {
 		ret = -EBUSY;
 		goto drop;
 	}
-	ret = ecmxf_engine_submit(&edev->e, &c->x, now);
+	ret = ecmxf_engine_submit(&edev->link.e, &c->x, now);
 	if (ret)
 		goto drop;
 	mutex_lock(&edev->lock);
@@ -263,14 +263,14 @@ drop:
 	mutex_lock(&edev->lock);
 	/* frames skipped for a command that did not go: counted all the same */
 	skipped = ecmxf_pump_sched_unsent(&p->flight, i);
-	edev->out_ring_skipped += skipped;
-	if (skipped && edev->rings == r && !r->stopped) {
+	edev->cnt.out_ring_skipped += skipped;
+	if (skipped && edev->pdo.rings == r && !r->stopped) {
 		r->cur.out_skipped += skipped;
 		ecmxf_rings_publish(r);
 		/* their slots are free (ecmxf_pump_prepare()) */
 		ecmxf_rings_wake(edev, EPOLLOUT | EPOLLWRNORM);
 	}
-	if (ret == -EFAULT && edev->rings == r)
+	if (ret == -EFAULT && edev->pdo.rings == r)
 		ecmxf_rings_stop(edev, -EFAULT);
 	mutex_unlock(&edev->lock);
 	ecmxf_rings_put(r);
@@ -307,11 +307,11 @@ static void ecmxf_status_update(struct ecmxf_rings *r,
 static void ecmxf_pump_count(struct ecmxf_dev *edev,
 			     const struct ecmxf_pump_acct *a, __poll_t wake)
 {
-	edev->rx_fifo_overruns += a->refusals;
-	edev->tx_fifo_overruns += a->tx_overruns;
-	edev->rx_fifo_underruns += a->rx_underruns;
-	edev->out_ring_underruns += a->out_underruns;
-	edev->pump_failures += a->failures;
+	edev->cnt.rx_fifo_overruns += a->refusals;
+	edev->cnt.tx_fifo_overruns += a->tx_overruns;
+	edev->cnt.rx_fifo_underruns += a->rx_underruns;
+	edev->cnt.out_ring_underruns += a->out_underruns;
+	edev->cnt.pump_failures += a->failures;
 	if (a->wake_out)
 		wake |= EPOLLOUT | EPOLLWRNORM;
 	if (wake)
@@ -339,7 +339,7 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 				 struct ecmxf_rings *r, unsigned int i,
 				 u32 skipped)
 {
-	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_pump_slot *p = &edev->pdo.pump;
 	const struct ecmxf_xfer *x = &p->cmd[i].x;
 	const struct ecmxf_rsp_hdr *h = &x->rsp;
 	struct ecmxf_pump_acct a;
@@ -351,7 +351,7 @@ static void ecmxf_pump_fifo_done(struct ecmxf_dev *edev,
 	a.skipped = skipped;
 	ecmxf_ring_out_release(r, a.free, a.dropped);
 	stored = ecmxf_ring_in_store(r, x->rx_buf, a.store);
-	edev->in_ring_overruns += a.store - stored;
+	edev->cnt.in_ring_overruns += a.store - stored;
 	ecmxf_pump_sched_left(&r->sched, &p->flight, i, h,
 			      ecmxf_ring_out_avail(r), &a);
 	ecmxf_status_update(r, h, err, &a);
@@ -368,19 +368,19 @@ static void ecmxf_pump_failed(struct ecmxf_dev *edev, struct ecmxf_rings *r,
 {
 	struct ecmxf_pump_acct a;
 
-	ecmxf_pump_sched_failed(&r->pump, &edev->pump.flight, i, &a);
+	ecmxf_pump_sched_failed(&r->pump, &edev->pdo.pump.flight, i, &a);
 	a.skipped = skipped;
 	ecmxf_ring_out_release(r, a.free, a.dropped);
 	ecmxf_pump_count(edev, &a, 0);
-	ecmxf_status_update(r, &edev->pump.cmd[i].x.rsp,
-			    edev->pump.cmd[i].x.status, &a);
+	ecmxf_status_update(r, &edev->pdo.pump.cmd[i].x.rsp,
+			    edev->pdo.pump.cmd[i].x.status, &a);
 }
 
 /* Finish slot @i if the engine finished it; lock held.  Return: its ref. */
 static struct ecmxf_rings *ecmxf_pump_finish(struct ecmxf_dev *edev,
 					     unsigned int i)
 {
-	struct ecmxf_pump_slot *p = &edev->pump;
+	struct ecmxf_pump_slot *p = &edev->pdo.pump;
 	struct ecmxf_pump_cmd *c = &p->cmd[i];
 	struct ecmxf_rings *r = c->rings;
 	u32 skipped;
@@ -390,8 +390,8 @@ static struct ecmxf_rings *ecmxf_pump_finish(struct ecmxf_dev *edev,
 		return NULL;
 	done = ecmxf_pump_sched_finish(&p->flight, i, c->x.status, &skipped);
 	c->rings = NULL;
-	edev->out_ring_skipped += skipped;
-	if (r != edev->rings || r->stopped)
+	edev->cnt.out_ring_skipped += skipped;
+	if (r != edev->pdo.rings || r->stopped)
 		return r;
 	if (done == ECMXF_PUMP_DONE_STOP)
 		ecmxf_rings_stop(edev, c->x.status);
@@ -418,7 +418,7 @@ static struct ecmxf_rings *ecmxf_pump_finish(struct ecmxf_dev *edev,
 void ecmxf_pump_collect(struct ecmxf_dev *edev,
 			struct ecmxf_rings *put[ECMXF_PUMP_CMDS])
 {
-	unsigned int newest = edev->pump.flight.newest;
+	unsigned int newest = edev->pdo.pump.flight.newest;
 
 	lockdep_assert_held(&edev->lock);
 	put[0] = ecmxf_pump_finish(edev, newest ^ 1U);
@@ -430,13 +430,13 @@ void ecmxf_pump_collect(struct ecmxf_dev *edev,
 static struct ecmxf_rings *ecmxf_pump_withdraw(struct ecmxf_dev *edev,
 					       unsigned int i)
 {
-	struct ecmxf_pump_cmd *c = &edev->pump.cmd[i];
+	struct ecmxf_pump_cmd *c = &edev->pdo.pump.cmd[i];
 	struct ecmxf_rings *r = c->rings;
 
-	if (!edev->pump.flight.busy[i])
+	if (!edev->pdo.pump.flight.busy[i])
 		return NULL;
-	ecmxf_engine_cancel(&edev->e, &c->x);
-	ecmxf_pump_sched_cancel(&edev->pump.flight, i);
+	ecmxf_engine_cancel(&edev->link.e, &c->x);
+	ecmxf_pump_sched_cancel(&edev->pdo.pump.flight, i);
 	c->rings = NULL;
 	return r;
 }

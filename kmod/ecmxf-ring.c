@@ -10,7 +10,7 @@
  * stop and the teardown, and the few index operations the pump
  * (ecmxf-pump.c) moves frames with.
  *
- * Lifetime: &struct ecmxf_rings is reference counted.  &ecmxf_dev.rings
+ * Lifetime: &struct ecmxf_rings is reference counted.  &ecmxf_dev.pdo.rings
  * holds one reference, every mapping (vm_area) one, and the worker one
  * while a pump command is in the engine; RELEASE, the last close of the
  * file, a new setup or the chip's removal only drop the device's, so a
@@ -72,7 +72,7 @@ static void ecmxf_rings_release(struct kref *ref)
 	kfree(r->rx_buf[0]);
 	kfree(r->rx_buf[1]);
 	kfree(r->wkc_buf);
-	atomic_dec(&r->edev->rings_alive);
+	atomic_dec(&r->edev->pdo.alive);
 	kfree(r);
 }
 
@@ -161,7 +161,7 @@ int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
 	int ret;
 
 	mutex_lock(&edev->lock);
-	data_size = edev->data_size;
+	data_size = edev->chip.data_size;
 	mutex_unlock(&edev->lock);
 	ret = ecmxf_pump_check(sizes[0], sizes[1], data_size, depths[0],
 			       rs->rx_fill);
@@ -169,13 +169,13 @@ int ecmxf_rings_create(struct ecmxf_dev *edev, struct ecmxf_ring_setup *rs,
 		return ret;
 
 	/* released when the last reference goes (ecmxf_rings_release()) */
-	if (atomic_inc_return(&edev->rings_alive) > ECMXF_RINGS_MAX) {
-		atomic_dec(&edev->rings_alive);
+	if (atomic_inc_return(&edev->pdo.alive) > ECMXF_RINGS_MAX) {
+		atomic_dec(&edev->pdo.alive);
 		return -EBUSY;
 	}
 	r = kzalloc(sizeof(*r), GFP_KERNEL);
 	if (!r) {
-		atomic_dec(&edev->rings_alive);
+		atomic_dec(&edev->pdo.alive);
 		return -ENOMEM;
 	}
 	kref_init(&r->ref);
@@ -301,8 +301,8 @@ int ecmxf_rings_mmap(struct ecmxf_rings *r, struct vm_area_struct *vma)
 void ecmxf_rings_wake(struct ecmxf_dev *edev, __poll_t mask)
 {
 	lockdep_assert_held(&edev->lock);
-	if (edev->claim)
-		wake_up_interruptible_poll(&edev->claim->wq, mask);
+	if (edev->claim.holder)
+		wake_up_interruptible_poll(&edev->claim.holder->wq, mask);
 }
 
 /**
@@ -320,7 +320,7 @@ void ecmxf_rings_wake(struct ecmxf_dev *edev, __poll_t mask)
  */
 struct ecmxf_rings *ecmxf_rings_teardown(struct ecmxf_dev *edev)
 {
-	struct ecmxf_rings *r = edev->rings;
+	struct ecmxf_rings *r = edev->pdo.rings;
 	u32 flags;
 
 	lockdep_assert_held(&edev->lock);
@@ -332,10 +332,10 @@ struct ecmxf_rings *ecmxf_rings_teardown(struct ecmxf_dev *edev)
 	smp_store_release(r->out.flags, flags);
 	/* the same for the input ring */
 	smp_store_release(r->in.flags, flags);
-	edev->rings = NULL;
-	if (edev->claim) {
-		edev->claim->rings_lost = true;
-		wake_up_interruptible_poll(&edev->claim->wq,
+	edev->pdo.rings = NULL;
+	if (edev->claim.holder) {
+		edev->claim.holder->rings_lost = true;
+		wake_up_interruptible_poll(&edev->claim.holder->wq,
 					   EPOLLERR | EPOLLOUT | EPOLLRDBAND);
 	}
 	return r;
@@ -373,7 +373,7 @@ void ecmxf_rings_publish(struct ecmxf_rings *r)
  */
 void ecmxf_rings_stop(struct ecmxf_dev *edev, int err)
 {
-	struct ecmxf_rings *r = edev->rings;
+	struct ecmxf_rings *r = edev->pdo.rings;
 
 	lockdep_assert_held(&edev->lock);
 	if (!r || r->stopped)
@@ -400,7 +400,7 @@ void ecmxf_rings_stop(struct ecmxf_dev *edev, int err)
  */
 __poll_t ecmxf_rings_poll(struct ecmxf_dev *edev)
 {
-	struct ecmxf_rings *r = edev->rings;
+	struct ecmxf_rings *r = edev->pdo.rings;
 	__poll_t mask = 0;
 	u32 head, tail;
 

@@ -66,7 +66,7 @@ struct ecmxf_ring {
 
 /**
  * struct ecmxf_rings - the two PDO rings of the claim holder
- * @ref: held by &ecmxf_dev.rings, by every mapping and by the worker
+ * @ref: held by &ecmxf_dev.pdo.rings, by every mapping and by the worker
  *	while a pump command uses them; the memory is freed with the last,
  *	never under &ecmxf_dev.lock (see there)
  * @edev: the device (it outlives the rings: every holder keeps the file,

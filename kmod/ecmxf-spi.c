@@ -53,9 +53,9 @@ static irqreturn_t ecmxf_int0_irq(int irq, void *data)
 {
 	struct ecmxf_dev *edev = data;
 
-	ecmxf_irq_hold(irq, edev->int0_level, &edev->int0_masked);
-	atomic64_inc(&edev->int0_irqs);
-	atomic_set(&edev->int0_flag, 1);
+	ecmxf_irq_hold(irq, edev->irq.int0_level, &edev->irq.int0_masked);
+	atomic64_inc(&edev->irq.int0_irqs);
+	atomic_set(&edev->irq.int0_flag, 1);
 	ecmxf_wake_owner(edev);
 	return IRQ_HANDLED;
 }
@@ -64,9 +64,9 @@ static irqreturn_t ecmxf_int1_irq(int irq, void *data)
 {
 	struct ecmxf_dev *edev = data;
 
-	ecmxf_irq_hold(irq, edev->int1_level, &edev->int1_masked);
-	atomic64_inc(&edev->int1_irqs);
-	atomic_set(&edev->int1_flag, 1);
+	ecmxf_irq_hold(irq, edev->irq.int1_level, &edev->irq.int1_masked);
+	atomic64_inc(&edev->irq.int1_irqs);
+	atomic_set(&edev->irq.int1_flag, 1);
 	ecmxf_wake_owner(edev);
 	return IRQ_HANDLED;
 }
@@ -75,7 +75,7 @@ static irqreturn_t ecmxf_int1_irq(int irq, void *data)
  * ecmxf_irq_unmask() - unmask a level-triggered line its handler masked
  * @edev: the device
  * @irq: the line's IRQ
- * @masked: its &ecmxf_dev.int0_masked or &ecmxf_dev.int1_masked
+ * @masked: its &ecmxf_dev.irq.int0_masked or &ecmxf_dev.irq.int1_masked
  *
  * Nothing to do for an edge-triggered line, or one not masked.  Once
  * ecmxf_free_irqs() has begun, it never enables the IRQ again.  Call from
@@ -86,7 +86,7 @@ void ecmxf_irq_unmask(struct ecmxf_dev *edev, int irq, atomic_t *masked)
 	if (!atomic_read(masked))
 		return;
 	mutex_lock(&edev->lock);
-	if (!edev->irqs_off && atomic_xchg(masked, 0))
+	if (!edev->irq.irqs_off && atomic_xchg(masked, 0))
 		enable_irq(irq);
 	mutex_unlock(&edev->lock);
 }
@@ -224,25 +224,25 @@ static void ecmxf_free_irqs(struct ecmxf_dev *edev, struct device *dev)
 {
 	/* the worker may still run: it must not enable them again */
 	mutex_lock(&edev->lock);
-	edev->irqs_off = true;
+	edev->irq.irqs_off = true;
 	mutex_unlock(&edev->lock);
-	if (edev->int1_irq)
-		devm_free_irq(dev, edev->int1_irq, edev);
-	if (edev->int0_irq)
-		devm_free_irq(dev, edev->int0_irq, edev);
-	edev->int0_irq = 0;
-	edev->int1_irq = 0;
+	if (edev->irq.int1_irq)
+		devm_free_irq(dev, edev->irq.int1_irq, edev);
+	if (edev->irq.int0_irq)
+		devm_free_irq(dev, edev->irq.int0_irq, edev);
+	edev->irq.int0_irq = 0;
+	edev->irq.int1_irq = 0;
 }
 
 static void ecmxf_dev_release(struct device *dev)
 {
 	struct ecmxf_dev *edev = container_of(dev, struct ecmxf_dev, dev);
 
-	if (edev->claim_pid)
-		put_pid(edev->claim_pid);
+	if (edev->claim.pid)
+		put_pid(edev->claim.pid);
 	ecmxf_id_free(edev->id);
-	kfree(edev->txbuf);
-	kfree(edev->rxbuf);
+	kfree(edev->link.txbuf);
+	kfree(edev->link.rxbuf);
 	kfree(edev);
 }
 
@@ -278,15 +278,16 @@ static int ecmxf_probe(struct spi_device *spi)
 	edev->id = id;
 	edev->spi = spi;
 	mutex_init(&edev->lock);
+	spin_lock_init(&edev->claim.pid_lock);
 	INIT_LIST_HEAD(&edev->clients);
 	INIT_LIST_HEAD(&edev->resets);
-	atomic_set(&edev->int0_flag, 0);
-	atomic_set(&edev->int1_flag, 0);
-	atomic_set(&edev->int0_masked, 0);
-	atomic_set(&edev->int1_masked, 0);
-	atomic_set(&edev->kick, 0);
-	atomic64_set(&edev->int0_irqs, 0);
-	atomic64_set(&edev->int1_irqs, 0);
+	atomic_set(&edev->irq.int0_flag, 0);
+	atomic_set(&edev->irq.int1_flag, 0);
+	atomic_set(&edev->irq.int0_masked, 0);
+	atomic_set(&edev->irq.int1_masked, 0);
+	atomic_set(&edev->link.kick, 0);
+	atomic64_set(&edev->irq.int0_irqs, 0);
+	atomic64_set(&edev->irq.int1_irqs, 0);
 
 	/* from here on, put_device() frees edev and the id */
 	device_initialize(&edev->dev);
@@ -300,16 +301,16 @@ static int ecmxf_probe(struct spi_device *spi)
 	if (ret)
 		goto out_put_device;
 
-	edev->txbuf = kzalloc(ECMXF_PKT_MAX, GFP_KERNEL);
-	edev->rxbuf = kzalloc(ECMXF_PKT_MAX, GFP_KERNEL);
-	if (!edev->txbuf || !edev->rxbuf) {
+	edev->link.txbuf = kzalloc(ECMXF_PKT_MAX, GFP_KERNEL);
+	edev->link.rxbuf = kzalloc(ECMXF_PKT_MAX, GFP_KERNEL);
+	if (!edev->link.txbuf || !edev->link.rxbuf) {
 		ret = -ENOMEM;
 		goto out_put_device;
 	}
 
 	/* configuration, not hardware: no device property (driver.rst) */
-	edev->want_size = ecmxf_param_data_size;
-	edev->want_check = ecmxf_param_check_type;
+	edev->link.want_size = ecmxf_param_data_size;
+	edev->link.want_check = ecmxf_param_check_type;
 
 	ret = ecmxf_find_line(edev, "int0", &int0);
 	if (ret)
@@ -317,16 +318,16 @@ static int ecmxf_probe(struct spi_device *spi)
 	ret = ecmxf_find_line(edev, "int1", &int1);
 	if (ret)
 		goto out_put_device;
-	edev->int0 = int0.gpio;
-	edev->int1 = int1.gpio;
-	edev->int0_level = int0.type & IRQ_TYPE_LEVEL_MASK;
-	edev->int1_level = int1.type & IRQ_TYPE_LEVEL_MASK;
+	edev->irq.int0 = int0.gpio;
+	edev->irq.int1 = int1.gpio;
+	edev->irq.int0_level = int0.type & IRQ_TYPE_LEVEL_MASK;
+	edev->irq.int1_level = int1.type & IRQ_TYPE_LEVEL_MASK;
 	ret = ecmxf_request_line_irq(edev, &int0, "ecmxf-int0", ecmxf_int0_irq,
-				     &edev->int0_irq);
+				     &edev->irq.int0_irq);
 	if (ret)
 		goto out_free_irqs;
 	ret = ecmxf_request_line_irq(edev, &int1, "ecmxf-int1", ecmxf_int1_irq,
-				     &edev->int1_irq);
+				     &edev->irq.int1_irq);
 	if (ret)
 		goto out_free_irqs;
 
@@ -353,8 +354,8 @@ static int ecmxf_probe(struct spi_device *spi)
 	ecmxf_line_desc(d0, sizeof(d0), &int0, "absent (150 us waits)");
 	ecmxf_line_desc(d1, sizeof(d1), &int1, "absent");
 	dev_info(dev, "/dev/%s: firmware %u, %u-byte data section, %s check word, INT0 %s, INT1 %s\n",
-		 dev_name(&edev->dev), edev->fw_version, edev->data_size,
-		 ecmxf_check_name(edev->check), d0, d1);
+		 dev_name(&edev->dev), edev->chip.fw_version, edev->chip.data_size,
+		 ecmxf_check_name(edev->chip.check), d0, d1);
 	return 0;
 
 out_stop_worker:

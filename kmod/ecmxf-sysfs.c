@@ -19,11 +19,12 @@
  *                  frames are lost, never sent again)
  *   counters/...   one file per field of struct ecmxf_counters
  *
- * The counters, ring_skipped/ring_failures, data_size, packet_size,
- * check_type and crc_coverage come from the snapshot the worker publishes
- * (ecmxf_get_snap()) and open_count is one word: reading them takes no lock
- * the real-time worker takes, however often a reader reads.  fw_version,
- * fw_info and claim_pid take &ecmxf_dev.lock briefly.
+ * One table each (the ECMXF_ATTR() and ECMXF_COUNTER_ATTR() lines) makes
+ * the files; one show function per table formats them.  Everything but
+ * claim_pid comes from the snapshot the worker publishes (ecmxf_get_snap())
+ * or is a word set at probe; claim_pid takes the claim's own spinlock
+ * (ecmxf_claim_pid_vnr()).  So no reader takes a lock the real-time worker
+ * takes, however often it reads.
  *
  * Copyright (C) 2026 The ecmxf authors
  */
@@ -39,151 +40,100 @@ static struct ecmxf_dev *ecmxf_from_dev(struct device *dev)
 	return container_of(dev, struct ecmxf_dev, dev);
 }
 
-static ssize_t fw_version_show(struct device *dev,
+/* the attributes of the class device; ecmxf_attr_show() formats them */
+enum ecmxf_attr_id {
+	ECMXF_ATTR_FW_VERSION,
+	ECMXF_ATTR_FW_INFO,
+	ECMXF_ATTR_DATA_SIZE,
+	ECMXF_ATTR_PACKET_SIZE,
+	ECMXF_ATTR_CHECK_TYPE,
+	ECMXF_ATTR_CRC_COVERAGE,
+	ECMXF_ATTR_INT0,
+	ECMXF_ATTR_INT1,
+	ECMXF_ATTR_OPEN_COUNT,
+	ECMXF_ATTR_CLAIM_PID,
+	ECMXF_ATTR_RING_SKIPPED,
+	ECMXF_ATTR_RING_FAILURES,
+};
+
+static ssize_t ecmxf_attr_show(struct device *dev,
 			       struct device_attribute *attr, char *buf)
 {
+	struct dev_ext_attribute *ea = container_of(attr,
+						    struct dev_ext_attribute,
+						    attr);
 	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
-	ssize_t n;
-
-	mutex_lock(&edev->lock);
-	n = edev->fw_valid ? sysfs_emit(buf, "%u\n", edev->fw_version) :
-			     sysfs_emit(buf, "unknown\n");
-	mutex_unlock(&edev->lock);
-	return n;
-}
-static DEVICE_ATTR_RO(fw_version);
-
-static ssize_t fw_info_show(struct device *dev,
-			    struct device_attribute *attr, char *buf)
-{
-	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
-	ssize_t n;
-
-	mutex_lock(&edev->lock);
-	n = sysfs_emit(buf, "%*phN\n", (int)sizeof(edev->fw_info),
-		       edev->fw_info);
-	mutex_unlock(&edev->lock);
-	return n;
-}
-static DEVICE_ATTR_RO(fw_info);
-
-/* What the worker published last (ecmxf_get_snap(): no lock taken). */
-static void ecmxf_snap_of(struct device *dev, struct ecmxf_snap *v)
-{
-	ecmxf_get_snap(ecmxf_from_dev(dev), v);
-}
-
-static ssize_t data_size_show(struct device *dev,
-			      struct device_attribute *attr, char *buf)
-{
 	struct ecmxf_snap v;
 
-	ecmxf_snap_of(dev, &v);
-	return sysfs_emit(buf, "%u\n", v.data_size);
+	ecmxf_get_snap(edev, &v);
+	switch ((uintptr_t)ea->var) {
+	case ECMXF_ATTR_FW_VERSION:
+		if (!v.fw_valid)
+			return sysfs_emit(buf, "unknown\n");
+		return sysfs_emit(buf, "%u\n", v.fw_version);
+	case ECMXF_ATTR_FW_INFO:
+		return sysfs_emit(buf, "%*phN\n", (int)sizeof(v.fw_info),
+				  v.fw_info);
+	case ECMXF_ATTR_DATA_SIZE:
+		return sysfs_emit(buf, "%u\n", v.data_size);
+	case ECMXF_ATTR_PACKET_SIZE:
+		return sysfs_emit(buf, "%u\n",
+				  (unsigned int)ECMXF_PKT_SIZE(v.data_size));
+	case ECMXF_ATTR_CHECK_TYPE:
+		return sysfs_emit(buf, "%s\n", ecmxf_check_name(v.check));
+	case ECMXF_ATTR_CRC_COVERAGE:
+		return sysfs_emit(buf, "%s\n", ecmxf_cover_name(v.cover));
+	case ECMXF_ATTR_INT0:
+		return sysfs_emit(buf, "%s\n", edev->irq.int0_irq ? "wired" : "absent");
+	case ECMXF_ATTR_INT1:
+		return sysfs_emit(buf, "%s\n", edev->irq.int1_irq ? "wired" : "absent");
+	case ECMXF_ATTR_OPEN_COUNT:
+		/* one word written under the lock: no lock needed to read it */
+		return sysfs_emit(buf, "%u\n", READ_ONCE(edev->open_count));
+	case ECMXF_ATTR_CLAIM_PID:
+		return sysfs_emit(buf, "%d\n", ecmxf_claim_pid_vnr(edev));
+	case ECMXF_ATTR_RING_SKIPPED:
+		return sysfs_emit(buf, "%llu\n",
+				  (unsigned long long)v.ring_skipped);
+	case ECMXF_ATTR_RING_FAILURES:
+		return sysfs_emit(buf, "%llu\n",
+				  (unsigned long long)v.ring_failures);
+	}
+	return -EIO;
 }
-static DEVICE_ATTR_RO(data_size);
 
-static ssize_t packet_size_show(struct device *dev,
-				struct device_attribute *attr, char *buf)
-{
-	struct ecmxf_snap v;
-
-	ecmxf_snap_of(dev, &v);
-	return sysfs_emit(buf, "%u\n", (unsigned int)ECMXF_PKT_SIZE(v.data_size));
+#define ECMXF_ATTR(_name, _id)						\
+static struct dev_ext_attribute ecmxf_attr_##_name = {			\
+	.attr = __ATTR(_name, 0444, ecmxf_attr_show, NULL),		\
+	.var = (void *)(_id),						\
 }
-static DEVICE_ATTR_RO(packet_size);
 
-static ssize_t check_type_show(struct device *dev,
-			       struct device_attribute *attr, char *buf)
-{
-	struct ecmxf_snap v;
-
-	ecmxf_snap_of(dev, &v);
-	return sysfs_emit(buf, "%s\n", ecmxf_check_name(v.check));
-}
-static DEVICE_ATTR_RO(check_type);
-
-static ssize_t crc_coverage_show(struct device *dev,
-				 struct device_attribute *attr, char *buf)
-{
-	struct ecmxf_snap v;
-
-	ecmxf_snap_of(dev, &v);
-	return sysfs_emit(buf, "%s\n", ecmxf_cover_name(v.cover));
-}
-static DEVICE_ATTR_RO(crc_coverage);
-
-static ssize_t int0_show(struct device *dev, struct device_attribute *attr,
-			 char *buf)
-{
-	return sysfs_emit(buf, "%s\n",
-			  ecmxf_from_dev(dev)->int0_irq ? "wired" : "absent");
-}
-static DEVICE_ATTR_RO(int0);
-
-static ssize_t int1_show(struct device *dev, struct device_attribute *attr,
-			 char *buf)
-{
-	return sysfs_emit(buf, "%s\n",
-			  ecmxf_from_dev(dev)->int1_irq ? "wired" : "absent");
-}
-static DEVICE_ATTR_RO(int1);
-
-static ssize_t open_count_show(struct device *dev,
-			       struct device_attribute *attr, char *buf)
-{
-	/* one word written under the lock: no lock needed to read it */
-	return sysfs_emit(buf, "%u\n",
-			  READ_ONCE(ecmxf_from_dev(dev)->open_count));
-}
-static DEVICE_ATTR_RO(open_count);
-
-static ssize_t claim_pid_show(struct device *dev,
-			      struct device_attribute *attr, char *buf)
-{
-	struct ecmxf_dev *edev = ecmxf_from_dev(dev);
-	pid_t v;
-
-	mutex_lock(&edev->lock);
-	v = edev->claim_pid ? pid_vnr(edev->claim_pid) : 0;
-	mutex_unlock(&edev->lock);
-	return sysfs_emit(buf, "%d\n", v);
-}
-static DEVICE_ATTR_RO(claim_pid);
-
-static ssize_t ring_skipped_show(struct device *dev,
-				 struct device_attribute *attr, char *buf)
-{
-	struct ecmxf_snap v;
-
-	ecmxf_snap_of(dev, &v);
-	return sysfs_emit(buf, "%llu\n", (unsigned long long)v.ring_skipped);
-}
-static DEVICE_ATTR_RO(ring_skipped);
-
-static ssize_t ring_failures_show(struct device *dev,
-				  struct device_attribute *attr, char *buf)
-{
-	struct ecmxf_snap v;
-
-	ecmxf_snap_of(dev, &v);
-	return sysfs_emit(buf, "%llu\n", (unsigned long long)v.ring_failures);
-}
-static DEVICE_ATTR_RO(ring_failures);
+ECMXF_ATTR(fw_version, ECMXF_ATTR_FW_VERSION);
+ECMXF_ATTR(fw_info, ECMXF_ATTR_FW_INFO);
+ECMXF_ATTR(data_size, ECMXF_ATTR_DATA_SIZE);
+ECMXF_ATTR(packet_size, ECMXF_ATTR_PACKET_SIZE);
+ECMXF_ATTR(check_type, ECMXF_ATTR_CHECK_TYPE);
+ECMXF_ATTR(crc_coverage, ECMXF_ATTR_CRC_COVERAGE);
+ECMXF_ATTR(int0, ECMXF_ATTR_INT0);
+ECMXF_ATTR(int1, ECMXF_ATTR_INT1);
+ECMXF_ATTR(open_count, ECMXF_ATTR_OPEN_COUNT);
+ECMXF_ATTR(claim_pid, ECMXF_ATTR_CLAIM_PID);
+ECMXF_ATTR(ring_skipped, ECMXF_ATTR_RING_SKIPPED);
+ECMXF_ATTR(ring_failures, ECMXF_ATTR_RING_FAILURES);
 
 static struct attribute *ecmxf_attrs[] = {
-	&dev_attr_fw_version.attr,
-	&dev_attr_fw_info.attr,
-	&dev_attr_data_size.attr,
-	&dev_attr_packet_size.attr,
-	&dev_attr_check_type.attr,
-	&dev_attr_crc_coverage.attr,
-	&dev_attr_int0.attr,
-	&dev_attr_int1.attr,
-	&dev_attr_open_count.attr,
-	&dev_attr_claim_pid.attr,
-	&dev_attr_ring_skipped.attr,
-	&dev_attr_ring_failures.attr,
+	&ecmxf_attr_fw_version.attr.attr,
+	&ecmxf_attr_fw_info.attr.attr,
+	&ecmxf_attr_data_size.attr.attr,
+	&ecmxf_attr_packet_size.attr.attr,
+	&ecmxf_attr_check_type.attr.attr,
+	&ecmxf_attr_crc_coverage.attr.attr,
+	&ecmxf_attr_int0.attr.attr,
+	&ecmxf_attr_int1.attr.attr,
+	&ecmxf_attr_open_count.attr.attr,
+	&ecmxf_attr_claim_pid.attr.attr,
+	&ecmxf_attr_ring_skipped.attr.attr,
+	&ecmxf_attr_ring_failures.attr.attr,
 	NULL
 };
 
@@ -264,6 +214,10 @@ static struct attribute *ecmxf_counter_attrs[] = {
 	&ecmxf_counter_int1_irqs.attr.attr,
 	NULL
 };
+
+/* every field of struct ecmxf_counters but the reserved words has a file */
+static_assert(ARRAY_SIZE(ecmxf_counter_attrs) - 1 ==
+	      offsetof(struct ecmxf_counters, reserved) / sizeof(u64));
 
 static const struct attribute_group ecmxf_counter_group = {
 	.name = "counters",

@@ -136,7 +136,7 @@ const char *ecmxf_check_name(unsigned int check)
  */
 void ecmxf_worker_kick(struct ecmxf_dev *edev)
 {
-	atomic_set(&edev->kick, 1);
+	atomic_set(&edev->link.kick, 1);
 	ecmxf_wake_owner(edev);
 }
 
@@ -149,7 +149,7 @@ void ecmxf_worker_kick(struct ecmxf_dev *edev)
  */
 void ecmxf_wake_owner(struct ecmxf_dev *edev)
 {
-	struct task_struct *t = READ_ONCE(edev->owner);
+	struct task_struct *t = READ_ONCE(edev->link.owner);
 
 	if (t)
 		wake_up_process(t);
@@ -161,7 +161,7 @@ static void ecmxf_sleep_until(struct ecmxf_dev *edev, u64 until_ns)
 	ktime_t t = ns_to_ktime(until_ns);
 
 	set_current_state(TASK_IDLE);
-	if (!atomic_read(&edev->kick) && !kthread_should_stop())
+	if (!atomic_read(&edev->link.kick) && !kthread_should_stop())
 		schedule_hrtimeout(&t, HRTIMER_MODE_ABS);
 	__set_current_state(TASK_RUNNING);
 }
@@ -170,7 +170,7 @@ static void ecmxf_sleep_until(struct ecmxf_dev *edev, u64 until_ns)
  * Before an exchange: wait until the chip is ready for it, counted from
  * the end of the previous one.  Without INT0 the chip needs up to 150 us.
  * With INT0, wait for its level (GPIO form), its interrupt since the
- * previous exchange began (&ecmxf_dev.int0_flag; a level-triggered one is
+ * previous exchange began (&ecmxf_dev.irq.int0_flag; a level-triggered one is
  * unmasked here and fires at once while the line is "ready"), but never
  * longer than ECMXF_READY_TIMEOUT_US after that exchange: a chip that
  * stays busy then answers "not ready", which the engine counts and
@@ -183,12 +183,12 @@ static void ecmxf_sleep_until(struct ecmxf_dev *edev, u64 until_ns)
  */
 static void ecmxf_wait_ready(struct ecmxf_dev *edev)
 {
-	u64 ready_ns = edev->xfer_end_ns + ECMXF_READY_WAIT_US * NSEC_PER_USEC;
+	u64 ready_ns = edev->link.xfer_end_ns + ECMXF_READY_WAIT_US * NSEC_PER_USEC;
 	ktime_t deadline;
 
-	if (!edev->xfer_end_ns)
+	if (!edev->link.xfer_end_ns)
 		return;		/* nothing exchanged yet */
-	if (!edev->int0_irq) {
+	if (!edev->irq.int0_irq) {
 		/* as usleep_range(): a wake-up does not end the wait */
 		deadline = ns_to_ktime(ready_ns);
 		while (ktime_get_ns() < ready_ns) {
@@ -199,14 +199,14 @@ static void ecmxf_wait_ready(struct ecmxf_dev *edev)
 		__set_current_state(TASK_RUNNING);
 		return;
 	}
-	deadline = ns_to_ktime(edev->xfer_end_ns +
+	deadline = ns_to_ktime(edev->link.xfer_end_ns +
 			       ECMXF_READY_TIMEOUT_US * NSEC_PER_USEC);
-	ecmxf_irq_unmask(edev, edev->int0_irq, &edev->int0_masked);
+	ecmxf_irq_unmask(edev, edev->irq.int0_irq, &edev->irq.int0_masked);
 	for (;;) {
-		if (edev->int0 && gpiod_get_value_cansleep(edev->int0) > 0)
+		if (edev->irq.int0 && gpiod_get_value_cansleep(edev->irq.int0) > 0)
 			return;
 		set_current_state(TASK_IDLE);
-		if (atomic_read(&edev->int0_flag)) {
+		if (atomic_read(&edev->irq.int0_flag)) {
 			__set_current_state(TASK_RUNNING);
 			return;
 		}
@@ -227,25 +227,25 @@ static void ecmxf_wait_ready(struct ecmxf_dev *edev)
  */
 static u64 ecmxf_int1_rearm(struct ecmxf_dev *edev, u64 now, bool cleared)
 {
-	if (!edev->int1_level || !atomic_read(&edev->int1_masked)) {
-		edev->int1_rearm_ns = 0;
+	if (!edev->irq.int1_level || !atomic_read(&edev->irq.int1_masked)) {
+		edev->link.int1_rearm_ns = 0;
 		return U64_MAX;
 	}
-	if (!edev->int1_rearm_ns)
-		edev->int1_rearm_ns = now + ECMXF_INT1_HOLDOFF_NS;
-	if (!cleared && now < edev->int1_rearm_ns)
-		return edev->int1_rearm_ns;
-	edev->int1_rearm_ns = 0;
-	ecmxf_irq_unmask(edev, edev->int1_irq, &edev->int1_masked);
+	if (!edev->link.int1_rearm_ns)
+		edev->link.int1_rearm_ns = now + ECMXF_INT1_HOLDOFF_NS;
+	if (!cleared && now < edev->link.int1_rearm_ns)
+		return edev->link.int1_rearm_ns;
+	edev->link.int1_rearm_ns = 0;
+	ecmxf_irq_unmask(edev, edev->irq.int1_irq, &edev->irq.int1_masked);
 	return U64_MAX;
 }
 
 /* After "ready": a clear sent in the last packet has reached the chip. */
 static void ecmxf_int1_cleared(struct ecmxf_dev *edev)
 {
-	if (!edev->int1_cleared)
+	if (!edev->link.int1_cleared)
 		return;
-	edev->int1_cleared = false;
+	edev->link.int1_cleared = false;
 	ecmxf_int1_rearm(edev, ktime_get_ns(), true);
 }
 
@@ -264,10 +264,10 @@ static bool ecmxf_pkt_clears(const u8 *pkt)
  */
 static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
 {
-	size_t n = ecmxf_engine_pkt_size(&edev->e);
+	size_t n = ecmxf_engine_pkt_size(&edev->link.e);
 	struct spi_transfer t = {
-		.tx_buf = edev->txbuf,
-		.rx_buf = edev->rxbuf,
+		.tx_buf = edev->link.txbuf,
+		.rx_buf = edev->link.rxbuf,
 		.len = n,
 	};
 	unsigned int ev;
@@ -277,27 +277,27 @@ static unsigned int ecmxf_exchange(struct ecmxf_dev *edev)
 	ecmxf_wait_ready(edev);
 	ecmxf_int1_cleared(edev);
 	now = ktime_get_ns();
-	ret = ecmxf_engine_next(&edev->e, now, edev->txbuf, n);
+	ret = ecmxf_engine_next(&edev->link.e, now, edev->link.txbuf, n);
 	if (ret == -EAGAIN) {
-		ecmxf_sleep_until(edev, ecmxf_engine_not_before(&edev->e));
-		return ecmxf_engine_poll_time(&edev->e, ktime_get_ns());
+		ecmxf_sleep_until(edev, ecmxf_engine_not_before(&edev->link.e));
+		return ecmxf_engine_poll_time(&edev->link.e, ktime_get_ns());
 	}
 	if (WARN_ON_ONCE(ret))
-		return ecmxf_engine_poll_time(&edev->e, now);
+		return ecmxf_engine_poll_time(&edev->link.e, now);
 
-	atomic_set(&edev->int0_flag, 0);
-	if (edev->int1_level)
-		edev->int1_cleared = ecmxf_pkt_clears(edev->txbuf);
+	atomic_set(&edev->irq.int0_flag, 0);
+	if (edev->irq.int1_level)
+		edev->link.int1_cleared = ecmxf_pkt_clears(edev->link.txbuf);
 	ret = spi_sync_transfer(edev->spi, &t, 1);
 	if (ret) {
 		/* nothing usable came back: the engine retries, then fails */
 		dev_err_ratelimited(&edev->spi->dev, "SPI transfer failed: %d\n",
 				    ret);
-		memset(edev->rxbuf, 0, n);
+		memset(edev->link.rxbuf, 0, n);
 	}
 	now = ktime_get_ns();
-	edev->xfer_end_ns = now;
-	ev = ecmxf_engine_input(&edev->e, now, edev->rxbuf, n);
+	edev->link.xfer_end_ns = now;
+	ev = ecmxf_engine_input(&edev->link.e, now, edev->link.rxbuf, n);
 	if (ev & ECMXF_EV_HEADER)
 		ecmxf_watch_header(edev, now);	/* events (ecmxf-netlink.c) */
 	return ev;
@@ -311,7 +311,7 @@ static void ecmxf_snapshot(struct ecmxf_dev *edev);
  */
 static bool ecmxf_stopping(struct ecmxf_dev *edev)
 {
-	return current == edev->worker && kthread_should_stop();
+	return current == edev->link.worker && kthread_should_stop();
 }
 
 /*
@@ -322,13 +322,13 @@ static bool ecmxf_stopping(struct ecmxf_dev *edev)
  */
 static int ecmxf_run_xfer(struct ecmxf_dev *edev, struct ecmxf_xfer *x)
 {
-	int ret = ecmxf_engine_submit(&edev->e, x, ktime_get_ns());
+	int ret = ecmxf_engine_submit(&edev->link.e, x, ktime_get_ns());
 
 	if (ret)
 		return ret;
 	while (x->status == -EINPROGRESS) {
 		if (ecmxf_stopping(edev)) {
-			ecmxf_engine_cancel(&edev->e, x);
+			ecmxf_engine_cancel(&edev->link.e, x);
 			return -ENODEV;
 		}
 		ecmxf_exchange(edev);
@@ -378,25 +378,25 @@ static void ecmxf_stats_add(struct ecmxf_engine_stats *sum,
 
 /*
  * Re-initialise the engine (its counters start at zero) without losing
- * the counts since probe: they move to &ecmxf_dev.stats_base.
+ * the counts since probe: they move to &ecmxf_dev.cnt.stats_base.
  */
 static void ecmxf_engine_reinit(struct ecmxf_dev *edev, unsigned int size,
 				enum ecmxf_check check)
 {
 	mutex_lock(&edev->lock);
-	ecmxf_stats_add(&edev->stats_base, &edev->stats_base,
-			ecmxf_engine_get_stats(&edev->e));
+	ecmxf_stats_add(&edev->cnt.stats_base, &edev->cnt.stats_base,
+			ecmxf_engine_get_stats(&edev->link.e));
 	mutex_unlock(&edev->lock);
-	ecmxf_engine_init(&edev->e, size, check);
+	ecmxf_engine_init(&edev->link.e, size, check);
 }
 
 /*
  * Publish the counters and the format for the lock-free readers
- * (&ecmxf_dev.snap); call with the lock held (the one writer).
+ * (&ecmxf_dev.cnt.snap); call with the lock held (the one writer).
  */
 static void ecmxf_publish(struct ecmxf_dev *edev)
 {
-	const struct ecmxf_engine_stats *s = &edev->stats;
+	const struct ecmxf_engine_stats *s = &edev->cnt.stats;
 	struct ecmxf_snap v;
 	struct ecmxf_counters *k = &v.k;
 
@@ -411,45 +411,48 @@ static void ecmxf_publish(struct ecmxf_dev *edev)
 	k->retries = s->retries;
 	k->polls = s->polls;
 	k->exhausted = s->exhausted;
-	k->timeouts = s->timeouts + edev->queue_timeouts;
+	k->timeouts = s->timeouts + edev->cnt.queue_timeouts;
 	k->async_errors = s->async_errors;
 	k->busy_rejects = s->busy_rejects;
 	k->lost_answers = s->lost_answers;
 	k->chip_resets = s->chip_resets;
-	k->wkc_errors = edev->wkc_errors;
-	k->out_ring_underruns = edev->out_ring_underruns;
-	k->in_ring_overruns = edev->in_ring_overruns;
-	k->rx_fifo_underruns = edev->rx_fifo_underruns;
-	k->rx_fifo_overruns = edev->rx_fifo_overruns;
-	k->tx_fifo_overruns = edev->tx_fifo_overruns;
-	v.ring_skipped = edev->out_ring_skipped;
-	v.ring_failures = edev->pump_failures;
-	v.data_size = edev->data_size;
-	v.check = edev->check;
-	v.cover = edev->cover;
-	ecmxf_latch_write(&edev->snap_seq, &edev->snap_kseq, &edev->snap[0],
-			  &edev->snap[1], &v, sizeof(v));
+	k->wkc_errors = edev->cnt.wkc_errors;
+	k->out_ring_underruns = edev->cnt.out_ring_underruns;
+	k->in_ring_overruns = edev->cnt.in_ring_overruns;
+	k->rx_fifo_underruns = edev->cnt.rx_fifo_underruns;
+	k->rx_fifo_overruns = edev->cnt.rx_fifo_overruns;
+	k->tx_fifo_overruns = edev->cnt.tx_fifo_overruns;
+	v.ring_skipped = edev->cnt.out_ring_skipped;
+	v.ring_failures = edev->cnt.pump_failures;
+	v.data_size = edev->chip.data_size;
+	v.check = edev->chip.check;
+	v.cover = edev->chip.cover;
+	v.fw_valid = edev->chip.fw_valid;
+	v.fw_version = edev->chip.fw_version;
+	memcpy(v.fw_info, edev->chip.fw_info, sizeof(v.fw_info));
+	ecmxf_latch_write(&edev->cnt.snap_seq, &edev->cnt.snap_kseq, &edev->cnt.snap[0],
+			  &edev->cnt.snap[1], &v, sizeof(v));
 }
 
 /* Copy what the file operations and sysfs show; call with the lock held. */
 static void ecmxf_snapshot(struct ecmxf_dev *edev)
 {
-	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->e);
+	const struct ecmxf_rsp_hdr *h = ecmxf_engine_last_header(&edev->link.e);
 
 	lockdep_assert_held(&edev->lock);
-	ecmxf_stats_add(&edev->stats, &edev->stats_base,
-			ecmxf_engine_get_stats(&edev->e));
-	edev->data_size = (u16)ecmxf_engine_data_size(&edev->e);
+	ecmxf_stats_add(&edev->cnt.stats, &edev->cnt.stats_base,
+			ecmxf_engine_get_stats(&edev->link.e));
+	edev->chip.data_size = (u16)ecmxf_engine_data_size(&edev->link.e);
 	/* no getter for the check type: read the field the engine keeps */
-	edev->check = edev->e.check;
-	edev->cover = ecmxf_engine_cover(&edev->e);
+	edev->chip.check = edev->link.e.check;
+	edev->chip.cover = ecmxf_engine_cover(&edev->link.e);
 	if (h) {
-		edev->last = *h;
-		if (edev->wkc_valid && h->wkc_err_cnt != edev->wkc_last)
-			edev->wkc_errors += (u8)(h->wkc_err_cnt -
-						 edev->wkc_last);
-		edev->wkc_last = h->wkc_err_cnt;
-		edev->wkc_valid = true;
+		edev->chip.last = *h;
+		if (edev->link.wkc_valid && h->wkc_err_cnt != edev->link.wkc_last)
+			edev->cnt.wkc_errors += (u8)(h->wkc_err_cnt -
+						 edev->link.wkc_last);
+		edev->link.wkc_last = h->wkc_err_cnt;
+		edev->link.wkc_valid = true;
 	}
 	ecmxf_publish(edev);
 }
@@ -457,7 +460,7 @@ static void ecmxf_snapshot(struct ecmxf_dev *edev)
 static int ecmxf_read_fw_version(struct ecmxf_dev *edev)
 {
 	struct ecmxf_rsp_hdr rsp;
-	u8 info[sizeof(edev->fw_info)];
+	u8 info[sizeof(edev->chip.fw_info)];
 	int ret;
 
 	memset(info, 0, sizeof(info));
@@ -468,9 +471,9 @@ static int ecmxf_read_fw_version(struct ecmxf_dev *edev)
 	if (ret)
 		return ret;
 	mutex_lock(&edev->lock);
-	edev->fw_version = rsp.ret;
-	memcpy(edev->fw_info, info, sizeof(info));
-	edev->fw_valid = true;
+	edev->chip.fw_version = rsp.ret;
+	memcpy(edev->chip.fw_info, info, sizeof(info));
+	edev->chip.fw_valid = true;
 	ecmxf_snapshot(edev);
 	mutex_unlock(&edev->lock);
 	return 0;
@@ -485,10 +488,10 @@ static int ecmxf_read_fw_version(struct ecmxf_dev *edev)
 static int ecmxf_find_format(struct ecmxf_dev *edev)
 {
 	const unsigned int sizes[] = {
-		edev->want_size ? edev->want_size : ECMXF_DATA_DEFAULT,
+		edev->link.want_size ? edev->link.want_size : ECMXF_DATA_DEFAULT,
 		ECMXF_DATA_DEFAULT, 992,
 	};
-	const unsigned int checks[] = { edev->want_check, ECMXF_CHECK_FIXED };
+	const unsigned int checks[] = { edev->link.want_check, ECMXF_CHECK_FIXED };
 	unsigned int i, j, k;
 	int ret = -ENODEV;
 
@@ -533,7 +536,7 @@ static int ecmxf_link_up(struct ecmxf_dev *edev)
 		mutex_lock(&edev->lock);
 		ecmxf_snapshot(edev);
 		mutex_unlock(&edev->lock);
-		st = &edev->stats;
+		st = &edev->cnt.stats;
 		return dev_err_probe(dev, ret,
 				     "the chip does not answer FW_VERSION_GET in any known packet format (%llu exchanges; bad packets: %llu not ready, %llu start word, %llu end word, %llu check word)\n",
 				     st->exchanges,
@@ -542,30 +545,30 @@ static int ecmxf_link_up(struct ecmxf_dev *edev)
 				     st->faults[ECMXF_FAULT_END],
 				     st->faults[ECMXF_FAULT_CHECK]);
 	}
-	if (edev->want_size &&
-	    edev->want_size != ecmxf_engine_data_size(&edev->e)) {
+	if (edev->link.want_size &&
+	    edev->link.want_size != ecmxf_engine_data_size(&edev->link.e)) {
 		ret = ecmxf_simple_cmd(edev, ECMXF_CMD_SPI_RECONFIG_OP, 0,
-				       (u16)edev->want_size, NULL, 0, NULL);
+				       (u16)edev->link.want_size, NULL, 0, NULL);
 		if (ret)
 			return dev_err_probe(dev, ret,
 					     "SPI_RECONFIG_OP to a %u-byte data section failed (an ECM-XFU has a fixed 992)\n",
-					     edev->want_size);
+					     edev->link.want_size);
 	}
-	if (edev->want_check != edev->e.check) {
+	if (edev->link.want_check != edev->link.e.check) {
 		ret = ecmxf_simple_cmd(edev, ECMXF_CMD_CRC_TYPE_SET,
-				       (u8)edev->want_check, 0, NULL, 0, NULL);
+				       (u8)edev->link.want_check, 0, NULL, 0, NULL);
 		if (ret)
 			return dev_err_probe(dev, ret,
 					     "CRC_TYPE_SET to the %s check word failed\n",
-					     ecmxf_check_name(edev->want_check));
+					     ecmxf_check_name(edev->link.want_check));
 	}
 	/* the new format works both ways */
 	ret = ecmxf_read_fw_version(edev);
 	if (ret)
 		return dev_err_probe(dev, ret,
 				     "FW_VERSION_GET failed after switching to %u bytes with the %s check word\n",
-				     ecmxf_engine_data_size(&edev->e),
-				     ecmxf_check_name(edev->e.check));
+				     ecmxf_engine_data_size(&edev->link.e),
+				     ecmxf_check_name(edev->link.e.check));
 	return 0;
 }
 
@@ -583,14 +586,14 @@ int ecmxf_link_bringup(struct ecmxf_dev *edev)
 {
 	int ret;
 
-	WRITE_ONCE(edev->owner, current);
+	WRITE_ONCE(edev->link.owner, current);
 	ret = ecmxf_link_up(edev);
-	WRITE_ONCE(edev->owner, NULL);
+	WRITE_ONCE(edev->link.owner, NULL);
 	/* no IRQ thread still holds this task to wake it after it leaves */
-	if (edev->int0_irq)
-		synchronize_irq(edev->int0_irq);
-	if (edev->int1_irq)
-		synchronize_irq(edev->int1_irq);
+	if (edev->irq.int0_irq)
+		synchronize_irq(edev->irq.int0_irq);
+	if (edev->irq.int1_irq)
+		synchronize_irq(edev->irq.int1_irq);
 	return ret;
 }
 
@@ -650,7 +653,7 @@ bool ecmxf_claim_allows(struct ecmxf_dev *edev, const struct ecmxf_client *c,
 			bool exclusive)
 {
 	lockdep_assert_held(&edev->lock);
-	return !c || !exclusive || !edev->claim || edev->claim == c;
+	return !c || !exclusive || !edev->claim.holder || edev->claim.holder == c;
 }
 
 /**
@@ -671,7 +674,7 @@ bool ecmxf_req_refused(struct ecmxf_dev *edev, const struct ecmxf_req *req)
 	if (!ecmxf_claim_allows(edev, req->client, req->exclusive))
 		return true;
 	return req->x.hdr.code == ECMXF_CMD_ECAT_PDO_DATA_FIFO_OP &&
-	       req->kind != ECMXF_REQ_RESET && edev->rings;
+	       req->kind != ECMXF_REQ_RESET && edev->pdo.rings;
 }
 
 /* Finish @req, taken off its queue, as refused (-EBUSY); lock held. */
@@ -706,7 +709,7 @@ static void ecmxf_expire_queued(struct ecmxf_dev *edev, u64 now)
 			if (now < req->deadline_ns)
 				continue;
 			list_del_init(&req->node);
-			edev->queue_timeouts++;
+			edev->cnt.queue_timeouts++;
 			ecmxf_req_finish(edev, req, -ETIMEDOUT);
 		}
 	}
@@ -732,7 +735,7 @@ static struct ecmxf_req *ecmxf_pick(struct ecmxf_dev *edev)
 			req = list_first_entry_or_null(&c->queue,
 						       struct ecmxf_req, node);
 		}
-		if (!req || !ecmxf_engine_can_submit(&edev->e, &req->x))
+		if (!req || !ecmxf_engine_can_submit(&edev->link.e, &req->x))
 			continue;
 		/* an ended async command's fetch still holds async_req */
 		if (edev->async_req &&
@@ -757,7 +760,7 @@ static int ecmxf_submit(struct ecmxf_dev *edev, struct ecmxf_req *req)
 	req->x.timeout_us = (u32)clamp_t(u64, left, 1, U32_MAX);
 	req->fx.timeout_us = req->x.timeout_us;
 	ecmxf_watch_req_sent(edev, &req->x);
-	return ecmxf_engine_submit(&edev->e, &req->x, now);
+	return ecmxf_engine_submit(&edev->link.e, &req->x, now);
 }
 
 /*
@@ -766,8 +769,8 @@ static int ecmxf_submit(struct ecmxf_dev *edev, struct ecmxf_req *req)
  */
 static void ecmxf_req_cancel(struct ecmxf_dev *edev, struct ecmxf_req *req)
 {
-	if (ecmxf_engine_cancel(&edev->e, &req->x) && req->x.fetch)
-		ecmxf_engine_cancel(&edev->e, req->x.fetch);
+	if (ecmxf_engine_cancel(&edev->link.e, &req->x) && req->x.fetch)
+		ecmxf_engine_cancel(&edev->link.e, req->x.fetch);
 }
 
 /* Both @req's command and its result fetch (if any) are done. */
@@ -800,7 +803,7 @@ static void ecmxf_reset_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 	if (req->reset_flags == ECMXF_RESET_F_WARM) {
 		ecmxf_fail_queued(edev, -ECONNRESET);
 		/* a warm reset forgets the bus: the count is unknown again */
-		edev->slave_count = 0;
+		edev->chip.slave_count = 0;
 		/* and the FIFOs: the rings cannot go on */
 		ecmxf_rings_stop(edev, -ECONNRESET);
 	}
@@ -819,18 +822,18 @@ static void ecmxf_done(struct ecmxf_dev *edev, struct ecmxf_req *req)
 
 	if (req->x.hdr.code == ECMXF_CMD_FW_VERSION_GET &&
 	    (!status || status == -EMSGSIZE) &&
-	    req->x.rx_len >= sizeof(edev->fw_info)) {
-		edev->fw_version = req->x.rsp.ret;
-		memcpy(edev->fw_info, req->rx, sizeof(edev->fw_info));
-		edev->fw_valid = true;
+	    req->x.rx_len >= sizeof(edev->chip.fw_info)) {
+		edev->chip.fw_version = req->x.rsp.ret;
+		memcpy(edev->chip.fw_info, req->rx, sizeof(edev->chip.fw_info));
+		edev->chip.fw_valid = true;
 	}
 	/* the slave count, when the chip answered it without a command error */
 	if (req->x.hdr.code == ECMXF_CMD_ECAT_SLV_CNT_GET && !status &&
 	    req->x.rsp.code == ECMXF_CMD_ECAT_SLV_CNT_GET &&
 	    !(req->x.rsp.err_status & ECMXF_ERR_CMD))
-		edev->slave_count = req->x.rsp.ret;
+		edev->chip.slave_count = req->x.rsp.ret;
 	if (req->x.hdr.code == ECMXF_CMD_WARM_RESET && !status)
-		edev->slave_count = 0;
+		edev->chip.slave_count = 0;
 	if (req->kind == ECMXF_REQ_RESET)
 		ecmxf_reset_done(edev, req);
 	ecmxf_watch_req_done(edev, &req->x);
@@ -853,7 +856,7 @@ static void ecmxf_collect(struct ecmxf_dev *edev,
 	if (req && ecmxf_req_ended(req)) {
 		edev->cur_req = NULL;
 		ecmxf_done(edev, req);
-	} else if (req && (ecmxf_engine_running(&edev->e, &req->x) ||
+	} else if (req && (ecmxf_engine_running(&edev->link.e, &req->x) ||
 			   req->x.status != -EINPROGRESS)) {
 		/* running, or ended with its result fetch still to come */
 		edev->cur_req = NULL;
@@ -885,8 +888,8 @@ static void ecmxf_rings_put_all(struct ecmxf_rings *put[ECMXF_PUMP_CMDS])
  */
 static int ecmxf_reset_link(struct ecmxf_dev *edev)
 {
-	unsigned int size = ecmxf_engine_data_size(&edev->e);
-	enum ecmxf_check check = edev->e.check;
+	unsigned int size = ecmxf_engine_data_size(&edev->link.e);
+	enum ecmxf_check check = edev->link.e.check;
 	struct ecmxf_rings *pumped[ECMXF_PUMP_CMDS];
 	int ret;
 
@@ -953,7 +956,7 @@ static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 	ktime_t t;
 	u64 pump;
 
-	if (edev->int1_cleared) {
+	if (edev->link.int1_cleared) {
 		/* the clear must reach the chip before INT1 is unmasked */
 		ecmxf_wait_ready(edev);
 		ecmxf_int1_cleared(edev);
@@ -965,10 +968,10 @@ static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 		until_ns = pump;
 	t = ns_to_ktime(until_ns);
 
-	int0_seen = atomic64_read(&edev->int0_irqs);
+	int0_seen = atomic64_read(&edev->irq.int0_irqs);
 	for (;;) {
 		set_current_state(TASK_IDLE);
-		if (atomic_read(&edev->kick) || atomic_read(&edev->int1_flag) ||
+		if (atomic_read(&edev->link.kick) || atomic_read(&edev->irq.int1_flag) ||
 		    kthread_should_stop())
 			break;
 		if (until_ns == U64_MAX)
@@ -979,9 +982,9 @@ static void ecmxf_idle(struct ecmxf_dev *edev, u64 until_ns)
 		 * an INT0 interrupt ("ready" after the last exchange) is no
 		 * work: sleep on (the next wait for "ready" sees its flag)
 		 */
-		if (atomic64_read(&edev->int0_irqs) == int0_seen)
+		if (atomic64_read(&edev->irq.int0_irqs) == int0_seen)
 			break;
-		int0_seen = atomic64_read(&edev->int0_irqs);
+		int0_seen = atomic64_read(&edev->irq.int0_irqs);
 	}
 	__set_current_state(TASK_RUNNING);
 }
@@ -999,7 +1002,7 @@ static int ecmxf_worker_fn(void *data)
 	while (!kthread_should_stop()) {
 		/* the events found since, no lock held */
 		ecmxf_watch_flush(edev);
-		atomic_set(&edev->kick, 0);
+		atomic_set(&edev->link.kick, 0);
 		now = ktime_get_ns();
 		int1_at = ecmxf_int1_rearm(edev, now, false);
 		reset = NULL;
@@ -1022,9 +1025,9 @@ static int ecmxf_worker_fn(void *data)
 				reset = NULL;
 			}
 		}
-		if (!reset && now >= edev->next_expire_ns) {
+		if (!reset && now >= edev->link.next_expire_ns) {
 			ecmxf_expire_queued(edev, now);
-			edev->next_expire_ns = now + ECMXF_EXPIRE_PERIOD_NS;
+			edev->link.next_expire_ns = now + ECMXF_EXPIRE_PERIOD_NS;
 			ecmxf_publish(edev);
 		}
 		/*
@@ -1034,18 +1037,18 @@ static int ecmxf_worker_fn(void *data)
 		 * (pipelining), so the pump and a file's request share
 		 * exchanges.
 		 */
-		pump_ok = ecmxf_engine_can_submit(&edev->e, NULL);
+		pump_ok = ecmxf_engine_can_submit(&edev->link.e, NULL);
 		/* a waiting reset lets the engine drain first */
 		if (!reset && list_empty(&edev->resets) &&
 		    (pump_ok || !edev->cur_req)) {
-			if (edev->pump.turn && pump_ok)
+			if (edev->pdo.pump.turn && pump_ok)
 				pump = ecmxf_pump_take(edev, now);
 			if (!pump && !edev->cur_req)
 				req = ecmxf_pick(edev);
 			if (req) {
 				req->state = ECMXF_RS_ACTIVE;
 				edev->cur_req = req;
-				edev->pump.turn = true;
+				edev->pdo.pump.turn = true;
 			} else if (!pump && pump_ok) {
 				pump = ecmxf_pump_take(edev, now);
 			}
@@ -1075,14 +1078,14 @@ static int ecmxf_worker_fn(void *data)
 		 * (the pump's turn at the top of the loop), not a refresh.
 		 */
 		waits = ecmxf_pump_answer_waits(edev);
-		if (waits && atomic_read(&edev->int1_flag))
+		if (waits && atomic_read(&edev->irq.int1_flag))
 			continue;
 		/*
 		 * INT1, or a poll for the events' listeners: refresh the
 		 * header (flags, state) with one exchange
 		 */
-		if ((waits || (ecmxf_engine_idle(&edev->e) &&
-			       !atomic_xchg(&edev->int1_flag, 0))) &&
+		if ((waits || (ecmxf_engine_idle(&edev->link.e) &&
+			       !atomic_xchg(&edev->irq.int1_flag, 0))) &&
 		    !ecmxf_watch_poll_due(edev, now)) {
 			/* a burst that just ended */
 			ecmxf_watch_flush(edev);
@@ -1137,8 +1140,8 @@ int ecmxf_worker_start(struct ecmxf_dev *edev)
 		return PTR_ERR(t);
 	sched_set_fifo(t);
 	get_task_struct(t);
-	edev->worker = t;
-	WRITE_ONCE(edev->owner, t);
+	edev->link.worker = t;
+	WRITE_ONCE(edev->link.owner, t);
 	wake_up_process(t);
 	return 0;
 }
@@ -1152,14 +1155,14 @@ int ecmxf_worker_start(struct ecmxf_dev *edev)
  */
 void ecmxf_worker_stop(struct ecmxf_dev *edev)
 {
-	struct task_struct *t = edev->worker;
+	struct task_struct *t = edev->link.worker;
 
 	if (!t)
 		return;
 	kthread_stop(t);
 	mutex_lock(&edev->lock);
-	WRITE_ONCE(edev->owner, NULL);
-	edev->worker = NULL;
+	WRITE_ONCE(edev->link.owner, NULL);
+	edev->link.worker = NULL;
 	mutex_unlock(&edev->lock);
 	put_task_struct(t);
 }
@@ -1175,8 +1178,8 @@ void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k)
 
 	ecmxf_get_snap(edev, &v);
 	*k = v.k;
-	k->int0_irqs = atomic64_read(&edev->int0_irqs);
-	k->int1_irqs = atomic64_read(&edev->int1_irqs);
+	k->int0_irqs = atomic64_read(&edev->irq.int0_irqs);
+	k->int1_irqs = atomic64_read(&edev->irq.int1_irqs);
 }
 
 /**
@@ -1188,6 +1191,6 @@ void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k)
  */
 void ecmxf_get_snap(struct ecmxf_dev *edev, struct ecmxf_snap *snap)
 {
-	ecmxf_latch_read(&edev->snap_seq, &edev->snap[0], &edev->snap[1], snap,
+	ecmxf_latch_read(&edev->cnt.snap_seq, &edev->cnt.snap[0], &edev->cnt.snap[1], snap,
 			 sizeof(*snap));
 }

@@ -36,6 +36,7 @@
 #include <linux/pid.h>
 #include <linux/sched.h>
 #include <linux/spi/spi.h>
+#include <linux/spinlock.h>
 #include <linux/types.h>
 #include <linux/wait.h>
 
@@ -170,11 +171,14 @@ struct ecmxf_req {
  * struct ecmxf_snap - what the worker publishes for lock-free readers
  * @k: the counters (int0_irqs and int1_irqs stay 0: they are atomics the
  *	readers add themselves)
- * @ring_skipped: &ecmxf_dev.out_ring_skipped
- * @ring_failures: &ecmxf_dev.pump_failures
- * @data_size: &ecmxf_dev.data_size
- * @check: &ecmxf_dev.check
- * @cover: &ecmxf_dev.cover
+ * @ring_skipped: &ecmxf_dev.cnt.out_ring_skipped
+ * @ring_failures: &ecmxf_dev.cnt.pump_failures
+ * @data_size: &ecmxf_dev.chip.data_size
+ * @check: &ecmxf_dev.chip.check
+ * @cover: &ecmxf_dev.chip.cover
+ * @fw_valid: &ecmxf_dev.chip.fw_valid
+ * @fw_version: &ecmxf_dev.chip.fw_version
+ * @fw_info: &ecmxf_dev.chip.fw_info
  */
 struct ecmxf_snap {
 	struct ecmxf_counters k;
@@ -183,6 +187,9 @@ struct ecmxf_snap {
 	u16 data_size;
 	u8 check;
 	u8 cover;
+	bool fw_valid;
+	u8 fw_version;
+	u8 fw_info[20];
 };
 
 /**
@@ -214,13 +221,8 @@ struct ecmxf_client {
 };
 
 /**
- * struct ecmxf_dev - one ECM-XF chip
- * @spi: the SPI device; NULL after remove
- * @dev: the class device behind /dev/ecmxfN; its refcount keeps this
- *	structure alive while files are open (cdev_device_add() makes the
- *	cdev hold it)
- * @cdev: the character device
- * @id: N of /dev/ecmxfN
+ * struct ecmxf_dev_irq - INT0 and INT1: the lines, their IRQs, what the
+ *	handlers tell the worker
  * @int0: the INT0 GPIO ("ready", logical 1 = ready) of the GPIO form, or
  *	NULL (INT0 absent, or given as an interrupt: no level to read)
  * @int1: the INT1 GPIO (events, logical 1 = asserted), or NULL (as @int0)
@@ -235,93 +237,16 @@ struct ecmxf_client {
  * @int0_flag: set by the INT0 handler: "ready" since the last exchange
  *	began; cleared by the worker before each exchange
  * @int1_flag: set by the INT1 handler, consumed by the worker
- * @kick: set when the worker has new work; consumed by the worker
- * @worker: the kthread that owns the link (a reference is held)
- * @owner: the task that waits for INT0 and new work: probe during
- *	bring-up, then @worker; read by the IRQ threads with READ_ONCE(),
- *	cleared under @lock before @worker is released
- * @e: the protocol engine; only the worker (or probe, before the worker
- *	starts) touches it
- * @txbuf: DMA-safe packet buffer, host to chip (worker only)
- * @rxbuf: DMA-safe packet buffer, chip to host (worker only)
- * @xfer_end_ns: when the last exchange ended (ktime_get_ns()), 0 before
- *	the first; the wait for "ready" before the next one counts from it
- *	(worker only)
- * @wkc_last: last WKC error count seen (worker only)
- * @wkc_valid: @wkc_last holds a value (worker only)
- * @next_expire_ns: next scan for expired queued requests (worker only)
- * @int1_cleared: the last packet sent carried interrupt clear bits
- *	(worker only; level INT1)
- * @int1_rearm_ns: when a masked level INT1 is unmasked at the latest, 0
- *	when not set (worker only)
- * @want_size: data section size to set at probe; 0 keeps the chip's
- * @want_check: check type to set at probe
- * @lock: protects everything below it.  The SCHED_FIFO worker takes it
- *	around every exchange, so it is held for field and list updates
- *	only: never across spi_sync(), a wait or a user copy, and nothing
- *	whose cost grows with the PDO rings runs under it.  Ring memory in
- *	particular is never freed under it (PREEMPT_RT: the worker would
- *	wait for vfree() of every page): a reference to &struct ecmxf_rings
- *	is detached under the lock and dropped with ecmxf_rings_put() after
- *	unlocking (ecmxf_rings_teardown(), ecmxf_pump_collect() and
- *	ecmxf_pump_cancel() hand theirs back to the caller for that), and
- *	mmap() inserts the pages without it.
- * @gone: the chip was removed; every file operation returns -ENODEV
- * @irqs_off: ecmxf_free_irqs() began: no IRQ is enabled again
- * @cur_req: the request in the engine's command slot (written by the
- *	worker under @lock, read by it without)
- * @async_req: the async request the chip runs, or whose result fetch is
- *	still in the engine after it ended (as @cur_req); while it is set no
- *	other async request is taken
- * @queue_timeouts: requests that timed out before they were sent
- * @clients: open files, in round-robin order
- * @resets: %ECMXF_REQ_RESET requests waiting for the worker
- * @open_count: files open
- * @open_readonly: of those, files opened without FMODE_WRITE
- * @claim: the file holding the cyclic claim, or NULL
- * @claim_pid: the thread group that took @claim
- * @data_size: data section size in force (snapshot of the engine's)
- * @check: check type in force (snapshot of the engine's)
- * @cover: &enum ecmxf_cover, the chip's CRC coverage found (snapshot of
- *	the engine's)
- * @fw_valid: @fw_version and @fw_info were read
- * @fw_version: FW_VERSION_GET return value
- * @fw_info: FW_VERSION_GET data bytes
- * @slave_count: return value of the last ECAT_SLV_CNT_GET that succeeded
- *	without a command error; 0 until then and after a warm reset
- * @last: last valid response header
- * @stats: counters since probe: @stats_base plus the engine's
- * @stats_base: counts of earlier engine lives (before a re-initialisation)
- * @wkc_errors: increments of the chip's WKC error count
- * @int0_irqs: INT0 interrupts handled (written by the IRQ thread, atomic
+ * @int0_irqs: INT0 interrupts handled (written by the handler, atomic
  *	read and write are enough)
  * @int1_irqs: INT1 interrupts handled (as @int0_irqs)
- * @rings: the PDO rings of the claim holder, or NULL (a reference held)
- * @rings_alive: ring sets whose memory exists (current, replaced or
- *	released but still mapped); at most %ECMXF_RINGS_MAX
- * @pump: the PDO pump's command (worker only)
- * @out_ring_underruns: &struct ecmxf_counters.out_ring_underruns
- * @in_ring_overruns: &struct ecmxf_counters.in_ring_overruns
- * @rx_fifo_underruns: &struct ecmxf_counters.rx_fifo_underruns
- * @rx_fifo_overruns: &struct ecmxf_counters.rx_fifo_overruns
- * @tx_fifo_overruns: &struct ecmxf_counters.tx_fifo_overruns
- * @out_ring_skipped: output frames the pump skipped (sysfs ring_skipped)
- * @pump_failures: pump commands that failed (sysfs ring_failures)
- * @nl: generic netlink events (ecmxf-netlink.c; worker only, see
- *	&struct ecmxf_nl_dev)
- * @snap_seq: the count of @snap (ecmxf-latch.h), read without the lock
- * @snap_kseq: the writer's own count (under @lock)
- * @snap: the counters and the link format in two copies, published under
- *	@lock after every exchange (ecmxf_publish()) and read by sysfs,
- *	netlink and %ECMXF_IOC_COUNTERS without any lock: no reader can delay
- *	the real-time worker
+ * @irqs_off: ecmxf_free_irqs() began: no IRQ is enabled again (under
+ *	&ecmxf_dev.lock)
+ *
+ * Set at probe but for the atomics, which the handlers and the worker
+ * share, and @irqs_off.
  */
-struct ecmxf_dev {
-	struct spi_device *spi;
-	struct device dev;
-	struct cdev cdev;
-	int id;
-
+struct ecmxf_dev_irq {
 	struct gpio_desc *int0;
 	struct gpio_desc *int1;
 	int int0_irq;
@@ -332,10 +257,40 @@ struct ecmxf_dev {
 	atomic_t int1_masked;
 	atomic_t int0_flag;
 	atomic_t int1_flag;
-	atomic_t kick;
+	atomic64_t int0_irqs;
+	atomic64_t int1_irqs;
+	bool irqs_off;
+};
 
+/**
+ * struct ecmxf_dev_link - the link worker and what it alone touches
+ * @worker: the kthread that owns the link (a reference is held)
+ * @owner: the task that waits for INT0 and new work: probe during
+ *	bring-up, then @worker; read by the IRQ handlers with READ_ONCE(),
+ *	cleared under &ecmxf_dev.lock before @worker is released
+ * @kick: set when the worker has new work; consumed by the worker
+ * @e: the protocol engine; only the worker (or probe, before the worker
+ *	starts) touches it
+ * @txbuf: DMA-safe packet buffer, host to chip
+ * @rxbuf: DMA-safe packet buffer, chip to host
+ * @xfer_end_ns: when the last exchange ended (ktime_get_ns()), 0 before
+ *	the first; the wait for "ready" before the next one counts from it
+ * @wkc_last: last WKC error count seen
+ * @wkc_valid: @wkc_last holds a value
+ * @next_expire_ns: next scan for expired queued requests
+ * @int1_cleared: the last packet sent carried interrupt clear bits (level
+ *	INT1)
+ * @int1_rearm_ns: when a masked level INT1 is unmasked at the latest, 0
+ *	when not set
+ * @want_size: data section size to set at probe; 0 keeps the chip's
+ * @want_check: check type to set at probe
+ *
+ * Worker only (probe before the worker exists), but @owner and @kick.
+ */
+struct ecmxf_dev_link {
 	struct task_struct *worker;
 	struct task_struct *owner;
+	atomic_t kick;
 	struct ecmxf_engine e;
 	u8 *txbuf;
 	u8 *rxbuf;
@@ -347,20 +302,36 @@ struct ecmxf_dev {
 	u64 int1_rearm_ns;
 	u32 want_size;
 	u32 want_check;
+};
 
-	/* protects the fields below; no ring memory freed under it (above) */
-	struct mutex lock;
-	bool gone;
-	bool irqs_off;
-	struct ecmxf_req *cur_req;
-	struct ecmxf_req *async_req;
-	u64 queue_timeouts;
-	struct list_head clients;
-	struct list_head resets;
-	unsigned int open_count;
-	unsigned int open_readonly;
-	struct ecmxf_client *claim;
-	struct pid *claim_pid;
+/**
+ * struct ecmxf_dev_claim - who holds the cyclic claim
+ * @holder: the file holding it, or NULL (under &ecmxf_dev.lock)
+ * @pid: the thread group that took it (written under &ecmxf_dev.lock and
+ *	@pid_lock, read under either)
+ * @pid_lock: a reader of @pid that must not take &ecmxf_dev.lock (sysfs:
+ *	any local user) takes this spinlock instead; the worker never does
+ */
+struct ecmxf_dev_claim {
+	struct ecmxf_client *holder;
+	struct pid *pid;
+	spinlock_t pid_lock;	/* @pid for readers (above) */
+};
+
+/**
+ * struct ecmxf_dev_chip - what is known of the chip (under &ecmxf_dev.lock)
+ * @data_size: data section size in force (snapshot of the engine's)
+ * @check: check type in force (snapshot of the engine's)
+ * @cover: &enum ecmxf_cover, the chip's CRC coverage found (snapshot of
+ *	the engine's)
+ * @fw_valid: @fw_version and @fw_info were read
+ * @fw_version: FW_VERSION_GET return value
+ * @fw_info: FW_VERSION_GET data bytes
+ * @slave_count: return value of the last ECAT_SLV_CNT_GET that succeeded
+ *	without a command error; 0 until then and after a warm reset
+ * @last: last valid response header
+ */
+struct ecmxf_dev_chip {
 	u16 data_size;
 	u8 check;
 	u8 cover;
@@ -369,14 +340,37 @@ struct ecmxf_dev {
 	u8 fw_info[20];
 	u8 slave_count;
 	struct ecmxf_rsp_hdr last;
+};
+
+/**
+ * struct ecmxf_dev_counters - the counters, and their published copy
+ * @stats: counters since probe: @stats_base plus the engine's
+ * @stats_base: counts of earlier engine lives (before a re-initialisation)
+ * @wkc_errors: increments of the chip's WKC error count
+ * @queue_timeouts: requests that timed out before they were sent
+ * @out_ring_underruns: &struct ecmxf_counters.out_ring_underruns
+ * @in_ring_overruns: &struct ecmxf_counters.in_ring_overruns
+ * @rx_fifo_underruns: &struct ecmxf_counters.rx_fifo_underruns
+ * @rx_fifo_overruns: &struct ecmxf_counters.rx_fifo_overruns
+ * @tx_fifo_overruns: &struct ecmxf_counters.tx_fifo_overruns
+ * @out_ring_skipped: output frames the pump skipped (sysfs ring_skipped)
+ * @pump_failures: pump commands that failed (sysfs ring_failures)
+ * @snap_seq: the count of @snap (ecmxf-latch.h), read without the lock
+ * @snap_kseq: the writer's own count
+ * @snap: the counters, the link format and the firmware in two copies,
+ *	published under &ecmxf_dev.lock after every exchange
+ *	(ecmxf_publish()) and read by sysfs, netlink and
+ *	%ECMXF_IOC_COUNTERS without any lock: no reader can delay the
+ *	real-time worker
+ *
+ * All but @snap_seq and @snap are under &ecmxf_dev.lock; the worker is
+ * their only writer.
+ */
+struct ecmxf_dev_counters {
 	struct ecmxf_engine_stats stats;
 	struct ecmxf_engine_stats stats_base;
 	u64 wkc_errors;
-	atomic64_t int0_irqs;
-	atomic64_t int1_irqs;
-	struct ecmxf_rings *rings;
-	atomic_t rings_alive;
-	struct ecmxf_pump_slot pump;
+	u64 queue_timeouts;
 	u64 out_ring_underruns;
 	u64 in_ring_overruns;
 	u64 rx_fifo_underruns;
@@ -384,12 +378,92 @@ struct ecmxf_dev {
 	u64 tx_fifo_overruns;
 	u64 out_ring_skipped;
 	u64 pump_failures;
-
-	struct ecmxf_nl_dev nl;
-
 	u32 snap_seq;
 	u32 snap_kseq;
 	struct ecmxf_snap snap[2];
+};
+
+/**
+ * struct ecmxf_dev_pdo - the PDO rings and their pump
+ * @rings: the rings of the claim holder, or NULL (a reference held;
+ *	under &ecmxf_dev.lock)
+ * @alive: ring sets whose memory exists (current, replaced or released
+ *	but still mapped); at most %ECMXF_RINGS_MAX
+ * @pump: the pump's commands (worker only)
+ */
+struct ecmxf_dev_pdo {
+	struct ecmxf_rings *rings;
+	atomic_t alive;
+	struct ecmxf_pump_slot pump;
+};
+
+/**
+ * struct ecmxf_dev - one ECM-XF chip
+ * @spi: the SPI device; NULL after remove
+ * @dev: the class device behind /dev/ecmxfN; its refcount keeps this
+ *	structure alive while files are open (cdev_device_add() makes the
+ *	cdev hold it)
+ * @cdev: the character device
+ * @id: N of /dev/ecmxfN
+ * @irq: INT0 and INT1 (&struct ecmxf_dev_irq)
+ * @link: the worker's own state (&struct ecmxf_dev_link)
+ * @lock: protects the fields below it and those the sub-structures say.
+ *	The SCHED_FIFO worker takes it around every exchange, so it is held
+ *	for field and list updates only: never across spi_sync(), a wait or
+ *	a user copy, and nothing whose cost grows with the PDO rings runs
+ *	under it.  Ring memory in particular is never freed under it
+ *	(PREEMPT_RT: the worker would wait for vfree() of every page): a
+ *	reference to &struct ecmxf_rings is detached under the lock and
+ *	dropped with ecmxf_rings_put() after unlocking
+ *	(ecmxf_rings_teardown(), ecmxf_pump_collect() and
+ *	ecmxf_pump_cancel() hand theirs back to the caller for that), and
+ *	mmap() inserts the pages without it.  No reader that any local user
+ *	can run (sysfs, netlink GET_COUNTERS) takes it.
+ * @gone: the chip was removed; every file operation returns -ENODEV
+ * @cur_req: the request in the engine's command slot (written by the
+ *	worker under @lock, read by it without)
+ * @async_req: the async request the chip runs, or whose result fetch is
+ *	still in the engine after it ended (as @cur_req); while it is set no
+ *	other async request is taken
+ * @clients: open files, in round-robin order
+ * @resets: %ECMXF_REQ_RESET requests waiting for the worker
+ * @open_count: files open
+ * @open_readonly: of those, files opened without FMODE_WRITE
+ * @claim: the cyclic claim (&struct ecmxf_dev_claim)
+ * @chip: what is known of the chip (&struct ecmxf_dev_chip)
+ * @cnt: the counters and their published snapshot
+ *	(&struct ecmxf_dev_counters)
+ * @pdo: the PDO rings and the pump (&struct ecmxf_dev_pdo)
+ * @nl: generic netlink events (ecmxf-netlink.c; worker only, see
+ *	&struct ecmxf_nl_dev)
+ *
+ * Grouped by concern, as mcp251xfd groups its rings: the lines, the
+ * worker's own state, then what the lock protects.
+ */
+struct ecmxf_dev {
+	struct spi_device *spi;
+	struct device dev;
+	struct cdev cdev;
+	int id;
+
+	struct ecmxf_dev_irq irq;
+	struct ecmxf_dev_link link;
+
+	/* protects the fields below; no ring memory freed under it (above) */
+	struct mutex lock;
+	bool gone;
+	struct ecmxf_req *cur_req;
+	struct ecmxf_req *async_req;
+	struct list_head clients;
+	struct list_head resets;
+	unsigned int open_count;
+	unsigned int open_readonly;
+	struct ecmxf_dev_claim claim;
+	struct ecmxf_dev_chip chip;
+	struct ecmxf_dev_counters cnt;
+	struct ecmxf_dev_pdo pdo;
+
+	struct ecmxf_nl_dev nl;
 };
 
 /* module parameters (ecmxf-main.c) */
@@ -454,6 +528,7 @@ void ecmxf_req_finish(struct ecmxf_dev *edev, struct ecmxf_req *req,
 		      int status);
 void ecmxf_get_counters(struct ecmxf_dev *edev, struct ecmxf_counters *k);
 void ecmxf_get_snap(struct ecmxf_dev *edev, struct ecmxf_snap *snap);
+pid_t ecmxf_claim_pid_vnr(struct ecmxf_dev *edev);
 const char *ecmxf_check_name(unsigned int check);
 bool ecmxf_claim_allows(struct ecmxf_dev *edev, const struct ecmxf_client *c,
 			bool exclusive);
