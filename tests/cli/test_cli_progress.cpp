@@ -78,3 +78,16 @@ TEST_CASE("progress: foe_write refuses a slave in INIT before staging the file",
 	CHECK_THAT(r.err, Contains("the slave is in INIT and has no mailbox"));
 	CHECK_THAT(r.err, !Contains("staging")); // nothing staged
 }
+
+TEST_CASE("progress: pdos --progress counts the slaves whose mapping it read; silent into a pipe", "[cli][progress]")
+{
+	auto r = run("--progress pdos");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.err, Contains("pdos: 3/3 slaves (100%)"));
+	r = run("--progress pdos -p 0,2");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.err, Contains("pdos: 2/2 slaves (100%)"));
+	r = run("pdos");
+	REQUIRE(r.status == 0);
+	CHECK(r.err.empty());
+}
