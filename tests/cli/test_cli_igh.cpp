@@ -213,7 +213,7 @@ TEST_CASE("igh: reg_read reads ESC registers by APRD, typed or as bytes", "[cli]
 	CHECK(r.err == "ecmxf-util: reg_read: slave position 7 out of range: the bus has 3 slaves (0..2)\n");
 }
 
-TEST_CASE("igh: reg_write writes by APWR; bad DATA is refused before the bus", "[cli][igh][reg]")
+TEST_CASE("igh: reg_write writes by APWR, bad DATA is refused before the bus", "[cli][igh][reg]")
 {
 	auto r = run("reg_write -p 0 0x0f80 0a0b");
 	CHECK(r.status == 0);
@@ -230,7 +230,7 @@ TEST_CASE("igh: reg_write writes by APWR; bad DATA is refused before the bus", "
 	CHECK(r.status == 2);
 }
 
-TEST_CASE("igh: sii_write takes sii_read's binary image; checksum, size and directory errors", "[cli][igh][sii]")
+TEST_CASE("igh: sii_write takes sii_read's binary image, checksum, size and directory errors", "[cli][igh][sii]")
 {
 	const std::string img = tempPath("sii.bin");
 	// sii_read into a file writes the binary image (as IgH's tool)

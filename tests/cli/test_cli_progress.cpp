@@ -34,7 +34,7 @@ struct File {
 
 } // namespace
 
-TEST_CASE("progress: foe_write --progress shows the staging; silent into a pipe", "[cli][progress]")
+TEST_CASE("progress: foe_write --progress shows the staging, silent into a pipe", "[cli][progress]")
 {
 	ecmxftest::TempDir dir;
 	const File fw(dir, "firmware.bin", 20000);
@@ -49,7 +49,7 @@ TEST_CASE("progress: foe_write --progress shows the staging; silent into a pipe"
 	CHECK_THAT(r.err, !Contains("staging"));
 }
 
-TEST_CASE("progress: sii_write --progress counts the words; silent into a pipe", "[cli][progress]")
+TEST_CASE("progress: sii_write --progress counts the words, silent into a pipe", "[cli][progress]")
 {
 	ecmxftest::TempDir dir;
 	const std::string img = dir.path + "/sii.bin";
@@ -79,7 +79,7 @@ TEST_CASE("progress: foe_write refuses a slave in INIT before staging the file",
 	CHECK_THAT(r.err, !Contains("staging")); // nothing staged
 }
 
-TEST_CASE("progress: pdos --progress counts the slaves whose mapping it read; silent into a pipe", "[cli][progress]")
+TEST_CASE("progress: pdos --progress counts the slaves whose mapping it read, silent into a pipe", "[cli][progress]")
 {
 	auto r = run("--progress pdos");
 	REQUIRE(r.status == 0);

@@ -75,7 +75,7 @@ TEST_CASE("util: object bytes as text and JSON", "[cli][units]")
 	CHECK(formatValue(DataType::Bool, B{ 1 }) == "true");
 }
 
-TEST_CASE("util: -p lists and ranges: ascending, each once; bad items named", "[cli][units]")
+TEST_CASE("util: -p lists and ranges: ascending, each once, bad items named", "[cli][units]")
 {
 	CHECK(parsePositions("slaves", "2").list == std::vector<unsigned>{ 2 });
 	CHECK(parsePositions("slaves", "0,2").list == std::vector<unsigned>{ 0, 2 });

@@ -183,7 +183,7 @@ TEST_CASE("chip: a data length beyond the data section is a bad parameter, nothi
 	CHECK(rig.chip->dataSize() == 256);
 }
 
-TEST_CASE("chip: SDO_GET returns the last read's data; a write keeps it, a failed read clears it",
+TEST_CASE("chip: SDO_GET returns the last read's data, a write keeps it, a failed read clears it",
 	  "[chip][variants]")
 {
 	Rig rig(1);
@@ -244,7 +244,7 @@ TEST_CASE("chip: slave information codes 10..13 give each slave model's DC state
 	CHECK(bad.cmdError());
 }
 
-TEST_CASE("network files: chip KEY=VALUE lines set chip options; bad ones name line, key and value",
+TEST_CASE("network files: chip KEY=VALUE lines set chip options, bad ones name line, key and value",
 	  "[chip][variants]")
 {
 	const sim::Network n = sim::Network::fromText("slave dio\nchip crc32-coverage=valid crc-type-set-fixed=accept\n");
@@ -298,7 +298,7 @@ TEST_CASE("network files: chip KEY=VALUE lines set chip options; bad ones name l
 	CHECK(m.chipOptions()[0].second == "frame");
 }
 
-TEST_CASE("chip option init-op: strict refuses INIT_OP byte 1 = 0; lenient takes it and leaves the FIFO on",
+TEST_CASE("chip option init-op: strict refuses INIT_OP byte 1 = 0, lenient takes it and leaves the FIFO on",
 	  "[chip][variants]")
 {
 	for (const bool lenient : { false, true }) {

@@ -91,7 +91,7 @@ TEST_CASE("sk cli: upload and download through the SDO slot")
 	CHECK(r.status == 2);
 }
 
-TEST_CASE("sk cli: cia402 enable, move, status; io; lio; states; reset")
+TEST_CASE("sk cli: cia402 enable, move, status, io, lio, states, reset")
 {
 	auto r = run("-d sk-sim: -q cia402 -p 1 move 4000");
 	REQUIRE(r.status == 0);
@@ -150,7 +150,7 @@ TEST_CASE("sk cli: bad values of io, cia402 and -p are usage errors")
 	}
 }
 
-TEST_CASE("sk cli: what the ECM-SK cannot do is refused with why; bad URIs are named")
+TEST_CASE("sk cli: what the ECM-SK cannot do is refused with why, bad URIs are named")
 {
 	for (const char *cmd : { "eeprom", "pdos", "foe_read", "gpio", "raw", "monitor", "sii_read", "emergency" }) {
 		INFO(cmd);
@@ -239,7 +239,7 @@ TEST_CASE("sk cli: one command table: --help with -d lists what the device can d
 	CHECK_THAT(r.out, Contains("On an ECM-SK (-d sk-...): SDO_RD"));
 }
 
-TEST_CASE("sk cli: slaves -v adds revision and serial number (0x1018:03/04); -p takes lists and ranges")
+TEST_CASE("sk cli: slaves -v adds revision and serial number (0x1018:03/04), -p takes lists and ranges")
 {
 	auto r = run("-d sk-sim: slaves -v");
 	REQUIRE(r.status == 0);

@@ -40,7 +40,7 @@ struct Server : ecmxftest::SimServer {
 
 } // namespace
 
-TEST_CASE("sk unix: bring-up and a CSP move over the socket; the board outlives its clients")
+TEST_CASE("sk unix: bring-up and a CSP move over the socket, the board outlives its clients")
 {
 	TempDir d;
 	const std::string sock = d.path + "/sk.sock";

@@ -122,7 +122,7 @@ TEST_CASE("sk lib: wrong types, bad cycle times and commands in the wrong state 
 	CHECK(errnoOf([&] { b->io().write(1, 1); }) == EPERM); // a drive
 }
 
-TEST_CASE("sk lib: SDO typed read and write; aborts carry the code and its text")
+TEST_CASE("sk lib: SDO typed read and write, aborts carry the code and its text")
 {
 	auto b = Board::open("sk-sim:");
 	CHECK(errnoOf([&] { (void)b->sdo().read(1, 0x1000, 0); }) == EPERM); // INIT
@@ -170,7 +170,7 @@ TEST_CASE("sk lib: servo on, a CSP move of the Drive and the STEP slave through 
 	CHECK_FALSE(b->cyclic().stage(41, Mode::Csp, 0));
 }
 
-TEST_CASE("sk lib: stage() refuses what the FIFO has no room for; nothing is dropped")
+TEST_CASE("sk lib: stage() refuses what the FIFO has no room for, nothing is dropped")
 {
 	auto b = Board::open("sk-sim:?abandon=0");
 	bringUp(*b, 4000); // slow cycle: the FIFO fills faster than it drains
@@ -323,7 +323,7 @@ TEST_CASE("sk lib: detectAxes finds each slave's type through SET_AXIS")
 	CHECK(b->simulator()->slaveType(2) == static_cast<std::uint8_t>(SlaveType::Step));
 }
 
-TEST_CASE("sk lib: stage2() drives both channels of a 2-channel HSP; 12-byte slots refuse it")
+TEST_CASE("sk lib: stage2() drives both channels of a 2-channel HSP, 12-byte slots refuse it")
 {
 	const std::string path = "/tmp/ecmxf-test-sk-hsp2-" + std::to_string(::getpid()) + ".net";
 	{
@@ -356,7 +356,7 @@ TEST_CASE("sk lib: stage2() drives both channels of a 2-channel HSP; 12-byte slo
 	CHECK_FALSE(b12->cyclic().stage2(1, Mode::Csp, 0, 0));
 }
 
-TEST_CASE("sk board: the EtherCAT state is ecmxf::State; sk::State stays one release as its alias")
+TEST_CASE("sk board: the EtherCAT state is ecmxf::State, sk::State stays one release as its alias")
 {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wdeprecated-declarations"

@@ -12,7 +12,7 @@
 using namespace skt;
 using ecmxf::sk::BoardConfig;
 
-TEST_CASE("sk board settings: parse the keys; refuse unknown keys and bad values")
+TEST_CASE("sk board settings: parse the keys, refuse unknown keys and bad values")
 {
 	auto c = BoardConfig::parse("slot=16&test=1,abandon=0&ex=3&fifo=512&busy_us=50&spi_hz=6000000&lio=0x3F");
 	CHECK(c.slotSize == 16);
@@ -49,7 +49,7 @@ TEST_CASE("sk board: more slaves than the frame has slots for is refused")
 	CHECK_THROWS_AS(ecmxf::sk::SimBoard(net("slave dio\n"), bad), std::invalid_argument);
 }
 
-TEST_CASE("sk board: powers on in INIT; frames are 504 or 512 bytes")
+TEST_CASE("sk board: powers on in INIT, frames are 504 or 512 bytes")
 {
 	Host h;
 	CHECK(h.b.frameSize() == 504);
@@ -79,7 +79,7 @@ TEST_CASE("sk board: a command's answer comes with the next exchange (LIO_RD)")
 	CHECK(third.data1 == 0x15u);
 }
 
-TEST_CASE("sk board: LIO_WR sets the ECM IC's outputs in any state; values above 6 bits are refused")
+TEST_CASE("sk board: LIO_WR sets the ECM IC's outputs in any state, values above 6 bits are refused")
 {
 	Host h;
 	h.ecm(ECMSK_CMD_LIO_WR, 0x2A);
@@ -134,7 +134,7 @@ TEST_CASE("sk board: a transfer while Busy is high, or of another length, is not
 	CHECK(h.b.lioOutputs() == 0u);
 }
 
-TEST_CASE("sk board: SET_STATE takes several cycles; Current State follows INIT -> PRE-OP -> SAFE-OP")
+TEST_CASE("sk board: SET_STATE takes several cycles, Current State follows INIT -> PRE-OP -> SAFE-OP")
 {
 	Host h;
 	h.ecm(ECMSK_CMD_SET_STATE, ECMSK_STATE_PREOP);
@@ -424,7 +424,7 @@ TEST_CASE("sk board: test mode (CONFIG1) goes to OP by itself at 1 ms and walks 
 	CHECK(a != b);
 }
 
-TEST_CASE("sk board: IO_WR and IO_RD on an IO slave in OP; refused on a drive")
+TEST_CASE("sk board: IO_WR and IO_RD on an IO slave in OP, refused on a drive")
 {
 	Host h;
 	h.toOp({ ECMSK_AXIS_DRIVE, ECMSK_AXIS_STEP, ECMSK_AXIS_IO });
@@ -447,7 +447,7 @@ TEST_CASE("sk board: IO_WR and IO_RD on an IO slave in OP; refused on a drive")
 	CHECK(h.slaveRsp(h.answer(), 1).cmd == 0);
 }
 
-TEST_CASE("sk board settings: fifo= is the depth FIFO remaining reports; spi_hz= the wire time; lio= the inputs")
+TEST_CASE("sk board settings: fifo= is the depth FIFO remaining reports, spi_hz= the wire time, lio= the inputs")
 {
 	BoardConfig c = BoardConfig::parse("fifo=300&spi_hz=6000000&lio=0x21&slot=16");
 	Host h("slave dio\n", c);

@@ -220,7 +220,7 @@ TEST_CASE("sk motion: CONFIG3 abandons cyclic commands that waited more than 100
 	}
 }
 
-TEST_CASE("sk motion: SV_OFF disables the drive; ALM_CLR resets a fault")
+TEST_CASE("sk motion: SV_OFF disables the drive, ALM_CLR resets a fault")
 {
 	Host h;
 	h.toOp(kTypes);
@@ -265,7 +265,7 @@ TEST_CASE("sk motion: CSV and CST on the servo")
 	CHECK(p1 - p0 > 10000);
 }
 
-TEST_CASE("sk motion: GO_HOME needs 0x6060 = 6 and 0x6098 by SDO; bits 10 and 12 say done; one at a time")
+TEST_CASE("sk motion: GO_HOME needs 0x6060 = 6 and 0x6098 by SDO, bits 10 and 12 say done, one at a time")
 {
 	Host h;
 	h.toOp(kTypes);
@@ -358,7 +358,7 @@ TEST_CASE("sk motion: a 2-channel HSP with 16-byte slots moves both channels (ta
 	CHECK(static_cast<std::int32_t>(v[0] | v[1] << 8 | v[2] << 16 | v[3] << 24) == -2000);
 }
 
-TEST_CASE("sk motion: with 12-byte slots a 2-channel HSP drives channel 1 only; channels=3 is refused")
+TEST_CASE("sk motion: with 12-byte slots a 2-channel HSP drives channel 1 only, channels=3 is refused")
 {
 	Host h("slave hsp channels=2\nslave dio\n");
 	h.toOp({ ECMSK_AXIS_HSP, ECMSK_AXIS_IO });
@@ -377,7 +377,7 @@ TEST_CASE("sk motion: with 12-byte slots a 2-channel HSP drives channel 1 only; 
 	CHECK_THROWS(net("slave hsp channels=0\n"));
 }
 
-TEST_CASE("sk motion: one GO_HOME at a time on the bus; ABORT_HOME stops it and returns to CSP")
+TEST_CASE("sk motion: one GO_HOME at a time on the bus, ABORT_HOME stops it and returns to CSP")
 {
 	Host h("slave EST-584\nslave EST-584\nslave dio\n");
 	h.toOp({ ECMSK_AXIS_STEP, ECMSK_AXIS_STEP, ECMSK_AXIS_IO });
