@@ -28,6 +28,9 @@
 #include <vector>
 
 #include "base/text.hpp"
+#if __has_include("ecmxf_network_dir.h")
+#include "ecmxf_network_dir.h" // ECMXF_NETWORK_DIR: the configured prefix's networks
+#endif
 #include "slaves/factory.hpp"
 
 namespace ecmxf::sim {
