@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -54,8 +55,8 @@ const char *const kSkHelp =
 	"most 4. --json works with every command. A fresh board (sk-sim: starts in\n"
 	"INIT at every run) is brought as far up as the command needs.\n";
 
-using SkBody = int (*)(Globals &, Board &, const std::vector<std::string> &, const std::optional<std::string> &,
-		      const std::optional<std::string> &);
+using SkBody = std::function<int(Globals &, Board &, const std::vector<std::string> &,
+				 const std::optional<std::string> &, const std::optional<std::string> &)>;
 
 // the command line's spelling ("PREOP"), as for the ECM-XF
 std::string stateText(State s)
@@ -144,10 +145,8 @@ std::optional<std::uint32_t> identityWord(ecmxf::MasterVerbs &v, unsigned positi
 	}
 }
 
-bool slavesVerbose = false; // slaves -v (cmdSkSlaves)
-
 int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
-	   const std::optional<std::string> &)
+	   bool verbose)
 {
 	if (!args.empty())
 		throw UsageError("slaves: no arguments");
@@ -169,7 +168,7 @@ int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		std::optional<std::uint32_t> revision, serial;
 	};
 	std::vector<More> more(list.size());
-	if (slavesVerbose)
+	if (verbose)
 		for (std::size_t i = 0; i < list.size(); i++)
 			more[i] = { identityWord(*verbs, list[i].position, 3), identityWord(*verbs, list[i].position, 4) };
 	const auto num = [](const std::optional<std::uint32_t> &v) { return v ? std::to_string(*v) : "null"; };
@@ -184,7 +183,7 @@ int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std
 				    i ? "," : "", list[i].position, jsonString(stateText(list[i].state)).c_str(),
 				    jsonString(list[i].kind).c_str(), num(list[i].vendorId).c_str(),
 				    num(list[i].productCode).c_str());
-			if (slavesVerbose)
+			if (verbose)
 				std::printf(", \"revision\": %s, \"serial_number\": %s", num(more[i].revision).c_str(),
 					    num(more[i].serial).c_str());
 			std::printf("}");
@@ -192,7 +191,7 @@ int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		std::printf("\n]\n");
 		return 0;
 	}
-	if (slavesVerbose)
+	if (verbose)
 		std::printf("%-3s %-6s %-6s %-21s %-10s %s\n", "POS", "STATE", "TYPE", "VENDOR:PRODUCT", "REVISION",
 			    "SERIAL");
 	for (std::size_t i = 0; i < list.size(); i++) {
@@ -200,7 +199,7 @@ int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std
 		const std::string id = sl.vendorId && sl.productCode
 					       ? hexString(*sl.vendorId, 8) + ":" + hexString(*sl.productCode, 8)
 					       : "-";
-		if (slavesVerbose)
+		if (verbose)
 			std::printf("%-3u %-6s %-6s %-21s %-10s %s\n", sl.position, stateText(sl.state).c_str(),
 				    sl.kind.c_str(), id.c_str(), hex(more[i].revision).c_str(), hex(more[i].serial).c_str());
 		else
@@ -427,7 +426,7 @@ int reset(Globals &g, Board &b, const std::vector<std::string> &args, const std:
 
 // -p/-t (and -v where @p verbose is given), the board opened, and
 // "<command>: " before a failure
-int onBoard(Globals &g, const Args &rawArgs, const char *name, SkBody body, bool *verbose = nullptr)
+int onBoard(Globals &g, const Args &rawArgs, const char *name, const SkBody &body, bool *verbose = nullptr)
 {
 	std::optional<std::string> posText, typeText;
 	static const std::string help = std::string(kSkHelp);
@@ -493,7 +492,13 @@ void checkSdoType(const Globals &g, const char *cmd, const std::optional<DataTyp
 int cmdSkInfo(Globals &g, const Args &a) { return onBoard(g, a, "info", info); }
 int cmdSkSlaves(Globals &g, const Args &a)
 {
-	return onBoard(g, a, "slaves", slaves, &slavesVerbose);
+	bool verbose = false; // -v, set by onBoard()'s parse before the body runs
+	return onBoard(
+		g, a, "slaves",
+		[&verbose](Globals &gg, Board &b, const std::vector<std::string> &args,
+			   const std::optional<std::string> &pos,
+			   const std::optional<std::string> &) { return slaves(gg, b, args, pos, verbose); },
+		&verbose);
 }
 int cmdSkStates(Globals &g, const Args &a) { return onBoard(g, a, "states", states); }
 int cmdSkCia402(Globals &g, const Args &a) { return onBoard(g, a, "cia402", cia402); }
