@@ -39,8 +39,12 @@ python: configure
 deps:
 	@$(DEPS)
 
+# The prefix goes to CMake only when given (make install PREFIX=X): a later
+# make or make demo without it keeps the configured one, and so rebuilds
+# nothing (the prefix is compiled into lib/sim/network.cpp alone).
+PREFIX_ARG = $(if $(filter command line environment,$(origin PREFIX)),-DCMAKE_INSTALL_PREFIX=$(PREFIX))
 configure: deps
-	cmake -S . -B $(BUILD) -DECMXF_WERROR=$(WERROR) -DCMAKE_INSTALL_PREFIX=$(PREFIX) $(CMAKE_ARGS)
+	cmake -S . -B $(BUILD) -DECMXF_WERROR=$(WERROR) $(PREFIX_ARG) $(CMAKE_ARGS)
 
 # Every test: the userspace suites (ctest), then the kernel module under
 # QEMU on Debian's normal and PREEMPT_RT kernels (check-kernel).

@@ -100,6 +100,11 @@ dkms status -m ecmxf -v "$version" | grep -q . || fail "dkms does not know ecmxf
 grep -q '^AUTOINSTALL="yes"' "/usr/src/ecmxf-$version/dkms.conf" || fail "dkms.conf: no AUTOINSTALL"
 getent group ecmxf >/dev/null || fail "no group ecmxf after install"
 [ -f /lib/udev/rules.d/60-ecmxf.rules ] || fail "no udev rule"
+for o in ecmxf-rpi-overlay.dts ecmxf-rpi-debian-overlay.dts; do
+	[ -f "/usr/share/ecmxf/devicetree/$o" ] || fail "ecmxf-dkms does not ship the device tree overlay $o"
+done
+! dpkg-query -W -f='${Recommends}' ecmxf-dkms | grep -q 'linux-headers-generic' ||
+	fail "ecmxf-dkms recommends linux-headers-generic (an Ubuntu name)"
 ok "DKMS knows ecmxf/$version (AUTOINSTALL), udev rule and group ecmxf in place"
 
 # ---- 3. DKMS against the normal and the RT kernel's headers
@@ -206,10 +211,12 @@ done
 if [ $had_group -eq 0 ] && getent group ecmxf >/dev/null; then
 	fail "group ecmxf left after purge"
 fi
+# the package's postrm takes back the module indexes DKMS's depmod made
+# in headers-only kernel folders
 for d in $fresh_kdirs; do
-	removed=$(find "$d" -maxdepth 1 -name 'modules.*' -print -delete | wc -l)
-	[ "$removed" -eq 0 ] || echo "check-deb: $d: removed $removed module indexes depmod made for the DKMS module"
-	[ ! -d "$d/updates" ] || rmdir -p --ignore-fail-on-non-empty "$d/updates/dkms" 2>/dev/null || true
+	idx=$(find "$d" -maxdepth 1 -name 'modules.*' | tr '\n' ' ')
+	[ -z "$idx" ] || fail "$d: module indexes left after purge (headers-only kernel): $idx"
+	[ ! -d "$d/updates" ] || fail "$d/updates left after purge"
 done
 snapshot >"$work/after"
 new=$(comm -13 "$work/before" "$work/after")

@@ -70,14 +70,16 @@ void usage(std::FILE *out)
 {
 	std::fprintf(out,
 		     "Usage: ecmxf-sim --board ecm-sk [--network FILE] [--settings KEY=VALUE&...]\n"
-		     "                 [--socket PATH]\n"
+		     "                 [--paced] [--socket PATH]\n"
 		     "\n"
 		     "Serve a simulated ECM-SK starter kit (Documentation/ecm-sk.rst) over standard\n"
 		     "input/output or a Unix socket; reach it with sk-unix:PATH?slot=12|16&ex=0..3.\n"
 		     "\n"
 		     "  -n, --network FILE   slaves (default: servo (Drive) + EST-584 (STEP) + dio (IO))\n"
 		     "  -o, --settings S     board settings: slot=12|16, test=0|1, abandon=0|1,\n"
-		     "                       ex=0..3, fifo=161..4096, busy_us=, spi_hz=, lio=0..63\n"
+		     "                       ex=0..3, fifo=160..4096, busy_us=, spi_hz=, lio=0..63,\n"
+		     "                       paced=0|1\n"
+		     "  -p, --paced          follow the wall clock (paced=1): cycles at the board's rate\n"
 		     "  -s, --socket PATH    listen on a Unix socket at PATH\n"
 		     "  -h, --help           show this help\n");
 }
@@ -103,9 +105,14 @@ bool ecmxfSimWantsSk(int argc, char **argv)
 int ecmxfSimSkMain(int argc, char **argv)
 {
 	std::string settings;
+	bool paced = false;
 	const std::optional<ecmxfsim::Options> o = ecmxfsim::parseOptions(
 		argc, argv,
 		[&](std::string_view a, const ecmxfsim::OptionValue &value) {
+			if (a == "-p" || a == "--paced") {
+				paced = true;
+				return true;
+			}
 			if (a != "-o" && a != "--settings")
 				return false;
 			settings = value("--settings");
@@ -118,7 +125,7 @@ int ecmxfSimSkMain(int argc, char **argv)
 	ecmxf::sk::SimBoard board(network.empty()
 					  ? ecmxf::sim::Network::fromText(ecmxf::sk::defaultSkNetwork(), "ecm-sk")
 					  : ecmxf::sim::Network::fromFile(network),
-				  ecmxf::sk::BoardConfig::parse(settings));
+				  ecmxf::sk::BoardConfig::parse(settings + (paced ? "&paced=1" : "")));
 	SkTarget target(board);
 	return ecmxfsim::serve(target, o->socketPath);
 }

@@ -402,6 +402,53 @@ std::uint8_t selectSlave(ecmxf::Device &dev, std::uint8_t position, unsigned cou
 			   ENODEV);
 }
 
+bool Positions::has(unsigned p) const
+{
+	return std::binary_search(list.begin(), list.end(), p);
+}
+
+Positions parsePositions(std::string_view cmd, std::string_view text)
+{
+	Positions r;
+	const std::string what = "-p " + std::string(text);
+	if (text.empty())
+		throw UsageError(std::string(cmd).append(": -p: no position given").append(tryHelp(cmd)));
+	std::string_view rest = text;
+	for (;;) {
+		const auto comma = rest.find(',');
+		const std::string_view item = rest.substr(0, comma);
+		if (item.empty())
+			throw UsageError(std::string(cmd) + ": " + what + ": an empty item in the list" + tryHelp(cmd));
+		// a range low-high; a leading '-' is a (refused) negative number
+		const auto dash = item.find('-', 1);
+		const auto number = [&](std::string_view t) {
+			return static_cast<unsigned>(parseUnsigned(cmd, "-p", t, ecmxf::kMaxSlavePosition));
+		};
+		if (dash != std::string_view::npos) {
+			const unsigned lo = number(item.substr(0, dash)), hi = number(item.substr(dash + 1));
+			if (lo > hi)
+				throw UsageError(std::string(cmd) + ": " + what + ": range " + std::string(item) +
+						 " runs backwards" + tryHelp(cmd));
+			for (unsigned p = lo; p <= hi; p++)
+				r.list.push_back(p);
+		} else {
+			r.list.push_back(number(item));
+		}
+		if (comma == std::string_view::npos)
+			break;
+		rest = rest.substr(comma + 1);
+	}
+	std::sort(r.list.begin(), r.list.end());
+	r.list.erase(std::unique(r.list.begin(), r.list.end()), r.list.end());
+	return r;
+}
+
+void checkPositions(const Positions &p, unsigned count)
+{
+	if (!p.list.empty())
+		checkPosition(p.list.back(), count);
+}
+
 void checkPosition(unsigned position, unsigned count)
 {
 	if (gAlias && !gAliasTaken)

@@ -35,20 +35,22 @@ const char *const kDataHelp =
 	"The process image (as IgH's 'ethercat data', decoded): for each slave,\n"
 	"or slave N, its output entries (RxPDO, master to slave) and input\n"
 	"entries (TxPDO) with index:subindex, name, bit length and value, read\n"
-	"after a few cycles of the exchange (1 ms):\n"
+	"after a few cycles of the exchange (1 ms), and its unit:\n"
 	"\n"
 	"  slave 0: EST-584\n"
 	"    out 0x6040:00  Controlword                   16 bit  0x0000 0\n"
-	"    in  0x6064:00  Position actual value         32 bit  -1200\n"
+	"    in  0x6064:00  Position actual value         32 bit  -1200 inc\n"
 	"\n"
-	"The CiA 402 objects the tools know have their type (INTEGER32...):\n"
-	"signed ones print as signed numbers; other entries print in hex and\n"
-	"decimal. A fresh bus is brought to OP first (the Master: SYNC0 1 ms);\n"
+	"The CiA 402 objects the tools know have their type (INTEGER32...) and\n"
+	"unit (CiA 402's without a factor group: inc, inc/s, inc/s^2, 0.1% rated\n"
+	"torque): signed ones print as signed numbers; other entries print in hex\n"
+	"and decimal, without a unit. A fresh bus is brought to OP first (the Master: SYNC0 1 ms);\n"
 	"a bus that is already up must be in SAFE-OP or OP (process data runs\n"
 	"there), else the command fails naming its state.\n"
 	"\n"
 	"Options:\n"
-	"  -p, --position N   only the slave at bus position N\n"
+	"  -p, --position N   only the slave at bus position N (or a list: 0,2, a\n"
+	"                     range: 0-3)\n"
 	"  --set NAME=VALUE   before the image is read, write VALUE into output\n"
 	"                     entry NAME of slave N (-p required): NAME is the\n"
 	"                     entry's name (case, spaces and '_' ignored:\n"
@@ -63,7 +65,8 @@ const char *const kDataHelp =
 	"                     bus cycle)\n"
 	"  --count N          --watch: stop after N refreshes\n"
 	"  --json             an array of {position, name, outputs: [{index, sub,\n"
-	"                     name, bit_length, type, value}], inputs: [...]}\n"
+	"                     name, bit_length, type, value, unit}], inputs: [...]}\n"
+	"                     (type and unit null where not known)\n"
 	"  -h, --help         show this help\n";
 
 namespace {
@@ -79,13 +82,19 @@ std::string folded(std::string_view s)
 	return r;
 }
 
-/// The entry's type when it is a standard object mapped whole.
-std::optional<ecmxf::ObjectType> typeOf(const ecmxf::PdoEntryInfo &e)
+/// The entry as a standard object (type, unit) when it is one mapped whole.
+std::optional<ecmxf::StandardObject> objectOf(const ecmxf::PdoEntryInfo &e)
 {
 	const auto o = ecmxf::standardObject(e.index, e.sub);
 	if (!o || ecmxf::objectTypeSize(o->type) * 8 != e.bitLength)
 		return std::nullopt;
-	return o->type;
+	return o;
+}
+
+std::optional<ecmxf::ObjectType> typeOf(const ecmxf::PdoEntryInfo &e)
+{
+	const auto o = objectOf(e);
+	return o ? std::optional(o->type) : std::nullopt;
 }
 
 bool isSigned(const ecmxf::PdoEntryInfo &e)
@@ -191,9 +200,12 @@ int cmdData(Globals &g, const Args &args)
 	const bool tty = isatty(STDOUT_FILENO) != 0;
 	if (!pos->empty())
 		throw UsageError("data: unexpected argument '" + pos->front() + "' (try 'ecmxf-util data --help')");
-	const int position = posText ? parsePosition("data", posText) : -1;
-	if (!sets.empty() && position < 0)
+	// none: every slave; -p 1, -p 0,2, -p 0-3
+	const std::optional<Positions> sel = posText ? std::optional(parsePositions("data", *posText)) : std::nullopt;
+	if (!sets.empty() && !sel)
 		throw UsageError("data: --set needs the slave (-p N)");
+	if (!sets.empty() && sel->list.size() != 1)
+		throw UsageError("data: --set writes the entry of one slave: -p N, not " + *posText);
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	ecmxf::Master m(*dev);
@@ -205,8 +217,8 @@ int cmdData(Globals &g, const Args &args)
 		m.rescan();
 	}
 	const auto count = static_cast<unsigned>(m.slaves().size());
-	if (position >= 0)
-		checkPosition(static_cast<unsigned>(position), count);
+	if (sel)
+		checkPositions(*sel, count);
 	std::vector<ecmxf::SlavePdos> pdos(count);
 	for (unsigned p = 0; p < count; p++)
 		pdos[p] = m.pdos().size() > p ? m.pdos()[p] : m.readSlavePdos(static_cast<std::uint8_t>(p));
@@ -224,7 +236,7 @@ int cmdData(Globals &g, const Args &args)
 	// the outputs as they are on the bus: the chip's last ones are not
 	// readable, so the image starts from zero; --set writes its entries
 	for (const Set &s : sets) {
-		const auto p = static_cast<unsigned>(position);
+		const unsigned p = sel->list.front();
 		const ecmxf::PdoEntryInfo &e = findOutput(pdos[p], p, s.name);
 		const std::string what = "--set " + s.name;
 		std::uint64_t raw = 0;
@@ -262,18 +274,22 @@ int cmdData(Globals &g, const Args &args)
 				continue; // padding
 			const std::uint64_t raw = out ? image.output<std::uint64_t>(p, e.index, e.sub).get()
 						      : image.input<std::uint64_t>(p, e.index, e.sub).get();
+			const auto o = objectOf(e);
 			const auto t = typeOf(e);
+			const std::string_view unit = o ? o->unit : std::string_view();
 			if (g.json) {
 				s += std::string(first ? "" : ", ") + "{\"index\": " + std::to_string(e.index) +
 				     ", \"sub\": " + std::to_string(e.sub) + ", \"name\": " + jsonString(e.name) +
 				     ", \"bit_length\": " + std::to_string(e.bitLength) + ", \"type\": " +
 				     (t ? jsonString(ecmxf::objectTypeName(*t)) : std::string("null")) +
-				     ", \"value\": " + valueText(e, raw, true) + "}";
+				     ", \"value\": " + valueText(e, raw, true) + ", \"unit\": " +
+				     (unit.empty() ? std::string("null") : jsonString(unit)) + "}";
 			} else {
-				char line[160];
-				std::snprintf(line, sizeof line, "    %-3s %s  %-30s %2u bit  %s\n", dir,
+				char line[200];
+				std::snprintf(line, sizeof line, "    %-3s %s  %-30s %2u bit  %s%s%.*s\n", dir,
 					      objectName({ e.index, e.sub }).c_str(), e.name.c_str(), e.bitLength,
-					      valueText(e, raw, false).c_str());
+					      valueText(e, raw, false).c_str(), unit.empty() ? "" : " ",
+					      static_cast<int>(unit.size()), unit.data());
 				s += line;
 			}
 			first = false;
@@ -284,7 +300,7 @@ int cmdData(Globals &g, const Args &args)
 		std::string text = g.json ? "[" : "";
 		bool first = true;
 		for (unsigned p = 0; p < count; p++) {
-			if (position >= 0 && p != static_cast<unsigned>(position))
+			if (sel && !sel->has(p))
 				continue;
 			const std::string name = m.slaves()[p].name;
 			if (g.json)

@@ -299,7 +299,9 @@ int cmdMaster(Globals &g, const Args &args)
 		    "    WKC errors: %u\n"
 		    "  FIFO: TxPDO %u, RxPDO %u\n",
 		    g.device.c_str(), phase.c_str(), slaves, link ? "UP" : "DOWN",
-		    ecmxf::describeErrorStatus(h.errStatus).c_str(), h.crcErrCnt, h.wkcErrCnt, h.txFifoCnt,
+		    // bits 0 and 1 are the link (the Link line), not errors
+		    ecmxf::describeErrorStatus(static_cast<std::uint8_t>(h.errStatus & ~0x03u)).c_str(), h.crcErrCnt,
+		    h.wkcErrCnt, h.txFifoCnt,
 		    h.rxFifoCnt);
 	return 0;
 }

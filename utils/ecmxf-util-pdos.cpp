@@ -124,10 +124,13 @@ std::string xmlText(const std::string &s)
 	return o;
 }
 
-/// IgH's "ethercat xml" for one slave: an EtherCATInfo document.
-void printXml(const ecmxf::SlaveInfo &si, unsigned smOut, const ecmxf::SlavePdos &sp)
+/// IgH's "ethercat xml" for one slave: an EtherCATInfo element (after
+/// the XML declaration when @p document).
+void printXml(const ecmxf::SlaveInfo &si, unsigned smOut, const ecmxf::SlavePdos &sp, bool document)
 {
-	std::printf("<?xml version=\"1.0\" ?>\n<EtherCATInfo>\n  <!-- Slave %s -->\n", xmlText(si.name).c_str());
+	if (document)
+		std::printf("<?xml version=\"1.0\" ?>\n");
+	std::printf("<EtherCATInfo>\n  <!-- Slave %s -->\n", xmlText(si.name).c_str());
 	std::printf("  <Vendor>\n    <Id>%u</Id>\n  </Vendor>\n  <Descriptions>\n    <Devices>\n      <Device>\n",
 		    si.vendorId);
 	std::printf("        <Type ProductCode=\"#x%08x\" RevisionNo=\"#x%08x\">%s</Type>\n", si.productCode,
@@ -171,9 +174,9 @@ int cmdPdos(Globals &g, const Args &args)
 		throw UsageError("pdos: unexpected argument '" + pos->front() + "' (try 'ecmxf-util pdos --help')");
 	if (static_cast<int>(cstruct) + static_cast<int>(xml) + static_cast<int>(g.json) > 1)
 		throw UsageError("pdos: --json, --cstruct and --xml exclude each other");
-	// -1: all slaves
-	const int position = posText ? parsePosition("pdos", posText) : -1;
-	const bool one = position >= 0;
+	// none: all slaves; -p 1, -p 0,2, -p 0-3
+	const std::optional<Positions> sel = posText ? std::optional(parsePositions("pdos", *posText)) : std::nullopt;
+	const bool one = sel && sel->list.size() == 1; // one slave: one document of its own (--xml)
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	ecmxf::Master m(*dev);
@@ -181,30 +184,40 @@ int cmdPdos(Globals &g, const Args &args)
 		ecmxf::MasterConfig mc;
 		mc.target = ecmxf::State::PreOp;
 		mc.enableFifo = false;
+		mc.readPdoMapping = false; // read below, slave by slave, with progress
 		m.bringUp(mc);
 	} else {
 		m.rescan();
 	}
 	const unsigned count = static_cast<unsigned>(m.slaves().size());
-	if (one)
-		checkPosition(static_cast<unsigned>(position), count);
+	if (sel)
+		checkPositions(*sel, count);
 
 	std::vector<ecmxf::SlavePdos> pdos(count);
 	std::vector<bool> mailbox(count);
+	// the long part of a big bus (SDO reads of every mapping): progress
+	Progress progress(g, "pdos", "slaves");
+	const std::size_t wanted = sel ? sel->list.size() : count;
+	std::size_t done = 0;
 	for (unsigned p = 0; p < count; p++) {
-		if (one && p != static_cast<unsigned>(position))
+		if (sel && !sel->has(p))
 			continue;
 		const auto p8 = static_cast<std::uint8_t>(p);
 		pdos[p] = m.pdos().size() > p ? m.pdos()[p] : m.readSlavePdos(p8);
 		const std::uint16_t mbxSize = dev->slaves().eepromRead(p, 0x19);
 		mailbox[p] = mbxSize != 0 && mbxSize != 0xFFFF;
+		progress(++done, wanted);
 	}
 
 	if (g.json)
 		std::printf("[");
+	// several slaves: one document, their EtherCATInfo elements in an
+	// EtherCATInfoList (ETG's list of ESI), not documents one after another
+	if (xml && !one)
+		std::printf("<?xml version=\"1.0\" ?>\n<EtherCATInfoList>\n");
 	bool first = true;
 	for (unsigned p = 0; p < count; p++) {
-		if (one && p != static_cast<unsigned>(position))
+		if (sel && !sel->has(p))
 			continue;
 		const ecmxf::SlaveInfo &si = m.slaves()[p];
 		const ecmxf::SlavePdos &sp = pdos[p];
@@ -213,7 +226,7 @@ int cmdPdos(Globals &g, const Args &args)
 			if (cstruct)
 				printCstruct(p, si, smOut, sp);
 			else
-				printXml(si, smOut, sp);
+				printXml(si, smOut, sp, one);
 			continue;
 		}
 		struct Side {
@@ -280,6 +293,8 @@ int cmdPdos(Globals &g, const Args &args)
 	}
 	if (g.json)
 		std::printf("%s]\n", first ? "" : "\n");
+	if (xml && !one)
+		std::printf("</EtherCATInfoList>\n");
 	return 0;
 }
 
@@ -298,9 +313,10 @@ const char *const kCstructHelp =
 const char *const kXmlHelp =
 	"Usage: ecmxf-util [global options] xml [-p N]\n"
 	"\n"
-	"The identity and PDO mapping of each slave (or of slave N) as an\n"
-	"EtherCATInfo document (Vendor, Type, RxPdo/TxPdo and their entries), as\n"
-	"IgH's 'ethercat xml' prints it. The same as 'ecmxf-util pdos --xml'.\n"
+	"The identity and PDO mapping of slave N as an EtherCATInfo document\n"
+	"(Vendor, Type, RxPdo/TxPdo and their entries), as IgH's 'ethercat xml'\n"
+	"prints it; without -p one document of every slave's EtherCATInfo in an\n"
+	"EtherCATInfoList. The same as 'ecmxf-util pdos --xml'.\n"
 	"\n"
 	"Options:\n"
 	"  -p, --position N  only the slave at bus position N\n"

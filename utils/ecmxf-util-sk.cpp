@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,7 +40,8 @@ const char *const kSkHelp =
 	"speaks the starter kit's slot protocol. Commands:\n"
 	"\n"
 	"  info                        frame, state, CRC errors, FIFO, slaves\n"
-	"  slaves                      the slaves and their types (found by SET_AXIS)\n"
+	"  slaves [-p N] [-v]          the slaves, their types (found by SET_AXIS) and\n"
+	"                              identity (0x1018; -v: revision, serial number)\n"
 	"  states STATE                INIT, PREOP, SAFEOP or OP (types found first)\n"
 	"  upload -p N [-t TYPE] INDEX[:SUB]          SDO_RD through the SDO slot\n"
 	"  download -p N [-t TYPE] INDEX[:SUB] VALUE  SDO_WR through the SDO slot\n"
@@ -53,8 +55,8 @@ const char *const kSkHelp =
 	"most 4. --json works with every command. A fresh board (sk-sim: starts in\n"
 	"INIT at every run) is brought as far up as the command needs.\n";
 
-using SkBody = int (*)(Globals &, Board &, const std::vector<std::string> &, const std::optional<std::string> &,
-		      const std::optional<std::string> &);
+using SkBody = std::function<int(Globals &, Board &, const std::vector<std::string> &,
+				 const std::optional<std::string> &, const std::optional<std::string> &)>;
 
 // the command line's spelling ("PREOP"), as for the ECM-XF
 std::string stateText(State s)
@@ -129,11 +131,26 @@ int info(Globals &g, Board &b, const std::vector<std::string> &args, const std::
 	return 0;
 }
 
-int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &,
-	   const std::optional<std::string> &)
+// slaves -v: 0x1018:03 and :04 by SDO_RD, nullopt where the slave has
+// none (an I/O terminal without CoE)
+std::optional<std::uint32_t> identityWord(ecmxf::MasterVerbs &v, unsigned position, std::uint8_t sub)
+{
+	try {
+		const std::vector<std::uint8_t> d = v.upload(position, 0x1018, sub);
+		if (d.size() != 4)
+			return std::nullopt;
+		return static_cast<std::uint32_t>(d[0] | d[1] << 8 | d[2] << 16 | static_cast<std::uint32_t>(d[3]) << 24);
+	} catch (const ecmxf::Error &) {
+		return std::nullopt;
+	}
+}
+
+int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
+	   bool verbose)
 {
 	if (!args.empty())
 		throw UsageError("slaves: no arguments");
+	const std::optional<Positions> only = pos ? std::optional(parsePositions("slaves", *pos)) : std::nullopt;
 	preop(b, g.quiet || g.json);
 	if (b.state() != State::PreOp)
 		throw ecmxf::Error("slaves: the types are found in PRE-OP; the ECM-SK is in " +
@@ -141,25 +158,54 @@ int slaves(Globals &g, Board &b, const std::vector<std::string> &args, const std
 				   EPERM);
 	// the slave list of both masters (MasterVerbs): types by SET_AXIS,
 	// identity by SDO 0x1018 where the slave answers
-	const auto list = ecmxf::verbsOf(b)->slaves();
-	const auto num = [](const std::optional<std::uint32_t> &v) { return v ? std::to_string(*v) : "null"; };
-	if (g.json) {
-		// the ECM-XF's field names (vendor_id, product_code), null when unknown
-		std::printf("[");
+	const auto verbs = ecmxf::verbsOf(b);
+	auto list = verbs->slaves();
+	if (only) {
+		checkPositions(*only, static_cast<unsigned>(list.size()));
+		std::erase_if(list, [&](const ecmxf::SlaveSummary &s) { return !only->has(s.position); });
+	}
+	struct More {
+		std::optional<std::uint32_t> revision, serial;
+	};
+	std::vector<More> more(list.size());
+	if (verbose)
 		for (std::size_t i = 0; i < list.size(); i++)
+			more[i] = { identityWord(*verbs, list[i].position, 3), identityWord(*verbs, list[i].position, 4) };
+	const auto num = [](const std::optional<std::uint32_t> &v) { return v ? std::to_string(*v) : "null"; };
+	const auto hex = [](const std::optional<std::uint32_t> &v) { return v ? hexString(*v, 8) : std::string("-"); };
+	if (g.json) {
+		// the ECM-XF's field names (vendor_id, product_code, revision,
+		// serial_number), null when unknown
+		std::printf("[");
+		for (std::size_t i = 0; i < list.size(); i++) {
 			std::printf("%s\n  {\"position\": %u, \"state\": %s, \"type\": %s, \"vendor_id\": %s, "
-				    "\"product_code\": %s}",
+				    "\"product_code\": %s",
 				    i ? "," : "", list[i].position, jsonString(stateText(list[i].state)).c_str(),
 				    jsonString(list[i].kind).c_str(), num(list[i].vendorId).c_str(),
 				    num(list[i].productCode).c_str());
+			if (verbose)
+				std::printf(", \"revision\": %s, \"serial_number\": %s", num(more[i].revision).c_str(),
+					    num(more[i].serial).c_str());
+			std::printf("}");
+		}
 		std::printf("\n]\n");
 		return 0;
 	}
-	for (const auto &sl : list)
-		std::printf("%-3u %-6s %-6s %s\n", sl.position, stateText(sl.state).c_str(), sl.kind.c_str(),
-			    sl.vendorId && sl.productCode
-				    ? (hexString(*sl.vendorId, 8) + ":" + hexString(*sl.productCode, 8)).c_str()
-				    : "-");
+	if (verbose)
+		std::printf("%-3s %-6s %-6s %-21s %-10s %s\n", "POS", "STATE", "TYPE", "VENDOR:PRODUCT", "REVISION",
+			    "SERIAL");
+	for (std::size_t i = 0; i < list.size(); i++) {
+		const auto &sl = list[i];
+		const std::string id = sl.vendorId && sl.productCode
+					       ? hexString(*sl.vendorId, 8) + ":" + hexString(*sl.productCode, 8)
+					       : "-";
+		if (verbose)
+			std::printf("%-3u %-6s %-6s %-21s %-10s %s\n", sl.position, stateText(sl.state).c_str(),
+				    sl.kind.c_str(), id.c_str(), hex(more[i].revision).c_str(), hex(more[i].serial).c_str());
+		else
+			std::printf("%-3u %-6s %-6s %s\n", sl.position, stateText(sl.state).c_str(), sl.kind.c_str(),
+				    id.c_str());
+	}
 	return 0;
 }
 
@@ -286,7 +332,7 @@ int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigne
 				throw ecmxf::Error("cia402 move: " + b.cyclic().lastError(), EIO);
 			if (r.status == ecmxf::sk::CycleStatus::FifoOverflow)
 				throw ecmxf::Error("cia402 move: the ECM-SK dropped " + std::to_string(r.dropped) +
-							   " targets (FIFO full)",
+							   " targets (FIFO full, or abandoned after 100 cycles)",
 						   ENOBUFS);
 		}
 		for (int i = 0; i < 2000 && std::llabs(static_cast<std::int64_t>(b.drives().axis(s).position) - target) > 0; i++) {
@@ -378,13 +424,16 @@ int reset(Globals &g, Board &b, const std::vector<std::string> &args, const std:
 	return 0;
 }
 
-// -p/-t, the board opened, and "<command>: " before a failure
-int onBoard(Globals &g, const Args &rawArgs, const char *name, SkBody body)
+// -p/-t (and -v where @p verbose is given), the board opened, and
+// "<command>: " before a failure
+int onBoard(Globals &g, const Args &rawArgs, const char *name, const SkBody &body, bool *verbose = nullptr)
 {
 	std::optional<std::string> posText, typeText;
 	static const std::string help = std::string(kSkHelp);
-	const auto args = parseArgs(name, rawArgs, g, help.c_str(),
-				    { { "-p", "--position", nullptr, &posText }, { "-t", "--type", nullptr, &typeText } });
+	std::vector<Option> opts = { { "-p", "--position", nullptr, &posText }, { "-t", "--type", nullptr, &typeText } };
+	if (verbose)
+		opts.push_back({ "-v", "--verbose", verbose, nullptr });
+	const auto args = parseArgs(name, rawArgs, g, help.c_str(), opts);
 	if (!args)
 		return 0;
 	if (!g.trace.empty())
@@ -441,7 +490,16 @@ void checkSdoType(const Globals &g, const char *cmd, const std::optional<DataTyp
 }
 
 int cmdSkInfo(Globals &g, const Args &a) { return onBoard(g, a, "info", info); }
-int cmdSkSlaves(Globals &g, const Args &a) { return onBoard(g, a, "slaves", slaves); }
+int cmdSkSlaves(Globals &g, const Args &a)
+{
+	bool verbose = false; // -v, set by onBoard()'s parse before the body runs
+	return onBoard(
+		g, a, "slaves",
+		[&verbose](Globals &gg, Board &b, const std::vector<std::string> &args,
+			   const std::optional<std::string> &pos,
+			   const std::optional<std::string> &) { return slaves(gg, b, args, pos, verbose); },
+		&verbose);
+}
 int cmdSkStates(Globals &g, const Args &a) { return onBoard(g, a, "states", states); }
 int cmdSkCia402(Globals &g, const Args &a) { return onBoard(g, a, "cia402", cia402); }
 int cmdSkIo(Globals &g, const Args &a) { return onBoard(g, a, "io", io); }

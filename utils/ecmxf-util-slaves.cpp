@@ -28,7 +28,8 @@ const char *const kSlavesHelp =
 	"the bus; the slaves are then in INIT.\n"
 	"\n"
 	"Options:\n"
-	"  -p, --position N  only the slave at bus position N\n"
+	"  -p, --position N  only the slave at bus position N (or a list: 0,2, a range:\n"
+	"                    0-3)\n"
 	"  -v, --verbose  add revision, configured station address, AL status code,\n"
 	"                 output/input process data bytes and the distributed\n"
 	"                 clock (SLV_INFO_GET codes 10..13): DC support, SYNC0\n"
@@ -141,7 +142,8 @@ int cmdSlaves(Globals &g, const Args &args)
 		return 0;
 	if (!rest->empty())
 		throw UsageError("slaves: unexpected argument '" + rest->front() + "' (try 'ecmxf-util slaves --help')");
-	const int only = posText ? parsePosition("slaves", posText) : -1;
+	const std::optional<Positions> only =
+		posText ? std::optional(parsePositions("slaves", *posText)) : std::nullopt;
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	unsigned count = dev->command(simpleCommand(kSlvCntGet)).ret;
@@ -163,14 +165,14 @@ int cmdSlaves(Globals &g, const Args &args)
 		}
 		s.aliasBase = lastAlias;
 		s.relative = relative++;
-		if (only < 0 || pos == static_cast<unsigned>(only)) {
+		if (!only || only->has(pos)) {
 			s.dcInfo = readDcInfo(*dev, pos);
 			s.dc = s.dcInfo ? std::optional<bool>(s.dcInfo->hasDc) : readDc(*dev, s.station);
 			slaves.push_back(std::move(s));
 		}
 	}
-	if (only >= 0)
-		checkPosition(static_cast<unsigned>(only), count);
+	if (only)
+		checkPositions(*only, count);
 
 	if (g.json) {
 		std::printf("[");

@@ -49,7 +49,8 @@ const char *const kStatesHelp =
 	"while a process holds the claim nobody else may change the machine.\n"
 	"\n"
 	"Options:\n"
-	"  -p, --position N  the slave at bus position N (default: all slaves)\n"
+	"  -p, --position N  the slave at bus position N, a list (0,2) or a range\n"
+	"                    (0-3) of them (default: all slaves)\n"
 	"  --no-dc           bring the bus up without distributed clocks\n"
 	"                    (AssignActivate 0): slaves that need SYNC0 refuse OP\n"
 	"  --json            {\"requested\": ..., \"slaves\": [{position, state,\n"
@@ -100,9 +101,10 @@ int cmdStates(Globals &g, const Args &args)
 		throw UsageError(pos->empty() ? "states: which state? (INIT, PREOP, SAFEOP, OP or BOOT)"
 					      : "states: one STATE only (try 'ecmxf-util states --help')");
 	const ecmxf::State want = parseState(pos->front());
-	// -1: all slaves
-	const int position = posText ? parsePosition("states", posText) : -1;
-	const bool one = position >= 0;
+	// none: all slaves; -p 1, -p 0,2, -p 0-3
+	const std::optional<Positions> sel =
+		posText ? std::optional(parsePositions("states", *posText)) : std::nullopt;
+	const bool one = sel.has_value();
 
 	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
 	if (breakClaim) {
@@ -131,7 +133,7 @@ int cmdStates(Globals &g, const Args &args)
 	}
 	count = dev->bus().slaveCount();
 	if (one)
-		checkPosition(static_cast<unsigned>(position), count);
+		checkPositions(*sel, count);
 	else if (count == 0)
 		throw ecmxf::Error("no slaves on the bus", ENODEV);
 
@@ -153,7 +155,7 @@ int cmdStates(Globals &g, const Args &args)
 		};
 		const int wantRank = rank(static_cast<unsigned>(want));
 		for (unsigned p = 0; p < count; p++) {
-			if (one && p != static_cast<unsigned>(position))
+			if (one && !sel->has(p))
 				continue;
 			const auto p8 = static_cast<std::uint8_t>(p);
 			int have = rank(static_cast<unsigned>(dev->bus().slaveInfo(p8).state));
@@ -170,12 +172,16 @@ int cmdStates(Globals &g, const Args &args)
 			}
 		}
 	}
-	dev->bus().stateSet(one ? static_cast<std::uint8_t>(position) : ecmxf::kAllSlaves, want);
+	if (one)
+		for (const unsigned p : sel->list)
+			dev->bus().stateSet(static_cast<std::uint8_t>(p), want);
+	else
+		dev->bus().stateSet(ecmxf::kAllSlaves, want);
 	dev->bus().stateUpdate();
 
 	std::vector<Row> rows;
 	for (unsigned p = 0; p < count; p++) {
-		if (one && p != static_cast<unsigned>(position))
+		if (one && !sel->has(p))
 			continue;
 		const auto p8 = static_cast<std::uint8_t>(p);
 		const ecmxf::SlaveInfo si = dev->bus().slaveInfo(p8);

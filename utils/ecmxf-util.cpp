@@ -223,7 +223,7 @@ void usage(std::FILE *out, bool sk)
 		     "                    (ecmxf-util decode FILE shows it)\n"
 		     "  --json            JSON output for scripts\n"
 		     "  -q, --quiet       print nothing but errors and the data asked for\n"
-		     "  --progress        progress of long transfers (foe_write, sii_write) on\n"
+		     "  --progress        progress of long transfers (foe_write, sii_write, pdos) on\n"
 		     "                    stderr even when stdout is not a terminal\n"
 		     "  -h, --help        show this help\n"
 		     "  -V, --version     print the version\n"

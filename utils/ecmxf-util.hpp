@@ -164,6 +164,19 @@ std::string hexBytes(const std::vector<std::uint8_t> &b, const char *sep = " ");
 /// -p/--position N: 0..127 (UsageError otherwise).
 std::uint8_t parsePosition(std::string_view cmd, const std::optional<std::string> &text);
 
+/// The slaves of a -p that takes several: positions in ascending order,
+/// each once.
+struct Positions {
+	std::vector<unsigned> list;
+	[[nodiscard]] bool has(unsigned p) const;
+};
+/// -p N, a list "0,2", a range "0-3", or both ("0,2-4"): each position
+/// 0..127, a range low-high with low <= high; UsageError naming the item
+/// that is wrong otherwise.
+Positions parsePositions(std::string_view cmd, std::string_view text);
+/// checkPosition() for the highest of @p p.
+void checkPositions(const Positions &p, unsigned count);
+
 /// Opens g.device.
 std::unique_ptr<ecmxf::Device> openDevice(const Globals &g);
 

@@ -24,7 +24,7 @@
  *  - "sk-sim:[<network file>][?<board settings>]": the in-process
  *    simulated board; settings as sk::BoardConfig::parse() takes them
  *    (slot=12|16, test=0|1, abandon=0|1, ex=0..3, fifo=, busy_us=,
- *    spi_hz=, lio=);
+ *    spi_hz=, lio=, paced=);
  *  - "sk-unix:<socket path>[?slot=12|16][&ex=0..3]": an
  *    `ecmxf-sim --board ecm-sk --socket <path>` server;
  *  - "sk-spidev:/dev/spidevB.C?busy=<chip>:<line>[&slot=12|16]
@@ -57,7 +57,7 @@ inline constexpr std::string_view kDeviceUriForms =
 
 /// The ECM-SK's forms, as the errors of an "sk-" URI list them.
 inline constexpr std::string_view kSkUriForms =
-	"\"sk-sim:[<network file>][?slot=12|16&test=0|1&abandon=0|1&ex=0..3&fifo=<n>&busy_us=<us>&spi_hz=<Hz>&lio=0..63]\", "
+	"\"sk-sim:[<network file>][?slot=12|16&test=0|1&abandon=0|1&ex=0..3&fifo=<n>&busy_us=<us>&spi_hz=<Hz>&lio=0..63&paced=0|1]\", "
 	"\"sk-unix:<socket path>[?slot=12|16&ex=0..3]\", "
 	"\"sk-spidev:/dev/spidevB.C?busy=<chip>:<line>[&slot=12|16][&speed=<Hz>][&mode=0..3][&ex=0..3]\"";
 

@@ -65,4 +65,48 @@ std::string quoted(std::string_view s)
 	return q;
 }
 
+std::string printable(std::string_view s)
+{
+	std::string o;
+	o.reserve(s.size());
+	const auto esc = [&](unsigned char c) {
+		static constexpr char kHex[] = "0123456789abcdef";
+		o += "\\x";
+		o += kHex[c >> 4];
+		o += kHex[c & 15];
+	};
+	for (std::size_t i = 0; i < s.size();) {
+		const auto c = static_cast<unsigned char>(s[i]);
+		if (c == '\\') {
+			o += "\\\\";
+			i++;
+			continue;
+		}
+		if (c < 0x20 || c == 0x7F) {
+			esc(c);
+			i++;
+			continue;
+		}
+		if (c < 0x80) {
+			o += static_cast<char>(c);
+			i++;
+			continue;
+		}
+		// a UTF-8 sequence: its length by the lead byte, continuation
+		// bytes 10xxxxxx, no overlong or surrogate lead (C0, C1, F5..)
+		const std::size_t n = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+		bool ok = n != 0 && i + n <= s.size();
+		for (std::size_t k = 1; ok && k < n; k++)
+			ok = (static_cast<unsigned char>(s[i + k]) & 0xC0) == 0x80;
+		if (!ok) {
+			esc(c);
+			i++;
+			continue;
+		}
+		o.append(s.substr(i, n));
+		i += n;
+	}
+	return o;
+}
+
 } // namespace ecmxf::detail

@@ -26,6 +26,10 @@ std::string bitList(std::uint8_t status);
 std::string durationUs(std::uint64_t us);
 /// @p s in double quotes.
 std::string quoted(std::string_view s);
+/// @p s safe for a terminal: control bytes (0x00..0x1F, 0x7F) and bytes
+/// that are not valid UTF-8 as \xNN, a backslash as \\; valid UTF-8
+/// passes unchanged.
+std::string printable(std::string_view s);
 
 /// A row of a code table for textOf().
 template <typename Code>

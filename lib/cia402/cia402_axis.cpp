@@ -153,6 +153,7 @@ Cia402Axis::Cia402Axis(Device &device, ProcessImage &image, std::uint8_t slave, 
 	targetVel_ = optOutput<std::int32_t>(image, slave, 0x60FF);
 	velActual_ = optInput<std::int32_t>(image, slave, 0x606C);
 	followErr_ = optInput<std::int32_t>(image, slave, 0x60F4);
+	errorCode_ = optInput<std::uint16_t>(image, slave, 0x603F);
 	cwOut_.set(0);
 }
 
@@ -487,6 +488,7 @@ void Cia402Axis::update(nanoseconds now) noexcept
 			progress_ = Cia402Progress::Failed;
 			why_ = Why::Left;
 			failSw_ = sw_;
+			failError_ = errorCode_.bound() ? errorCode_.get() : 0;
 		} else {
 			const Cia402Progress p = stepMotion(now, cw);
 			steps_++;
@@ -494,6 +496,7 @@ void Cia402Axis::update(nanoseconds now) noexcept
 				if (req_ == Cia402Request::State)
 					why_ = Why::State;
 				failSw_ = sw_;
+				failError_ = errorCode_.bound() ? errorCode_.get() : 0;
 			}
 			if (p != Cia402Progress::Idle)
 				progress_ = p;
@@ -508,12 +511,19 @@ void Cia402Axis::update(nanoseconds now) noexcept
 		progress_ = Cia402Progress::Failed;
 		why_ = Why::State;
 		failSw_ = sw_;
+		failError_ = errorCode_.bound() ? errorCode_.get() : 0;
 	}
 
 	if (mode == cia402::kModeCsp)
 		targetPos_.set(cspTarget_);
 	cw_ = cw;
 	cwOut_.set(cw);
+}
+
+std::string Cia402Axis::errorCodeText() const
+{
+	// the drive's own word for the fault (0x603F), where it maps it
+	return failError_ ? ", error code " + cia402Hex16(failError_) + " (0x603F)" : std::string();
 }
 
 std::string Cia402Axis::failureMessage() const
@@ -523,7 +533,7 @@ std::string Cia402Axis::failureMessage() const
 	switch (why_) {
 	case Why::State:
 	case Why::Left:
-		return state_.failureMessage();
+		return state_.failureMessage() + errorCodeText();
 	case Why::Pp:
 		return pp_.failureMessage();
 	case Why::Homing:
@@ -540,7 +550,8 @@ std::string Cia402Axis::failureMessage() const
 	case Why::FollowingError:
 		return slaveText(slave_) + "CSP following error (statusword " + cia402Hex16(failSw_) +
 		       ", bit 13)" +
-		       (followErr_.bound() ? ": 0x60F4 = " + std::to_string(followErr_.get()) : std::string());
+		       (followErr_.bound() ? ": 0x60F4 = " + std::to_string(followErr_.get()) : std::string()) +
+		       errorCodeText();
 	case Why::None:
 		break;
 	}

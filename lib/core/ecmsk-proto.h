@@ -115,6 +115,7 @@ int ecmsk_geom_init(struct ecmsk_geom *g, unsigned int slot_size);
 #define ECMSK_FIFO_CLEAR	1u
 #define ECMSK_FIFO_THRESHOLD	2u
 #define ECMSK_FIFO_THRESHOLD_DEFAULT 160u
+#define ECMSK_FIFO_ABANDON_CYCLES 100u	/* CONFIG3: a queued command older than this is abandoned */
 
 /* DRIVE_MODE */
 #define ECMSK_MODE_CSP		8u

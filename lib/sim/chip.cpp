@@ -50,6 +50,13 @@ void applyChipOption(ChipConfig &config, std::string_view key, std::string_view 
 			config.crcTypeSetFixed = true;
 		else
 			bad("drop or accept");
+	} else if (key == "init-op") {
+		if (value == "strict")
+			config.initOpLenient = false;
+		else if (value == "lenient")
+			config.initOpLenient = true;
+		else
+			bad("strict or lenient");
 	} else {
 		throw std::invalid_argument("unknown chip option '" + std::string(key) + "' (known: " +
 					    std::string(kChipOptions) + ")");

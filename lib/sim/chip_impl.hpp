@@ -320,6 +320,7 @@ public:
 	bool lrw_ = true;
 	bool busShift_ = false;
 	std::uint8_t initParam_ = 0;
+	bool initFifoOn_ = false; // INIT_OP byte 1 = 0 on a lenient firmware: the FIFO stays on
 	std::vector<SlaveRec> slaves_;
 	std::vector<CycleSlot> slots_;	///< hot copy of slaves_ (buildLayout, applyDc)
 	/// Configured station address of every bus position (ESC 0x0010),

@@ -165,8 +165,11 @@ std::uint16_t Chip::Impl::siiWord(std::size_t pos, std::uint16_t addr,
 
 bool Chip::Impl::startInitOp(const ecmxf_cmd_hdr &h, std::span<const std::uint8_t> in)
 {
-	if (in.size() < 16 || in[0] != 0xFF || in[1] != 0x81)
+	// byte 1: 0x81 (manual ver. 050); a lenient firmware takes 0x00 too
+	// (ChipConfig::initOpLenient)
+	if (in.size() < 16 || in[0] != 0xFF || (in[1] != 0x81 && !(cfg_.initOpLenient && in[1] == 0x00)))
 		return false;
+	initFifoOn_ = in[1] == 0x00;
 	const std::uint16_t aa = le16(&in[2]);
 	const std::uint32_t sync0 = le32(&in[4]);
 	const std::uint32_t sync1 = le32(&in[8]);
@@ -298,7 +301,9 @@ void Chip::Impl::scanNetwork(std::uint16_t aa, std::uint32_t sync0, std::uint32_
 	linkAtInit_ = true;
 	wkcErrCnt_ = 0;
 	wkcConti_ = 0;
-	fifoEnabled_ = false; // data byte 1 = 0x81: FIFO off until the host enables it
+	// data byte 1 = 0x81: FIFO off until the host enables it; 0x00 (a
+	// lenient firmware): on, as manual ver. 038's default
+	fifoEnabled_ = initFifoOn_;
 	ecatState_ = ECMXF_ECAT_INIT;
 }
 

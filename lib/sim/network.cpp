@@ -19,12 +19,18 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
+#include "base/text.hpp"
+#if __has_include("ecmxf_network_dir.h")
+#include "ecmxf_network_dir.h" // ECMXF_NETWORK_DIR: the configured prefix's networks
+#endif
 #include "slaves/factory.hpp"
 
 namespace ecmxf::sim {
@@ -108,6 +114,17 @@ std::unique_ptr<Slave> Network::makeSlave(const std::string &type, unsigned posi
 
 Network Network::fromText(const std::string &text, const std::string &origin)
 {
+	// what a message quotes of the file (a word, a key, a value) may be any
+	// bytes: never raw to a terminal
+	try {
+		return parseText(text, origin);
+	} catch (const std::invalid_argument &e) {
+		throw std::invalid_argument(detail::printable(e.what()));
+	}
+}
+
+Network Network::parseText(const std::string &text, const std::string &origin)
+{
 	Network net;
 	std::istringstream in(text);
 	std::string line;
@@ -190,8 +207,47 @@ Network Network::fromText(const std::string &text, const std::string &origin)
 	return net;
 }
 
-Network Network::fromFile(const std::string &path)
+std::string Network::findFile(const std::string &name)
 {
+	std::error_code ec;
+	if (name.empty() || name.find('/') != std::string::npos || std::filesystem::exists(name, ec))
+		return name;
+	std::vector<std::string> dirs;
+	if (const char *p = std::getenv("ECMXF_NETWORK_PATH")) {
+		std::string_view rest = p;
+		while (!rest.empty()) {
+			const auto colon = rest.find(':');
+			const std::string_view d = rest.substr(0, colon);
+			if (!d.empty())
+				dirs.emplace_back(d);
+			rest = colon == std::string_view::npos ? std::string_view() : rest.substr(colon + 1);
+		}
+	}
+	// relocatable: the prefix the program runs from (bin/../share), then
+	// the one the library was configured for
+	const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+	if (!ec)
+		dirs.push_back((exe.parent_path().parent_path() / "share/ecmxf/networks").string());
+#ifdef ECMXF_NETWORK_DIR
+	dirs.emplace_back(ECMXF_NETWORK_DIR);
+#endif
+	std::string looked;
+	for (const std::string &d : dirs) {
+		for (const std::string &file : { name, name + ".net" }) {
+			const std::filesystem::path f = std::filesystem::path(d) / file;
+			if (std::filesystem::is_regular_file(f, ec))
+				return f.string();
+		}
+		if (looked.find(d) == std::string::npos)
+			looked += (looked.empty() ? "" : ", ") + d;
+	}
+	throw std::runtime_error("cannot open network file '" + name + "': not in the working directory, nor in " +
+				 looked + " (the installed networks; ECMXF_NETWORK_PATH adds directories)");
+}
+
+Network Network::fromFile(const std::string &given)
+{
+	const std::string path = findFile(given);
 	// a directory opens as an ifstream on Linux and reads as nothing
 	std::error_code ec;
 	if (std::filesystem::is_directory(path, ec))

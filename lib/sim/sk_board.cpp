@@ -16,6 +16,7 @@
 #include <array>
 #include <charconv>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include <ecmxf/model/cia402.hpp>
@@ -71,16 +72,18 @@ void BoardConfig::set(const std::string &key, const std::string &value)
 	} else if (key == "ex") {
 		extensions = static_cast<std::uint32_t>(number(key, value, 0, 3));
 	} else if (key == "fifo") {
-		fifoDepth = static_cast<unsigned>(number(key, value, 161, 4096));
+		fifoDepth = static_cast<unsigned>(number(key, value, 160, 4096));
 	} else if (key == "busy_us") {
 		busyTime = std::chrono::microseconds(number(key, value, 1, 100000));
 	} else if (key == "spi_hz") {
 		spiHz = static_cast<std::uint32_t>(number(key, value, 100000, 50000000));
 	} else if (key == "lio") {
 		lioInputs = static_cast<std::uint32_t>(number(key, value, 0, 63));
+	} else if (key == "paced") {
+		paced = number(key, value, 0, 1) != 0;
 	} else {
 		throw std::invalid_argument("unknown ECM-SK board setting '" + key +
-					    "' (slot, test, abandon, ex, fifo, busy_us, spi_hz, lio)");
+					    "' (slot, test, abandon, ex, fifo, busy_us, spi_hz, lio, paced)");
 	}
 }
 
@@ -111,7 +114,7 @@ BoardConfig BoardConfig::parse(const std::string &settings)
 
 namespace {
 
-constexpr unsigned kAbandonCycles = 100;
+constexpr unsigned kAbandonCycles = ECMSK_FIFO_ABANDON_CYCLES;
 constexpr ns kResetBusy = 10ms;
 
 std::uint8_t actualType(const sim::Slave &s)
@@ -272,7 +275,11 @@ struct SimBoard::Impl {
 	// FIFO
 	std::vector<FifoEntry> fifo;
 	unsigned fifoFull = 0;
-	unsigned threshold = 0; // armed threshold (0: none)
+	// the threshold in force: entries are held while FIFO remaining is not
+	// below it; its default and reset value is the depth (160 on the
+	// board the manual describes), which holds nothing
+	unsigned threshold = ECMSK_FIFO_THRESHOLD_DEFAULT;
+	[[nodiscard]] unsigned thresholdDefault() const { return cfg.fifoDepth; }
 	bool homingRunning = false;
 	// SDO slot
 	ecmsk_sdo sdoAns{};
@@ -290,9 +297,9 @@ struct SimBoard::Impl {
 			throw std::invalid_argument("ECM-SK: " + std::to_string(net.size()) +
 						    " slaves, the frame has slots for " +
 						    std::to_string(g.max_slaves));
-		if (cfg.fifoDepth <= ECMSK_FIFO_THRESHOLD_DEFAULT || cfg.fifoDepth > 4096)
+		if (cfg.fifoDepth < ECMSK_FIFO_THRESHOLD_DEFAULT || cfg.fifoDepth > 4096)
 			throw std::invalid_argument("ECM-SK: FIFO depth " + std::to_string(cfg.fifoDepth) +
-						    " (161..4096)");
+						    " (160..4096)");
 		if (cfg.extensions > 3)
 			throw std::invalid_argument("ECM-SK: SET_EX setting " +
 						    std::to_string(cfg.extensions) + " (0..3)");
@@ -326,7 +333,7 @@ struct SimBoard::Impl {
 		ansData1 = ansData2 = 0;
 		fifo.clear();
 		fifoFull = 0;
-		threshold = 0;
+		threshold = thresholdDefault();
 		homingRunning = false;
 		sdoAns = {};
 		sdoBusy = false;
@@ -347,9 +354,17 @@ struct SimBoard::Impl {
 		return ns(static_cast<std::int64_t>(g.frame_size) * 8 * 1'000'000'000LL / cfg.spiHz);
 	}
 
+	// paced: the wall clock since power-on, as virtual time
+	const std::chrono::steady_clock::time_point epoch = std::chrono::steady_clock::now();
+
 	void advance(ns dt)
 	{
-		const ns end = now + dt;
+		ns end = now + dt;
+		if (cfg.paced) {
+			// not ahead of the wall clock; behind it, catch up
+			std::this_thread::sleep_until(epoch + end);
+			end = std::max(end, std::chrono::duration_cast<ns>(std::chrono::steady_clock::now() - epoch));
+		}
 		while (nextCycle <= end) {
 			now = std::max(now, nextCycle);
 			cycle();
@@ -543,7 +558,7 @@ struct SimBoard::Impl {
 				c.s->alControl(static_cast<std::uint8_t>(sim::AlState::Op));
 			}
 			fifo.clear();
-			threshold = 0;
+			threshold = thresholdDefault();
 			opPending = true;
 			opDeadline = now + 100ms;
 			return;
@@ -593,19 +608,26 @@ struct SimBoard::Impl {
 
 	void applyFifo()
 	{
-		if (threshold) {
-			if (cfg.fifoDepth - fifo.size() >= threshold)
-				return; // prefill: not yet below the threshold
-			threshold = 0; // met: back to the default (2.1.6)
+		// CONFIG3: an entry not carried out within 100 cycles is
+		// abandoned, held by a threshold or not; it is counted in the FIFO
+		// full count the host reads (decision: the one counter of
+		// commands the FIFO did not carry out), never dropped unseen
+		if (cfg.fifoAbandon) {
+			const auto gone = std::erase_if(fifo, [&](const FifoEntry &e) {
+				return st.cycles - e.cycle > kAbandonCycles;
+			});
+			st.fifoAbandoned += gone;
+			fifoFull += static_cast<unsigned>(gone);
 		}
+		if (fifo.empty())
+			return;
+		if (cfg.fifoDepth - fifo.size() >= threshold)
+			return; // prefill: not yet below the threshold
+		threshold = thresholdDefault(); // met: back to the default (2.1.6)
 		std::array<bool, ECMSK_SLAVES_MAX + 1> taken{};
 		std::size_t w = 0;
 		for (std::size_t r = 0; r < fifo.size(); r++) {
 			FifoEntry &e = fifo[r];
-			if (cfg.fifoAbandon && st.cycles - e.cycle > kAbandonCycles) {
-				st.fifoAbandoned++;
-				continue;
-			}
 			if (!taken[e.slave]) {
 				taken[e.slave] = true;
 				apply(sl[e.slave - 1u], e);
@@ -775,6 +797,8 @@ struct SimBoard::Impl {
 			}
 		} else {
 			code = s.s->sdoDownload(c.index, c.subindex, false, le(c.value, c.size));
+			if (!code)
+				sdoAns.value = c.value; // the object value echoed (table 2.9)
 			if (!code && c.index == 0x6060 && c.subindex == 0)
 				s.modeOverride = static_cast<std::int8_t>(c.value);
 			if (!code && c.index == 0x6098 && c.subindex == 0)
@@ -818,6 +842,11 @@ struct SimBoard::Impl {
 				types[i] = static_cast<std::uint8_t>((c.data1 >> (4 * i)) & 0xF);
 				if (types[i] == ECMSK_AXIS_NONE)
 					continue;
+				// a zero nibble (Drive, the topology's default value,
+				// table 2.3) for a slave that is not there is what a
+				// host sends for "no slave": no mismatch
+				if (types[i] == ECMSK_AXIS_DRIVE && n >= sl.size())
+					continue;
 				if (types[i] > ECMSK_AXIS_STEP)
 					mismatch |= 1u << i;
 				else if (state == ECMSK_STATE_PREOP &&
@@ -848,11 +877,12 @@ struct SimBoard::Impl {
 		case ECMSK_CMD_SET_FIFO:
 			if (c.param == ECMSK_FIFO_CLEAR) {
 				fifo.clear();
-				threshold = 0;
+				threshold = thresholdDefault();
 				return;
 			}
 			if (c.param == ECMSK_FIFO_THRESHOLD) {
-				threshold = c.data1 ? static_cast<unsigned>(std::min<std::uint32_t>(c.data1, 0xFFFF)) : 0;
+				threshold = c.data1 ? static_cast<unsigned>(std::min<std::uint32_t>(c.data1, 0xFFFF))
+						    : thresholdDefault();
 				return;
 			}
 			break;

@@ -16,10 +16,16 @@ namespace ecmxf::sk {
 namespace {
 
 // room for one more cyclic command in the FIFO, as the board last
-// reported it, less those staged and in flight: the back-pressure
+// reported it, less those staged and in flight: the back-pressure. And
+// never more than CONFIG3's 100 queued (FIFO used, as the depth less the
+// remaining space, plus those staged and in flight): one entry per slave
+// is applied per cycle, so none waits long enough to be abandoned.
 bool fifoRoom(const SlotLink::Impl &k) noexcept
 {
-	return k.stagedCount + k.inFlight < k.res.ecm.fifo_remaining;
+	const unsigned ahead = k.stagedCount + k.inFlight;
+	const unsigned remaining = k.res.ecm.fifo_remaining;
+	const unsigned used = k.fifoDepth > remaining ? k.fifoDepth - remaining : 0u;
+	return ahead < remaining && used + ahead < ECMSK_FIFO_ABANDON_CYCLES;
 }
 
 } // namespace

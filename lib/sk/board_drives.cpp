@@ -36,7 +36,7 @@ void BoardDrives::waitEnabled(unsigned slave, std::chrono::milliseconds timeout)
 		if (cia402StateFrom(a.statusword) == Cia402State::OperationEnabled)
 			return;
 		if (k.ch.now() >= end)
-			throw Error("slave " + std::to_string(slave) + " did not reach Operation enabled within " +
+			throw Error(skSlave(slave) + " did not reach Operation enabled within " +
 					    std::to_string(timeout.count()) + " ms (statusword " +
 					    skHex(a.statusword, 4) + ", error code " + skHex(a.errorCode, 4) + ")",
 				    ETIMEDOUT);
@@ -58,7 +58,7 @@ AxisStatus BoardDrives::halt(unsigned slave, std::chrono::milliseconds timeout)
 		    s != Cia402State::SwitchedOn)
 			return a;
 		if (k.ch.now() >= end)
-			throw Error("slave " + std::to_string(slave - 1) + ": SV_OFF: the drive stays " +
+			throw Error(skSlave(slave) + ": SV_OFF: the drive stays " +
 					    std::string(cia402StateName(*s)) + " after " + std::to_string(timeout.count()) +
 					    " ms (statusword " + skHex(a.statusword, 4) + ")",
 				    ETIMEDOUT);
@@ -78,17 +78,17 @@ void BoardDrives::home(unsigned slave, std::int8_t method, std::chrono::millisec
 	k.slaveCommand(slave, ECMSK_CMD_GO_HOME);
 	if (!k.waitDone(k.homeDone, start, timeout, 1ms)) {
 		k.l.home.active = false;
-		throw Error("GO_HOME slave " + std::to_string(slave) + ": not homed within " +
+		throw Error("GO_HOME " + skSlave(slave) + ": not homed within " +
 				    std::to_string(timeout.count()) + " ms (statusword " +
 				    skHex(axis(slave).statusword, 4) + ")",
 			    ETIMEDOUT);
 	}
 	if (k.homeErr == -EIO)
-		throw Error("GO_HOME slave " + std::to_string(slave) + ": homing error (statusword bit 13, " +
+		throw Error("GO_HOME " + skSlave(slave) + ": homing error (statusword bit 13, " +
 				    skHex(axis(slave).statusword, 4) + ")",
 			    EIO);
 	if (k.homeErr)
-		throw Error("GO_HOME slave " + std::to_string(slave) + ": failed", -k.homeErr);
+		throw Error("GO_HOME " + skSlave(slave) + ": failed", -k.homeErr);
 }
 
 void BoardDrives::abortHome(unsigned slave)

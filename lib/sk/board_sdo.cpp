@@ -16,7 +16,7 @@ namespace {
 
 std::string sdoWhat(const char *cmd, unsigned slave, std::uint16_t index, std::uint8_t sub)
 {
-	return std::string(cmd) + " slave " + std::to_string(slave) + " " + skHex(index, 4) + ":" +
+	return std::string(cmd) + " " + skSlave(slave) + " " + skHex(index, 4) + ":" +
 	       skHex(sub, 2).substr(2);
 }
 

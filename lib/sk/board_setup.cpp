@@ -57,7 +57,7 @@ unsigned BoardSetup::setAxes(std::span<const SlaveType> types)
 			for (unsigned i = 0; i < 8; i++)
 				if (bad & (1u << i)) {
 					const unsigned n = g * 8 + i;
-					which += (which.empty() ? "" : ", ") + std::to_string(n + 1) + " (" +
+					which += (which.empty() ? "" : ", ") + std::to_string(n) + " (" +
 						 std::string(slaveTypeName(types[n])) + ")";
 				}
 			throw Error("SET_AXIS: the ECM-SK refused the types of group " + std::to_string(g) +
@@ -94,7 +94,7 @@ std::vector<SlaveType> BoardSetup::detectAxes()
 					continue;
 				const unsigned n = g * 8 + i;
 				if (n >= count || ++tried[n] >= 4)
-					throw Error("SET_AXIS: slave " + std::to_string(n + 1) +
+					throw Error("SET_AXIS: " + skSlave(n + 1) +
 							    " is none of Drive, STEP, HSP, IO",
 						    EPROTO);
 				types[n] = kOrder[tried[n]];

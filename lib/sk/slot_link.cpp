@@ -18,6 +18,11 @@ namespace ecmxf::sk {
 
 using namespace std::chrono_literals;
 
+std::string skSlave(unsigned slot)
+{
+	return "slave " + std::to_string(slot - 1);
+}
+
 std::string skHex(std::uint32_t v, int digits)
 {
 	char b[16];
@@ -135,8 +140,11 @@ void SlotLink::Impl::xfer()
 		homeDone = true;
 		homeErr = res.home_err;
 	}
-	if (cr == 0)
+	if (cr == 0) {
 		lastFull = res.ecm.fifo_full;
+		if (res.ecm.state == ECMSK_STATE_OP)
+			fifoDepth = std::max(fifoDepth, res.ecm.fifo_remaining);
+	}
 	if (cr)
 		throw Error(ch.name() + ": the ECM-SK's response failed its CRC-8", EBADMSG);
 }
@@ -196,7 +204,7 @@ void SlotLink::Impl::slaveCommand(unsigned slave, std::uint8_t cmd, std::uint32_
 	ecmsk_put_slave(&l.g, mosi.data(), slave, &c);
 	transact();
 	if (!ecmsk_link_answered(&l, slave, miso.data()))
-		refused(std::string(name) + " for slave " + std::to_string(slave),
+		refused(std::string(name) + " for " + skSlave(slave),
 			"not a command for that slave's type (SET_AXIS), mode (DRIVE_MODE) or state");
 }
 

@@ -36,6 +36,7 @@ struct SlotLink::Impl {
 	unsigned stagedCount = 0;
 	unsigned inFlight = 0; // cyclic commands of the last frame: not in its response yet
 	std::uint16_t lastFull = 0;
+	std::uint16_t fifoDepth = 0; // the most FIFO remaining seen in OP: the depth (the FIFO empty)
 	std::string lastError; // of the last CycleStatus::Link
 
 	[[nodiscard]] ecmxf::State state() const noexcept { return static_cast<ecmxf::State>(l.state); }
@@ -70,5 +71,8 @@ struct SlotLink::Impl {
 
 /// "0x" and @p digits hex digits.
 std::string skHex(std::uint32_t v, int digits);
+/// "slave P" for the slave in frame slot @p slot: its bus position P =
+/// slot - 1, counted from 0 as on the ECM-XF; messages never show slots.
+std::string skSlave(unsigned slot);
 
 } // namespace ecmxf::sk

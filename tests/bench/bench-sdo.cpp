@@ -14,9 +14,16 @@
 //
 //  - ours:     Sdo::read<int32_t>() (the protocol engine polls the
 //              running command back to back, each poll gated by INT0 only);
-//  - baseline: raw exchanges on a second chip: SDO_REQ, then an
-//              INFO_UPDATE poll every 1 ms (sleep 1 ms between polls) until
-//              the busy bit clears, then SDO_GET and its answer.
+//  - baseline: NEXTW's example host driver as it runs (its sequence and
+//              delays, modelled; no code of it): raw exchanges on a second
+//              chip, a lenient firmware (chip option init-op=lenient: the
+//              driver sends ECAT_INIT_OP with data byte 1 = 0), a 200 us
+//              delay after every exchange, an INFO_UPDATE poll before
+//              SDO_REQ (is the chip idle?), SDO_REQ, then INFO_UPDATE polls
+//              1 ms apart until the busy bit clears -- the first poll reads
+//              SDO_REQ's own answer (the chip answers a packet in the next
+//              exchange), and each poll's header is the chip's state when
+//              it took the packet before -- then SDO_GET and its answer.
 //
 // Both wait for INT0 (ready) before every exchange. Printed: both figures
 // and the ratio of simulated times (baseline / ours) per latency.
@@ -110,6 +117,9 @@ class RawHost
 public:
 	explicit RawHost(sim::Chip &chip) : chip_(chip) {}
 
+	/// NEXTW's example driver waits this long after every exchange.
+	static constexpr Nanos kExchangeDelay = 200us;
+
 	ecmxf_rsp_hdr h{};
 	std::vector<std::uint8_t> data;
 
@@ -133,6 +143,7 @@ public:
 		timer.before(chip_.now());
 		chip_.exchange(tx, rx);
 		timer.after(chip_.now());
+		chip_.advance(kExchangeDelay);
 		const std::uint8_t *d = nullptr;
 		if (ecmxf_decode_rsp(rx.data(), rx.size(), ECMXF_CHECK_FIXED, &h, &d) != ECMXF_FAULT_NONE)
 			die("bad response");
@@ -147,16 +158,21 @@ public:
 		if (h.index != hdr_.index)
 			die("no answer to command " + std::to_string(code));
 	}
-	// the NEXTW way: poll INFO_UPDATE every 1 ms until busy clears
+	// the example driver's wait: INFO_UPDATE polls 1 ms apart until busy
+	// clears; the first poll's response is the answer to the packet before
 	void waitIdle1ms()
 	{
-		while (h.ecm_status & ECMXF_STS_BUSY) {
+		for (;;) {
+			send(ECMXF_CMD_INFO_UPDATE_OP);
+			if (!(h.ecm_status & ECMXF_STS_BUSY))
+				break;
 			chip_.advance(1ms);
-			cmd(ECMXF_CMD_INFO_UPDATE_OP);
 		}
 		if (h.err_status & ECMXF_ERR_ASYNC)
 			die("async command failed");
 	}
+	/// The index of the last command sent (its answer carries it).
+	[[nodiscard]] std::uint8_t lastIndex() const { return hdr_.index; }
 
 	TransferTimer timer; ///< one transfer's time
 
@@ -208,16 +224,18 @@ Figures ours(unsigned latencyUs, bool pipeline)
 
 Figures baseline(unsigned latencyUs)
 {
-	sim::Chip chip(network(latencyUs));
+	sim::Network net = network(latencyUs);
+	net.setChipOption("init-op", "lenient"); // byte 1 = 0, as the driver sends it
+	sim::Chip chip(std::move(net));
 	RawHost host(chip);
 	host.send(ECMXF_CMD_INFO_UPDATE_OP); // the power-on NOP
-	std::vector<std::uint8_t> init = { 0xFF, 0x81, 0x00, 0x03 };
+	std::vector<std::uint8_t> init = { 0xFF, 0x00, 0x00, 0x03 };
 	for (std::uint32_t v : { 1'000'000u, 0u, 0u })
 		for (int i = 0; i < 4; i++)
 			init.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
-	host.cmd(ECMXF_CMD_ECAT_INIT_OP, 0, 0, init);
+	host.send(ECMXF_CMD_ECAT_INIT_OP, 0, 0, init);
 	host.waitIdle1ms();
-	host.cmd(ECMXF_CMD_ECAT_STATE_SET, 0xFF, ECMXF_ECAT_PREOP);
+	host.send(ECMXF_CMD_ECAT_STATE_SET, 0xFF, ECMXF_ECAT_PREOP);
 	host.waitIdle1ms();
 
 	const auto x0 = chip.stats().exchanges;
@@ -225,8 +243,18 @@ Figures baseline(unsigned latencyUs)
 	double transfers = 0;
 	for (int i = 0; i < kRounds; i++) {
 		host.timer.start();
-		host.cmd(ECMXF_CMD_ECAT_SDO_REQ, 0, 0, sdoReadPayload());
-		host.waitIdle1ms();
+		host.send(ECMXF_CMD_INFO_UPDATE_OP); // the poll before SDO_REQ
+		if (host.h.ecm_status & ECMXF_STS_BUSY)
+			die("the chip is busy before SDO_REQ");
+		host.send(ECMXF_CMD_ECAT_SDO_REQ, 0, 0, sdoReadPayload());
+		const std::uint8_t req = host.lastIndex();
+		host.send(ECMXF_CMD_INFO_UPDATE_OP); // the first poll: SDO_REQ's own answer
+		if (host.h.index != req || host.h.code != ECMXF_CMD_ECAT_SDO_REQ)
+			die("the first poll did not read SDO_REQ's answer");
+		if (host.h.ecm_status & ECMXF_STS_BUSY) {
+			chip.advance(1ms);
+			host.waitIdle1ms();
+		}
 		host.cmd(ECMXF_CMD_ECAT_SDO_GET);
 		if (host.data.size() != 4)
 			die("SDO_GET returned " + std::to_string(host.data.size()) + " bytes");
@@ -258,7 +286,8 @@ int main()
 		    "after the completion), on = pipelined (SDO_GET is the poll, sent ahead); same run.\n",
 		    kRounds, exchangeUs, cfg.spiClockHz, std::chrono::duration<double, std::micro>(cfg.processingTime).count());
 	std::printf("  %-10s | %-28s | %-45s | %-28s | %s\n", "latency", "engine off: xfers, per transfer",
-		    "engine on: xfers, per transfer, one transfer", "baseline (1 ms polls)", "baseline/on");
+		    "engine on: xfers, per transfer, one transfer", "NEXTW example (200 us, 1 ms polls)",
+		    "baseline/on");
 	auto ex = [&](double us, unsigned lat) { return (us - lat) / exchangeUs; };
 	// 1000 us is the EST-584 model's default mailbox latency
 	for (unsigned lat : { 100u, 250u, 500u, 1000u, 1200u }) {

@@ -40,7 +40,7 @@ TEST_CASE("states PREOP brings a fresh bus up and lists every slave in PRE-OP", 
 	CHECK(r.out == "0    PREOP  +\n1    PREOP  +\n2    PREOP  +\n");
 }
 
-TEST_CASE("states --break-claim: only the kernel module has a claim to break; nothing else happens",
+TEST_CASE("states --break-claim: only the kernel module has a claim to break, nothing else happens",
 	  "[cli][states]")
 {
 	const auto r = run("states --break-claim SAFEOP");
@@ -364,7 +364,7 @@ TEST_CASE("foe errors name the FoE error code and its text", "[cli][foe][errors]
 
 // ------------------------------------------------------------- peripherals
 
-TEST_CASE("gpio get: 20 input lines low at power-on; errors", "[cli][gpio]")
+TEST_CASE("gpio get: 20 input lines low at power-on, errors", "[cli][gpio]")
 {
 	auto r = run("gpio get");
 	REQUIRE(r.status == 0);
@@ -418,7 +418,7 @@ TEST_CASE("qei, adc, dac on a power-on chip", "[cli][periph]")
 	CHECK(r.err == "ecmxf-util: dac: VALUE: 4096 is out of range 0..4095\n");
 }
 
-TEST_CASE("emergency: none on a fresh chip; reset", "[cli][emergency][reset]")
+TEST_CASE("emergency: none on a fresh chip, reset", "[cli][emergency][reset]")
 {
 	auto r = run("emergency");
 	REQUIRE(r.status == 0);
@@ -505,7 +505,7 @@ TEST_CASE("cia402 errors: no object dictionary, unknown operation, no drive to m
 
 // -------------------------------------------------------------------- help
 
-TEST_CASE("every contract command is listed and has help; help COMMAND = COMMAND --help", "[cli][help]")
+TEST_CASE("every contract command is listed and has help, help COMMAND = COMMAND --help", "[cli][help]")
 {
 	const auto list = run("--help");
 	REQUIRE(list.status == 0);

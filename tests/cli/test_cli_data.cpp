@@ -25,7 +25,33 @@ TEST_CASE("data: every slave's entries with their values", "[cli][data]")
 	CHECK_THAT(r.out, Contains("slave 2: Digital I/O 8 out / 8 in\n    out 0x7000:01"));
 }
 
-TEST_CASE("data --set: an output entry by name reaches the slave; --json", "[cli][data]")
+TEST_CASE("data: a standard object's unit after its value, none for words, codes and unknown entries",
+	  "[cli][data]")
+{
+	const auto r = run("data -p 0");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("    out 0x607a:00  Target position                32 bit  0 inc\n"));
+	CHECK_THAT(r.out, Contains("    in  0x6064:00  Position actual value          32 bit  0 inc\n"));
+	CHECK_THAT(r.out, Contains("    in  0x6041:00  Statusword                     16 bit  0x0250 592\n"));
+	const auto j = testjson::parse(run("data --json").out);
+	REQUIRE(j.size() == 3);
+	bool position = false, status = false;
+	for (const auto &e : j[0]["inputs"].arr) {
+		if (e["index"].num == 0x6064) {
+			CHECK(e["unit"].str == "inc");
+			position = true;
+		}
+		if (e["index"].num == 0x6041) {
+			CHECK(e["unit"].kind == testjson::Json::Null);
+			status = true;
+		}
+	}
+	CHECK(position);
+	CHECK(status);
+	CHECK(j[2]["outputs"][0]["unit"].kind == testjson::Json::Null); // 0x7000:01: not a standard object
+}
+
+TEST_CASE("data --set: an output entry by name reaches the slave, --json", "[cli][data]")
 {
 	// Shutdown (6): the drive goes to READY TO SWITCH ON, seen in its
 	// statusword; a signed entry prints as signed
@@ -81,7 +107,7 @@ TEST_CASE("data: a bus left in PRE-OP is refused naming its state", "[cli][data]
 	CHECK_THAT(r.err, Contains("PRE-OP"));
 }
 
-TEST_CASE("data --watch: one refresh per --interval, --count of them; JSON Lines; no escapes off a terminal",
+TEST_CASE("data --watch: one refresh per --interval, --count of them, JSON Lines, no escapes off a terminal",
 	  "[cli][data]")
 {
 	auto r = run("data -p 0 --watch --interval 5 --count 3 --json");

@@ -213,7 +213,7 @@ TEST_CASE("igh: reg_read reads ESC registers by APRD, typed or as bytes", "[cli]
 	CHECK(r.err == "ecmxf-util: reg_read: slave position 7 out of range: the bus has 3 slaves (0..2)\n");
 }
 
-TEST_CASE("igh: reg_write writes by APWR; bad DATA is refused before the bus", "[cli][igh][reg]")
+TEST_CASE("igh: reg_write writes by APWR, bad DATA is refused before the bus", "[cli][igh][reg]")
 {
 	auto r = run("reg_write -p 0 0x0f80 0a0b");
 	CHECK(r.status == 0);
@@ -230,7 +230,7 @@ TEST_CASE("igh: reg_write writes by APWR; bad DATA is refused before the bus", "
 	CHECK(r.status == 2);
 }
 
-TEST_CASE("igh: sii_write takes sii_read's binary image; checksum, size and directory errors", "[cli][igh][sii]")
+TEST_CASE("igh: sii_write takes sii_read's binary image, checksum, size and directory errors", "[cli][igh][sii]")
 {
 	const std::string img = tempPath("sii.bin");
 	// sii_read into a file writes the binary image (as IgH's tool)
@@ -279,6 +279,9 @@ TEST_CASE("igh: master shows phase, slaves, link and counters", "[cli][igh]")
 	REQUIRE(r.status == 0);
 	CHECK_THAT(r.out, StartsWith("Master0\n  Device: sim:\n  Phase: Idle (no network initialised)\n"
 				     "  Slaves: 0\n  Link: UP\n"));
+	// a good link is no error: bits 0 and 1 of the error status are the link
+	CHECK_THAT(r.out, Contains("  Link: UP\n  Error status: none\n"));
+	CHECK_THAT(r.out, !Contains("(bit 0)"));
 	CHECK_THAT(r.out, Contains("    SPI CRC errors: 0\n    WKC errors: 0\n"));
 	r = run("master --json");
 	REQUIRE(r.status == 0);
@@ -314,6 +317,20 @@ TEST_CASE("igh: pdos --cstruct and --xml print the mapping as IgH's cstruct and 
 	auto c = run("cstruct -p 0");
 	REQUIRE(c.status == 0);
 	CHECK(c.out == run("pdos -p 0 --cstruct").out);
+	// without -p: one document, every slave's EtherCATInfo in a list
+	{
+		const auto all = run("xml");
+		REQUIRE(all.status == 0);
+		CHECK_THAT(all.out, StartsWith("<?xml version=\"1.0\" ?>\n<EtherCATInfoList>\n<EtherCATInfo>\n"));
+		CHECK_THAT(all.out, EndsWith("</EtherCATInfo>\n</EtherCATInfoList>\n"));
+		std::size_t decls = 0, infos = 0;
+		for (std::size_t at = 0; (at = all.out.find("<?xml", at)) != std::string::npos; at++)
+			decls++;
+		for (std::size_t at = 0; (at = all.out.find("<EtherCATInfo>", at)) != std::string::npos; at++)
+			infos++;
+		CHECK(decls == 1);
+		CHECK(infos == 3);
+	}
 	c = run("xml -p 0");
 	REQUIRE(c.status == 0);
 	CHECK(c.out == run("pdos -p 0 --xml").out);

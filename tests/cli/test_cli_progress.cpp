@@ -34,7 +34,7 @@ struct File {
 
 } // namespace
 
-TEST_CASE("progress: foe_write --progress shows the staging; silent into a pipe", "[cli][progress]")
+TEST_CASE("progress: foe_write --progress shows the staging, silent into a pipe", "[cli][progress]")
 {
 	ecmxftest::TempDir dir;
 	const File fw(dir, "firmware.bin", 20000);
@@ -49,7 +49,7 @@ TEST_CASE("progress: foe_write --progress shows the staging; silent into a pipe"
 	CHECK_THAT(r.err, !Contains("staging"));
 }
 
-TEST_CASE("progress: sii_write --progress counts the words; silent into a pipe", "[cli][progress]")
+TEST_CASE("progress: sii_write --progress counts the words, silent into a pipe", "[cli][progress]")
 {
 	ecmxftest::TempDir dir;
 	const std::string img = dir.path + "/sii.bin";
@@ -77,4 +77,17 @@ TEST_CASE("progress: foe_write refuses a slave in INIT before staging the file",
 	CHECK(r.status == 1);
 	CHECK_THAT(r.err, Contains("the slave is in INIT and has no mailbox"));
 	CHECK_THAT(r.err, !Contains("staging")); // nothing staged
+}
+
+TEST_CASE("progress: pdos --progress counts the slaves whose mapping it read, silent into a pipe", "[cli][progress]")
+{
+	auto r = run("--progress pdos");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.err, Contains("pdos: 3/3 slaves (100%)"));
+	r = run("--progress pdos -p 0,2");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.err, Contains("pdos: 2/2 slaves (100%)"));
+	r = run("pdos");
+	REQUIRE(r.status == 0);
+	CHECK(r.err.empty());
 }

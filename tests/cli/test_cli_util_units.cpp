@@ -74,3 +74,25 @@ TEST_CASE("util: object bytes as text and JSON", "[cli][units]")
 	CHECK(jsonValue(DataType::String, B{ 'a', '"' }) == "\"a\\\"\"");
 	CHECK(formatValue(DataType::Bool, B{ 1 }) == "true");
 }
+
+TEST_CASE("util: -p lists and ranges: ascending, each once, bad items named", "[cli][units]")
+{
+	CHECK(parsePositions("slaves", "2").list == std::vector<unsigned>{ 2 });
+	CHECK(parsePositions("slaves", "0,2").list == std::vector<unsigned>{ 0, 2 });
+	CHECK(parsePositions("slaves", "0-3").list == std::vector<unsigned>{ 0, 1, 2, 3 });
+	CHECK(parsePositions("slaves", "5,0-2,1,0x7f").list == std::vector<unsigned>{ 0, 1, 2, 5, 127 });
+	const Positions p = parsePositions("slaves", "1,3");
+	CHECK(p.has(1));
+	CHECK_FALSE(p.has(2));
+	CHECK_THROWS_WITH(parsePositions("slaves", "3-1"),
+			  "slaves: -p 3-1: range 3-1 runs backwards (try 'ecmxf-util slaves --help')");
+	CHECK_THROWS_WITH(parsePositions("slaves", "0,,2"),
+			  "slaves: -p 0,,2: an empty item in the list (try 'ecmxf-util slaves --help')");
+	CHECK_THROWS_WITH(parsePositions("slaves", "0,"),
+			  "slaves: -p 0,: an empty item in the list (try 'ecmxf-util slaves --help')");
+	CHECK_THROWS_WITH(parsePositions("slaves", "0-128"), Catch::Contains("128 is out of range 0..127"));
+	CHECK_THROWS_WITH(parsePositions("slaves", "-1"), Catch::Contains("-1"));
+	CHECK_THROWS_WITH(parsePositions("slaves", "a-b"), Catch::Contains("'a' is not a number"));
+	CHECK_THROWS_WITH(parsePositions("slaves", "1-"), Catch::Contains("is not a number"));
+	CHECK_THROWS_WITH(parsePositions("slaves", ""), Catch::Contains("no position given"));
+}

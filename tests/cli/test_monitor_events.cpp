@@ -90,7 +90,7 @@ TEST_CASE("monitor events: error-status bits set and cleared by name", "[monitor
 	CHECK(field(ev[0], "value") == "137");
 }
 
-TEST_CASE("monitor events: link down and up are link events; bit 0 is no error-status event",
+TEST_CASE("monitor events: link down and up are link events, bit 0 is no error-status event",
 	  "[monitor]")
 {
 	ResponseHeader down = opHeader();
@@ -124,7 +124,7 @@ TEST_CASE("monitor events: ECM status bits DC stable / PDO configured / FIFO ena
 	CHECK(ev[0].text == "ECM status 0x18 -> 0x4c: set DC stable, FIFO enabled; cleared PDO configured");
 }
 
-TEST_CASE("monitor events: CRC and WKC counters going up; going down is no event", "[monitor]")
+TEST_CASE("monitor events: CRC and WKC counters going up, going down is no event", "[monitor]")
 {
 	ResponseHeader cur = opHeader();
 	cur.crcErrCnt = 3;

@@ -47,7 +47,7 @@ TEST_CASE("raw INFO_UPDATE_OP prints the power-on response header field by field
 	}
 }
 
-TEST_CASE("raw SLV_CNT_GET: 0 slaves before ECAT_INIT_OP; the name without ECAT_ works", "[cli][raw]")
+TEST_CASE("raw SLV_CNT_GET: 0 slaves before ECAT_INIT_OP, the name without ECAT_ works", "[cli][raw]")
 {
 	const auto r = run("raw SLV_CNT_GET");
 	REQUIRE(r.status == 0);

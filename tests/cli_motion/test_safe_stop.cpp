@@ -5,6 +5,12 @@
 // sk-sim:) and ecmxf-sim servers (unix:, sk-unix:), whose drives are asked
 // for their state afterwards. The signal goes when the program has said
 // that the drive moves (its stderr), never after a sleep.
+//
+// Neither move can end before the signal, by design, however slow the
+// machine: on the ECM-XF a PV move with --time 0 runs until it is stopped;
+// on the ECM-SK the board is paced (paced=1: its cycles follow the wall
+// clock) and the CSP move of 2*10^9 units at most 1000 units a cycle lasts
+// over half an hour, beyond the 5-minute guard of Child::waitFor().
 
 #include <catch2/catch.hpp>
 
@@ -186,7 +192,7 @@ TEST_CASE("safe stop: SIGTERM during a PV move on unix: leaves the server's driv
 
 TEST_CASE("safe stop: SIGHUP during a CSP move on sk-sim: SV_OFF, exit 129", "[safe-stop][sk]")
 {
-	Child c({ "-d", "sk-sim:", "cia402", "-p", "0", "move", "2000000000" });
+	Child c({ "-d", "sk-sim:?paced=1", "cia402", "-p", "0", "move", "2000000000" });
 	c.waitFor("CSP move from");
 	c.signal(SIGHUP);
 	CHECK(c.wait() == 129);
@@ -200,7 +206,7 @@ TEST_CASE("safe stop: SIGINT during a move on sk-unix: leaves the board's drive 
 {
 	ecmxftest::TempDir dir;
 	const std::string sock = dir.path + "/sk.sock";
-	ecmxftest::SimServer server(sock, { "--board", "ecm-sk" });
+	ecmxftest::SimServer server(sock, { "--board", "ecm-sk", "--paced" });
 	const std::string dev = "sk-unix:" + sock;
 	{
 		Child c({ "-d", dev, "cia402", "-p", "0", "move", "2000000000" });

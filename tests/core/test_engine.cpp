@@ -966,7 +966,7 @@ TEST_CASE("pipelining: the fetch of an async command the chip refuses is withdra
 	CHECK(ecmxf_engine_idle(&l.e));
 }
 
-TEST_CASE("pipelining: an async command that fails reports it; its fetch still ran",
+TEST_CASE("pipelining: an async command that fails reports it, its fetch still ran",
 	  "[engine][pipeline]")
 {
 	Link l;

@@ -207,7 +207,7 @@ TEST_CASE("engine: finds the chip's CRC coverage when CRC-32 comes into force, w
 	}
 }
 
-TEST_CASE("engine: a response both rules verify decides nothing; the next one that tells them apart does",
+TEST_CASE("engine: a response both rules verify decides nothing, the next one that tells them apart does",
 	  "[engine][variants]")
 {
 	ecmxf_engine e;

@@ -2,7 +2,7 @@
 /*
  * fuzz_cli.cpp - the values ecmxf-util parses from its command line
  * (utils/ecmxf-util-common.cpp, utils/ecmxf-util-types.cpp): numbers,
- * INDEX[:SUB], positions, SDO data types (-t) and SDO values (the value
+ * INDEX[:SUB], positions (-p N, lists and ranges), SDO data types (-t) and SDO values (the value
  * codec of `download`, and its formatting for `upload`).
  *
  * Input: byte 0 selects the parser (and, for values, the type), the rest
@@ -57,6 +57,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			break;
 		}
 		case 4: {
+			if (sel & 0x80) {
+				// -p lists and ranges: ascending, each once, 0..127
+				const Positions ps = parsePositions("fuzz", text);
+				FUZZ_ASSERT(!ps.list.empty());
+				for (std::size_t i = 0; i < ps.list.size(); i++) {
+					FUZZ_ASSERT(ps.list[i] <= 127);
+					FUZZ_ASSERT(i == 0 || ps.list[i - 1] < ps.list[i]);
+					FUZZ_ASSERT(ps.has(ps.list[i]));
+				}
+				break;
+			}
 			const std::uint8_t p = parsePosition("fuzz", std::string(text));
 			FUZZ_ASSERT(p <= 127);
 			break;

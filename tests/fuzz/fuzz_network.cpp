@@ -7,7 +7,8 @@
  * returns a network of at most 128 slaves (the chip's limit), each with a
  * type name and process-data sizes it can state, or throws one of the
  * exceptions it documents (std::invalid_argument / std::runtime_error),
- * never anything else, and never crashes, hangs or reads out of bounds.
+ * never anything else, and never crashes, hangs or reads out of bounds;
+ * an error's message holds no control byte (the file's bytes escaped).
  * Inputs above 4 KiB are cut (a network of 128 slaves with options fits).
  */
 #include <cstdint>
@@ -34,7 +35,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			FUZZ_ASSERT(s.outputBytes() <= 1408 && s.inputBytes() <= 1408);
 			FUZZ_ASSERT(s.sii().size() >= 64);
 		}
-	} catch (const std::invalid_argument &) {
+	} catch (const std::invalid_argument &e) {
+		// what the message quotes of the file is escaped: no control byte
+		// reaches a terminal (issue 29)
+		for (const char *p = e.what(); *p; p++)
+			FUZZ_ASSERT(static_cast<unsigned char>(*p) >= 0x20 && *p != 0x7F);
 	} catch (const std::runtime_error &) {
 	}
 	return 0;

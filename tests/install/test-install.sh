@@ -110,6 +110,27 @@ echo "ok: installed ecmxf-util starts without LD_LIBRARY_PATH and lists 3 slaves
 env -u LD_LIBRARY_PATH "$prefix/bin/ecmxf-sim" --help >/dev/null || fail "installed ecmxf-sim --help"
 echo "ok: installed ecmxf-sim starts"
 
+# an installed network by name, from anywhere: <prefix>/bin/../share/ecmxf/networks
+out=$(cd / && env -u LD_LIBRARY_PATH -u ECMXF_NETWORK_PATH "$prefix/bin/ecmxf-util" -d sim:servo-io.net slaves) ||
+	fail "installed ecmxf-util -d sim:servo-io.net slaves (from /)"
+case $out in
+*"servo"*|*"Servo"*) ;;
+*) fail "sim:servo-io.net is not the servo network: $out" ;;
+esac
+out=$(cd / && env -u LD_LIBRARY_PATH "$prefix/bin/ecmxf-util" -d sim:servo-io slaves) ||
+	fail "installed ecmxf-util -d sim:servo-io slaves (without .net)"
+echo "ok: installed networks found by name (sim:servo-io.net, sim:servo-io)"
+
+# the man page names the networks where the configured prefix puts them
+cprefix=$(sed -n 's/^CMAKE_INSTALL_PREFIX:PATH=//p' "$build/CMakeCache.txt")
+if [ -n "$cprefix" ] && [ "$cprefix" != /usr ]; then
+	grep -qF "$cprefix/share/ecmxf/networks" "$prefix/share/man/man1/ecmxf-util.1" ||
+		fail "the installed man page does not name $cprefix/share/ecmxf/networks"
+	! grep -qF "/usr/share/ecmxf/networks" "$prefix/share/man/man1/ecmxf-util.1" ||
+		fail "the installed man page names /usr/share/ecmxf/networks under the prefix $cprefix"
+	echo "ok: the man page names $cprefix/share/ecmxf/networks"
+fi
+
 # the Python package, where the build made one (not in sanitizer builds):
 # under the prefix's lib/python3.X/dist-packages, importable from there
 # without LD_LIBRARY_PATH (RUNPATH to LIBDIR)

@@ -598,7 +598,7 @@ TEST_CASE("cia402 HM: homing status of bits 13, 12, 10", "[402][pure][hm]")
 	CHECK(ecmxf::homingStatusName(H::InterruptedOrIdle) == "homing interrupted or not started");
 }
 
-TEST_CASE("cia402 HM: start edge, attained and target reached; an earlier result is not taken", "[402][pure][hm]")
+TEST_CASE("cia402 HM: start edge, attained and target reached, an earlier result is not taken", "[402][pure][hm]")
 {
 	ecmxf::HomingStepper hm(1);
 	hm.start(0ms);

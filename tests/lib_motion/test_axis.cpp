@@ -26,6 +26,7 @@
 using namespace std::chrono_literals;
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
+using Catch::Matchers::StartsWith;
 using ecmxf::Cia402Axis;
 using ecmxf::Cia402State;
 using ecmxf::Error;
@@ -549,4 +550,26 @@ TEST_CASE("axis: stopOnExit(nullptr) leaves the drive as it is", "[axis][stop]")
 		a.stopOnExit(nullptr);
 	}
 	CHECK(simState(b) == Cia402State::OperationEnabled);
+}
+
+TEST_CASE("axis: a following-error fault names the drive's error code (0x603F)", "[axis][csp][fault]")
+{
+	// the servo maps 0x603F; a CSP target far beyond its following
+	// window faults it with 0x8611
+	Bench b("servo-io.net");
+	Cia402Axis a(*b.dev, *b.image, 0, { .modes = { cia402::kModeCsp } });
+	std::vector<Cia402Axis *> v{ &a };
+	modeAndEnable(b, v, cia402::kModeCsp);
+	a.startCsp(b.now());
+	a.setCspTarget(a.position() + (1 << 28));
+	try {
+		ecmxf::runUntil(*b.cyc, v, [] { return false; }, 2s, "the jump");
+		FAIL("no failure");
+	} catch (const Error &e) {
+		INFO(e.what());
+		CHECK_THAT(e.what(), StartsWith("slave 0: "));
+		CHECK_THAT(e.what(), Contains(", error code 0x8611 (0x603F)"));
+	}
+	CHECK(a.failed());
+	CHECK_THAT(a.failureMessage(), Contains("error code 0x8611"));
 }

@@ -183,7 +183,7 @@ TEST_CASE("chip: a data length beyond the data section is a bad parameter, nothi
 	CHECK(rig.chip->dataSize() == 256);
 }
 
-TEST_CASE("chip: SDO_GET returns the last read's data; a write keeps it, a failed read clears it",
+TEST_CASE("chip: SDO_GET returns the last read's data, a write keeps it, a failed read clears it",
 	  "[chip][variants]")
 {
 	Rig rig(1);
@@ -244,7 +244,7 @@ TEST_CASE("chip: slave information codes 10..13 give each slave model's DC state
 	CHECK(bad.cmdError());
 }
 
-TEST_CASE("network files: chip KEY=VALUE lines set chip options; bad ones name line, key and value",
+TEST_CASE("network files: chip KEY=VALUE lines set chip options, bad ones name line, key and value",
 	  "[chip][variants]")
 {
 	const sim::Network n = sim::Network::fromText("slave dio\nchip crc32-coverage=valid crc-type-set-fixed=accept\n");
@@ -296,4 +296,49 @@ TEST_CASE("network files: chip KEY=VALUE lines set chip options; bad ones name l
 	CHECK(m.chipOptions()[0].second == "frame");
 	CHECK_THROWS_AS(m.setChipOption("crc32-coverage", "x"), std::invalid_argument);
 	CHECK(m.chipOptions()[0].second == "frame");
+}
+
+TEST_CASE("chip option init-op: strict refuses INIT_OP byte 1 = 0, lenient takes it and leaves the FIFO on",
+	  "[chip][variants]")
+{
+	for (const bool lenient : { false, true }) {
+		INFO("init-op=" << (lenient ? "lenient" : "strict"));
+		sim::ChipConfig cfg;
+		sim::applyChipOption(cfg, "init-op", lenient ? "lenient" : "strict");
+		CHECK(cfg.initOpLenient == lenient);
+		Rig rig(1, {}, cfg);
+		Cmd c = initOp();
+		c.data[1] = 0x00; // as NEXTW's example host drivers send it
+		const Rsp a = rig.host.cmd(c);
+		if (!lenient) {
+			CHECK(a.cmdError());
+			CHECK_FALSE(a.busy());
+			CHECK(rig.host.cmd(Cmd(ECMXF_CMD_ECAT_SLV_CNT_GET)).h.ret == 0);
+			continue;
+		}
+		REQUIRE_FALSE(a.cmdError());
+		const Rsp r = rig.host.waitIdle();
+		CHECK_FALSE(r.asyncError());
+		CHECK(r.h.ecat_state == ECMXF_ECAT_INIT);
+		CHECK(r.h.ecm_status & ECMXF_STS_FIFO_EN); // on without FIFO_ENABLE (manual ver. 038)
+		CHECK(rig.host.cmd(Cmd(ECMXF_CMD_ECAT_SLV_CNT_GET)).h.ret == 1);
+		// 0x81 on the lenient firmware: as ver. 050 says, FIFO off
+		const Rsp b = rig.host.cmd(initOp());
+		REQUIRE_FALSE(b.cmdError());
+		CHECK_FALSE(rig.host.waitIdle().h.ecm_status & ECMXF_STS_FIFO_EN);
+		// any other byte 1 is still a command error
+		Cmd bad = initOp();
+		bad.data[1] = 0x01;
+		CHECK(rig.host.cmd(bad).cmdError());
+	}
+	sim::ChipConfig cfg;
+	CHECK_FALSE(cfg.initOpLenient); // strict by default
+	try {
+		sim::applyChipOption(cfg, "init-op", "loose");
+		FAIL("init-op=loose taken");
+	} catch (const std::invalid_argument &e) {
+		CHECK(std::string(e.what()) == "chip option init-op: bad value 'loose' (expected strict or lenient)");
+	}
+	const sim::Network n = sim::Network::fromText("slave dio\nchip init-op=lenient\n");
+	CHECK(n.chipOptions()[0] == std::pair<std::string, std::string>{ "init-op", "lenient" });
 }

@@ -6,7 +6,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <stdexcept>
 
 #include <ctime>
 #include <unistd.h>
@@ -157,4 +159,58 @@ TEST_CASE("128 slaves in OP at 8 kHz: all contribute to the WKC, and a cycle is 
 	CHECK((ins[0][0] & 0x6F) == 0x27);
 	CHECK(ins[0][3] == static_cast<std::uint8_t>((kCycles - 1) * 100));
 	// the speed of this loop is measured by `make bench` (bench-sim), not here
+}
+
+TEST_CASE("Network files: a bare name is looked for in ECMXF_NETWORK_PATH, with or without .net")
+{
+	char dir[] = "/tmp/ecmxf-netpath-XXXXXX";
+	REQUIRE(mkdtemp(dir) != nullptr);
+	const std::string d = dir;
+	std::ofstream(d + "/mine.net") << "name mine\nslave dio\nslave dio\n";
+	const char *old = std::getenv("ECMXF_NETWORK_PATH");
+	const std::string saved = old ? old : "";
+	REQUIRE(setenv("ECMXF_NETWORK_PATH", ("/nonexistent:" + d).c_str(), 1) == 0);
+	CHECK(Network::findFile("mine.net") == d + "/mine.net");
+	CHECK(Network::findFile("mine") == d + "/mine.net");
+	CHECK(Network::fromFile("mine").name() == "mine");
+	CHECK(Network::fromFile("mine.net").size() == 2);
+	// a path with '/' is taken as it is
+	CHECK(Network::findFile("./mine.net") == "./mine.net");
+	try {
+		(void)Network::fromFile("nosuch.net");
+		FAIL("nosuch.net found");
+	} catch (const std::runtime_error &e) {
+		INFO(e.what());
+		CHECK(std::string(e.what()).starts_with("cannot open network file 'nosuch.net': not in the working "
+							"directory, nor in /nonexistent, " + d + ", "));
+		CHECK(std::string(e.what()).find("ECMXF_NETWORK_PATH adds directories") != std::string::npos);
+	}
+	if (old)
+		setenv("ECMXF_NETWORK_PATH", saved.c_str(), 1);
+	else
+		unsetenv("ECMXF_NETWORK_PATH");
+	std::remove((d + "/mine.net").c_str());
+	rmdir(dir);
+}
+
+TEST_CASE("Network files: bytes of a bad file are escaped in the message, never echoed raw")
+{
+	const auto error = [](const std::string &text) {
+		try {
+			(void)Network::fromText(text, "bad.net");
+		} catch (const std::invalid_argument &e) {
+			return std::string(e.what());
+		}
+		return std::string("no error");
+	};
+	// a terminal escape (clear screen), a lone 0xFF, a backslash, and UTF-8
+	const std::string m = error("slave \x1b[2Jx\xff\\\xc2\xb5\n");
+	INFO(m);
+	CHECK(m.find('\x1b') == std::string::npos);
+	CHECK(m.find('\xff') == std::string::npos);
+	CHECK(m.find("\\x1b[2Jx\\xff\\\\\xc2\xb5") != std::string::npos); // µ kept
+	CHECK(m.starts_with("bad.net:1: "));
+	const std::string k = error("chip \x07\x7f=1\n");
+	CHECK(k.find("\\x07\\x7f") != std::string::npos);
+	CHECK(k.find('\x07') == std::string::npos);
 }

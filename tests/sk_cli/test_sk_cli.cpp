@@ -91,10 +91,15 @@ TEST_CASE("sk cli: upload and download through the SDO slot")
 	CHECK(r.status == 2);
 }
 
-TEST_CASE("sk cli: cia402 enable, move, status; io; lio; states; reset")
+TEST_CASE("sk cli: cia402 enable, move, status, io, lio, states, reset")
 {
 	auto r = run("-d sk-sim: -q cia402 -p 1 move 4000");
 	REQUIRE(r.status == 0);
+	// a long ramp (1000 targets): the FIFO is kept under CONFIG3's 100,
+	// nothing is abandoned (it would be counted, and the move fail)
+	r = run("-d sk-sim: --json cia402 -p 0 move 1000000");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("\"position_actual\": 1000000"));
 	r = run("-d sk-sim: --json cia402 -p 1 move -2500");
 	REQUIRE(r.status == 0);
 	CHECK_THAT(r.out, Contains("\"position_actual\": -2500"));
@@ -106,7 +111,7 @@ TEST_CASE("sk cli: cia402 enable, move, status; io; lio; states; reset")
 	CHECK(r.status == 0);
 	r = run("-d sk-sim: cia402 -p 2 enable");
 	CHECK(r.status == 1);
-	CHECK_THAT(r.err, Contains("refused SV_ON for slave 3"));
+	CHECK_THAT(r.err, Contains("refused SV_ON for slave 2 in OP")); // -p 2: its bus position, never the slot
 	r = run("-d sk-sim: cia402 -p 1 dance");
 	CHECK(r.status == 2);
 	r = run("-d sk-sim: io -p 2 0x5");
@@ -145,7 +150,7 @@ TEST_CASE("sk cli: bad values of io, cia402 and -p are usage errors")
 	}
 }
 
-TEST_CASE("sk cli: what the ECM-SK cannot do is refused with why; bad URIs are named")
+TEST_CASE("sk cli: what the ECM-SK cannot do is refused with why, bad URIs are named")
 {
 	for (const char *cmd : { "eeprom", "pdos", "foe_read", "gpio", "raw", "monitor", "sii_read", "emergency" }) {
 		INFO(cmd);
@@ -232,4 +237,35 @@ TEST_CASE("sk cli: one command table: --help with -d lists what the device can d
 	r = run("-d sk-sim: help upload");
 	CHECK(r.status == 0);
 	CHECK_THAT(r.out, Contains("On an ECM-SK (-d sk-...): SDO_RD"));
+}
+
+TEST_CASE("sk cli: slaves -v adds revision and serial number (0x1018:03/04), -p takes lists and ranges")
+{
+	auto r = run("-d sk-sim: slaves -v");
+	REQUIRE(r.status == 0);
+	auto l = clitest::lines(r.out);
+	REQUIRE(l.size() == 4);
+	CHECK_THAT(l[0], Contains("POS STATE  TYPE   VENDOR:PRODUCT        REVISION   SERIAL"));
+	CHECK_THAT(l[1], Contains("Drive  0x00000e5c:0x0000a2d2 0x"));
+	CHECK_THAT(l[3], Contains("IO"));
+	r = run("-d sk-sim: --json slaves -v");
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("\"revision\": "));
+	CHECK_THAT(r.out, Contains("\"serial_number\": "));
+	// without -v the fields of before
+	CHECK_THAT(run("-d sk-sim: --json slaves").out, !Contains("revision"));
+	r = run("-d sk-sim: slaves -p 0,2");
+	REQUIRE(r.status == 0);
+	l = clitest::lines(r.out);
+	REQUIRE(l.size() == 2);
+	CHECK_THAT(l[0], Contains("Drive"));
+	CHECK_THAT(l[1], Contains("IO"));
+	r = run("-d sk-sim: slaves -p 1-2");
+	REQUIRE(r.status == 0);
+	CHECK(clitest::lines(r.out).size() == 2);
+	r = run("-d sk-sim: slaves -p 0-5");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("slave position 5 out of range: the bus has 3 slaves (0..2)"));
+	r = run("-d sk-sim: info -v");
+	CHECK(r.status == 2); // -v is the slave list's only
 }

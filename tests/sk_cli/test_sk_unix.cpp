@@ -40,7 +40,7 @@ struct Server : ecmxftest::SimServer {
 
 } // namespace
 
-TEST_CASE("sk unix: bring-up and a CSP move over the socket; the board outlives its clients")
+TEST_CASE("sk unix: bring-up and a CSP move over the socket, the board outlives its clients")
 {
 	TempDir d;
 	const std::string sock = d.path + "/sk.sock";
@@ -112,7 +112,7 @@ TEST_CASE("sk unix: ecmxf-sim refuses bad board settings and unknown boards, wit
 	for (const Case &c : { Case{ "--board ecm-sk --settings slot=13", "slot=13" },
 			       Case{ "--board ecm-sk --settings fifo=10", "fifo=10" },
 			       Case{ "--board ecm-sk --settings colour=red", "colour" },
-			       Case{ "--board ecm-sk --paced", "--paced" },
+			       Case{ "--board ecm-sk --settings paced=2", "paced=2" },
 			       Case{ "--board ecm-zz", "ecm-zz" }, Case{ "--board", "--board" } }) {
 		INFO(c.args);
 		const std::string out = d.path + "/err.txt";

@@ -83,7 +83,7 @@ std::uint8_t crcBitwise(const std::vector<std::uint8_t> &f)
 
 } // namespace
 
-TEST_CASE("sk geometry: 12-byte slots make 42 slots, 504 bytes; 16-byte slots 32 slots, 512 bytes")
+TEST_CASE("sk geometry: 12-byte slots make 42 slots, 504 bytes, 16-byte slots 32 slots, 512 bytes")
 {
 	auto g = geom(12);
 	CHECK(g.slots == 42);
@@ -146,7 +146,7 @@ TEST_CASE("sk encode: SET_STATE PRE-OP in a 504-byte frame is the golden frame")
 	CHECK(f == kSetStatePreop.frame());
 }
 
-TEST_CASE("sk encode: SET_AXIS group 1 in a 512-byte frame; topology from slave types")
+TEST_CASE("sk encode: SET_AXIS group 1 in a 512-byte frame, topology from slave types")
 {
 	auto g = geom(16);
 	std::uint8_t types[12] = { 0, 0, 0, 0, 0, 0, 0, 0, ECMSK_AXIS_STEP, ECMSK_AXIS_DRIVE,
@@ -367,7 +367,7 @@ TEST_CASE("sk commands: table 1.3's ids, names, slots and states")
 	}
 }
 
-TEST_CASE("sk commands: SET_DC cycle times are 250 * 2^n us; states are the four of 1.8")
+TEST_CASE("sk commands: SET_DC cycle times are 250 * 2^n us, states are the four of 1.8")
 {
 	for (std::uint32_t us : { 250u, 500u, 1000u, 2000u, 4000u, 8000u, 250u << 20 })
 		CHECK(ecmsk_dc_cycle_valid(us));
@@ -393,7 +393,7 @@ TEST_CASE("sk crc8: eight bytes per step agrees with the bitwise definition at e
 	}
 }
 
-TEST_CASE("sk encode: a 2-channel HSP response carries the statusword; 12-byte slots refuse it")
+TEST_CASE("sk encode: a 2-channel HSP response carries the statusword, 12-byte slots refuse it")
 {
 	auto g = geom(16);
 	std::vector<std::uint8_t> f(512, 0);

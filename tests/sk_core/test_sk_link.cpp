@@ -110,7 +110,7 @@ TEST_CASE("sk link: a command's answer is the next exchange's response, not this
 	CHECK_FALSE(ecmsk_link_answered(&h.l, 0, r2.data())); // GET_STATUS was sent
 }
 
-TEST_CASE("sk link: in OP the ECM slot answers with 0xBF; slave slots with Cmd ID and index")
+TEST_CASE("sk link: in OP the ECM slot answers with 0xBF, slave slots with Cmd ID and index")
 {
 	Host h;
 	auto f = h.blank();
@@ -155,7 +155,7 @@ TEST_CASE("sk link: SET_STATE completes when Current State reaches the state ask
 	CHECK_FALSE(r.state_done);
 }
 
-TEST_CASE("sk link: SET_STATE times out on the caller's clock; a bad state is refused")
+TEST_CASE("sk link: SET_STATE times out on the caller's clock, a bad state is refused")
 {
 	Host h;
 	auto f = h.blank();
@@ -269,7 +269,7 @@ TEST_CASE("sk link: SDO aborts, answers for another object, answers that are not
 	}
 }
 
-TEST_CASE("sk link: GO_HOME completes when bits 10 and 12 are set after homing ran; bit 13 fails it")
+TEST_CASE("sk link: GO_HOME completes when bits 10 and 12 are set after homing ran, bit 13 fails it")
 {
 	Host h;
 	auto f = h.blank();
@@ -356,7 +356,7 @@ TEST_CASE("sk link: the board's CRC-error counter: increments counted, wrap at 2
 	CHECK(h.l.refused == 4u);
 }
 
-TEST_CASE("sk link: without TX CRC byte 3 is sent as 0; with RX CRC a bad response is -EBADMSG")
+TEST_CASE("sk link: without TX CRC byte 3 is sent as 0, with RX CRC a bad response is -EBADMSG")
 {
 	Host plain;
 	auto f = plain.blank();

@@ -5,6 +5,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -86,7 +88,7 @@ TEST_CASE("sk lib: status, bring-up to OP, slave count")
 	bringUp(*b);
 	const auto s = b->states().status();
 	CHECK(s.state == ecmxf::State::Op);
-	CHECK(s.fifoRemaining == 256);
+	CHECK(s.fifoRemaining == 160); // the simulated FIFO's depth
 }
 
 TEST_CASE("sk lib: wrong types, bad cycle times and commands in the wrong state are clear errors")
@@ -95,7 +97,7 @@ TEST_CASE("sk lib: wrong types, bad cycle times and commands in the wrong state 
 	b->states().set(ecmxf::State::PreOp);
 	const std::vector<SlaveType> wrong = { SlaveType::Step, SlaveType::Step, SlaveType::Io };
 	const auto msg = messageOf([&] { b->setup().setAxes(wrong); });
-	CHECK(msg.find("slave 1 (STEP)") != std::string::npos);
+	CHECK(msg.find("slave 0 (STEP)") != std::string::npos); // bus position, not the slot
 	CHECK(errnoOf([&] { b->setup().setAxes(wrong); }) == EPERM);
 	CHECK(errnoOf([&] { b->setup().setCycleTime(750); }) == EINVAL);
 	CHECK(errnoOf([&] { b->setup().setCycleTime(0); }) == EINVAL);
@@ -120,7 +122,7 @@ TEST_CASE("sk lib: wrong types, bad cycle times and commands in the wrong state 
 	CHECK(errnoOf([&] { b->io().write(1, 1); }) == EPERM); // a drive
 }
 
-TEST_CASE("sk lib: SDO typed read and write; aborts carry the code and its text")
+TEST_CASE("sk lib: SDO typed read and write, aborts carry the code and its text")
 {
 	auto b = Board::open("sk-sim:");
 	CHECK(errnoOf([&] { (void)b->sdo().read(1, 0x1000, 0); }) == EPERM); // INIT
@@ -168,7 +170,7 @@ TEST_CASE("sk lib: servo on, a CSP move of the Drive and the STEP slave through 
 	CHECK_FALSE(b->cyclic().stage(41, Mode::Csp, 0));
 }
 
-TEST_CASE("sk lib: stage() refuses what the FIFO has no room for; nothing is dropped")
+TEST_CASE("sk lib: stage() refuses what the FIFO has no room for, nothing is dropped")
 {
 	auto b = Board::open("sk-sim:?abandon=0");
 	bringUp(*b, 4000); // slow cycle: the FIFO fills faster than it drains
@@ -191,6 +193,32 @@ TEST_CASE("sk lib: stage() refuses what the FIFO has no room for; nothing is dro
 	CHECK_FALSE(b->cyclic().stage(1, Mode::Csp, p1));
 }
 
+TEST_CASE("sk lib: stage() keeps at most 100 queued: a long one-axis ramp loses nothing to CONFIG3")
+{
+	auto b = Board::open("sk-sim:"); // abandon=1, the default
+	bringUp(*b);
+	const auto [p1, p2] = enableDrives(*b);
+	(void)p2;
+	auto *sim = b->simulator();
+	REQUIRE(sim != nullptr);
+	// as fast as stage() takes them: 1000 targets, one axis
+	unsigned most = 0;
+	for (int i = 1; i <= 1000;) {
+		if (b->cyclic().stage(1, Mode::Csp, p1 + i))
+			i++;
+		const auto r = b->cyclic().cycle();
+		REQUIRE(r.status == CycleStatus::Ok);
+		most = std::max(most, sim->fifoUsed());
+	}
+	b->channel().sleepFor(200ms);
+	b->cyclic().cycle();
+	CHECK(most <= 100u);
+	CHECK(most >= 90u); // it did fill up to the bound
+	CHECK(sim->stats().fifoAbandoned == 0u);
+	CHECK(sim->stats().fifoDropped == 0u);
+	CHECK(b->drives().axis(1).position == p1 + 1000);
+}
+
 TEST_CASE("sk lib: a full FIFO is a FifoOverflow the application sees")
 {
 	auto b = Board::open("sk-sim:?abandon=0");
@@ -199,7 +227,7 @@ TEST_CASE("sk lib: a full FIFO is a FifoOverflow the application sees")
 	REQUIRE(sim != nullptr);
 	b->states().status(); // the library saw an empty FIFO
 	// a second host on the same board fills the FIFO behind the
-	// library's back: 280 CSPs, 24 of them dropped by the board
+	// library's back: 280 CSPs, more than its 160 entries take
 	std::vector<std::uint8_t> mosi(504, 0), miso(504, 0);
 	for (int i = 0; i < 140; i++) {
 		while (sim->busy())
@@ -295,7 +323,7 @@ TEST_CASE("sk lib: detectAxes finds each slave's type through SET_AXIS")
 	CHECK(b->simulator()->slaveType(2) == static_cast<std::uint8_t>(SlaveType::Step));
 }
 
-TEST_CASE("sk lib: stage2() drives both channels of a 2-channel HSP; 12-byte slots refuse it")
+TEST_CASE("sk lib: stage2() drives both channels of a 2-channel HSP, 12-byte slots refuse it")
 {
 	const std::string path = "/tmp/ecmxf-test-sk-hsp2-" + std::to_string(::getpid()) + ".net";
 	{
@@ -328,7 +356,7 @@ TEST_CASE("sk lib: stage2() drives both channels of a 2-channel HSP; 12-byte slo
 	CHECK_FALSE(b12->cyclic().stage2(1, Mode::Csp, 0, 0));
 }
 
-TEST_CASE("sk board: the EtherCAT state is ecmxf::State; sk::State stays one release as its alias")
+TEST_CASE("sk board: the EtherCAT state is ecmxf::State, sk::State stays one release as its alias")
 {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wdeprecated-declarations"

@@ -127,7 +127,7 @@ TEST_CASE("sk spidev: a Busy line stuck high is a timeout, not a transfer")
 	CHECK(r.b->cyclic().cycle().status == sk::CycleStatus::Busy);
 }
 
-TEST_CASE("sk spidev: a failing transfer is an error naming the node; cycle() reports it as Link")
+TEST_CASE("sk spidev: a failing transfer is an error naming the node, cycle() reports it as Link")
 {
 	Rig r;
 	r.faults.transferErrno = EIO;

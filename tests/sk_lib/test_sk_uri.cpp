@@ -96,7 +96,7 @@ TEST_CASE("sk uri: opening a network file that does not exist fails with the rea
 	}
 }
 
-TEST_CASE("sk uri: errors name the bad part and list the ECM-SK's forms; an ECM-XF URI is not a board")
+TEST_CASE("sk uri: errors name the bad part and list the ECM-SK's forms, an ECM-XF URI is not a board")
 {
 	const auto msg = [](const char *uri) {
 		try {

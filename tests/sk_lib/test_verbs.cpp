@@ -35,7 +35,7 @@ ecmxf::Error errorOf(auto &&fn)
 
 } // namespace
 
-TEST_CASE("verbs: open() picks the master by the URI; a bad URI is EINVAL")
+TEST_CASE("verbs: open() picks the master by the URI, a bad URI is EINVAL")
 {
 	auto xf = MasterVerbs::open("sim:");
 	CHECK(xf->kind() == MasterKind::EcmXf);
@@ -94,7 +94,7 @@ TEST_CASE("verbs: the ECM-SK: states, slaves, SDO, drives, I/O and reset through
 	CHECK(m->state() == ecmxf::State::Init);
 }
 
-TEST_CASE("verbs: the ECM-XF: SDO and drives through the interface; I/O is not a verb of the chip")
+TEST_CASE("verbs: the ECM-XF: SDO and drives through the interface, I/O is not a verb of the chip")
 {
 	auto m = MasterVerbs::open("sim:");
 	auto &dev = *m->device();

@@ -12,7 +12,7 @@
 using namespace skt;
 using ecmxf::sk::BoardConfig;
 
-TEST_CASE("sk board settings: parse the keys; refuse unknown keys and bad values")
+TEST_CASE("sk board settings: parse the keys, refuse unknown keys and bad values")
 {
 	auto c = BoardConfig::parse("slot=16&test=1,abandon=0&ex=3&fifo=512&busy_us=50&spi_hz=6000000&lio=0x3F");
 	CHECK(c.slotSize == 16);
@@ -25,7 +25,7 @@ TEST_CASE("sk board settings: parse the keys; refuse unknown keys and bad values
 	CHECK(c.lioInputs == 0x3Fu);
 	CHECK(BoardConfig::parse("").slotSize == 12);
 	for (const char *bad : { "slot=14", "slot=", "slot=twelve", "test=2", "abandon=-1", "ex=4",
-				 "fifo=160", "fifo=5000", "busy_us=0", "spi_hz=1", "lio=64", "colour=red",
+				 "fifo=159", "fifo=5000", "paced=2", "paced=", "busy_us=0", "spi_hz=1", "lio=64", "colour=red",
 				 "slot", "=12", "slot=12x" }) {
 		INFO(bad);
 		CHECK_THROWS_AS(BoardConfig::parse(bad), std::invalid_argument);
@@ -49,7 +49,7 @@ TEST_CASE("sk board: more slaves than the frame has slots for is refused")
 	CHECK_THROWS_AS(ecmxf::sk::SimBoard(net("slave dio\n"), bad), std::invalid_argument);
 }
 
-TEST_CASE("sk board: powers on in INIT; frames are 504 or 512 bytes")
+TEST_CASE("sk board: powers on in INIT, frames are 504 or 512 bytes")
 {
 	Host h;
 	CHECK(h.b.frameSize() == 504);
@@ -79,7 +79,7 @@ TEST_CASE("sk board: a command's answer comes with the next exchange (LIO_RD)")
 	CHECK(third.data1 == 0x15u);
 }
 
-TEST_CASE("sk board: LIO_WR sets the ECM IC's outputs in any state; values above 6 bits are refused")
+TEST_CASE("sk board: LIO_WR sets the ECM IC's outputs in any state, values above 6 bits are refused")
 {
 	Host h;
 	h.ecm(ECMSK_CMD_LIO_WR, 0x2A);
@@ -134,7 +134,7 @@ TEST_CASE("sk board: a transfer while Busy is high, or of another length, is not
 	CHECK(h.b.lioOutputs() == 0u);
 }
 
-TEST_CASE("sk board: SET_STATE takes several cycles; Current State follows INIT -> PRE-OP -> SAFE-OP")
+TEST_CASE("sk board: SET_STATE takes several cycles, Current State follows INIT -> PRE-OP -> SAFE-OP")
 {
 	Host h;
 	h.ecm(ECMSK_CMD_SET_STATE, ECMSK_STATE_PREOP);
@@ -185,9 +185,36 @@ TEST_CASE("sk board: SET_AXIS answers the slave count in PRE-OP (0 in INIT) and 
 		CHECK(h.b.slaveType(3) == ECMSK_AXIS_IO);
 	}
 	SECTION("a type for a slave that is not there") {
-		h.ecm(ECMSK_CMD_SET_AXIS, 0xFFFF0130u, 0); // 1 Drive, 2 STEP, 3 IO, 4 Drive
+		h.ecm(ECMSK_CMD_SET_AXIS, 0xFFFF3130u, 0); // 1 Drive, 2 STEP, 3 IO, 4 STEP
 		r = h.ecmRsp(h.answer());
 		CHECK(r.data2 == 0x8u);
+	}
+	SECTION("zero nibbles (Drive, the default value) for the slaves that are not there: taken") {
+		// as a host that fills the whole word sends it: 1 Drive, 2 STEP,
+		// 3 IO, 4..8 zero (table 2.3)
+		h.ecm(ECMSK_CMD_SET_AXIS, 0x00000130u, 0);
+		r = h.ecmRsp(h.answer());
+		CHECK(r.cmd == ECMSK_CMD_SET_AXIS);
+		CHECK(r.data1 == 3u);
+		CHECK(r.data2 == 0u);
+		CHECK(h.b.slaveType(1) == ECMSK_AXIS_DRIVE);
+		CHECK(h.b.slaveType(2) == ECMSK_AXIS_STEP);
+		CHECK(h.b.slaveType(3) == ECMSK_AXIS_IO);
+		// then DRIVE_MODE is taken and SAFE-OP comes
+		h.slave(1, ECMSK_CMD_DRIVE_MODE, 1, ECMSK_MODE_CSP, ECMSK_SYNC_DCSYNC);
+		h.slave(2, ECMSK_CMD_DRIVE_MODE, 2, ECMSK_MODE_CSP, ECMSK_SYNC_DCSYNC);
+		const auto &a = h.answer();
+		CHECK(h.slaveRsp(a, 1).cmd == ECMSK_CMD_DRIVE_MODE);
+		CHECK(h.slaveRsp(a, 2).cmd == ECMSK_CMD_DRIVE_MODE);
+		CHECK(h.setState(ECMSK_STATE_SAFEOP));
+		// the other groups: all zero, no slave there, nothing refused
+		h.ecm(ECMSK_CMD_SET_STATE, ECMSK_STATE_PREOP);
+		h.xfer();
+		REQUIRE(h.reach(ECMSK_STATE_PREOP));
+		h.ecm(ECMSK_CMD_SET_AXIS, 0u, 1);
+		r = h.ecmRsp(h.answer());
+		CHECK(r.cmd == ECMSK_CMD_SET_AXIS);
+		CHECK(r.data2 == 0u);
 	}
 	SECTION("group 5 and unknown types are refused") {
 		h.ecm(ECMSK_CMD_SET_AXIS, 0xFFFFFFFFu, 5);
@@ -307,6 +334,14 @@ TEST_CASE("sk board: SDO_RD and SDO_WR through the SDO slot, fetched with GET_ST
 
 		r = h.sdoRun(ECMSK_CMD_SDO_WR, 2, 0x6098, 0, 1, 37);
 		CHECK(r.status == ECMSK_SDO_DONE);
+		CHECK(r.value == 37u); // the object value echoed (table 2.9)
+		CHECK(r.index == 0x6098);
+		r = h.sdoRun(ECMSK_CMD_SDO_WR, 1, 0x607A, 0, 4, 0x12345678u);
+		CHECK(r.status == ECMSK_SDO_DONE);
+		CHECK(r.value == 0x12345678u);
+		r = h.sdoRun(ECMSK_CMD_SDO_WR, 1, 0x5FFF, 0, 4, 7); // failed: the abort code
+		CHECK(r.status == ECMSK_SDO_FAILED);
+		CHECK(r.value == 0x06020000u);
 		r = h.sdoRun(ECMSK_CMD_SDO_RD, 2, 0x6098, 0);
 		CHECK(r.value == 37u);
 		CHECK(r.size == 1);
@@ -389,7 +424,7 @@ TEST_CASE("sk board: test mode (CONFIG1) goes to OP by itself at 1 ms and walks 
 	CHECK(a != b);
 }
 
-TEST_CASE("sk board: IO_WR and IO_RD on an IO slave in OP; refused on a drive")
+TEST_CASE("sk board: IO_WR and IO_RD on an IO slave in OP, refused on a drive")
 {
 	Host h;
 	h.toOp({ ECMSK_AXIS_DRIVE, ECMSK_AXIS_STEP, ECMSK_AXIS_IO });
@@ -412,7 +447,7 @@ TEST_CASE("sk board: IO_WR and IO_RD on an IO slave in OP; refused on a drive")
 	CHECK(h.slaveRsp(h.answer(), 1).cmd == 0);
 }
 
-TEST_CASE("sk board settings: fifo= is the depth FIFO remaining reports; spi_hz= the wire time; lio= the inputs")
+TEST_CASE("sk board settings: fifo= is the depth FIFO remaining reports, spi_hz= the wire time, lio= the inputs")
 {
 	BoardConfig c = BoardConfig::parse("fifo=300&spi_hz=6000000&lio=0x21&slot=16");
 	Host h("slave dio\n", c);
@@ -424,4 +459,22 @@ TEST_CASE("sk board settings: fifo= is the depth FIFO remaining reports; spi_hz=
 	CHECK(h.ecmRsp(h.answer()).data1 == 0x21u);
 	h.toOp({ ECMSK_AXIS_IO });
 	CHECK(h.ecmRsp(h.xfer()).fifo_remaining == 300);
+}
+
+TEST_CASE("sk board settings: paced=1 keeps virtual time from running ahead of the wall clock")
+{
+	CHECK_FALSE(BoardConfig::parse("").paced);
+	BoardConfig c = BoardConfig::parse("paced=1");
+	REQUIRE(c.paced);
+	const auto t0 = std::chrono::steady_clock::now();
+	Host h("slave dio\n", c);
+	h.b.advance(30ms);
+	// a lower bound only: the board slept at least that long
+	CHECK(std::chrono::steady_clock::now() - t0 >= 30ms);
+	CHECK(h.b.now() >= 30ms);
+	for (int i = 0; i < 20; i++)
+		h.xfer();
+	CHECK(h.b.now() <= std::chrono::steady_clock::now() - t0 + h.b.wireTime());
+	// cycles ran in that time, as at the board's rate
+	CHECK(h.b.stats().cycles >= 30u);
 }

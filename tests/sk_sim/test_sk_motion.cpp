@@ -55,7 +55,7 @@ TEST_CASE("sk motion: bring-up to OP, SV_ON, a CSP move of the Drive and the STE
 	auto r = h.xfer();
 	CHECK(h.ecmRsp(r).cmd == ECMSK_RSP_OP);
 	CHECK(h.ecmRsp(r).state == ECMSK_STATE_OP);
-	CHECK(h.ecmRsp(r).fifo_remaining == 256);
+	CHECK(h.ecmRsp(r).fifo_remaining == 160);
 	servoOn(h);
 
 	// a ramp of 200 targets, one per cycle per slave, streamed with the
@@ -72,7 +72,7 @@ TEST_CASE("sk motion: bring-up to OP, SV_ON, a CSP move of the Drive and the STE
 		r = h.xfer();
 		h.b.advance(1ms);
 	}
-	CHECK(h.ecmRsp(r).fifo_remaining == 256);
+	CHECK(h.ecmRsp(r).fifo_remaining == 160);
 	CHECK(h.ecmRsp(r).fifo_full == 0);
 	const auto p1 = static_cast<std::int32_t>(h.slaveRsp(r, 1).position);
 	const auto p2 = static_cast<std::int32_t>(h.slaveRsp(r, 2).position);
@@ -90,7 +90,7 @@ TEST_CASE("sk motion: the FIFO reports its remaining space, drops and counts wha
 	h.toOp(kTypes);
 	servoOn(h);
 	// 200 frames with a CSP for slaves 1 and 2 each: 400 entries, about
-	// 2 x 38 applied meanwhile, 256 fit
+	// 2 x 38 applied meanwhile, 160 fit
 	const auto p1 = h.slaveRsp(h.xfer(), 1).position, p2 = h.slaveRsp(h.last, 2).position;
 	for (int i = 0; i < 200; i++) {
 		h.slave(1, ECMSK_CMD_CSP, static_cast<std::uint8_t>(i), p1);
@@ -100,12 +100,12 @@ TEST_CASE("sk motion: the FIFO reports its remaining space, drops and counts wha
 	CHECK(h.b.fifoFullCount() >= 40u);
 	auto e = h.ecmRsp(h.xfer());
 	CHECK(e.fifo_full == h.b.fifoFullCount());
-	CHECK(e.fifo_remaining == 256 - h.b.fifoUsed());
+	CHECK(e.fifo_remaining == 160 - h.b.fifoUsed());
 	// SET_FIFO clear empties it
 	h.ecm(ECMSK_CMD_SET_FIFO, 0, ECMSK_FIFO_CLEAR);
 	h.xfer();
 	e = h.ecmRsp(h.xfer());
-	CHECK(e.fifo_remaining == 256);
+	CHECK(e.fifo_remaining == 160);
 	CHECK(h.b.fifoUsed() == 0u);
 	// an unknown action is refused
 	h.ecm(ECMSK_CMD_SET_FIFO, 5, 3);
@@ -132,22 +132,67 @@ TEST_CASE("sk motion: SET_FIFO threshold holds the FIFO until its remaining spac
 	Host h;
 	h.toOp(kTypes);
 	servoOn(h);
-	h.ecm(ECMSK_CMD_SET_FIFO, 200, ECMSK_FIFO_THRESHOLD);
+	CHECK(h.b.fifoThreshold() == 160u); // the default: the depth
+	h.ecm(ECMSK_CMD_SET_FIFO, 100, ECMSK_FIFO_THRESHOLD);
 	h.xfer();
-	CHECK(h.b.fifoThreshold() == 200u);
+	CHECK(h.b.fifoThreshold() == 100u);
 	const auto p0 = static_cast<std::int32_t>(h.slaveRsp(h.xfer(), 1).position);
-	// 56 entries leave 200 free: not below 200, nothing applied
-	for (int i = 1; i <= 56; i++) {
+	// 60 entries leave 100 free: not below 100, nothing applied
+	for (int i = 1; i <= 60; i++) {
 		h.slave(1, ECMSK_CMD_CSP, 0, static_cast<std::uint32_t>(p0 + i));
 		h.xfer();
 	}
 	h.b.advance(5ms);
-	CHECK(h.b.fifoUsed() == 56u);
-	h.slave(1, ECMSK_CMD_CSP, 0, static_cast<std::uint32_t>(p0 + 57));
+	CHECK(h.b.fifoUsed() == 60u);
+	h.slave(1, ECMSK_CMD_CSP, 0, static_cast<std::uint32_t>(p0 + 61));
 	h.xfer();
 	h.b.advance(5ms);
-	CHECK(h.b.fifoUsed() < 57u);
-	CHECK(h.b.fifoThreshold() == 0u); // met: back to the default
+	CHECK(h.b.fifoUsed() < 61u);
+	CHECK(h.b.fifoThreshold() == 160u); // met: back to the default
+}
+
+TEST_CASE("sk motion: the FIFO is 160 deep, the threshold's reset value: an explicit 160 holds nothing")
+{
+	Host h;
+	h.toOp(kTypes);
+	servoOn(h);
+	auto e = h.ecmRsp(h.xfer());
+	CHECK(e.fifo_remaining == 160);
+	h.ecm(ECMSK_CMD_SET_FIFO, 160, ECMSK_FIFO_THRESHOLD);
+	h.xfer();
+	CHECK(h.b.fifoThreshold() == 160u);
+	const auto p0 = static_cast<std::int32_t>(h.slaveRsp(h.xfer(), 1).position);
+	const std::uint64_t applied = h.b.stats().fifoApplied;
+	h.slave(1, ECMSK_CMD_CSP, 0, static_cast<std::uint32_t>(p0 + 1));
+	h.xfer();
+	h.b.advance(2ms); // two cycles
+	CHECK(h.b.fifoUsed() == 0u);
+	CHECK(h.b.stats().fifoApplied == applied + 1);
+	// 0 restores the default
+	h.ecm(ECMSK_CMD_SET_FIFO, 0, ECMSK_FIFO_THRESHOLD);
+	h.xfer();
+	CHECK(h.b.fifoThreshold() == 160u);
+}
+
+TEST_CASE("sk motion: entries held by a threshold and abandoned after 100 cycles are counted in the FIFO full count")
+{
+	Host h;
+	h.toOp(kTypes);
+	servoOn(h);
+	h.ecm(ECMSK_CMD_SET_FIFO, 100, ECMSK_FIFO_THRESHOLD);
+	h.xfer();
+	const auto p0 = static_cast<std::int32_t>(h.slaveRsp(h.xfer(), 1).position);
+	for (int i = 1; i <= 20; i++) { // held: 140 free is not below 100
+		h.slave(1, ECMSK_CMD_CSP, 0, static_cast<std::uint32_t>(p0 + i));
+		h.xfer();
+	}
+	CHECK(h.ecmRsp(h.xfer()).fifo_full == 0);
+	h.b.advance(150ms); // 150 cycles: every entry waited more than 100
+	const auto e = h.ecmRsp(h.xfer());
+	CHECK(h.b.fifoUsed() == 0u);
+	CHECK(h.b.stats().fifoAbandoned == 20u);
+	CHECK(e.fifo_full == 20);
+	CHECK(e.fifo_remaining == 160);
 }
 
 TEST_CASE("sk motion: CONFIG3 abandons cyclic commands that waited more than 100 cycles")
@@ -175,7 +220,7 @@ TEST_CASE("sk motion: CONFIG3 abandons cyclic commands that waited more than 100
 	}
 }
 
-TEST_CASE("sk motion: SV_OFF disables the drive; ALM_CLR resets a fault")
+TEST_CASE("sk motion: SV_OFF disables the drive, ALM_CLR resets a fault")
 {
 	Host h;
 	h.toOp(kTypes);
@@ -220,7 +265,7 @@ TEST_CASE("sk motion: CSV and CST on the servo")
 	CHECK(p1 - p0 > 10000);
 }
 
-TEST_CASE("sk motion: GO_HOME needs 0x6060 = 6 and 0x6098 by SDO; bits 10 and 12 say done; one at a time")
+TEST_CASE("sk motion: GO_HOME needs 0x6060 = 6 and 0x6098 by SDO, bits 10 and 12 say done, one at a time")
 {
 	Host h;
 	h.toOp(kTypes);
@@ -313,7 +358,7 @@ TEST_CASE("sk motion: a 2-channel HSP with 16-byte slots moves both channels (ta
 	CHECK(static_cast<std::int32_t>(v[0] | v[1] << 8 | v[2] << 16 | v[3] << 24) == -2000);
 }
 
-TEST_CASE("sk motion: with 12-byte slots a 2-channel HSP drives channel 1 only; channels=3 is refused")
+TEST_CASE("sk motion: with 12-byte slots a 2-channel HSP drives channel 1 only, channels=3 is refused")
 {
 	Host h("slave hsp channels=2\nslave dio\n");
 	h.toOp({ ECMSK_AXIS_HSP, ECMSK_AXIS_IO });
@@ -332,7 +377,7 @@ TEST_CASE("sk motion: with 12-byte slots a 2-channel HSP drives channel 1 only; 
 	CHECK_THROWS(net("slave hsp channels=0\n"));
 }
 
-TEST_CASE("sk motion: one GO_HOME at a time on the bus; ABORT_HOME stops it and returns to CSP")
+TEST_CASE("sk motion: one GO_HOME at a time on the bus, ABORT_HOME stops it and returns to CSP")
 {
 	Host h("slave EST-584\nslave EST-584\nslave dio\n");
 	h.toOp({ ECMSK_AXIS_STEP, ECMSK_AXIS_STEP, ECMSK_AXIS_IO });

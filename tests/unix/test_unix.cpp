@@ -210,7 +210,7 @@ TEST_CASE("unix: ecmxf-util states PREOP persists to a later ecmxf-util slaves",
 		CHECK_THAT(l, Contains(" PREOP "));
 }
 
-TEST_CASE("unix: ecmxf-sim --chip selects the CRC coverage; check=crc32 switches the chip at open",
+TEST_CASE("unix: ecmxf-sim --chip selects the CRC coverage, check=crc32 switches the chip at open",
 	  "[unix][cli][variants]")
 {
 	for (const std::string coverage : { "frame", "valid" }) {

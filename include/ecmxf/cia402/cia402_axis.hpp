@@ -207,8 +207,9 @@ public:
 	[[nodiscard]] bool done() const noexcept { return progress_ == Cia402Progress::Done; }
 	[[nodiscard]] bool failed() const noexcept { return progress_ == Cia402Progress::Failed; }
 	/// Why the request failed, in the steppers' words ("slave 0: CiA-402
-	/// drive left OPERATION ENABLED: now FAULT (statusword 0x0218)");
-	/// empty unless failed().
+	/// drive left OPERATION ENABLED: now FAULT (statusword 0x0218)"), with
+	/// the drive's error code where it maps 0x603F (", error code 0x8611
+	/// (0x603F)"); empty unless failed().
 	[[nodiscard]] std::string failureMessage() const;
 	/// Throws ecmxf::Error with failureMessage() if failed() (ETIMEDOUT
 	/// for timeouts, EIO otherwise).
@@ -237,6 +238,8 @@ private:
 	/// PDO when mapped, else SDO.
 	void writeParam(std::uint16_t index, std::uint8_t sub, std::uint32_t value);
 	[[nodiscard]] Cia402Progress stepMotion(std::chrono::nanoseconds now, std::uint16_t &cw) noexcept;
+	/// ", error code 0x8611 (0x603F)" when the drive failed with one.
+	[[nodiscard]] std::string errorCodeText() const;
 
 	enum class Why : std::uint8_t { None, State, Pp, Homing, ModeTimeout, VelocityTimeout, FollowingError, Left };
 
@@ -254,6 +257,7 @@ private:
 	InputVar<std::int32_t> posActual_;
 	InputVar<std::int32_t> velActual_;
 	InputVar<std::int32_t> followErr_;
+	InputVar<std::uint16_t> errorCode_; ///< 0x603F, where mapped
 
 	Cia402Stepper state_;
 	PpSetPointStepper pp_;
@@ -270,6 +274,7 @@ private:
 	std::uint16_t sw_ = 0;
 	std::uint16_t cw_ = 0;
 	std::uint16_t failSw_ = 0;
+	std::uint16_t failError_ = 0; ///< 0x603F when it failed (0: none, or not mapped)
 	unsigned steps_ = 0; ///< update() calls since the request
 	std::chrono::nanoseconds since_{ 0 };
 	Cyclic *stopVia_ = nullptr;

@@ -37,12 +37,17 @@ enum class ObjectType : std::uint8_t { Int8, Int16, Int32, Uint8, Uint16, Uint32
 	return t == ObjectType::Int8 || t == ObjectType::Int16 || t == ObjectType::Int32;
 }
 
-/// A standard object: its name and data type.
+/// A standard object: its name, data type and unit.
 struct StandardObject {
 	std::uint16_t index = 0;
 	std::uint8_t sub = 0;
 	std::string_view name;
 	ObjectType type = ObjectType::Uint8;
+	/// The unit of its value, as CiA 402 gives it without a factor group
+	/// (0x608F..0x60A2 not read): "inc" (position units), "inc/s",
+	/// "inc/s^2", "0.1% rated torque" (per mille of 0x6076); empty for a
+	/// word of bits, a code or a count.
+	std::string_view unit;
 };
 
 /// Object @p index, @p sub when it is one of the standard objects here

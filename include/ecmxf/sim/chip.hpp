@@ -79,12 +79,19 @@ struct ChipConfig {
 	/// chip takes SPI_RECONFIG_OP); false, dropped and counted as a CRC
 	/// error like any packet with a wrong check word (manual ver. 050).
 	bool crcTypeSetFixed = false;
+	/// ECAT_INIT_OP's data byte 1. false (strict, manual ver. 050): 0x81
+	/// only, anything else is a command error; the FIFO is off afterwards
+	/// until FIFO_ENABLE. true (lenient): 0x00 is taken in too and leaves
+	/// the RxPDO FIFO on after the scan ("enabled by default", manual ver.
+	/// 038), as NEXTW's example host drivers send it and then run the FIFO
+	/// without FIFO_ENABLE; 0x81 still leaves it off.
+	bool initOpLenient = false;
 };
 
 /// The chip options of a network file's `chip KEY=VALUE` lines and of
 /// `ecmxf-sim --chip KEY=VALUE`, as "key", "value | value" pairs.
 inline constexpr std::string_view kChipOptions =
-	"crc32-coverage=frame|valid, crc-type-set-fixed=drop|accept";
+	"crc32-coverage=frame|valid, crc-type-set-fixed=drop|accept, init-op=strict|lenient";
 
 /// Sets the ChipConfig field named by @p key (kChipOptions) to @p value.
 /// Throws std::invalid_argument naming the key, or the value and what the

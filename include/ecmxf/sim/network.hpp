@@ -213,7 +213,16 @@ public:
 
 	/// Parse a network file (Documentation/simulator.rst). Throws
 	/// std::runtime_error naming the file, line and what was wrong.
+	/// A bare name (no '/') that is no file in the working directory is
+	/// looked for, as given and with ".net" added, in each directory of
+	/// $ECMXF_NETWORK_PATH (':'-separated), then among the installed
+	/// networks: <the program's directory>/../share/ecmxf/networks, then
+	/// the networks directory of the prefix the library was built for.
 	static Network fromFile(const std::string &path);
+	/// The file fromFile() reads for @p path (the lookup above); throws
+	/// std::runtime_error naming the directories looked in when there is
+	/// none.
+	static std::string findFile(const std::string &path);
 	static Network fromText(const std::string &text, const std::string &origin = "<text>");
 	/// The default network: 2 x EST-584 + 1 x digital I/O.
 	static Network defaultNetwork();
@@ -246,6 +255,9 @@ public:
 	}
 
 private:
+	/// fromText() without the escaping of its messages.
+	static Network parseText(const std::string &text, const std::string &origin);
+
 	std::string name_;
 	std::vector<std::unique_ptr<Slave>> slaves_;
 	std::vector<std::pair<std::string, std::string>> chipOptions_;

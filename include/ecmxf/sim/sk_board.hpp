@@ -36,14 +36,21 @@ struct ECMXF_EXPORT BoardConfig {
 	bool testMode = false;		///< CONFIG1 high: test mode
 	bool fifoAbandon = true;	///< CONFIG3: abandon a command after 100 cycles
 	std::uint32_t extensions = 0;	///< SET_EX saved: bit 0 command CRC, bit 1 response CRC
-	unsigned fifoDepth = 256;	///< cyclic FIFO entries (decision, > 160)
+	/// cyclic FIFO entries: 160 (decision, Documentation/ecm-sk.rst, "The
+	/// cyclic FIFO"); the SET_FIFO threshold's default and reset value
+	unsigned fifoDepth = 160;
 	std::chrono::nanoseconds busyTime{ std::chrono::microseconds(20) }; ///< Busy after a frame
 	std::uint32_t spiHz = 24'000'000; ///< SCLK: a frame's wire time
 	std::uint32_t lioInputs = 0;	///< the ECM IC's inputs 0..5 at power-on
+	/// Paced: virtual time never runs ahead of the wall clock (advance()
+	/// and the wire time of exchange() sleep until it is reached) and
+	/// catches up with it at every exchange, so cycles run at the real
+	/// board's rate, as a person (or a test sending a signal) sees it.
+	bool paced = false;
 
 	/// Parse "key=value" settings separated by '&' or ',':
-	/// slot=12|16, test=0|1, abandon=0|1, ex=0..3, fifo=161..4096,
-	/// busy_us=1..100000, spi_hz=100000..50000000, lio=0..63. Throws
+	/// slot=12|16, test=0|1, abandon=0|1, ex=0..3, fifo=160..4096,
+	/// busy_us=1..100000, spi_hz=100000..50000000, lio=0..63, paced=0|1. Throws
 	/// std::invalid_argument naming the key and the value it refused.
 	static BoardConfig parse(const std::string &settings);
 	/// Applies one setting (the keys of parse()); throws like parse().
@@ -59,7 +66,7 @@ struct BoardStats {
 	std::uint64_t refused = 0;	  ///< commands refused (state, slot or slave type, value)
 	std::uint64_t fifoApplied = 0;	  ///< cyclic commands applied
 	std::uint64_t fifoDropped = 0;	  ///< cyclic commands dropped, FIFO full
-	std::uint64_t fifoAbandoned = 0;  ///< cyclic commands abandoned after 100 cycles
+	std::uint64_t fifoAbandoned = 0;  ///< cyclic commands abandoned after 100 cycles (in the FIFO full count too)
 	std::uint64_t cycles = 0;	  ///< EtherCAT cycles run
 };
 
@@ -107,8 +114,8 @@ public:
 	/// The ECM IC's outputs 0..5 (LIO_WR) and inputs (LIO_RD).
 	[[nodiscard]] std::uint32_t lioOutputs() const noexcept;
 	void setLioInputs(std::uint32_t inputs);
-	/// Entries in the FIFO, the FIFO full count, the threshold armed (0:
-	/// none).
+	/// Entries in the FIFO, the FIFO full count (dropped full or
+	/// abandoned), the threshold in force (the depth by default).
 	[[nodiscard]] unsigned fifoUsed() const noexcept;
 	[[nodiscard]] unsigned fifoFullCount() const noexcept;
 	[[nodiscard]] unsigned fifoThreshold() const noexcept;

@@ -45,7 +45,7 @@ struct BoardStatus {
 	ecmxf::State state = ecmxf::State::Init;
 	std::uint8_t crcErrors = 0;	  ///< the board's counter of refused frames (Error Code)
 	std::uint16_t fifoRemaining = 0; ///< in OP
-	std::uint16_t fifoFull = 0;	  ///< in OP: cyclic commands dropped, FIFO full
+	std::uint16_t fifoFull = 0;	  ///< in OP: cyclic commands dropped (FIFO full; the simulator: or abandoned)
 };
 
 /// A slave slot of the last response.
@@ -73,7 +73,7 @@ struct Hsp2Status {
 /// The outcome of one cyclic exchange (BoardCyclic::cycle()).
 enum class CycleStatus : std::uint8_t {
 	Ok,
-	FifoOverflow, ///< the board dropped cyclic commands (FIFO full count rose)
+	FifoOverflow, ///< the board dropped cyclic commands (FIFO full count rose: full, or abandoned after 100 cycles)
 	BadResponse,  ///< the response's CRC was wrong (its data is not used)
 	Busy,	      ///< Busy did not fall in time: nothing was sent
 	Link,	      ///< the channel failed (see BoardCyclic::lastError())
