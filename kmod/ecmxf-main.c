@@ -24,17 +24,31 @@
 unsigned int ecmxf_param_data_size;
 module_param_named(data_size, ecmxf_param_data_size, uint, 0444);
 MODULE_PARM_DESC(data_size,
-		 "packet data section size set at probe, 32..1408; 0 keeps the chip's (default 0)");
+		 "packet data section size set at probe, 32..1408; 0 keeps the chip's (default 0; a chip's nextw,data-size property wins)");
 
 unsigned int ecmxf_param_check_type = ECMXF_CHECK_CRC32;
 module_param_named(check_type, ecmxf_param_check_type, uint, 0444);
 MODULE_PARM_DESC(check_type,
-		 "check word set at probe: 0 fixed, 1 CRC-8, 2 CRC-CCITT, 3 CRC-32 (default 3)");
+		 "check word set at probe: 0 fixed, 1 CRC-8, 2 CRC-CCITT, 3 CRC-32 (default 3; a chip's nextw,check-type property wins)");
 
 unsigned int ecmxf_param_max_open = 64;
 module_param_named(max_open, ecmxf_param_max_open, uint, 0444);
 MODULE_PARM_DESC(max_open,
 		 "file descriptors that may have one device open at once (default 64)");
+
+/*
+ * the pump's and the events' timing: defaults each chip copies at probe
+ * (read-only: a running device never sees them change)
+ */
+unsigned int ecmxf_param_pump_timeout_ms = 500;
+module_param_named(pump_timeout_ms, ecmxf_param_pump_timeout_ms, uint, 0444);
+MODULE_PARM_DESC(pump_timeout_ms,
+		 "time allowed for each PDO pump command, ms (10..60000, default 500)");
+
+unsigned int ecmxf_param_event_poll_ms = 100;
+module_param_named(event_poll_ms, ecmxf_param_event_poll_ms, uint, 0444);
+MODULE_PARM_DESC(event_poll_ms,
+		 "while a netlink listener is subscribed to the events, poll an otherwise idle chip every so many ms; 0 never (default 100)");
 
 unsigned int ecmxf_param_queue_depth = 16;
 module_param_named(queue_depth, ecmxf_param_queue_depth, uint, 0444);
@@ -86,6 +100,12 @@ static int __init ecmxf_init(void)
 	if (ecmxf_param_check_type > ECMXF_CHECK_CRC32) {
 		pr_err("check_type=%u is out of range (0..3)\n",
 		       ecmxf_param_check_type);
+		return -EINVAL;
+	}
+	if (ecmxf_param_pump_timeout_ms < 10 ||
+	    ecmxf_param_pump_timeout_ms > 60000) {
+		pr_err("pump_timeout_ms=%u is out of range (10..60000)\n",
+		       ecmxf_param_pump_timeout_ms);
 		return -EINVAL;
 	}
 	if (!ecmxf_param_max_open || !ecmxf_param_queue_depth) {

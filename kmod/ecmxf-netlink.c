@@ -51,11 +51,6 @@
 
 #include "ecmxf.h"
 
-static unsigned int ecmxf_param_event_poll_ms = 100;
-module_param_named(event_poll_ms, ecmxf_param_event_poll_ms, uint, 0644);
-MODULE_PARM_DESC(event_poll_ms,
-		 "while a netlink listener is subscribed to the events, poll an otherwise idle chip every so many ms; 0 never (default 100)");
-
 /* rate limit per event type: a burst of this many, then one per period */
 #define ECMXF_NL_RATE_BURST	16
 #define ECMXF_NL_RATE_PERIOD_NS	(100 * NSEC_PER_MSEC)
@@ -861,7 +856,7 @@ static void ecmxf_nl_link_reset(struct ecmxf_dev *edev)
 static bool ecmxf_nl_poll_due(struct ecmxf_dev *edev, u64 now_ns)
 {
 	struct ecmxf_nl_dev *nl = &edev->nl;
-	unsigned int period = READ_ONCE(ecmxf_param_event_poll_ms);
+	unsigned int period = edev->cfg.event_poll_ms;
 	struct ecmxf_det_event d;
 
 	if (!nl->active)
@@ -890,7 +885,7 @@ static u64 ecmxf_nl_wake_at(struct ecmxf_dev *edev, u64 now_ns)
 
 	if (!nl->active)
 		return U64_MAX;
-	if (READ_ONCE(ecmxf_param_event_poll_ms) && nl->next_poll_ns < t)
+	if (edev->cfg.event_poll_ms && nl->next_poll_ns < t)
 		t = max(nl->next_poll_ns, now_ns);
 	/* a loss not reported yet: look again when its period is over */
 	if (nl->next_loss_ns < t && ecmxf_nl_loss_pending(edev))

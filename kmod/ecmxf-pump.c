@@ -35,16 +35,6 @@
 
 #include "ecmxf.h"
 
-/*
- * time allowed for each pump command (module parameter pump_timeout_ms,
- * 10..60000): longer than the table's 100 ms, since a frame whose command
- * failed is dropped, never sent again
- */
-static unsigned int ecmxf_param_pump_timeout_ms = 500;
-module_param_named(pump_timeout_ms, ecmxf_param_pump_timeout_ms, uint, 0644);
-MODULE_PARM_DESC(pump_timeout_ms,
-		 "time allowed for each PDO pump command, ms (10..60000, default 500)");
-
 /**
  * ecmxf_pump_busy() - is one of the pump's commands in the engine?
  * @edev: the device, lock held
@@ -57,11 +47,14 @@ bool ecmxf_pump_busy(const struct ecmxf_dev *edev)
 	return ecmxf_pump_flight_busy(&edev->pdo.pump.flight);
 }
 
-/* the time allowed for each pump command, in microseconds */
-static u32 ecmxf_pump_timeout_us(void)
+/*
+ * the time allowed for each pump command, in microseconds
+ * (&ecmxf_dev_cfg.pump_timeout_ms, 10..60000): longer than the table's
+ * 100 ms, since a frame whose command failed is dropped, never sent again
+ */
+static u32 ecmxf_pump_timeout_us(const struct ecmxf_dev *edev)
 {
-	return clamp(READ_ONCE(ecmxf_param_pump_timeout_ms), 10U, 60000U) *
-	       USEC_PER_MSEC;
+	return edev->cfg.pump_timeout_ms * USEC_PER_MSEC;
 }
 
 /**
@@ -239,7 +232,7 @@ int ecmxf_pump_submit(struct ecmxf_dev *edev, struct ecmxf_rings *r, u64 now)
 		}
 	}
 	c = &p->cmd[i];
-	c->x.timeout_us = ecmxf_pump_timeout_us();
+	c->x.timeout_us = ecmxf_pump_timeout_us(edev);
 	if (!ecmxf_engine_can_submit(&edev->link.e, &c->x)) {
 		ret = -EBUSY;
 		goto drop;

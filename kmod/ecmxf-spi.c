@@ -17,6 +17,9 @@
 #include <linux/mod_devicetable.h>
 #include <linux/module.h>
 #include <linux/property.h>
+#include <linux/delay.h>
+#include <linux/property.h>
+#include <linux/regulator/consumer.h>
 #include <linux/slab.h>
 #include <linux/string.h>
 
@@ -128,10 +131,12 @@ struct ecmxf_line {
  * wins:
  *
  *  1. an interrupt named @name in "interrupt-names" (DT, ACPI _DSD),
- *     triggered as the firmware describes it;
- *  2. the GPIO "@name-gpios" (any firmware, gpiod lookup tables), its
- *     interrupt triggered on the edge into the line's active level (the
- *     polarity from the GPIO flags); the worker also reads INT0's level;
+ *     triggered as the firmware describes it; for INT0, "ready-gpios"
+ *     (the same line as a GPIO), when given, is its level to read;
+ *  2. the GPIO "ready-gpios" (INT0 only) or the deprecated "@name-gpios"
+ *     (any firmware, gpiod lookup tables), its interrupt triggered on the
+ *     edge into the line's active level (the polarity from the GPIO
+ *     flags); the worker also reads INT0's level;
  *  3. INT1 only: the device's one unnamed interrupt, when the firmware
  *     has no "interrupt-names" (spi->irq: board code's
  *     spi_board_info.irq, an ACPI GpioInt), triggered as configured.
@@ -146,7 +151,15 @@ static int ecmxf_find_line(struct ecmxf_dev *edev, const char *name,
 	struct fwnode_handle *fwnode = dev_fwnode(dev);
 	int idx, irq;
 
+	bool int0 = !strcmp(name, "int0");
+
 	memset(l, 0, sizeof(*l));
+	if (int0) {
+		l->gpio = devm_gpiod_get_optional(dev, "ready", GPIOD_IN);
+		if (IS_ERR(l->gpio))
+			return dev_err_probe(dev, PTR_ERR(l->gpio),
+					     "cannot get the ready GPIO\n");
+	}
 	idx = fwnode_property_match_string(fwnode, "interrupt-names", name);
 	if (idx >= 0) {
 		irq = fwnode_irq_get(fwnode, idx);
@@ -156,9 +169,10 @@ static int ecmxf_find_line(struct ecmxf_dev *edev, const char *name,
 					     name);
 		l->irq = irq;
 		l->type = irq_get_trigger_type(irq);
-		l->form = "interrupt";
+		l->form = l->gpio ? "interrupt + ready GPIO" : "interrupt";
 	} else {
-		l->gpio = devm_gpiod_get_optional(dev, name, GPIOD_IN);
+		if (!l->gpio)
+			l->gpio = devm_gpiod_get_optional(dev, name, GPIOD_IN);
 		if (IS_ERR(l->gpio))
 			return dev_err_probe(dev, PTR_ERR(l->gpio),
 					     "cannot get the %s GPIO\n", name);
@@ -172,7 +186,7 @@ static int ecmxf_find_line(struct ecmxf_dev *edev, const char *name,
 			l->type = gpiod_is_active_low(l->gpio) ?
 				  IRQ_TYPE_EDGE_FALLING : IRQ_TYPE_EDGE_RISING;
 			l->form = "GPIO";
-		} else if (!strcmp(name, "int1") && edev->spi->irq > 0 &&
+		} else if (!int0 && edev->spi->irq > 0 &&
 			   !fwnode_property_present(fwnode, "interrupt-names")) {
 			l->irq = edev->spi->irq;
 			l->type = irq_get_trigger_type(l->irq);
@@ -246,6 +260,107 @@ static void ecmxf_dev_release(struct device *dev)
 	kfree(edev);
 }
 
+/* the master series, from the compatible or the SPI id (driver_data) */
+static const struct ecmxf_variant ecmxf_variant_xf = { .name = "ECM-XF" };
+static const struct ecmxf_variant ecmxf_variant_xfl = { .name = "ECM-XFL" };
+static const struct ecmxf_variant ecmxf_variant_xm = { .name = "ECM-XM" };
+static const struct ecmxf_variant ecmxf_variant_xfu = {
+	.name = "ECM-XFU",
+	.fixed_size = 992,	/* manual ver. 050: "fixed at 992 bytes" */
+};
+
+/*
+ * The chip's settings: the series from the match, the packet format from
+ * the device's properties ("nextw,data-size", "nextw,check-type": DT,
+ * ACPI _DSD, software nodes) where it has them, else from the module
+ * parameters, which are only the defaults; the timing from the module
+ * parameters, copied so that a running device never sees them change.
+ */
+static int ecmxf_read_config(struct ecmxf_dev *edev)
+{
+	struct device *dev = &edev->spi->dev;
+	const struct spi_device_id *id = spi_get_device_id(edev->spi);
+	const struct ecmxf_variant *v = device_get_match_data(dev);
+	const char *check;
+	unsigned int i;
+	u32 size;
+	int ret;
+
+	if (!v && id)
+		v = (const struct ecmxf_variant *)id->driver_data;
+	edev->cfg.variant = v ? v : &ecmxf_variant_xf;
+	edev->cfg.pump_timeout_ms = ecmxf_param_pump_timeout_ms;
+	edev->cfg.event_poll_ms = ecmxf_param_event_poll_ms;
+	edev->link.want_size = ecmxf_param_data_size;
+	edev->link.want_check = ecmxf_param_check_type;
+
+	ret = device_property_read_u32(dev, "nextw,data-size", &size);
+	if (!ret) {
+		if (!ecmxf_data_size_valid(size))
+			return dev_err_probe(dev, -EINVAL,
+					     "nextw,data-size = %u: not a data section size (32..1408)\n",
+					     size);
+		if (edev->cfg.variant->fixed_size &&
+		    size != edev->cfg.variant->fixed_size)
+			return dev_err_probe(dev, -EINVAL,
+					     "nextw,data-size = %u: the %s's data section is fixed at %u bytes\n",
+					     size, edev->cfg.variant->name,
+					     edev->cfg.variant->fixed_size);
+		edev->link.want_size = size;
+	} else if (ret != -EINVAL) {
+		return dev_err_probe(dev, ret, "cannot read nextw,data-size\n");
+	}
+	/* the fixed size is the chip's: nothing to set (SPI_RECONFIG_OP) */
+	if (edev->cfg.variant->fixed_size)
+		edev->link.want_size = 0;
+
+	ret = device_property_read_string(dev, "nextw,check-type", &check);
+	if (!ret) {
+		for (i = 0; i <= ECMXF_CHECK_CRC32; i++)
+			if (!strcmp(check, ecmxf_check_name(i)))
+				break;
+		if (i > ECMXF_CHECK_CRC32)
+			return dev_err_probe(dev, -EINVAL,
+					     "nextw,check-type = \"%s\": none of fixed, crc8, crc-ccitt, crc32\n",
+					     check);
+		edev->link.want_check = i;
+	} else if (ret != -EINVAL) {
+		return dev_err_probe(dev, ret, "cannot read nextw,check-type\n");
+	}
+	return 0;
+}
+
+/*
+ * The supply on, then the chip out of reset, when the firmware names them
+ * ("vdd-supply", "reset-gpios"; both optional).  The manuals give no reset
+ * timing: the line is held for ECMXF_RESET_US and the chip given
+ * ECMXF_BOOT_MS before the first exchange; the probe's bounded tries
+ * (ecmxf_link_bringup()) then find it in whatever format it starts.
+ */
+#define ECMXF_RESET_US	100
+#define ECMXF_BOOT_MS	100
+static int ecmxf_power_up(struct ecmxf_dev *edev)
+{
+	struct device *dev = &edev->spi->dev;
+	struct gpio_desc *reset;
+	int ret;
+
+	ret = devm_regulator_get_enable_optional(dev, "vdd");
+	if (ret && ret != -ENODEV)
+		return dev_err_probe(dev, ret, "cannot enable the vdd supply\n");
+	/* asserted (logical 1) as it is requested */
+	reset = devm_gpiod_get_optional(dev, "reset", GPIOD_OUT_HIGH);
+	if (IS_ERR(reset))
+		return dev_err_probe(dev, PTR_ERR(reset),
+				     "cannot get the reset GPIO\n");
+	if (!reset)
+		return 0;
+	fsleep(ECMXF_RESET_US);
+	gpiod_set_value_cansleep(reset, 0);
+	msleep(ECMXF_BOOT_MS);
+	return 0;
+}
+
 static int ecmxf_probe(struct spi_device *spi)
 {
 	struct device *dev = &spi->dev;
@@ -308,9 +423,12 @@ static int ecmxf_probe(struct spi_device *spi)
 		goto out_put_device;
 	}
 
-	/* configuration, not hardware: no device property (driver.rst) */
-	edev->link.want_size = ecmxf_param_data_size;
-	edev->link.want_check = ecmxf_param_check_type;
+	ret = ecmxf_read_config(edev);
+	if (ret)
+		goto out_put_device;
+	ret = ecmxf_power_up(edev);
+	if (ret)
+		goto out_put_device;
 
 	ret = ecmxf_find_line(edev, "int0", &int0);
 	if (ret)
@@ -353,8 +471,9 @@ static int ecmxf_probe(struct spi_device *spi)
 
 	ecmxf_line_desc(d0, sizeof(d0), &int0, "absent (150 us waits)");
 	ecmxf_line_desc(d1, sizeof(d1), &int1, "absent");
-	dev_info(dev, "/dev/%s: firmware %u, %u-byte data section, %s check word, INT0 %s, INT1 %s\n",
-		 dev_name(&edev->dev), edev->chip.fw_version, edev->chip.data_size,
+	dev_info(dev, "/dev/%s: %s, firmware %u, %u-byte data section, %s check word, INT0 %s, INT1 %s\n",
+		 dev_name(&edev->dev), edev->cfg.variant->name,
+		 edev->chip.fw_version, edev->chip.data_size,
 		 ecmxf_check_name(edev->chip.check), d0, d1);
 	return 0;
 
@@ -398,13 +517,19 @@ static void ecmxf_remove(struct spi_device *spi)
 }
 
 static const struct of_device_id ecmxf_of_match[] = {
-	{ .compatible = "nextw,ecm-xf" },
+	{ .compatible = "nextw,ecm-xf", .data = &ecmxf_variant_xf },
+	{ .compatible = "nextw,ecm-xfl", .data = &ecmxf_variant_xfl },
+	{ .compatible = "nextw,ecm-xfu", .data = &ecmxf_variant_xfu },
+	{ .compatible = "nextw,ecm-xm", .data = &ecmxf_variant_xm },
 	{ }
 };
 MODULE_DEVICE_TABLE(of, ecmxf_of_match);
 
 static const struct spi_device_id ecmxf_spi_ids[] = {
-	{ "ecm-xf" },
+	{ "ecm-xf", (kernel_ulong_t)&ecmxf_variant_xf },
+	{ "ecm-xfl", (kernel_ulong_t)&ecmxf_variant_xfl },
+	{ "ecm-xfu", (kernel_ulong_t)&ecmxf_variant_xfu },
+	{ "ecm-xm", (kernel_ulong_t)&ecmxf_variant_xm },
 	{ }
 };
 MODULE_DEVICE_TABLE(spi, ecmxf_spi_ids);

@@ -17,6 +17,8 @@
  *   ring_skipped   output frames the PDO pump skipped since probe
  *   ring_failures  PDO pump commands that failed since probe (their
  *                  frames are lost, never sent again)
+ *   variant        the master's series: ECM-XF, ECM-XFL, ECM-XFU or ECM-XM
+ *                  (from the compatible or the SPI id)
  *   counters/...   one file per field of struct ecmxf_counters
  *
  * One table each (the ECMXF_ATTR() and ECMXF_COUNTER_ATTR() lines) makes
@@ -54,6 +56,7 @@ enum ecmxf_attr_id {
 	ECMXF_ATTR_CLAIM_PID,
 	ECMXF_ATTR_RING_SKIPPED,
 	ECMXF_ATTR_RING_FAILURES,
+	ECMXF_ATTR_VARIANT,
 };
 
 static ssize_t ecmxf_attr_show(struct device *dev,
@@ -98,6 +101,8 @@ static ssize_t ecmxf_attr_show(struct device *dev,
 	case ECMXF_ATTR_RING_FAILURES:
 		return sysfs_emit(buf, "%llu\n",
 				  (unsigned long long)v.ring_failures);
+	case ECMXF_ATTR_VARIANT:
+		return sysfs_emit(buf, "%s\n", edev->cfg.variant->name);
 	}
 	return -EIO;
 }
@@ -120,6 +125,7 @@ ECMXF_ATTR(open_count, ECMXF_ATTR_OPEN_COUNT);
 ECMXF_ATTR(claim_pid, ECMXF_ATTR_CLAIM_PID);
 ECMXF_ATTR(ring_skipped, ECMXF_ATTR_RING_SKIPPED);
 ECMXF_ATTR(ring_failures, ECMXF_ATTR_RING_FAILURES);
+ECMXF_ATTR(variant, ECMXF_ATTR_VARIANT);
 
 static struct attribute *ecmxf_attrs[] = {
 	&ecmxf_attr_fw_version.attr.attr,
@@ -134,6 +140,7 @@ static struct attribute *ecmxf_attrs[] = {
 	&ecmxf_attr_claim_pid.attr.attr,
 	&ecmxf_attr_ring_skipped.attr.attr,
 	&ecmxf_attr_ring_failures.attr.attr,
+	&ecmxf_attr_variant.attr.attr,
 	NULL
 };
 

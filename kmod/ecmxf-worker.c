@@ -481,14 +481,17 @@ static int ecmxf_read_fw_version(struct ecmxf_dev *edev)
 
 /*
  * Find the packet format the chip speaks: the wanted one (the chip may
- * keep it from an earlier load of the module), then the power-on formats
- * (112 bytes, or 992 on the ECM-XFU, fixed check word).  Each try is a
+ * keep it from an earlier load of the module; an ECM-XFU's fixed size
+ * when nothing is wanted), then the power-on formats (112 bytes, or 992
+ * on the ECM-XFU, fixed check word).  Each try is a
  * FW_VERSION_GET; a wrong format fails it within the retry bound.
  */
 static int ecmxf_find_format(struct ecmxf_dev *edev)
 {
+	const unsigned int fixed = edev->cfg.variant->fixed_size;
 	const unsigned int sizes[] = {
-		edev->link.want_size ? edev->link.want_size : ECMXF_DATA_DEFAULT,
+		edev->link.want_size ? edev->link.want_size :
+		fixed ? fixed : ECMXF_DATA_DEFAULT,
 		ECMXF_DATA_DEFAULT, 992,
 	};
 	const unsigned int checks[] = { edev->link.want_check, ECMXF_CHECK_FIXED };

@@ -223,9 +223,11 @@ struct ecmxf_client {
 /**
  * struct ecmxf_dev_irq - INT0 and INT1: the lines, their IRQs, what the
  *	handlers tell the worker
- * @int0: the INT0 GPIO ("ready", logical 1 = ready) of the GPIO form, or
- *	NULL (INT0 absent, or given as an interrupt: no level to read)
- * @int1: the INT1 GPIO (events, logical 1 = asserted), or NULL (as @int0)
+ * @int0: the GPIO whose level says "ready" (logical 1 = ready):
+ *	"ready-gpios" (or the deprecated "int0-gpios"), or NULL (no level to
+ *	read)
+ * @int1: the INT1 GPIO of the deprecated "int1-gpios" form (events,
+ *	logical 1 = asserted), or NULL
  * @int0_irq: Linux IRQ of INT0 (interrupt or GPIO form), 0 when absent
  * @int1_irq: Linux IRQ of INT1, 0 when absent
  * @int0_level: @int0_irq is level-triggered: its handler masks it, the
@@ -398,6 +400,34 @@ struct ecmxf_dev_pdo {
 };
 
 /**
+ * struct ecmxf_variant - what the compatible (or the SPI id) says
+ * @name: the master's series, for messages and sysfs ("ECM-XF", ...)
+ * @fixed_size: a data section size the chip cannot change (the ECM-XFU's
+ *	992 bytes), 0 when SPI_RECONFIG_OP sets it
+ */
+struct ecmxf_variant {
+	const char *name;
+	u16 fixed_size;
+};
+
+/**
+ * struct ecmxf_dev_cfg - the chip's settings, fixed at probe
+ * @variant: the master's series
+ * @pump_timeout_ms: time allowed for each PDO pump command (the module
+ *	parameter's value at probe)
+ * @event_poll_ms: the events' poll period, 0 never (likewise)
+ *
+ * The packet format wanted (&ecmxf_dev_link.want_size, .want_check) is
+ * set beside these, from the device's properties or the module
+ * parameters (ecmxf_read_config()).
+ */
+struct ecmxf_dev_cfg {
+	const struct ecmxf_variant *variant;
+	u32 pump_timeout_ms;
+	u32 event_poll_ms;
+};
+
+/**
  * struct ecmxf_dev - one ECM-XF chip
  * @spi: the SPI device; NULL after remove
  * @dev: the class device behind /dev/ecmxfN; its refcount keeps this
@@ -405,6 +435,7 @@ struct ecmxf_dev_pdo {
  *	cdev hold it)
  * @cdev: the character device
  * @id: N of /dev/ecmxfN
+ * @cfg: the settings fixed at probe (&struct ecmxf_dev_cfg)
  * @irq: INT0 and INT1 (&struct ecmxf_dev_irq)
  * @link: the worker's own state (&struct ecmxf_dev_link)
  * @lock: protects the fields below it and those the sub-structures say.
@@ -445,6 +476,7 @@ struct ecmxf_dev {
 	struct device dev;
 	struct cdev cdev;
 	int id;
+	struct ecmxf_dev_cfg cfg;
 
 	struct ecmxf_dev_irq irq;
 	struct ecmxf_dev_link link;
@@ -471,6 +503,8 @@ extern unsigned int ecmxf_param_data_size;
 extern unsigned int ecmxf_param_check_type;
 extern unsigned int ecmxf_param_max_open;
 extern unsigned int ecmxf_param_queue_depth;
+extern unsigned int ecmxf_param_pump_timeout_ms;
+extern unsigned int ecmxf_param_event_poll_ms;
 
 /* ecmxf-main.c */
 extern struct class ecmxf_class;

@@ -10,7 +10,11 @@
 #      $id says, beside the kernel's spi/*-props.yaml it refers to);
 #   2. dt-mk-schema: that tree plus dt-schema's core schemas, processed;
 #   3. the binding's examples: dt-extract-example, cpp with the kernel's
-#      include/dt-bindings, dtc, dt-validate;
+#      include/dt-bindings, dtc, dt-validate (every example's node must
+#      match the binding); then nodes the binding must refuse (the
+#      interrupt names out of order or twice, an ECM-XFU with another data
+#      section size, bad packet formats): each must
+#      make dt-validate complain;
 #   4. the overlay ecmxf-rpi-overlay.dts: dtc -@ (as the file's header
 #      says to build it), applied with fdtoverlay to a small stand-in for
 #      the Raspberry Pi's base tree (the labels it targets: gpio, spi0,
@@ -99,7 +103,48 @@ check_quiet "dtc (examples)" dtc -Wno-avoid_unnecessary_addr_size -I dts -O dtb 
 check_quiet "dt-validate (examples)" dt-validate -s "$work/processed.json" "$work/examples.dtb"
 nex=$(dt-validate -M -l nextw -s "$work/processed.json" "$work/examples.dtb" 2>&1 |
 	grep -c 'matched on schema' || true)
-[ "$nex" -ge 2 ] || die "dt-validate matched $nex example node(s) to the binding, want 2"
+nex_want=$(grep -c '^  - |' "$binding")
+[ "$nex" -ge "$nex_want" ] || die "dt-validate matched $nex example node(s) to the binding, want $nex_want"
+
+# 3b. nodes the binding must refuse: each must make dt-validate complain
+# (interrupt-names is fixed items: no other order, no duplicate; the
+# ECM-XFU's data section is 992 bytes; the packet format's values)
+bad_node() {
+	{
+		echo '/dts-v1/;'
+		echo '/ { compatible = "ecmxf,test"; model = "test"; #address-cells = <1>; #size-cells = <1>; gpio: gpio { gpio-controller; #gpio-cells = <2>; interrupt-controller; #interrupt-cells = <2>; #address-cells = <0>; };'
+		echo '  spi { #address-cells = <1>; #size-cells = <0>; ethercat@0 { reg = <0>;'
+		for l in "$@"; do echo "    $l"; done
+		echo '  }; }; };'
+	} >"$work/bad.dts"
+	check_quiet "dtc (node: $name)" dtc -I dts -O dtb -o "$work/bad.dtb" "$work/bad.dts"
+	dt-validate -s "$work/processed.json" "$work/bad.dtb" 2>&1 || true
+}
+refuse() {
+	name=$1
+	shift
+	[ -n "$(bad_node "$@")" ] || die "the binding accepts a node with $name"
+	nbad=$((nbad + 1))
+}
+nbad=0
+irq='interrupt-parent = <&gpio>; interrupts = <25 1>, <24 8>;'
+# the same harness with good nodes first: what refuse() sees is the change
+for good in '"nextw,ecm-xf";'"|$irq"'|interrupt-names = "int0", "int1";' \
+	'"nextw,ecm-xfu";|nextw,data-size = <992>;|nextw,check-type = "crc8";' \
+	'"nextw,ecm-xm";|interrupt-parent = <&gpio>; interrupts = <24 8>;|interrupt-names = "int1";'; do
+	IFS='|' read -r c l1 l2 <<EOT
+$good
+EOT
+	name="a good node"
+	out=$(bad_node "compatible = $c" "$l1" "$l2")
+	[ -z "$out" ] || { printf '%s\n' "$out" >&2; die "the binding refuses a good node ($good)"; }
+done
+refuse "interrupt-names in the other order" 'compatible = "nextw,ecm-xf";' "$irq" 'interrupt-names = "int1", "int0";'
+refuse "interrupt-names twice int0" 'compatible = "nextw,ecm-xf";' "$irq" 'interrupt-names = "int0", "int0";'
+refuse "an interrupt name other than int0/int1" 'compatible = "nextw,ecm-xf";' 'interrupt-parent = <&gpio>; interrupts = <25 1>;' 'interrupt-names = "ready";'
+refuse "an ECM-XFU with a 256-byte data section" 'compatible = "nextw,ecm-xfu";' 'nextw,data-size = <256>;'
+refuse "a data section of 16 bytes" 'compatible = "nextw,ecm-xf";' 'nextw,data-size = <16>;'
+refuse "a check type crc64" 'compatible = "nextw,ecm-xf";' 'nextw,check-type = "crc64";'
 
 # 4. the overlay, applied to a stand-in base tree
 check_quiet "dtc -@ $overlay" dtc -@ -I dts -O dtb -o "$work/ecmxf.dtbo" "$overlay"
@@ -169,4 +214,4 @@ for k in $dt_kernels; do
 done
 
 secs=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
-echo "dt-check.sh: $binding valid (dt-schema $(dt-validate -V 2>&1)), its 2 examples and the overlay's node (applied with fdtoverlay) validate against it; ${doverlay##*/} applied to $ndt Raspberry Pi trees of Debian's arm64 kernels ($dt_kernels), its node valid, ${secs} s"
+echo "dt-check.sh: $binding valid (dt-schema $(dt-validate -V 2>&1)), its $nex_want examples validate, $nbad bad nodes are refused, the overlay's node (applied with fdtoverlay) validate against it; ${doverlay##*/} applied to $ndt Raspberry Pi trees of Debian's arm64 kernels ($dt_kernels), its node valid, ${secs} s"

@@ -31,6 +31,7 @@
 #include <linux/mutex.h>
 #include <linux/platform_device.h>
 #include <linux/poll.h>
+#include <linux/property.h>
 #include <linux/slab.h>
 #include <linux/spi/spi.h>
 #include <linux/string.h>
@@ -48,6 +49,21 @@ static char *int1 = "gpio";
 module_param(int1, charp, 0444);
 MODULE_PARM_DESC(int1,
 		 "INT1 to the device as: gpio (lookup table, default), irq-level (spi_board_info.irq, level low), irq-edge (spi_board_info.irq, falling edge), irq-none (spi_board_info.irq without a trigger type: ecmxf must refuse it)");
+
+static char *modalias = "ecm-xf";
+module_param(modalias, charp, 0444);
+MODULE_PARM_DESC(modalias,
+		 "the SPI device's modalias: ecm-xf (default), ecm-xfl, ecm-xfu, ecm-xm");
+
+static int data_size_prop = -1;
+module_param(data_size_prop, int, 0444);
+MODULE_PARM_DESC(data_size_prop,
+		 "give the device the property nextw,data-size with this value (software node; default -1: none)");
+
+static char *check_type_prop = "";
+module_param(check_type_prop, charp, 0444);
+MODULE_PARM_DESC(check_type_prop,
+		 "give the device the property nextw,check-type with this string (software node; default empty: none)");
 
 static unsigned int timeout_ms = 2000;
 module_param(timeout_ms, uint, 0644);
@@ -88,6 +104,9 @@ enum vspi_state {
  * @level_work: raises the interrupts of unmasked level lines that are at
  *	their active level (not from irq_unmask(), which runs under the
  *	descriptor's lock)
+ * @props: the device's properties (data_size_prop, check_type_prop), a
+ *	terminated list
+ * @swnode: the software node that carries @props
  */
 struct vspi {
 	struct spi_controller *ctlr;
@@ -110,6 +129,8 @@ struct vspi {
 	unsigned long irq_enabled;
 	unsigned int irq_type[VSPI_NLINES];
 	struct work_struct level_work;
+	struct property_entry props[3];
+	struct software_node swnode;
 };
 
 /* ---- the SPI side ---------------------------------------------------- */
@@ -518,14 +539,16 @@ static int vspi_probe(struct platform_device *pdev)
 {
 	struct device *dev = &pdev->dev;
 	struct spi_board_info info = {
-		.modalias = "ecm-xf",
 		.max_speed_hz = 10000000,
 		.chip_select = 0,
 		.mode = SPI_MODE_0,
 	};
 	struct spi_controller *ctlr;
+	unsigned int nprops = 0;
 	struct vspi *v;
 	int ret;
+
+	strscpy(info.modalias, modalias, sizeof(info.modalias));
 
 	ctlr = devm_spi_alloc_master(dev, sizeof(*v));
 	if (!ctlr)
@@ -595,6 +618,18 @@ static int vspi_probe(struct platform_device *pdev)
 			goto out_misc;
 	}
 	gpiod_add_lookup_table(v->lookup);
+
+	/* the per-chip settings as device properties (a software node) */
+	if (data_size_prop >= 0)
+		v->props[nprops++] = PROPERTY_ENTRY_U32("nextw,data-size",
+							data_size_prop);
+	if (*check_type_prop)
+		v->props[nprops++] = PROPERTY_ENTRY_STRING("nextw,check-type",
+							   check_type_prop);
+	if (nprops) {
+		v->swnode.properties = v->props;
+		info.swnode = &v->swnode;
+	}
 
 	v->spi = spi_new_device(ctlr, &info);
 	if (!v->spi) {

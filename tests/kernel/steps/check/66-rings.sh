@@ -97,8 +97,10 @@ if /bin/ecmxf-chrt -f -p 100 "$wpid" 2>/dev/null; then fail "SCHED_FIFO 100 acce
 worker_prio_is 70
 echo "guest-test: ok   the kernel refuses SCHED_FIFO 0 and 100 for the worker"
 # a slow guest is not what is tested: the pump's commands get 10 s
-# (a failed one loses its frames, which the strict runs would report)
-echo 10000 >/sys/module/ecmxf/parameters/pump_timeout_ms || fail "setting pump_timeout_ms"
+# (a failed one loses its frames, which the strict runs would report);
+# the parameter is read at probe, read-only afterwards (88-properties.sh)
+ecmxf_unload
+ecmxf_load pump_timeout_ms=10000
 rings_lockstep 1000
 # the 8 kHz run with a reader hammering the counters (sysfs and netlink
 # GET_COUNTERS): they are a snapshot the worker publishes and readers copy
@@ -138,7 +140,8 @@ bridge_ctl state
 echo "guest-test: ok   $(cat /tmp/hammer.reads 2>/dev/null || echo 0) rounds of sysfs + netlink counter reads during the 8 kHz lock-step run, each whole"
 rings_with 1000 5 monitor
 rings_with 8000 40 fifo-next
-echo 500 >/sys/module/ecmxf/parameters/pump_timeout_ms
+ecmxf_unload
+ecmxf_load
 # the rings rebound the device: a new worker, which starts at 50 again
 # (chrt must be applied again after every probe, driver.rst)
 wpid=$(worker_pid)
