@@ -5,7 +5,8 @@
 #
 #   scripts/install-deps.sh            build + test dependencies
 #   scripts/install-deps.sh --ci       also clang (fuzzing, sanitizers)
-#   scripts/install-deps.sh --bench    also Google Benchmark
+#   scripts/install-deps.sh --bench    also Google Benchmark and stress-ng (the
+#                                      guest bench under load)
 #   scripts/install-deps.sh --stress   also stress-ng (make check-stress)
 #   scripts/install-deps.sh --kernel   also Debian's 6.1 kernel headers, normal
 #                                      and PREEMPT_RT (make kmod), sparse, the
@@ -35,7 +36,7 @@ arm64=""
 for arg in "$@"; do
 	case "$arg" in
 	--ci) pkgs="$pkgs clang libclang-rt-14-dev llvm" ;;
-	--bench) pkgs="$pkgs libbenchmark-dev" ;;
+	--bench) pkgs="$pkgs libbenchmark-dev stress-ng" ;;
 	--stress) pkgs="$pkgs stress-ng" ;;
 	--kernel) pkgs="$pkgs linux-headers-amd64 linux-headers-rt-amd64 kmod sparse dt-schema device-tree-compiler pahole" ;;
 	--qemu) pkgs="$pkgs qemu-system-x86 busybox-static cpio" ;;

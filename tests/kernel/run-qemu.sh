@@ -183,6 +183,9 @@ run_kernel() {
 		kinfo=$("$top/scripts/debian-kernel.sh" "$kname") || die "$kname: scripts/debian-kernel.sh failed"
 		karch=$(printf '%s\n' "$kinfo" | sed -n 's/^DEB_ARCH=//p')
 	fi
+	# the bench's load: stress-ng and its libraries in the initramfs, its
+	# memory worker beside it
+	[ "$mode" = bench ] && mem=1024
 	kver=$(printf '%s\n' "$kinfo" | sed -n 's/^KVER=//p')
 	kdir=$(printf '%s\n' "$kinfo" | sed -n 's/^KDIR=//p')
 	vmlinuz=$(printf '%s\n' "$kinfo" | sed -n 's/^VMLINUZ=//p')
@@ -217,12 +220,27 @@ run_kernel() {
 		bin="$cache/bin-arm64"
 		gbb="$cache/busybox-arm64/bin/busybox"
 	fi
+	# the bench's load (steps/bench/30-load.sh): this machine's stress-ng,
+	# with its libraries, in an amd64 guest (install-deps.sh --bench)
+	extra=""
+	if [ "$mode" = bench ] && [ "$karch" != arm64 ]; then
+		extra=$(command -v stress-ng) || die "the bench needs stress-ng (scripts/install-deps.sh --bench)"
+	fi
+	# shellcheck disable=SC2086 # $extra: none or one path
 	ECMXF_GUEST_BUSYBOX=$gbb "$top/tests/kernel/mkinitramfs.sh" "$out/initramfs.cpio.gz" "$top/tests/kernel/guest-init.sh" \
-		"$out/ko" "$top/tests/kernel/steps" "$bin"/ecmxf-*
+		"$out/ko" "$top/tests/kernel/steps" "$bin"/ecmxf-* $extra
 
 	log="$out/console-$mode.log"
 	say "$kver: booting under QEMU (TCG, mode $mode), console in $log"
 	append="panic=-1 loglevel=7 ecmxf_ktest=$mode$fuzz_append"
+	# the bench's sizes, when set here: the kernel hands NAME=VALUE words
+	# of its command line to /init as its environment
+	for v in ECMXF_BENCH_N ECMXF_BENCH_BLOCKS ECMXF_BENCH_LATE_N ECMXF_LOAD_N; do
+		eval "val=\${$v:-}"
+		# shellcheck disable=SC2154 # val: set by the eval
+		[ -n "$val" ] && append="$append $v=$val"
+	done
+	[ -n "${ECMXF_LOAD_HZ:-}" ] && append="$append ECMXF_LOAD_HZ=$(echo "$ECMXF_LOAD_HZ" | tr ' ' ,)"
 	if [ "$karch" = arm64 ]; then
 		# the virt board; a Cortex-A72 is the Raspberry Pi 4/CM4's core
 		set -- qemu-system-aarch64 -M virt -cpu cortex-a72 -accel tcg -m 1024 \
