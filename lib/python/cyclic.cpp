@@ -54,14 +54,6 @@ struct Entry {
 	std::string what;
 };
 
-std::chrono::nanoseconds seconds(double s, const char *what, double lo, double hi)
-{
-	if (!(s >= lo && s <= hi))
-		throw py::value_error(std::string(what) + " " + std::to_string(s) + " s is outside " +
-				      std::to_string(lo) + ".." + std::to_string(hi) + " s");
-	return std::chrono::nanoseconds(static_cast<std::int64_t>(s * 1e9));
-}
-
 } // namespace
 
 /// What a Python Cyclic holds.

@@ -171,6 +171,24 @@ std::uint64_t checkedRange(std::int64_t v, std::int64_t lo, std::int64_t hi, con
 	return static_cast<std::uint64_t>(v);
 }
 
+std::chrono::nanoseconds seconds(double s, const char *what, double lo, double hi)
+{
+	if (!(s >= lo && s <= hi))
+		throw py::value_error(std::string(what) + " " + std::to_string(s) + " s is outside " +
+				      std::to_string(lo) + ".." + std::to_string(hi) + " s");
+	return std::chrono::nanoseconds(static_cast<std::int64_t>(s * 1e9));
+}
+
+std::vector<std::uint8_t> bytesOf(const py::handle &value, const char *what)
+{
+	if (!py::isinstance<py::bytes>(value) && !py::isinstance<py::bytearray>(value) &&
+	    !py::isinstance<py::memoryview>(value))
+		throw py::type_error(std::string(what) + " must be bytes, bytearray or memoryview, not " +
+				     Py_TYPE(value.ptr())->tp_name);
+	const std::string s = py::bytes(py::reinterpret_borrow<py::object>(value));
+	return { s.begin(), s.end() };
+}
+
 std::uint8_t position(std::int64_t v)
 {
 	return static_cast<std::uint8_t>(checkedRange(v, 0, kMaxSlavePosition, "slave position"));
@@ -281,14 +299,8 @@ std::uint64_t intBits(const py::handle &value, unsigned bits, bool sgn, const st
 
 std::vector<std::uint8_t> encodeValue(const py::handle &value, ValueType t)
 {
-	if (t == ValueType::Bytes) {
-		if (!py::isinstance<py::bytes>(value) && !py::isinstance<py::bytearray>(value) &&
-		    !py::isinstance<py::memoryview>(value))
-			throw py::type_error(std::string("a 'bytes' value must be bytes, bytearray or memoryview, not ") +
-					     Py_TYPE(value.ptr())->tp_name);
-		const std::string s = py::bytes(py::reinterpret_borrow<py::object>(value));
-		return { s.begin(), s.end() };
-	}
+	if (t == ValueType::Bytes)
+		return bytesOf(value, "a 'bytes' value");
 	if (t == ValueType::Str) {
 		if (!py::isinstance<py::str>(value))
 			throw py::type_error(std::string("a 'str' value must be str, not ") + Py_TYPE(value.ptr())->tp_name);
@@ -372,6 +384,8 @@ PYBIND11_MODULE(_ecmxf, m)
 	      "Decodes a packet trace (Device.start_trace(), Documentation/trace.rst) to text, one line per "
 	      "exchange, as `ecmxf-util decode` prints it.");
 
-	bindDevice(m);
+	auto device = bindDevice(m);
 	bindCyclic(m);
+	bindChip(m, device);
+	bindBoard(m, device);
 }
