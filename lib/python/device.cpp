@@ -577,6 +577,14 @@ py::class_<DeviceObject> bindDevice(py::module_ &m)
 		   "polls every poll_interval s of link time, the slaves' AL status codes read for a state that "
 		   "went down.");
 
+	m.def("decode_event_message", [](const py::object &msg) {
+		const std::vector<std::uint8_t> b = bytesOf(msg, "msg");
+		return eventDict(decodeEventMessage(b));
+	}, py::arg("msg"),
+	      "One whole netlink message of the kernel module's family 'ecmxf' (nlmsghdr, genlmsghdr, "
+	      "attributes; ecmxf::decodeEventMessage()) as the event dict Device.events() yields, for "
+	      "messages caught by other means (e.g. pyroute2). ecmxf.Error (errno EPROTO) for one that is not "
+	      "an event or is malformed.");
 	m.def("kernel_events", [](const std::string &path, double duration) {
 		return subscribe(path, seconds(duration, "duration", 0, 86400));
 	}, py::arg("path"), py::arg("duration"),

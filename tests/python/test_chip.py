@@ -6,6 +6,8 @@ FoE and the staging flash; each with its bad input."""
 
 import errno
 import os
+import re
+import struct
 
 import pytest
 
@@ -354,3 +356,58 @@ def test_kernel_events_without_the_module():
         assert e.errno == errno.ENOENT
         return
     assert list(ev) == []                                    # /dev/null's minor has no events
+
+
+def uapi_enum(name):
+    """The values of enum @name of <linux/ecmxf_netlink.h>, read from the
+    header (so the test follows the ABI rather than restating it)."""
+    header = os.path.join(os.path.dirname(__file__), "..", "..", "include", "uapi", "linux", "ecmxf_netlink.h")
+    text = open(header).read()
+    body = re.search(r"enum " + name + r" \{(.*?)\};", text, re.S).group(1)
+    values, n = {}, 0
+    for item in body.split(","):
+        item = item.strip()
+        if not item:
+            continue
+        if "=" in item:
+            item, v = (x.strip() for x in item.split("="))
+            n = int(v, 0)
+        values[item] = n
+        n += 1
+    return values
+
+
+def nl_message(family, cmd, attrs):
+    def nla(t, payload):
+        a = struct.pack("=HH", 4 + len(payload), t) + payload
+        return a + b"\0" * (-len(a) % 4)
+    body = struct.pack("=BBH", cmd, 1, 0) + b"".join(nla(t, p) for t, p in attrs)
+    return struct.pack("=IHHII", 16 + len(body), family, 0, 0, 0) + body
+
+
+def test_decode_event_message_gives_the_kernels_fields():
+    A, EV, LOSS = uapi_enum("ecmxf_nl_attr"), uapi_enum("ecmxf_nl_event"), uapi_enum("ecmxf_nl_loss")
+    CMD = uapi_enum("ecmxf_nl_cmd")
+    u32 = lambda v: struct.pack("=I", v)                      # noqa: E731
+    msg = nl_message(0x20, CMD["ECMXF_NL_CMD_EVENT"], [
+        (A["ECMXF_NL_A_DEV_MINOR"], u32(0)),
+        (A["ECMXF_NL_A_DEV_NAME"], b"ecmxf0\0"),
+        (A["ECMXF_NL_A_EVENT_TYPE"], u32(EV["ECMXF_NL_EV_PDO_LOSS"])),
+        (A["ECMXF_NL_A_PAD"], b""),
+        (A["ECMXF_NL_A_TIMESTAMP_NS"], struct.pack("=Q", 1_500_000_000)),
+        (A["ECMXF_NL_A_SEQ"], u32(7)),
+        (A["ECMXF_NL_A_SUPPRESSED"], u32(2)),
+        (A["ECMXF_NL_A_LOSS"], struct.pack("=B", LOSS["ECMXF_NL_LOSS_IN_RING_OVERRUN"])),
+        (A["ECMXF_NL_A_INCREASE"], u32(3)),
+        (A["ECMXF_NL_A_PAD"], b""),
+        (A["ECMXF_NL_A_TOTAL"], struct.pack("=Q", 12)),
+    ])
+    e = ecmxf.decode_event_message(msg)
+    assert e["type"] == "pdo_loss" and e["device"] == "ecmxf0" and e["seq"] == 7
+    assert e["time"] == 1.5 and e["suppressed"] == 2
+    assert (e["loss"], e["increase"], e["total"]) == ("in_ring_overrun", 3, 12)
+    with pytest.raises(ecmxf.Error) as x:
+        ecmxf.decode_event_message(msg[:10])                 # not a whole message
+    assert x.value.errno == errno.EPROTO
+    with pytest.raises(TypeError, match="msg must be bytes"):
+        ecmxf.decode_event_message("text")

@@ -57,6 +57,7 @@ from ._ecmxf import (  # noqa: F401
     Timeout,
     al_status_text,
     auto_increment_address,
+    decode_event_message,
     decode_trace,
     kernel_events,
     open,
@@ -69,5 +70,6 @@ __all__ = [
     "DatagramResult", "DebounceClock", "Device", "Entry", "Error", "Events", "GpioEdge", "GpioMode",
     "GpioPull", "Header", "Hsp2Status", "InvalidArgument", "NotSupportedError", "Peripherals", "QeiMode",
     "Response", "Sdo", "SdoAbort", "SkMode", "SkSlaveType", "SkSync", "Slave", "State", "Timeout",
-    "al_status_text", "auto_increment_address", "decode_trace", "kernel_events", "open", "sdo_abort_text",
+    "al_status_text", "auto_increment_address", "decode_event_message", "decode_trace", "kernel_events", "open",
+    "sdo_abort_text",
 ]
