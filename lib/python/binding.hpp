@@ -153,6 +153,25 @@ void madeByEcmxfOnly(const py::handle &cls);
 /// "__new__" that constructs); its __init__ is then a no-op.
 void constructedByNew(const py::handle &cls);
 
+// ---- plain CPython methods (no pybind11 dispatch: the hot paths,
+// Cyclic.cycle() and Sdo.upload())
+/// The C++ object a pybind11 instance @p self of T holds, or nullptr when
+/// it holds none.
+template <class T>
+T *instanceOf(PyObject *self) noexcept
+{
+	static py::detail::type_info *const ti = py::detail::get_type_info(typeid(T));
+	auto *inst = reinterpret_cast<py::detail::instance *>(self);
+	const py::detail::value_and_holder vh = inst->get_value_and_holder(ti, false);
+	return vh.inst && vh.holder_constructed() ? vh.value_ptr<T>() : nullptr;
+}
+/// Sets the Python error of the C++ exception being handled, through
+/// the translators pybind11 would use (the module's included); call it in
+/// a catch block. Returns nullptr, for `return setPythonError();`.
+PyObject *setPythonError() noexcept;
+/// Adds @p def to @p cls as a plain CPython method.
+void addMethod(const py::handle &cls, PyMethodDef &def);
+
 // ---- the parts of the module
 py::class_<DeviceObject> bindDevice(py::module_ &m);
 void bindCyclic(py::module_ &m);

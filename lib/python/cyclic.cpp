@@ -444,10 +444,7 @@ py::list cspMove(CyclicObject &c, const std::vector<AxisObject *> &axObjs, const
 PyObject *cycleMethod(PyObject *self, PyObject *) noexcept
 {
 	// no pybind11 dispatch: nothing allocated in C++ on this path
-	auto *inst = reinterpret_cast<py::detail::instance *>(self);
-	const py::detail::value_and_holder vh =
-		inst->get_value_and_holder(py::detail::get_type_info(typeid(CyclicObject)), false);
-	CyclicObject *c = vh.inst && vh.holder_constructed() ? vh.value_ptr<CyclicObject>() : nullptr;
+	CyclicObject *c = instanceOf<CyclicObject>(self);
 	if (!c) {
 		PyErr_SetString(PyExc_TypeError, "Cyclic.cycle(): not an initialised ecmxf.Cyclic");
 		return nullptr;
@@ -633,10 +630,7 @@ void bindCyclic(py::module_ &m)
 		     "ecmxf::CspTrajectory), run in C++; returns the samples as run() does.");
 	constructedByNew(cls);
 	// cycle(): a plain CPython method, no pybind11 dispatch
-	PyObject *descr = PyDescr_NewMethod(reinterpret_cast<PyTypeObject *>(cls.ptr()), &gCycleDef);
-	if (!descr)
-		throw py::error_already_set();
-	cls.attr("cycle") = py::reinterpret_steal<py::object>(descr);
+	addMethod(cls, gCycleDef);
 }
 
 } // namespace ecmxf::python

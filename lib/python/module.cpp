@@ -139,6 +139,29 @@ std::string traceDecode(const std::string &path)
 	throw py::error_already_set();
 }
 
+PyObject *setPythonError() noexcept
+{
+	try {
+		if (py::detail::apply_exception_translators(
+			    py::detail::get_local_internals().registered_exception_translators))
+			return nullptr;
+		if (py::detail::apply_exception_translators(py::detail::get_internals().registered_exception_translators))
+			return nullptr;
+		PyErr_SetString(PyExc_SystemError, "ecmxf: a C++ exception no translator knows");
+	} catch (...) {
+		PyErr_SetString(PyExc_SystemError, "ecmxf: translating a C++ exception failed");
+	}
+	return nullptr;
+}
+
+void addMethod(const py::handle &cls, PyMethodDef &def)
+{
+	PyObject *descr = PyDescr_NewMethod(reinterpret_cast<PyTypeObject *>(cls.ptr()), &def);
+	if (!descr)
+		throw py::error_already_set();
+	cls.attr(def.ml_name) = py::reinterpret_steal<py::object>(descr);
+}
+
 py::object exceptionClass(const char *name)
 {
 	return py::module_::import("ecmxf._ecmxf").attr(name);
