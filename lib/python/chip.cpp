@@ -560,7 +560,7 @@ void bindChip(py::module_ &m, py::class_<DeviceObject> &device)
 		   py::arg("flash_address") = 0, py::arg("timeout") = 0.0, py::arg("progress") = py::none(),
 		   "ECM-XF: FoE write of data as file name (staged in the flash, then FOE_FUNC_REQ download). A slave "
 		   "in INIT is refused before anything is staged. progress(done, total) follows the staging; an "
-		   "exception it raises ends the transfer.")
+		   "exception it raises ends the transfer (it must not call the device: BusyError).")
 		.def("flash_read", [](DeviceObject &d, std::int64_t address, std::int64_t length) {
 			const auto a = static_cast<std::uint32_t>(checkedRange(address, 0, kFoeFlashSize - 1, "address"));
 			const auto n = static_cast<std::uint32_t>(checkedRange(length, 1, kFoeFlashSize, "length"));
