@@ -110,6 +110,10 @@ auto onDevice(Session &s, std::string_view what, F &&f)
 // ---- exceptions (module.cpp)
 /// Raises ecmxf.ClosedError ("<what>: the device is closed").
 [[noreturn]] void throwClosed(std::string_view what);
+/// What ecmxf.BusyError says.
+inline constexpr const char *kBusyMessage =
+	"the device is busy with another call (one call at a time: another thread's, or one that is calling back "
+	"into Python)";
 /// Raises ecmxf.BusyError.
 [[noreturn]] void throwBusy();
 /// The exception class ecmxf.<name>.

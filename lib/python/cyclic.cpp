@@ -455,8 +455,7 @@ PyObject *cycleMethod(PyObject *self, PyObject *) noexcept
 	}
 	const int e = c->cycleNoGil();
 	if (e < 0) {
-		PyErr_SetString(exceptionClass("BusyError").ptr(),
-				"the device is in use by another thread (one thread at a time uses a device)");
+		PyErr_SetString(exceptionClass("BusyError").ptr(), kBusyMessage);
 		return nullptr;
 	}
 	return PyLong_FromLong(e);

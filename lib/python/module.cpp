@@ -135,7 +135,7 @@ std::string traceDecode(const std::string &path)
 
 [[noreturn]] void throwBusy()
 {
-	PyErr_SetString(gExc.busy, "the device is in use by another thread (one thread at a time uses a device)");
+	PyErr_SetString(gExc.busy, kBusyMessage);
 	throw py::error_already_set();
 }
 
@@ -384,7 +384,8 @@ PYBIND11_MODULE(_ecmxf, m)
 	gExc.closed = newException(m, "ClosedError", tuple2(gExc.error, PyExc_ValueError),
 				   "The device (or the Cyclic) was closed; also a ValueError, as for a closed file.");
 	gExc.busy = newException(m, "BusyError", tuple2(gExc.error, PyExc_RuntimeError),
-				 "Another thread is using the device (a device serves one thread at a time).");
+				 "The device is busy with another call: another thread's, or the one calling back into "
+				 "Python (a device serves one call at a time).");
 	py::register_exception_translator(&translate);
 
 	py::enum_<ecmxf::State>(m, "State", "EtherCAT (AL) states as the chip encodes them.")

@@ -306,6 +306,16 @@ def test_foe_failures_and_bad_input(servo):
     servo.foe_write(0, "firmware.bin", b"\x01\x02")          # the device works on
 
 
+def test_a_call_from_inside_a_call_is_busy(servo):
+    """The device serves one call at a time: a progress callback that calls
+    the device gets BusyError (deterministic: the same thread, inside the
+    library's call), and the transfer ends with it."""
+    boot(servo)
+    with pytest.raises(ecmxf.BusyError, match="busy with another call"):
+        servo.foe_write(0, "firmware.bin", bytes(500), progress=lambda done, total: servo.slave_count)
+    assert servo.slave_count >= 2                             # free again afterwards
+
+
 # ---------------------------------------------------------------- closed, ECM-SK
 
 def test_the_chip_views_after_close():
