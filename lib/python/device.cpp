@@ -257,7 +257,16 @@ struct EventsObject {
 	std::chrono::nanoseconds interval{ 0 };
 	std::chrono::nanoseconds end{ 0 }; ///< link time (detector) or steady clock (subscriber) of the end
 	std::deque<Event> pending;
+	bool closed = false;
 };
+
+void closeEvents(EventsObject &ev)
+{
+	ev.closed = true;
+	ev.subscriber.reset();
+	ev.detector.reset();
+	ev.pending.clear();
+}
 
 std::chrono::nanoseconds steadyNow()
 {
@@ -349,6 +358,8 @@ bool nextPolledEvents(EventsObject &ev)
 
 py::dict nextEvent(EventsObject &ev)
 {
+	if (ev.closed)
+		throwClosed("events");
 	if (ev.session)
 		(void)ev.session->open(); // ClosedError once the device is closed
 	while (ev.pending.empty())
@@ -641,7 +652,16 @@ py::class_<DeviceObject> bindDevice(py::module_ &m)
 					       "'slaves' ((position, AL status) of the slaves not in OP, for a state that "
 					       "went down) and 'al_status'.");
 	events.def("__iter__", [](py::object self) { return self; })
-		.def("__next__", &nextEvent);
+		.def("__next__", &nextEvent)
+		.def("close", [](EventsObject &ev) { closeEvents(ev); },
+		     "Ends the iteration now: the netlink socket (over /dev/ecmxfN) closes, next() raises "
+		     "ClosedError. Closing twice is fine.")
+		.def_property_readonly("closed", [](const EventsObject &ev) { return ev.closed; })
+		.def("__enter__", [](py::object self) { return self; })
+		.def("__exit__", [](EventsObject &ev, const py::object &, const py::object &, const py::object &) {
+			closeEvents(ev);
+			return false;
+		});
 	madeByEcmxfOnly(events);
 	device.def("events", [](DeviceObject &d, double duration, double interval) {
 		return makeEvents(d.session, duration, interval);
