@@ -126,6 +126,11 @@ ECMXF_EXPORT std::uint16_t cia402WalkBySdo(Device &device, std::uint8_t position
 /// binding's open().
 ECMXF_EXPORT unsigned ensureBusUp(Device &device, bool preOp);
 
+/// The ECM-SK frame slot of the slave at @p position (from 0, as the
+/// verbs count): position + 1; Error(EINVAL) outside the board's slots.
+/// The verbs' rule, and the Python binding's for the board's own calls.
+[[nodiscard]] ECMXF_EXPORT unsigned boardSlot(const sk::Board &board, unsigned position);
+
 /// Error(ENOTSUP): "not on the <master>: <why>".
 [[noreturn]] ECMXF_EXPORT void throwNotOn(MasterKind master, std::string_view why);
 

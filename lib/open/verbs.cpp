@@ -33,6 +33,15 @@ void throwNotOn(MasterKind master, std::string_view why)
 	throw Error(m, ENOTSUP);
 }
 
+unsigned boardSlot(const sk::Board &board, unsigned position)
+{
+	if (position >= board.maxSlaves())
+		throw Error("slave position " + std::to_string(position) + " is outside 0.." +
+				    std::to_string(board.maxSlaves() - 1) + " (the frame's slave slots)",
+			    EINVAL);
+	return position + 1;
+}
+
 MasterVerbs::~MasterVerbs() = default;
 
 bool busDown(Device &device)
@@ -218,15 +227,7 @@ public:
 	void reset() override { b_.states().reset(); }
 
 private:
-	// position (from 0) -> the frame's slot (from 1)
-	unsigned slot(unsigned position) const
-	{
-		if (position >= b_.maxSlaves())
-			throw Error("slave position " + std::to_string(position) + " is outside 0.." +
-					    std::to_string(b_.maxSlaves() - 1) + " (the frame's slave slots)",
-				    EINVAL);
-		return position + 1;
-	}
+	unsigned slot(unsigned position) const { return boardSlot(b_, position); }
 	std::uint16_t statusword(unsigned s)
 	{
 		(void)b_.states().status();

@@ -54,14 +54,6 @@ struct Entry {
 	std::string what;
 };
 
-std::chrono::nanoseconds seconds(double s, const char *what, double lo, double hi)
-{
-	if (!(s >= lo && s <= hi))
-		throw py::value_error(std::string(what) + " " + std::to_string(s) + " s is outside " +
-				      std::to_string(lo) + ".." + std::to_string(hi) + " s");
-	return std::chrono::nanoseconds(static_cast<std::int64_t>(s * 1e9));
-}
-
 } // namespace
 
 /// What a Python Cyclic holds.
@@ -452,10 +444,7 @@ py::list cspMove(CyclicObject &c, const std::vector<AxisObject *> &axObjs, const
 PyObject *cycleMethod(PyObject *self, PyObject *) noexcept
 {
 	// no pybind11 dispatch: nothing allocated in C++ on this path
-	auto *inst = reinterpret_cast<py::detail::instance *>(self);
-	const py::detail::value_and_holder vh =
-		inst->get_value_and_holder(py::detail::get_type_info(typeid(CyclicObject)), false);
-	CyclicObject *c = vh.inst && vh.holder_constructed() ? vh.value_ptr<CyclicObject>() : nullptr;
+	CyclicObject *c = instanceOf<CyclicObject>(self);
 	if (!c) {
 		PyErr_SetString(PyExc_TypeError, "Cyclic.cycle(): not an initialised ecmxf.Cyclic");
 		return nullptr;
@@ -466,8 +455,7 @@ PyObject *cycleMethod(PyObject *self, PyObject *) noexcept
 	}
 	const int e = c->cycleNoGil();
 	if (e < 0) {
-		PyErr_SetString(exceptionClass("BusyError").ptr(),
-				"the device is in use by another thread (one thread at a time uses a device)");
+		PyErr_SetString(exceptionClass("BusyError").ptr(), kBusyMessage);
 		return nullptr;
 	}
 	return PyLong_FromLong(e);
@@ -641,10 +629,7 @@ void bindCyclic(py::module_ &m)
 		     "ecmxf::CspTrajectory), run in C++; returns the samples as run() does.");
 	constructedByNew(cls);
 	// cycle(): a plain CPython method, no pybind11 dispatch
-	PyObject *descr = PyDescr_NewMethod(reinterpret_cast<PyTypeObject *>(cls.ptr()), &gCycleDef);
-	if (!descr)
-		throw py::error_already_set();
-	cls.attr("cycle") = py::reinterpret_steal<py::object>(descr);
+	addMethod(cls, gCycleDef);
 }
 
 } // namespace ecmxf::python

@@ -15,8 +15,10 @@
 #include <ecmxf/chip/chip.hpp>
 #include <ecmxf/cia402/cia402_axis.hpp>
 #include <ecmxf/device.hpp>
+#include <ecmxf/device_uri.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/events/events.hpp>
+#include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/link/link.hpp>
 #include <ecmxf/model/status.hpp>
 #include <ecmxf/sk/board.hpp>
@@ -52,11 +54,6 @@ Use::Use(Session &s) : s_(s)
 
 namespace {
 
-/// What a Python Device holds.
-struct DeviceObject {
-	std::shared_ptr<Session> session;
-};
-
 /// dev.sdo
 struct SdoView {
 	std::shared_ptr<Session> session;
@@ -70,17 +67,6 @@ struct SlaveRecord {
 	State state = State::None;
 	std::optional<std::uint16_t> alStatus;
 };
-
-/// Runs @p f on the open session with the GIL released (one thread at a
-/// time: BusyError for a second).
-template <class F>
-auto run(Session &s, F &&f)
-{
-	MasterVerbs &m = s.open();
-	Use use(s);
-	py::gil_scoped_release nogil;
-	return f(m);
-}
 
 py::object upload(Session &s, std::int64_t pos, std::int64_t index, std::int64_t sub,
 		  const std::optional<std::string> &type)
@@ -259,18 +245,224 @@ py::dict pdoMapping(Session &s, std::int64_t pos)
 			py::arg("output_bytes") = pdos.outputBytes, py::arg("input_bytes") = pdos.inputBytes);
 }
 
-/// dev.events(): the chip's events (ecmxf::EventDetector over the response
-/// headers of INFO_UPDATE polls) as an iterator.
+/// dev.events(): the chip's events as an iterator. Over /dev/ecmxfN the
+/// kernel's (ecmxf::EventSubscriber over generic netlink, the events of
+/// that minor, wall time); over every other link an ecmxf::EventDetector
+/// over the response headers of INFO_UPDATE polls (link time).
 struct EventsObject {
-	std::shared_ptr<Session> session;
+	std::shared_ptr<Session> session; ///< null: ecmxf.kernel_events()
 	std::unique_ptr<EventDetector> detector;
+	std::unique_ptr<EventSubscriber> subscriber;
+	std::uint32_t minor = 0;
 	std::chrono::nanoseconds interval{ 0 };
-	std::chrono::nanoseconds end{ 0 }; ///< link time when the iteration stops
+	std::chrono::nanoseconds end{ 0 }; ///< link time (detector) or steady clock (subscriber) of the end
 	std::deque<Event> pending;
+	bool closed = false;
 };
+
+void closeEvents(EventsObject &ev)
+{
+	ev.closed = true;
+	ev.subscriber.reset();
+	ev.detector.reset();
+	ev.pending.clear();
+}
+
+std::chrono::nanoseconds steadyNow()
+{
+	return std::chrono::steady_clock::now().time_since_epoch();
+}
+
+/// The kernel's events of the character device @p path (its minor).
+EventsObject subscribe(const std::string &path, std::chrono::nanoseconds duration)
+{
+	const std::optional<std::uint32_t> minor = KernelLink::minorOf(path);
+	if (!minor)
+		throw py::value_error("'" + path + "' is not a character device (the kernel's events are those of a "
+				      "/dev/ecmxfN)");
+	EventsObject ev;
+	ev.minor = *minor;
+	{
+		py::gil_scoped_release nogil;
+		ev.subscriber = std::make_unique<EventSubscriber>();
+	}
+	ev.end = steadyNow() + duration;
+	return ev;
+}
+
+EventsObject makeEvents(const std::shared_ptr<Session> &s, double duration, double interval)
+{
+	const auto span = seconds(duration, "duration", 0, 86400);
+	const auto every = seconds(interval, "poll_interval", 0.0001, 10);
+	Device &d = s->device("events()");
+	if (const DeviceUri uri = parseDeviceUri(s->uri); uri.kind == DeviceUri::Kind::Kernel) {
+		EventsObject ev = subscribe(uri.path, span);
+		ev.session = s;
+		return ev;
+	}
+	EventsObject ev;
+	ev.session = s;
+	ev.interval = every;
+	Use use(*s);
+	py::gil_scoped_release nogil;
+	ev.detector = std::make_unique<EventDetector>(d);
+	const auto now = d.link().now();
+	(void)ev.detector->feed(d.chip().infoUpdate(), now); // the baseline
+	ev.end = now + span;
+	return ev;
+}
+
+/// The next event of the kernel's: false when the time is up.
+bool nextKernelEvent(EventsObject &ev)
+{
+	for (;;) {
+		const auto left = ev.end - steadyNow();
+		if (left <= std::chrono::nanoseconds(0))
+			return false;
+		std::optional<Event> e;
+		{
+			py::gil_scoped_release nogil;
+			// woken at least every 200 ms for Python's signals (Ctrl-C)
+			e = ev.subscriber->next(std::min(std::chrono::duration_cast<std::chrono::milliseconds>(left) +
+								 std::chrono::milliseconds(1),
+							 std::chrono::milliseconds(200)));
+		}
+		if (PyErr_CheckSignals() != 0)
+			throw py::error_already_set();
+		if (e && e->minor == ev.minor) {
+			ev.pending.push_back(std::move(*e));
+			return true;
+		}
+	}
+}
+
+/// The next events of the detector: false when the time is up.
+bool nextPolledEvents(EventsObject &ev)
+{
+	Device &d = ev.session->device("events");
+	Use use(*ev.session);
+	py::gil_scoped_release nogil;
+	for (;;) {
+		const auto now = d.link().now();
+		for (Event &e : ev.detector->feed(d.chip().infoUpdate(), now))
+			ev.pending.push_back(std::move(e));
+		for (Event &e : ev.detector->poll(now))
+			ev.pending.push_back(std::move(e));
+		if (!ev.pending.empty())
+			return true;
+		if (now >= ev.end)
+			return false;
+		d.link().sleepFor(std::min(ev.interval, ev.end - now));
+	}
+}
+
+py::dict nextEvent(EventsObject &ev)
+{
+	if (ev.closed)
+		throwClosed("events");
+	if (ev.session)
+		(void)ev.session->open(); // ClosedError once the device is closed
+	while (ev.pending.empty())
+		if (!(ev.subscriber ? nextKernelEvent(ev) : nextPolledEvents(ev)))
+			throw py::stop_iteration();
+	const Event e = std::move(ev.pending.front());
+	ev.pending.pop_front();
+	return eventDict(e);
+}
+
+/// One argument of a METH_FASTCALL call: positional @p i, else keyword
+/// @p name, else nullptr.
+PyObject *argument(PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames, Py_ssize_t i, const char *name)
+{
+	if (i < nargs)
+		return args[i];
+	const Py_ssize_t nk = kwnames ? PyTuple_GET_SIZE(kwnames) : 0;
+	for (Py_ssize_t k = 0; k < nk; k++)
+		if (PyUnicode_CompareWithASCIIString(PyTuple_GET_ITEM(kwnames, k), name) == 0)
+			return args[nargs + k];
+	return nullptr;
+}
+
+/// An int argument (TypeError naming it for anything else; ValueError
+/// beyond 64 bits).
+std::int64_t intArgument(PyObject *o, const char *name)
+{
+	if (!PyLong_Check(o))
+		throw py::type_error(std::string("Sdo.upload(): ") + name + " must be int, not " + Py_TYPE(o)->tp_name);
+	int overflow = 0;
+	const long long v = PyLong_AsLongLongAndOverflow(o, &overflow);
+	if (overflow)
+		throw py::value_error(std::string("Sdo.upload(): ") + name + " is out of range");
+	return v;
+}
+
+/// Sdo.upload(position, index, sub, type=None) as a METH_FASTCALL |
+/// METH_KEYWORDS method: the call an SDO script makes most, without
+/// pybind11's dispatcher (its argument vectors and type lookups are a
+/// third of what the binding adds to an upload on sim:; Documentation/
+/// python.rst, "Performance"). The checks and the conversion are
+/// upload()'s, as for every other call.
+PyObject *uploadMethod(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames) noexcept
+{
+	static const char *const kNames[] = { "position", "index", "sub", "type" };
+	try {
+		const SdoView *v = instanceOf<SdoView>(self);
+		if (!v)
+			throw py::type_error("Sdo.upload(): not an ecmxf.Sdo");
+		const Py_ssize_t given = nargs + (kwnames ? PyTuple_GET_SIZE(kwnames) : 0);
+		if (nargs > 4 || given > 4)
+			throw py::type_error("Sdo.upload() takes position, index, sub and type (" + std::to_string(given) +
+					     " arguments given)");
+		for (Py_ssize_t k = 0; kwnames && k < PyTuple_GET_SIZE(kwnames); k++) {
+			bool known = false;
+			for (Py_ssize_t i = nargs; i < 4; i++)
+				known = known || PyUnicode_CompareWithASCIIString(PyTuple_GET_ITEM(kwnames, k), kNames[i]) == 0;
+			if (!known)
+				throw py::type_error("Sdo.upload(): unexpected or repeated keyword argument '" +
+						     py::str(PyTuple_GET_ITEM(kwnames, k)).cast<std::string>() + "'");
+		}
+		std::int64_t n[3];
+		for (Py_ssize_t i = 0; i < 3; i++) {
+			PyObject *o = argument(args, nargs, kwnames, i, kNames[i]);
+			if (!o)
+				throw py::type_error(std::string("Sdo.upload(): missing argument '") + kNames[i] + "'");
+			n[i] = intArgument(o, kNames[i]);
+		}
+		std::optional<std::string> type;
+		if (PyObject *t = argument(args, nargs, kwnames, 3, kNames[3]); t && t != Py_None) {
+			if (!PyUnicode_Check(t))
+				throw py::type_error(std::string("Sdo.upload(): type must be str or None, not ") +
+						     Py_TYPE(t)->tp_name);
+			type = py::handle(t).cast<std::string>();
+		}
+		return upload(*v->session, n[0], n[1], n[2], type).release().ptr();
+	} catch (...) {
+		return setPythonError();
+	}
+}
+
+PyMethodDef gUploadDef = {
+	"upload", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(&uploadMethod)),
+	METH_FASTCALL | METH_KEYWORDS,
+	"upload($self, /, position, index, sub, type=None)\n--\n\n"
+	"Uploads object index:sub from the slave at position. type: 'u8' 'u16' 'u32' 'u64' 'i8' 'i16' 'i32' "
+	"'i64' 'f32' 'f64' 'str' 'bytes'; None: an unsigned int for objects of 1, 2, 4 or 8 bytes, else bytes. "
+	"Raises SdoAbort (.code, .text) when the slave aborts."
+};
+
+std::string slaveRepr(const SlaveRecord &r)
+{
+	char id[64];
+	std::snprintf(id, sizeof id, "vendor=0x%08x product=0x%08x", r.vendor.value_or(0), r.product.value_or(0));
+	return "<ecmxf.Slave " + std::to_string(r.position) + " " + stateName(r.state) + " " +
+	       (r.vendor ? std::string(id) : std::string("identity=?")) + " name='" + r.name + "'>";
+}
+
+} // namespace
 
 py::dict eventDict(const Event &e)
 {
+	auto optional = [](const std::optional<std::uint16_t> &v) { return v ? py::object(py::int_(*v)) : py::none(); };
 	py::dict d;
 	d["type"] = eventTypeName(e.type);
 	d["time"] = std::chrono::duration<double>(e.time).count();
@@ -287,71 +479,33 @@ py::dict eventDict(const Event &e)
 	d["increase"] = e.increase;
 	py::list slaves;
 	for (const SlaveAlStatus &st : e.slaves)
-		slaves.append(py::make_tuple(st.position, st.alStatus ? py::object(py::int_(*st.alStatus)) : py::none()));
+		slaves.append(py::make_tuple(st.position, optional(st.alStatus)));
 	d["slaves"] = slaves;
-	d["al_status"] = e.alStatus ? py::object(py::int_(*e.alStatus)) : py::none();
+	d["al_status"] = optional(e.alStatus);
+	// what only the kernel's events say (netlink): None from a detector
+	const bool kernel = !e.device.empty();
+	d["device"] = kernel ? py::object(py::str(e.device)) : py::none();
+	d["seq"] = kernel ? py::object(py::int_(e.seq)) : py::none();
+	d["suppressed"] = e.suppressed;
+	if (e.type == EventType::PdoLoss) {
+		d["loss"] = lossKindName(e.loss);
+		d["total"] = e.total;
+	}
+	if (e.type == EventType::WkcBurstEnd) {
+		d["errors"] = e.errors;
+		d["duration"] = std::chrono::duration<double>(e.duration).count();
+	}
+	if (e.type == EventType::Fifo) {
+		d["fifo"] = e.fifo == FifoId::Tx ? "tx" : "rx";
+		d["mark"] = e.mark;
+		d["above"] = e.above;
+	}
+	if (e.type == EventType::AsyncError) {
+		d["command"] = e.cmdCode;
+		d["status"] = e.status;
+	}
 	return d;
 }
-
-EventsObject makeEvents(const std::shared_ptr<Session> &s, double duration, double interval)
-{
-	if (!(duration >= 0 && duration <= 86400))
-		throw py::value_error("duration " + std::to_string(duration) + " s is outside 0..86400 s");
-	if (!(interval >= 0.0001 && interval <= 10))
-		throw py::value_error("poll_interval " + std::to_string(interval) + " s is outside 0.0001..10 s");
-	Device &d = s->device("events()");
-	EventsObject ev;
-	ev.session = s;
-	ev.interval = std::chrono::nanoseconds(static_cast<std::int64_t>(interval * 1e9));
-	Use use(*s);
-	py::gil_scoped_release nogil;
-	ev.detector = std::make_unique<EventDetector>(d);
-	const auto now = d.link().now();
-	(void)ev.detector->feed(d.chip().infoUpdate(), now); // the baseline
-	ev.end = now + std::chrono::nanoseconds(static_cast<std::int64_t>(duration * 1e9));
-	return ev;
-}
-
-py::dict nextEvent(EventsObject &ev)
-{
-	while (ev.pending.empty()) {
-		Device &d = ev.session->device("events");
-		bool over = false;
-		{
-			Use use(*ev.session);
-			py::gil_scoped_release nogil;
-			for (;;) {
-				const auto now = d.link().now();
-				for (Event &e : ev.detector->feed(d.chip().infoUpdate(), now))
-					ev.pending.push_back(std::move(e));
-				for (Event &e : ev.detector->poll(now))
-					ev.pending.push_back(std::move(e));
-				if (!ev.pending.empty())
-					break;
-				if (now >= ev.end) {
-					over = true;
-					break;
-				}
-				d.link().sleepFor(std::min(ev.interval, ev.end - now));
-			}
-		}
-		if (over)
-			throw py::stop_iteration();
-	}
-	const Event e = std::move(ev.pending.front());
-	ev.pending.pop_front();
-	return eventDict(e);
-}
-
-std::string slaveRepr(const SlaveRecord &r)
-{
-	char id[64];
-	std::snprintf(id, sizeof id, "vendor=0x%08x product=0x%08x", r.vendor.value_or(0), r.product.value_or(0));
-	return "<ecmxf.Slave " + std::to_string(r.position) + " " + stateName(r.state) + " " +
-	       (r.vendor ? std::string(id) : std::string("identity=?")) + " name='" + r.name + "'>";
-}
-
-} // namespace
 
 std::shared_ptr<Session> sessionOf(const py::handle &device)
 {
@@ -360,7 +514,7 @@ std::shared_ptr<Session> sessionOf(const py::handle &device)
 	return device.cast<DeviceObject &>().session;
 }
 
-void bindDevice(py::module_ &m)
+py::class_<DeviceObject> bindDevice(py::module_ &m)
 {
 	auto slave = py::class_<SlaveRecord>(m, "Slave", "One slave of the bus, as Device.slaves() lists it.");
 	slave
@@ -380,12 +534,6 @@ void bindDevice(py::module_ &m)
 
 	auto sdo = py::class_<SdoView>(m, "Sdo", "SDO transfers of a Device (dev.sdo).");
 	sdo
-		.def("upload", [](const SdoView &v, std::int64_t pos, std::int64_t index, std::int64_t sub,
-				  const std::optional<std::string> &type) { return upload(*v.session, pos, index, sub, type); },
-		     py::arg("position"), py::arg("index"), py::arg("sub"), py::arg("type") = py::none(),
-		     "Uploads object index:sub from the slave at position. type: 'u8' 'u16' 'u32' 'u64' 'i8' "
-		     "'i16' 'i32' 'i64' 'f32' 'f64' 'str' 'bytes'; None: an unsigned int for objects of 1, 2, 4 "
-		     "or 8 bytes, else bytes. Raises SdoAbort (.code, .text) when the slave aborts.")
 		.def("download", [](const SdoView &v, std::int64_t pos, std::int64_t index, std::int64_t sub,
 				    const py::object &value, const std::optional<std::string> &type) {
 			download(*v.session, pos, index, sub, value, type);
@@ -399,6 +547,7 @@ void bindDevice(py::module_ &m)
 		     "with type None).");
 
 	madeByEcmxfOnly(sdo);
+	addMethod(sdo, gUploadDef); // upload(): a plain CPython method, no pybind11 dispatch
 
 	auto device = py::class_<DeviceObject>(m, "Device",
 				 "One master, ECM-XF or ECM-SK, from a device URI: 'sim:', 'sim:<network>', "
@@ -472,33 +621,23 @@ void bindDevice(py::module_ &m)
 		.def("reset", [](DeviceObject &d) { run(*d.session, [](MasterVerbs &mv) { mv.reset(); }); },
 		     "Restarts the master (ECM-XF: WARM_RESET; ECM-SK: SW_RESET).")
 		.def("firmware_version", [](DeviceObject &d) {
-			Device &dev = d.session->device("firmware_version()");
-			FirmwareVersion v;
-			{
-				Use use(*d.session);
-				v = dev.chip().firmwareVersion();
-			}
+			const FirmwareVersion v = onDevice(*d.session, "firmware_version()",
+							   [](Device &dev) { return dev.chip().firmwareVersion(); });
 			return py::dict(py::arg("version") = v.version, py::arg("extended") = v.extendedVersion,
 					py::arg("series_code") = v.seriesCode, py::arg("build_id") = v.buildId);
 		}, "ECM-XF: the chip's firmware version (FIRM_VER_GET): {'version', 'extended', 'series_code', "
 		   "'build_id'}.")
 		.def("set_data_size", [](DeviceObject &d, std::int64_t size) {
 			const auto n = static_cast<std::uint16_t>(checkedRange(size, 32, 1408, "data section size"));
-			Device &dev = d.session->device("set_data_size()");
-			Use use(*d.session);
-			dev.chip().setDataSize(n);
+			onDevice(*d.session, "set_data_size()", [n](Device &dev) { dev.chip().setDataSize(n); });
 		}, py::arg("size"),
 		     "ECM-XF: the SPI data section in bytes (SPI_RECONFIG_OP, 32..1408; 112 at power-on): "
 		     "large process images need more than 112 bytes per exchange.")
 		.def("start_trace", [](DeviceObject &d, const std::string &path) {
-			Device &dev = d.session->device("start_trace()");
-			Use use(*d.session);
-			dev.startTrace(path);
+			onDevice(*d.session, "start_trace()", [&path](Device &dev) { dev.startTrace(path); });
 		}, py::arg("path"), "ECM-XF: records every exchange to path (decode_trace() reads it).")
 		.def("stop_trace", [](DeviceObject &d) {
-			Device &dev = d.session->device("stop_trace()");
-			Use use(*d.session);
-			dev.stopTrace();
+			onDevice(*d.session, "stop_trace()", [](Device &dev) { dev.stopTrace(); });
 		})
 		.def("__repr__", [](const DeviceObject &d) {
 			return "<ecmxf.Device '" + d.session->uri + "'" + (d.session->verbs ? "" : " closed") + ">";
@@ -513,18 +652,44 @@ void bindDevice(py::module_ &m)
 					       "'slaves' ((position, AL status) of the slaves not in OP, for a state that "
 					       "went down) and 'al_status'.");
 	events.def("__iter__", [](py::object self) { return self; })
-		.def("__next__", &nextEvent);
+		.def("__next__", &nextEvent)
+		.def("close", [](EventsObject &ev) { closeEvents(ev); },
+		     "Ends the iteration now: the netlink socket (over /dev/ecmxfN) closes, next() raises "
+		     "ClosedError. Closing twice is fine.")
+		.def_property_readonly("closed", [](const EventsObject &ev) { return ev.closed; })
+		.def("__enter__", [](py::object self) { return self; })
+		.def("__exit__", [](EventsObject &ev, const py::object &, const py::object &, const py::object &) {
+			closeEvents(ev);
+			return false;
+		});
 	madeByEcmxfOnly(events);
 	device.def("events", [](DeviceObject &d, double duration, double interval) {
 		return makeEvents(d.session, duration, interval);
 	}, py::arg("duration"), py::arg("poll_interval") = 0.01,
-		   "ECM-XF: the chip's events for duration s of link time (ecmxf::EventDetector over INFO_UPDATE "
-		   "polls every poll_interval s, the slaves' AL status codes read for a state that went down): an "
-		   "iterator that ends when the time is up. Over /dev/ecmxfN the kernel sends the same events "
-		   "(ecmxf-util monitor).");
+		   "ECM-XF: the chip's events for duration s, as an iterator that ends when the time is up. Over "
+		   "/dev/ecmxfN the kernel's (generic netlink, ecmxf::EventSubscriber: the events of that device, "
+		   "wall time; poll_interval is not used); over any other link ecmxf::EventDetector over INFO_UPDATE "
+		   "polls every poll_interval s of link time, the slaves' AL status codes read for a state that "
+		   "went down.");
+
+	m.def("decode_event_message", [](const py::object &msg) {
+		const std::vector<std::uint8_t> b = bytesOf(msg, "msg");
+		return eventDict(decodeEventMessage(b));
+	}, py::arg("msg"),
+	      "One whole netlink message of the kernel module's family 'ecmxf' (nlmsghdr, genlmsghdr, "
+	      "attributes; ecmxf::decodeEventMessage()) as the event dict Device.events() yields, for "
+	      "messages caught by other means (e.g. pyroute2). ecmxf.Error (errno EPROTO) for one that is not "
+	      "an event or is malformed.");
+	m.def("kernel_events", [](const std::string &path, double duration) {
+		return subscribe(path, seconds(duration, "duration", 0, 86400));
+	}, py::arg("path"), py::arg("duration"),
+	      "The kernel module's events of the device at path (/dev/ecmxfN) for duration s of wall time, "
+	      "without opening it (joining the netlink group needs no access to the device): as "
+	      "Device.events() over /dev/ecmxfN. ecmxf.Error with errno ENOENT when ecmxf.ko is not loaded.");
 
 	m.def("open", [](const std::string &uri, bool bringUpBus) { return DeviceObject{ openSession(uri, bringUpBus) }; },
 	      py::arg("uri"), py::arg("bring_up") = true, "ecmxf.Device(uri): with ecmxf.open('sim:') as dev: ...");
+	return device;
 }
 
 } // namespace ecmxf::python

@@ -135,8 +135,31 @@ std::string traceDecode(const std::string &path)
 
 [[noreturn]] void throwBusy()
 {
-	PyErr_SetString(gExc.busy, "the device is in use by another thread (one thread at a time uses a device)");
+	PyErr_SetString(gExc.busy, kBusyMessage);
 	throw py::error_already_set();
+}
+
+PyObject *setPythonError() noexcept
+{
+	try {
+		if (py::detail::apply_exception_translators(
+			    py::detail::get_local_internals().registered_exception_translators))
+			return nullptr;
+		if (py::detail::apply_exception_translators(py::detail::get_internals().registered_exception_translators))
+			return nullptr;
+		PyErr_SetString(PyExc_SystemError, "ecmxf: a C++ exception no translator knows");
+	} catch (...) {
+		PyErr_SetString(PyExc_SystemError, "ecmxf: translating a C++ exception failed");
+	}
+	return nullptr;
+}
+
+void addMethod(const py::handle &cls, PyMethodDef &def)
+{
+	PyObject *descr = PyDescr_NewMethod(reinterpret_cast<PyTypeObject *>(cls.ptr()), &def);
+	if (!descr)
+		throw py::error_already_set();
+	cls.attr(def.ml_name) = py::reinterpret_steal<py::object>(descr);
 }
 
 py::object exceptionClass(const char *name)
@@ -169,6 +192,24 @@ std::uint64_t checkedRange(std::int64_t v, std::int64_t lo, std::int64_t hi, con
 		throw py::value_error(std::string(what) + " " + std::to_string(v) + " is outside " +
 				      std::to_string(lo) + ".." + std::to_string(hi));
 	return static_cast<std::uint64_t>(v);
+}
+
+std::chrono::nanoseconds seconds(double s, const char *what, double lo, double hi)
+{
+	if (!(s >= lo && s <= hi))
+		throw py::value_error(std::string(what) + " " + std::to_string(s) + " s is outside " +
+				      std::to_string(lo) + ".." + std::to_string(hi) + " s");
+	return std::chrono::nanoseconds(static_cast<std::int64_t>(s * 1e9));
+}
+
+std::vector<std::uint8_t> bytesOf(const py::handle &value, const char *what)
+{
+	if (!py::isinstance<py::bytes>(value) && !py::isinstance<py::bytearray>(value) &&
+	    !py::isinstance<py::memoryview>(value))
+		throw py::type_error(std::string(what) + " must be bytes, bytearray or memoryview, not " +
+				     Py_TYPE(value.ptr())->tp_name);
+	const std::string s = py::bytes(py::reinterpret_borrow<py::object>(value));
+	return { s.begin(), s.end() };
 }
 
 std::uint8_t position(std::int64_t v)
@@ -281,14 +322,8 @@ std::uint64_t intBits(const py::handle &value, unsigned bits, bool sgn, const st
 
 std::vector<std::uint8_t> encodeValue(const py::handle &value, ValueType t)
 {
-	if (t == ValueType::Bytes) {
-		if (!py::isinstance<py::bytes>(value) && !py::isinstance<py::bytearray>(value) &&
-		    !py::isinstance<py::memoryview>(value))
-			throw py::type_error(std::string("a 'bytes' value must be bytes, bytearray or memoryview, not ") +
-					     Py_TYPE(value.ptr())->tp_name);
-		const std::string s = py::bytes(py::reinterpret_borrow<py::object>(value));
-		return { s.begin(), s.end() };
-	}
+	if (t == ValueType::Bytes)
+		return bytesOf(value, "a 'bytes' value");
 	if (t == ValueType::Str) {
 		if (!py::isinstance<py::str>(value))
 			throw py::type_error(std::string("a 'str' value must be str, not ") + Py_TYPE(value.ptr())->tp_name);
@@ -349,7 +384,8 @@ PYBIND11_MODULE(_ecmxf, m)
 	gExc.closed = newException(m, "ClosedError", tuple2(gExc.error, PyExc_ValueError),
 				   "The device (or the Cyclic) was closed; also a ValueError, as for a closed file.");
 	gExc.busy = newException(m, "BusyError", tuple2(gExc.error, PyExc_RuntimeError),
-				 "Another thread is using the device (a device serves one thread at a time).");
+				 "The device is busy with another call: another thread's, or the one calling back into "
+				 "Python (a device serves one call at a time).");
 	py::register_exception_translator(&translate);
 
 	py::enum_<ecmxf::State>(m, "State", "EtherCAT (AL) states as the chip encodes them.")
@@ -372,6 +408,8 @@ PYBIND11_MODULE(_ecmxf, m)
 	      "Decodes a packet trace (Device.start_trace(), Documentation/trace.rst) to text, one line per "
 	      "exchange, as `ecmxf-util decode` prints it.");
 
-	bindDevice(m);
+	auto device = bindDevice(m);
 	bindCyclic(m);
+	bindChip(m, device);
+	bindBoard(m, device);
 }

@@ -3,6 +3,8 @@
 out-of-range values ValueError naming what was wrong, a closed device
 ClosedError, the library's refusals its own exceptions."""
 
+import inspect
+
 import pytest
 
 import ecmxf
@@ -209,3 +211,37 @@ def test_the_constructors_construct_whole():
     d.__init__("sim:")                                       # and __init__ changes nothing
     assert not d.closed
     d.close()
+
+
+def test_sdo_upload_arguments(dev):
+    """Sdo.upload() is a plain CPython method (no pybind11 dispatch): its
+    own argument handling, checked here as pybind11's is elsewhere."""
+    up = dev.sdo.upload
+    assert up(position=0, index=0x2001, sub=0) == 50000
+    assert up(0, 0x2001, sub=0, type="u16") == 50000
+    assert up(0, 0x2001, 0, None) == 50000
+    with pytest.raises(TypeError, match="missing argument 'sub'"):
+        up(0, 0x2001)
+    with pytest.raises(TypeError, match="5 arguments given"):
+        up(0, 0x2001, 0, "u16", 1)
+    with pytest.raises(TypeError, match="keyword argument 'subindex'"):
+        up(0, 0x2001, subindex=0)
+    with pytest.raises(TypeError, match="keyword argument 'position'"):
+        up(0, 0x2001, 0, position=0)                     # given twice
+    with pytest.raises(TypeError, match="index must be int, not float"):
+        up(0, 8193.0, 0)
+    with pytest.raises(TypeError, match="type must be str or None, not int"):
+        up(0, 0x2001, 0, 16)
+    with pytest.raises(ValueError, match="position is out of range"):
+        up(1 << 70, 0x2001, 0)
+    with pytest.raises(ValueError, match="slave position 128"):
+        up(128, 0x2001, 0)
+    with pytest.raises(TypeError):
+        ecmxf.Sdo.upload(object(), 0, 0x2001, 0)        # not an Sdo
+    assert str(inspect.signature(up)) == "(position, index, sub, type=None)"
+    assert "SdoAbort" in up.__doc__
+    d = ecmxf.open("sim:")
+    u = d.sdo.upload
+    d.close()
+    with pytest.raises(ecmxf.ClosedError):
+        u(0, 0x2001, 0)

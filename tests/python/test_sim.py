@@ -174,3 +174,15 @@ def test_events_bad_input(dev):
     with ecmxf.open("sk-sim:") as sk:
         with pytest.raises(ecmxf.NotSupportedError):
             sk.events(1)
+
+
+def test_events_close_and_with(dev):
+    with dev.events(1) as ev:
+        assert not ev.closed
+        dev.request_state(ecmxf.State.SAFEOP)
+        assert next(ev)["type"] == "state"
+    assert ev.closed
+    with pytest.raises(ecmxf.ClosedError, match="events"):
+        next(ev)
+    ev.close()                                               # twice is fine
+    assert dev.state == ecmxf.State.SAFEOP                   # the device stays open
