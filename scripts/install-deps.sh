@@ -12,11 +12,13 @@
 #                                      and PREEMPT_RT (make kmod), sparse, the
 #                                      DT tools (make dt-check), and pahole
 #                                      (Kbuild of the 6.12 kernels runs it)
-#   scripts/install-deps.sh --qemu     also QEMU, busybox, cpio (make check-kernel)
+#   scripts/install-deps.sh --qemu     also QEMU, busybox, cpio, the i386 cross
+#                                      compiler (make check-kernel)
 #   scripts/install-deps.sh --arm64    also the arm64 side of make check-kernels
 #                                      and make kmod-check-arm64: dpkg's arm64
-#                                      architecture, the cross toolchain
-#                                      (crossbuild-essential-arm64), the :arm64
+#                                      architecture, the cross toolchains
+#                                      (crossbuild-essential-arm64, -armhf for
+#                                      the 32-bit uAPI test), the :arm64
 #                                      -dev packages the guest programs link,
 #                                      and qemu-system-aarch64
 #   scripts/install-deps.sh --deb      also debhelper, dh-dkms, dkms, dh-python, lintian
@@ -39,12 +41,13 @@ for arg in "$@"; do
 	--bench) pkgs="$pkgs libbenchmark-dev stress-ng" ;;
 	--stress) pkgs="$pkgs stress-ng" ;;
 	--kernel) pkgs="$pkgs linux-headers-amd64 linux-headers-rt-amd64 kmod sparse dt-schema device-tree-compiler pahole" ;;
-	--qemu) pkgs="$pkgs qemu-system-x86 busybox-static cpio" ;;
+	# crossbuild-essential-i386: the guest's 32-bit uAPI test (compat_ioctl)
+	--qemu) pkgs="$pkgs qemu-system-x86 busybox-static cpio crossbuild-essential-i386" ;;
 	# the arm64 kernels' headers and images are not installed but
 	# unpacked from their .debs (scripts/debian-kernel.sh)
 	--arm64)
 		arm64=1
-		pkgs="$pkgs crossbuild-essential-arm64 libgpiod-dev:arm64 libmnl-dev:arm64 qemu-system-arm busybox-static cpio"
+		pkgs="$pkgs crossbuild-essential-arm64 crossbuild-essential-armhf libgpiod-dev:arm64 libmnl-dev:arm64 qemu-system-arm busybox-static cpio"
 		;;
 	--deb) pkgs="$pkgs debhelper dh-dkms dkms dh-python lintian fakeroot adduser man-db" ;;
 	--debug-kernel) pkgs="$pkgs linux-source-6.1 flex bison bc libelf-dev libssl-dev cpio xz-utils kmod" ;;

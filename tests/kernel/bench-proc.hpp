@@ -45,6 +45,25 @@
 
 namespace ecmxf::ktest {
 
+/// One synchronous ECAT_PDO_DATA_FIFO_OP for ECMXF_IOC_CMD: push @p out
+/// (one output frame), pop the inputs into @p in; the command and FIFO
+/// error bits cleared first (control 0xA0). @p out and @p in must outlive
+/// the ioctl. (Needs <uapi/linux/ecmxf.h> included before this header.)
+inline ecmxf_cmd fifoOpCmd(const std::vector<std::uint8_t> &out, std::vector<std::uint8_t> &in)
+{
+	ecmxf_cmd c{};
+	c.hdr.code = 5; // ECAT_PDO_DATA_FIFO_OP
+	c.hdr.param = 1;
+	c.hdr.data[0] = 0x03;
+	c.hdr.control = 0xA0;
+	c.tx_ptr = reinterpret_cast<std::uintptr_t>(out.data());
+	c.tx_len = static_cast<std::uint32_t>(out.size());
+	c.rx_ptr = reinterpret_cast<std::uintptr_t>(in.data());
+	c.rx_size = static_cast<std::uint32_t>(in.size());
+	c.timeout_us = 1'000'000;
+	return c;
+}
+
 /// CPU time of this process (user + system) in microseconds.
 inline double cpuUs()
 {

@@ -354,16 +354,7 @@ Figures ioctlPath(ecmxf::Device &dev, ecmxf::ProcessImage &image, unsigned n)
 	clock_gettime(CLOCK_MONOTONIC, &next);
 	unsigned errors = 0;
 	const Figures f = measure("ioctl (sync PDO_DATA_FIFO_OP)", n, [&] {
-		ecmxf_cmd c{};
-		c.hdr.code = 5; // ECAT_PDO_DATA_FIFO_OP
-		c.hdr.param = 1;
-		c.hdr.data[0] = 0x03;
-		c.hdr.control = 0xA0; // clear the command and FIFO error bits
-		c.tx_ptr = reinterpret_cast<std::uintptr_t>(out.data());
-		c.tx_len = static_cast<std::uint32_t>(out.size());
-		c.rx_ptr = reinterpret_cast<std::uintptr_t>(in.data());
-		c.rx_size = static_cast<std::uint32_t>(in.size());
-		c.timeout_us = 1'000'000;
+		ecmxf_cmd c = ecmxf::ktest::fifoOpCmd(out, in);
 		if (::ioctl(fd, ECMXF_IOC_CMD, &c) < 0 || c.status)
 			errors++;
 		next.tv_nsec += 1'000'000;

@@ -9,7 +9,7 @@
 # powers off without the marker.
 #
 # The steps are sourced: they may call fail, bridge_start, bridge_stop,
-# bridge_ctl, ecmxf_load, ecmxf_unload, and must leave ecmxf.ko loaded and bound to the
+# bridge_ctl, ecmxf_load, ecmxf_unload, vspi_reload, and must leave ecmxf.ko loaded and bound to the
 # virtual controller with a bridge running (or call bridge_start again).
 
 export PATH=/bin:/sbin
@@ -73,6 +73,18 @@ wait_for() {
 ecmxf_load() {
 	insmod /lib/modules/ecmxf.ko "$@" || fail "insmod ecmxf.ko $*"
 	[ -c /dev/ecmxf0 ] || fail "no /dev/ecmxf0 after insmod ecmxf.ko"
+}
+
+# vspi_reload [args...]: ecmxf-vspi loaded again with these parameters
+# (ecmxf.ko unloaded first when loaded, the bridge restarted, the kernel
+# log emptied); ecmxf.ko is not loaded again
+vspi_reload() {
+	lsmod | grep -q '^ecmxf ' && ecmxf_unload
+	bridge_stop
+	rmmod ecmxf-vspi || fail "rmmod ecmxf-vspi"
+	insmod /lib/modules/ecmxf-vspi.ko "$@" || fail "insmod ecmxf-vspi.ko $*"
+	bridge_start
+	dmesg -c >/dev/null
 }
 
 ecmxf_unload() {

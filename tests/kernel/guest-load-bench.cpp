@@ -143,16 +143,7 @@ void ioctlRun(ecmxf::Device &dev, ecmxf::ProcessImage &image, std::chrono::nanos
 		const double boundary = static_cast<double>(next.tv_sec) * 1e6 + static_cast<double>(next.tv_nsec) / 1e3;
 		if (i >= kWarmup)
 			r.wakeUs.push_back(nowUs() - boundary);
-		ecmxf_cmd c{};
-		c.hdr.code = 5; // ECAT_PDO_DATA_FIFO_OP
-		c.hdr.param = 1;
-		c.hdr.data[0] = 0x03;
-		c.hdr.control = 0xA0; // clear the command and FIFO error bits
-		c.tx_ptr = reinterpret_cast<std::uintptr_t>(out.data());
-		c.tx_len = static_cast<std::uint32_t>(out.size());
-		c.rx_ptr = reinterpret_cast<std::uintptr_t>(in.data());
-		c.rx_size = static_cast<std::uint32_t>(in.size());
-		c.timeout_us = 1'000'000;
+		ecmxf_cmd c = ecmxf::ktest::fifoOpCmd(out, in);
 		const bool failed = ::ioctl(fd, ECMXF_IOC_CMD, &c) < 0 || c.status;
 		// return value bit 0 clear: the RxFIFO refused the frame
 		if (i >= kWarmup && failed)

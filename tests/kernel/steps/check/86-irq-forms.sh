@@ -7,14 +7,6 @@
 # kernels cannot give a test device (kernel-testing.rst). Also: the
 # driver's spi->rt puts the controller's message pump at SCHED_FIFO.
 # Afterwards the GPIO form again.
-vspi_reload() {
-	lsmod | grep -q '^ecmxf ' && ecmxf_unload
-	bridge_stop
-	rmmod ecmxf-vspi || fail "rmmod ecmxf-vspi"
-	insmod /lib/modules/ecmxf-vspi.ko "$@" || fail "insmod ecmxf-vspi.ko $*"
-	bridge_start
-	dmesg -c >/dev/null
-}
 probe_says() {
 	dmesg | grep -q "$1" || fail "the probe message does not say '$1'"
 	echo "guest-test: ok   probe: $(dmesg | grep -m1 -o 'INT0 .*')"

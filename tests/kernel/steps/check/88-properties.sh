@@ -4,14 +4,6 @@
 # nextw,check-type, or another modalias (the master series); the module
 # parameters are only the defaults, and the timing parameters are
 # read-only. Afterwards the default device again.
-props_reload() {
-	lsmod | grep -q '^ecmxf ' && ecmxf_unload
-	bridge_stop
-	rmmod ecmxf-vspi || fail "rmmod ecmxf-vspi"
-	insmod /lib/modules/ecmxf-vspi.ko "$@" || fail "insmod ecmxf-vspi.ko $*"
-	bridge_start
-	dmesg -c >/dev/null
-}
 attr_is() {
 	v=$(cat "/sys/class/ecmxf/ecmxf0/$1") || fail "no sysfs $1"
 	[ "$v" = "$2" ] || fail "sysfs $1 is '$v', want '$2' ($3)"
@@ -30,7 +22,7 @@ ecmxf_unload_quiet() { rmmod ecmxf || fail "rmmod ecmxf"; }
 
 # the properties win over the module parameters (data_size 0: keep the
 # chip's; check_type 3: CRC-32)
-props_reload data_size_prop=256 check_type_prop=crc8
+vspi_reload data_size_prop=256 check_type_prop=crc8
 ecmxf_load
 attr_is data_size 256 "nextw,data-size = 256"
 attr_is check_type crc8 "nextw,check-type = \"crc8\""
@@ -38,37 +30,37 @@ attr_is variant ECM-XF "modalias ecm-xf"
 /bin/ecmxf-guest-test /dev/ecmxf0 || fail "ecmxf-guest-test with the format from the properties"
 ecmxf_unload
 # the module parameter is a default: the property still wins
-props_reload data_size_prop=256
+vspi_reload data_size_prop=256
 ecmxf_load data_size=512
 attr_is data_size 256 "nextw,data-size = 256 beside data_size=512"
 ecmxf_unload
 
 # bad property values: the probe fails and says which property and why
-props_reload data_size_prop=20
+vspi_reload data_size_prop=20
 probe_refuses "nextw,data-size = 20" "nextw,data-size = 20: not a data section size"
-props_reload data_size_prop=1412
+vspi_reload data_size_prop=1412
 probe_refuses "nextw,data-size = 1412" "nextw,data-size = 1412: not a data section size"
-props_reload check_type_prop=crc64
+vspi_reload check_type_prop=crc64
 probe_refuses "nextw,check-type = crc64" "nextw,check-type = \"crc64\": none of"
 
 # the series from the SPI id: an ECM-XFU's data section is fixed (992
 # bytes): no SPI_RECONFIG_OP whatever data_size says, a property that
 # differs is refused (the simulated chip is no XFU: it keeps its 112)
-props_reload modalias=ecm-xfu
+vspi_reload modalias=ecm-xfu
 ecmxf_load data_size=256
 attr_is variant ECM-XFU "modalias ecm-xfu"
 attr_is data_size 112 "ECM-XFU: data_size=256 not applied, the chip's kept"
 ecmxf_unload
-props_reload modalias=ecm-xfu data_size_prop=256
+vspi_reload modalias=ecm-xfu data_size_prop=256
 probe_refuses "nextw,data-size = 256 on an ECM-XFU" "nextw,data-size = 256: the ECM-XFU's data section is fixed at 992 bytes"
-props_reload modalias=ecm-xm
+vspi_reload modalias=ecm-xm
 ecmxf_load
 attr_is variant ECM-XM "modalias ecm-xm"
 ecmxf_unload
 
 # the timing parameters are read at probe and read-only afterwards;
 # out of range fails the load
-props_reload
+vspi_reload
 ecmxf_load pump_timeout_ms=2000
 [ "$(cat /sys/module/ecmxf/parameters/pump_timeout_ms)" = 2000 ] || fail "pump_timeout_ms is not 2000"
 if echo 600 >/sys/module/ecmxf/parameters/pump_timeout_ms 2>/dev/null; then
