@@ -74,15 +74,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string folded(std::string_view s)
-{
-	std::string r;
-	for (const char c : s)
-		if (c != ' ' && c != '_' && c != '-')
-			r += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-	return r;
-}
-
 /// The entry as a standard object (type, unit) when it is one mapped whole.
 std::optional<ecmxf::StandardObject> objectOf(const ecmxf::PdoEntryInfo &e)
 {
@@ -130,7 +121,7 @@ const ecmxf::PdoEntryInfo &findOutput(const ecmxf::SlavePdos &s, unsigned pos, c
 	const auto match = [&](const ecmxf::PdoEntryInfo &e) {
 		if (e.index == 0)
 			return false;
-		if (!e.name.empty() && folded(e.name) == folded(name))
+		if (ecmxf::entryNameMatches(e.name, name))
 			return true;
 		try {
 			const ObjectAddress a = parseObjectAddress("data", name);

@@ -198,6 +198,24 @@ void record(ecmxf::Recorder &rec, const ScopeOptions &o, Cycle &&cycle, Now &&no
 	}
 }
 
+/// Signal @p k's minimum, maximum and last value (NaN: none sampled).
+struct Range {
+	double lo = NAN, hi = NAN, last = NAN;
+};
+Range rangeOf(const ecmxf::Recorder &rec, std::size_t k)
+{
+	Range r;
+	for (std::size_t i = 0; i < rec.size(); i++) {
+		const double v = rec.value(i, k);
+		if (std::isnan(v))
+			continue;
+		r.lo = std::isnan(r.lo) ? v : std::min(r.lo, v);
+		r.hi = std::isnan(r.hi) ? v : std::max(r.hi, v);
+		r.last = v;
+	}
+	return r;
+}
+
 int summary(const Globals &g, const ecmxf::Recorder &rec)
 {
 	const auto &sig = rec.signals();
@@ -205,15 +223,7 @@ int summary(const Globals &g, const ecmxf::Recorder &rec)
 		std::printf("{\"samples\": %zu, \"triggered\": %s, \"signals\": [", rec.size(),
 			    rec.triggered() ? "true" : "false");
 		for (std::size_t k = 0; k < sig.size(); k++) {
-			double lo = NAN, hi = NAN, last = NAN;
-			for (std::size_t i = 0; i < rec.size(); i++) {
-				const double v = rec.value(i, k);
-				if (std::isnan(v))
-					continue;
-				lo = std::isnan(lo) ? v : std::min(lo, v);
-				hi = std::isnan(hi) ? v : std::max(hi, v);
-				last = v;
-			}
+			const auto [lo, hi, last] = rangeOf(rec, k);
 			const auto num = [](double v) { return std::isnan(v) ? std::string("null") : shortNumber(v); };
 			std::printf("%s{\"signal\": %s, \"label\": %s, \"unit\": %s, \"min\": %s, \"max\": %s, \"last\": %s}",
 				    k ? ", " : "", jsonString(sig[k].name).c_str(), jsonString(sig[k].label).c_str(),
@@ -227,15 +237,7 @@ int summary(const Globals &g, const ecmxf::Recorder &rec)
 	std::printf("%zu samples%s\n", rec.size(), rec.triggered() ? "" : " (not triggered)");
 	std::printf("%-36s %-10s %14s %14s %14s\n", "SIGNAL", "UNIT", "MIN", "MAX", "LAST");
 	for (std::size_t k = 0; k < sig.size(); k++) {
-		double lo = NAN, hi = NAN, last = NAN;
-		for (std::size_t i = 0; i < rec.size(); i++) {
-			const double v = rec.value(i, k);
-			if (std::isnan(v))
-				continue;
-			lo = std::isnan(lo) ? v : std::min(lo, v);
-			hi = std::isnan(hi) ? v : std::max(hi, v);
-			last = v;
-		}
+		const auto [lo, hi, last] = rangeOf(rec, k);
 		std::printf("%-36s %-10s %14s %14s %14s\n", sig[k].label.c_str(), sig[k].unit.empty() ? "-" : sig[k].unit.c_str(),
 			    shortNumber(lo).c_str(), shortNumber(hi).c_str(), shortNumber(last).c_str());
 	}

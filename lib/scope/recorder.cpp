@@ -4,7 +4,6 @@
 
 #include <ecmxf/scope/recorder.hpp>
 
-#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -65,17 +64,6 @@ constexpr Figure kAxisFigures[] = {
 	{ "error_code", "Error code", "", false },
 };
 
-/// Case, spaces, '_' and '-' ignored (the entry names' match of
-/// `ecmxf-util data --set`).
-std::string folded(std::string_view s)
-{
-	std::string r;
-	for (const char c : s)
-		if (c != ' ' && c != '_' && c != '-')
-			r += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-	return r;
-}
-
 [[noreturn]] void bad(std::string_view text, const std::string &why)
 {
 	throw Error("scope signal " + quoted(text) + ": " + why, EINVAL);
@@ -85,7 +73,7 @@ template <std::size_t N>
 std::optional<int> figureOf(const Figure (&table)[N], std::string_view name)
 {
 	for (std::size_t i = 0; i < N; i++)
-		if (table[i].name == folded(name) || folded(table[i].name) == folded(name))
+		if (entryNameMatches(table[i].name, name))
 			return static_cast<int>(i);
 	return std::nullopt;
 }
@@ -208,7 +196,7 @@ std::size_t Recorder::add(ProcessImage &image, std::string_view text)
 	} else {
 		for (const auto *list : { &p.inputs, &p.outputs }) {
 			for (const PdoEntryInfo &e : *list)
-				if (e.index != 0 && !e.name.empty() && folded(e.name) == folded(rest) && !found) {
+				if (e.index != 0 && entryNameMatches(e.name, rest) && !found) {
 					found = &e;
 					output = list == &p.outputs;
 				}

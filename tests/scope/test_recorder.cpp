@@ -25,6 +25,7 @@
 #include <ecmxf/sk/board_views.hpp>
 
 #include "../common/thrown.hpp"
+#include "../lib_motion/bench.hpp"
 
 using namespace std::chrono_literals;
 using ecmxf::Recorder;
@@ -245,18 +246,9 @@ TEST_CASE("scope recorder: falling trigger, stop after a time, and a full buffer
 
 TEST_CASE("scope recorder: the ECM-XF's cyclic exchange in OP on the simulator")
 {
-	auto ch = std::make_unique<ecmxf::SimChannel>(std::string(ECMXF_TEST_NETWORK_DIR) + "/est584x2-io.net");
-	ecmxf::SimChannel *sim = ch.get();
-	ecmxf::Device dev(std::move(ch));
-	ecmxf::Master master(dev);
-	ecmxf::MasterConfig mc;
-	mc.init.dc.sync0Ns = 1'000'000;
-	mc.pdoAssignments = { ecmxf::est584MotionPdos(0), ecmxf::est584MotionPdos(1) };
-	master.bringUp(mc);
-	ecmxf::ProcessImage img(master.pdos());
-	ecmxf::CyclicConfig cc;
-	cc.period = 1ms;
-	ecmxf::Cyclic cyc(dev, img, cc);
+	motiontest::Bench b; // the default network in OP, the motion PDOs, a 1 ms Cyclic started
+	ecmxf::ProcessImage &img = *b.image;
+	ecmxf::Cyclic &cyc = *b.cyc;
 	Recorder r(200);
 	r.add(img, "1:Following_error_actual_value");
 	r.add(img, "1:0x6064:0");
@@ -267,12 +259,11 @@ TEST_CASE("scope recorder: the ECM-XF's cyclic exchange in OP on the simulator")
 	ecmxf::RecorderStop stop;
 	stop.cycles = 50;
 	r.arm({}, stop);
-	cyc.start();
 	std::vector<double> wkc;
 	while (!r.done()) {
 		const auto &res = cyc.cycle();
 		REQUIRE(res.error == 0);
-		r.sample(sim->now(), res);
+		r.sample(b.now(), res);
 		wkc.push_back(res.wkc);
 		cyc.waitNextCycle();
 	}

@@ -26,6 +26,7 @@
 #include <ecmxf/sk/board_views.hpp>
 
 #include "../common/alloc_counter.hpp"
+#include "../lib_motion/bench.hpp"
 
 using namespace std::chrono_literals;
 
@@ -37,18 +38,9 @@ static_assert(noexcept(std::declval<ecmxf::Recorder &>().sample(std::chrono::nan
 
 TEST_CASE("scope alloc: Recorder sample next to Cyclic cycle allocates nothing")
 {
-	auto ch = std::make_unique<ecmxf::SimChannel>(std::string(ECMXF_TEST_NETWORK_DIR) + "/est584x2-io.net");
-	ecmxf::SimChannel *sim = ch.get();
-	ecmxf::Device dev(std::move(ch));
-	ecmxf::Master master(dev);
-	ecmxf::MasterConfig mc;
-	mc.init.dc.sync0Ns = 1'000'000;
-	mc.pdoAssignments = { ecmxf::est584MotionPdos(0), ecmxf::est584MotionPdos(1) };
-	master.bringUp(mc);
-	ecmxf::ProcessImage img(master.pdos());
-	ecmxf::CyclicConfig cc;
-	cc.period = 1ms;
-	ecmxf::Cyclic cyc(dev, img, cc);
+	motiontest::Bench b; // the default network in OP, the motion PDOs, a 1 ms Cyclic started
+	ecmxf::ProcessImage &img = *b.image;
+	ecmxf::Cyclic &cyc = *b.cyc;
 	ecmxf::Recorder rec(300);
 	for (const char *s : { "0:Target position", "0:Position actual value", "0:Following error actual value",
 			       "0:Statusword", "1:0x6064:0", "wkc", "rx_fifo", "tx_fifo" })
@@ -62,7 +54,6 @@ TEST_CASE("scope alloc: Recorder sample next to Cyclic cycle allocates nothing")
 	t.level = 100;
 	t.preSamples = 100;
 	rec.arm(t);
-	cyc.start();
 	int errors = 0;
 	unsigned cycles = 0;
 	const auto before = ecmxf_test::allocations();
@@ -70,7 +61,7 @@ TEST_CASE("scope alloc: Recorder sample next to Cyclic cycle allocates nothing")
 		target.set(cycles >= 1000 ? 1000 : 0);
 		const auto &r = cyc.cycle();
 		errors += r.error != 0;
-		(void)rec.sample(sim->now(), r);
+		(void)rec.sample(b.now(), r);
 		(void)cyc.waitNextCycle();
 		cycles++;
 	}
