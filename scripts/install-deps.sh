@@ -32,8 +32,9 @@
 set -eu
 
 # the Python binding (lib/python, tests/python): pybind11, the headers,
-# pytest and numpy (the buffer-protocol tests)
-pkgs="build-essential cmake pkg-config catch2 libgpiod-dev libmnl-dev python3-docutils pybind11-dev python3-dev python3-pytest python3-numpy"
+# pytest and numpy (the buffer-protocol tests); the scope's SVG checked by
+# xmllint (libxml2-utils) and rendered by rsvg-convert (librsvg2-bin)
+pkgs="build-essential cmake pkg-config catch2 libgpiod-dev libmnl-dev python3-docutils pybind11-dev python3-dev python3-pytest python3-numpy libxml2-utils librsvg2-bin"
 arm64=""
 for arg in "$@"; do
 	case "$arg" in

@@ -29,12 +29,15 @@
 #include <ecmxf/bus/master.hpp>
 #include <ecmxf/pdo/process_image.hpp>
 #include <ecmxf/link/link.hpp>
+#include <ecmxf/scope/plot.hpp>
+#include <ecmxf/scope/recorder.hpp>
 
 namespace ecmxf_util {
 
 const char *const kCia402MotionHelp =
 	"Usage: ecmxf-util [global options] cia402 -p N move (--pp|--pv|--csp) TARGET\n"
-	"                  [--velocity V] [--accel A] [--relative] [--time MS] [--json]\n"
+	"                  [--velocity V] [--accel A] [--relative] [--time MS]\n"
+	"                  [--plot FILE.svg [--csv FILE.csv]] [--json]\n"
 	"       ecmxf-util [global options] cia402 -p N home [--method M] [--json]\n"
 	"\n"
 	"Bring the bus to OP (ecmxf::Master: SYNC0 1 ms; every EST-584 gets the\n"
@@ -58,6 +61,10 @@ const char *const kCia402MotionHelp =
 	"                  keeps to --velocity, default 50000 units/s)\n"
 	"  --relative      TARGET is relative to the position (PP: to the\n"
 	"                  previous target, controlword bit 6)\n"
+	"  --plot FILE.svg record target position, position actual value,\n"
+	"                  following error and statusword every cycle of the\n"
+	"                  move and plot them (Documentation/scope.rst)\n"
+	"  --csv FILE.csv  with --plot: the samples as CSV too\n"
 	"home:\n"
 	"  --method M      homing method (0x6098; the EST-584: 19, 20, 35, 37)\n"
 	"\n"
@@ -75,9 +82,6 @@ namespace {
 
 using namespace std::chrono_literals;
 using std::chrono::nanoseconds;
-
-constexpr std::uint32_t kEst584Vendor = 0x00000E5C;
-constexpr std::uint32_t kEst584Product = 0x00000584;
 
 template <class T>
 T number(std::string_view opt, std::string_view text, T lo, T hi)
@@ -114,12 +118,15 @@ struct Options {
 	bool relative = false;
 	std::optional<std::uint32_t> timeMs;
 	std::optional<std::int8_t> method;
+	PlotFiles plot;
 	bool help = false;
 };
 
-Options parse(const Args &args, Globals &g)
+Options parse(const Args &given, Globals &g)
 {
 	Options o;
+	Args args = given;
+	o.plot = takePlotFiles("cia402", args);
 	auto value = [&](std::size_t &i, std::string_view opt) -> std::string_view {
 		if (i + 1 >= args.size())
 			throw UsageError("cia402: option '" + std::string(opt) + "' needs a value");
@@ -172,6 +179,8 @@ Options parse(const Args &args, Globals &g)
 	} else {
 		if (!o.mode.empty() || o.velocity || o.accel || o.relative || o.timeMs)
 			throw UsageError("cia402 home: only --method M");
+		if (o.plot.any())
+			throw UsageError("cia402 home: --plot and --csv are for move");
 	}
 	return o;
 }
@@ -183,6 +192,8 @@ struct Rig {
 	std::unique_ptr<ecmxf::ProcessImage> image;
 	std::unique_ptr<ecmxf::Cyclic> cyc;
 	std::unique_ptr<ecmxf::Cia402Axis> axis;
+	/// --plot: sampled every cycle while it records (armed)
+	std::unique_ptr<ecmxf::Recorder> rec;
 
 	nanoseconds now() const { return dev->link().now(); }
 	/// Cycles until the axis is done; a stop signal throws Interrupted.
@@ -197,8 +208,10 @@ struct Rig {
 		ecmxf::Cia402Axis *a = axis.get();
 		return ecmxf::runUntil(
 			*cyc, std::span<ecmxf::Cia402Axis *const>(&a, 1),
-			[&f] {
+			[this, &f] {
 				StopSignals::check();
+				if (rec)
+					(void)rec->sample(now(), cyc->lastResult());
 				return f();
 			},
 			timeout, what);
@@ -210,25 +223,13 @@ Rig bringUp(const Globals &g, unsigned position, std::int8_t mode)
 	Rig r;
 	r.dev = ecmxf::Device::open(g.device); // the main program added --trace to it
 	r.master = std::make_unique<ecmxf::Master>(*r.dev);
-	// a first scan tells which slaves are EST-584s: they get the motion PDOs
-	ecmxf::MasterConfig scan;
-	scan.init.dc.sync0Ns = 1'000'000;
-	scan.target = ecmxf::State::PreOp;
-	scan.enableFifo = false;
-	scan.readPdoMapping = false;
-	r.master->bringUp(scan);
+	bringUpMotion(*r.master);
 	const auto &slaves = r.master->slaves();
 	if (position >= slaves.size())
 		throw ecmxf::Error("slave position " + std::to_string(position) + " out of range: the bus has " +
 					   std::to_string(slaves.size()) + " slaves (0.." + std::to_string(slaves.size() - 1) +
 					   ")",
 				   EINVAL);
-	ecmxf::MasterConfig mc;
-	mc.init.dc.sync0Ns = 1'000'000;
-	for (const ecmxf::SlaveInfo &s : slaves)
-		if (s.vendorId == kEst584Vendor && s.productCode == kEst584Product)
-			mc.pdoAssignments.push_back(ecmxf::est584MotionPdos(s.position));
-	r.master->bringUp(mc);
 	r.image = std::make_unique<ecmxf::ProcessImage>(r.master->pdos());
 	ecmxf::CyclicConfig cc;
 	cc.period = 1ms;
@@ -324,6 +325,24 @@ int motion(Globals &g, const Options &o, std::int8_t mode, Rig &r, std::ostream 
 	axis.enable(r.now());
 	r.run(3s, "OPERATION ENABLED");
 	const std::int32_t start = axis.position();
+	if (o.plot.any()) {
+		// the move's picture: 2 minutes of 1 ms cycles at most
+		r.rec = std::make_unique<ecmxf::Recorder>(120'000);
+		const std::string p = std::to_string(pos) + ":";
+		for (const char *name : { "0x607A:0", "0x6064:0", "0x60F4:0", "0x6041:0" }) {
+			try {
+				(void)r.rec->add(*r.image, p + name);
+			} catch (const ecmxf::Error &e) {
+				// a drive without 0x60F4 mapped: plotted without it
+				if (std::string_view(name) != "0x60F4:0")
+					throw;
+				if (!g.quiet)
+					std::cerr << "ecmxf-util: cia402 move: --plot without the following error: " << e.what()
+						  << "\n";
+			}
+		}
+		r.rec->arm();
+	}
 
 	std::int32_t target = o.target.value_or(0);
 	std::optional<std::int32_t> velocityReached;
@@ -382,10 +401,20 @@ int motion(Globals &g, const Options &o, std::int8_t mode, Rig &r, std::ostream 
 	const std::uint16_t sw = axis.statusword();
 	const double ms = std::chrono::duration<double, std::milli>(r.now() - t0).count();
 	const std::uint64_t cycles = r.cyc->stats().cycles;
+	if (r.rec) {
+		r.rec->finish();
+		if (r.rec->size() == r.rec->capacity() && !g.quiet)
+			std::cerr << "ecmxf-util: cia402 move: the plot holds the move's first " << r.rec->capacity()
+				  << " cycles\n";
+	}
 
 	axis.disable(r.now());
 	r.run(3s, "SWITCH ON DISABLED");
 	r.cyc->stop();
+	if (r.rec)
+		writePlotFiles(*r.rec, o.plot,
+			       "cia402 move --" + o.mode + " " + std::to_string(o.target.value_or(0)) + ": slave " +
+				       std::to_string(pos) + " on " + g.device);
 
 	const bool home = mode == ecmxf::cia402::kModeHm;
 	if (g.json) {
@@ -422,5 +451,68 @@ int motion(Globals &g, const Options &o, std::int8_t mode, Rig &r, std::ostream 
 }
 
 } // namespace
+
+PlotFiles takePlotFiles(std::string_view cmd, Args &args)
+{
+	PlotFiles f;
+	for (std::size_t i = 0; i < args.size();) {
+		const std::string_view a = args[i];
+		std::optional<std::string> *slot = a.starts_with("--plot") ? &f.svg : a.starts_with("--csv") ? &f.csv : nullptr;
+		const std::string_view name = a.substr(0, a.find('='));
+		if (!slot || (name != "--plot" && name != "--csv")) {
+			i++;
+			continue;
+		}
+		std::string value;
+		std::size_t used = 1;
+		if (name.size() < a.size()) {
+			value = std::string(a.substr(name.size() + 1));
+		} else {
+			if (i + 1 >= args.size())
+				throw UsageError(std::string(cmd) + ": option '" + std::string(name) + "' needs a value");
+			value = std::string(args[i + 1]);
+			used = 2;
+		}
+		if (value.empty())
+			throw UsageError(std::string(cmd) + ": " + std::string(name) + ": an empty file name");
+		if (slot->has_value())
+			throw UsageError(std::string(cmd) + ": " + std::string(name) + " given twice");
+		*slot = value;
+		args.erase(args.begin() + static_cast<std::ptrdiff_t>(i), args.begin() + static_cast<std::ptrdiff_t>(i + used));
+	}
+	if (f.csv && !f.svg)
+		throw UsageError(std::string(cmd) + ": --csv is written with --plot FILE.svg");
+	return f;
+}
+
+void writePlotFiles(const ecmxf::Recorder &rec, const PlotFiles &files, const std::string &title)
+{
+	if (files.csv)
+		ecmxf::writeCsv(rec, *files.csv);
+	if (files.svg) {
+		ecmxf::SvgOptions so;
+		so.title = title;
+		ecmxf::writeSvg(rec, *files.svg, so);
+	}
+}
+
+void bringUpMotion(ecmxf::Master &m)
+{
+	constexpr std::uint32_t kEst584Vendor = 0x00000E5C;
+	constexpr std::uint32_t kEst584Product = 0x00000584;
+	// a first scan tells which slaves are EST-584s: they get the motion PDOs
+	ecmxf::MasterConfig scan;
+	scan.init.dc.sync0Ns = 1'000'000;
+	scan.target = ecmxf::State::PreOp;
+	scan.enableFifo = false;
+	scan.readPdoMapping = false;
+	m.bringUp(scan);
+	ecmxf::MasterConfig mc;
+	mc.init.dc.sync0Ns = 1'000'000;
+	for (const ecmxf::SlaveInfo &s : m.slaves())
+		if (s.vendorId == kEst584Vendor && s.productCode == kEst584Product)
+			mc.pdoAssignments.push_back(ecmxf::est584MotionPdos(s.position));
+	m.bringUp(mc);
+}
 
 } // namespace ecmxf_util

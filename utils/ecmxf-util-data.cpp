@@ -6,6 +6,7 @@
  * values; --set NAME=VALUE writes an output entry first.
  */
 #include "ecmxf-util.hpp"
+#include "ecmxf-util-scope.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -73,15 +74,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string folded(std::string_view s)
-{
-	std::string r;
-	for (const char c : s)
-		if (c != ' ' && c != '_' && c != '-')
-			r += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-	return r;
-}
-
 /// The entry as a standard object (type, unit) when it is one mapped whole.
 std::optional<ecmxf::StandardObject> objectOf(const ecmxf::PdoEntryInfo &e)
 {
@@ -129,7 +121,7 @@ const ecmxf::PdoEntryInfo &findOutput(const ecmxf::SlavePdos &s, unsigned pos, c
 	const auto match = [&](const ecmxf::PdoEntryInfo &e) {
 		if (e.index == 0)
 			return false;
-		if (!e.name.empty() && folded(e.name) == folded(name))
+		if (ecmxf::entryNameMatches(e.name, name))
 			return true;
 		try {
 			const ObjectAddress a = parseObjectAddress("data", name);
@@ -207,21 +199,12 @@ int cmdData(Globals &g, const Args &args)
 	if (!sets.empty() && sel->list.size() != 1)
 		throw UsageError("data: --set writes the entry of one slave: -p N, not " + *posText);
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
-	ecmxf::Master m(*dev);
-	if (busDown(*dev)) {
-		ecmxf::MasterConfig mc;
-		mc.init.dc.sync0Ns = 1'000'000;
-		m.bringUp(mc);
-	} else {
-		m.rescan();
-	}
-	const auto count = static_cast<unsigned>(m.slaves().size());
+	ProcessDataBus bus = openProcessDataBus(g, false);
+	const std::unique_ptr<ecmxf::Device> &dev = bus.dev;
+	const auto count = static_cast<unsigned>(bus.pdos.size());
 	if (sel)
 		checkPositions(*sel, count);
-	std::vector<ecmxf::SlavePdos> pdos(count);
-	for (unsigned p = 0; p < count; p++)
-		pdos[p] = m.pdos().size() > p ? m.pdos()[p] : m.readSlavePdos(static_cast<std::uint8_t>(p));
+	const std::vector<ecmxf::SlavePdos> &pdos = bus.pdos;
 
 	ecmxf::ProcessImage image(pdos);
 	std::unique_ptr<ecmxf::Cyclic> cyc;
@@ -302,7 +285,7 @@ int cmdData(Globals &g, const Args &args)
 		for (unsigned p = 0; p < count; p++) {
 			if (sel && !sel->has(p))
 				continue;
-			const std::string name = m.slaves()[p].name;
+			const std::string name = bus.master->slaves()[p].name;
 			if (g.json)
 				text += std::string(first ? "" : ",") + (watch ? " " : "\n  ") + "{\"position\": " +
 					std::to_string(p) + ", \"name\": " + jsonString(name) + ", \"outputs\": [" +

@@ -10,6 +10,8 @@
 #include "ecmxf-util.hpp"
 #include "ecmxf-util-sk.hpp"
 
+#include "ecmxf-util-cia402-motion.hpp"
+
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +21,7 @@
 #include <vector>
 
 #include <ecmxf/model/cia402.hpp>
+#include <ecmxf/scope/recorder.hpp>
 #include <ecmxf/model/types_bus.hpp>
 #include <ecmxf/error.hpp>
 #include <ecmxf/sk/board.hpp>
@@ -46,6 +49,11 @@ const char *const kSkHelp =
 	"  upload -p N [-t TYPE] INDEX[:SUB]          SDO_RD through the SDO slot\n"
 	"  download -p N [-t TYPE] INDEX[:SUB] VALUE  SDO_WR through the SDO slot\n"
 	"  cia402 -p N status|enable|disable|fault-reset|move TARGET|home METHOD\n"
+	"                              move TARGET [--plot FILE.svg [--csv FILE.csv]]:\n"
+	"                              the move's target, position, following error\n"
+	"                              and statusword plotted (Documentation/scope.rst)\n"
+	"  scope SIGNAL... [options]   record feedback slots and FIFO figures in OP\n"
+	"                              (ecmxf-util -d sk-sim: scope --help)\n"
 	"  io -p N [VALUE]             IO_RD, or IO_WR VALUE (IO slaves, in OP)\n"
 	"  lio [VALUE]                 LIO_RD, or LIO_WR VALUE: the ECM IC's I/O 0..5\n"
 	"  reset                       SW_RESET\n"
@@ -262,10 +270,10 @@ unsigned opSlot(Globals &g, Board &b, const std::optional<std::string> &pos, con
 	return s;
 }
 
-int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigned s);
+int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigned s, const PlotFiles &plot);
 
 int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std::optional<std::string> &pos,
-	   const std::optional<std::string> &)
+	   const PlotFiles &plot)
 {
 	if (args.empty())
 		throw UsageError("cia402: status, enable, disable, fault-reset, move TARGET or home METHOD");
@@ -278,7 +286,9 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 	if (what == "enable" || what == "move" || what == "home")
 		signals.emplace();
 	try {
-		return cia402Op(g, b, args, s);
+		if (plot.any() && what != "move")
+			throw UsageError("cia402: --plot and --csv are for move");
+		return cia402Op(g, b, args, s, plot);
 	} catch (const Interrupted &e) {
 		std::string done;
 		try {
@@ -295,7 +305,7 @@ int cia402(Globals &g, Board &b, const std::vector<std::string> &args, const std
 	}
 }
 
-int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigned s)
+int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigned s, const PlotFiles &plot)
 {
 	const std::string &what = args[0];
 	const auto verbs = ecmxf::verbsOf(b);
@@ -314,6 +324,25 @@ int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigne
 		b.drives().waitEnabled(s);
 		b.states().status();
 		const std::int32_t from = b.drives().axis(s).position;
+		// --plot: target, position, following error (target - position)
+		// and statusword of every exchange of the move
+		std::int64_t setPoint = from, followingError = 0;
+		std::unique_ptr<ecmxf::Recorder> rec;
+		if (plot.any()) {
+			rec = std::make_unique<ecmxf::Recorder>(120'000);
+			const std::string p = std::to_string(s - 1) + ":";
+			(void)rec->addValue(p + "target", "inc", &setPoint);
+			(void)rec->add(b, b.maxSlaves(), p + "position");
+			(void)rec->addValue(p + "following_error", "inc", &followingError);
+			(void)rec->add(b, b.maxSlaves(), p + "statusword");
+			rec->arm();
+		}
+		const auto sample = [&](const ecmxf::sk::CycleResult &r) {
+			if (!rec)
+				return;
+			followingError = setPoint - b.drives().axis(s).position;
+			(void)rec->sample(b.channel().now(), r);
+		};
 		// a ramp of at most 1000 units per exchange (the board applies
 		// one per cycle); the FIFO's back-pressure paces it
 		const std::int64_t dist = static_cast<std::int64_t>(target) - from;
@@ -325,8 +354,11 @@ int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigne
 				     s - 1, from, target);
 		for (std::int64_t i = 1; i <= steps;) {
 			StopSignals::check();
-			if (b.cyclic().stage(s, Mode::Csp, static_cast<std::int32_t>(from + dist * i / steps)))
+			const auto next = static_cast<std::int32_t>(from + dist * i / steps);
+			if (b.cyclic().stage(s, Mode::Csp, next)) {
+				setPoint = next;
 				i++;
+			}
 			const auto r = b.cyclic().cycle();
 			if (r.status == ecmxf::sk::CycleStatus::Link)
 				throw ecmxf::Error("cia402 move: " + b.cyclic().lastError(), EIO);
@@ -334,11 +366,18 @@ int cia402Op(Globals &g, Board &b, const std::vector<std::string> &args, unsigne
 				throw ecmxf::Error("cia402 move: the ECM-SK dropped " + std::to_string(r.dropped) +
 							   " targets (FIFO full, or abandoned after 100 cycles)",
 						   ENOBUFS);
+			sample(r);
 		}
 		for (int i = 0; i < 2000 && std::llabs(static_cast<std::int64_t>(b.drives().axis(s).position) - target) > 0; i++) {
 			StopSignals::check();
 			b.channel().sleepFor(std::chrono::milliseconds(1));
-			(void)b.cyclic().cycle();
+			sample(b.cyclic().cycle());
+		}
+		if (rec) {
+			rec->finish();
+			writePlotFiles(*rec, plot,
+				       "cia402 move " + std::to_string(target) + ": slave " + std::to_string(s - 1) + " on " +
+					       g.device);
 		}
 	} else if (what == "home") {
 		if (args.size() != 2)
@@ -501,7 +540,15 @@ int cmdSkSlaves(Globals &g, const Args &a)
 		&verbose);
 }
 int cmdSkStates(Globals &g, const Args &a) { return onBoard(g, a, "states", states); }
-int cmdSkCia402(Globals &g, const Args &a) { return onBoard(g, a, "cia402", cia402); }
+int cmdSkCia402(Globals &g, const Args &a)
+{
+	Args rest = a;
+	const PlotFiles plot = takePlotFiles("cia402", rest); // move --plot FILE.svg [--csv FILE.csv]
+	return onBoard(g, rest, "cia402",
+		       [&plot](Globals &gg, Board &b, const std::vector<std::string> &args,
+			       const std::optional<std::string> &pos,
+			       const std::optional<std::string> &) { return cia402(gg, b, args, pos, plot); });
+}
 int cmdSkIo(Globals &g, const Args &a) { return onBoard(g, a, "io", io); }
 int cmdSkLio(Globals &g, const Args &a) { return onBoard(g, a, "lio", lio); }
 int cmdSkReset(Globals &g, const Args &a) { return onBoard(g, a, "reset", reset); }

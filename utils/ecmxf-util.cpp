@@ -24,6 +24,7 @@
 #include <ecmxf/verbs.hpp>
 
 #include "ecmxf-util.hpp"
+#include "ecmxf-util-scope.hpp"
 #include "ecmxf-util-sk.hpp"
 
 using namespace ecmxf_util;
@@ -158,6 +159,8 @@ const CommandDesc kCommands[] = {
 	  kOnXf, "the slot protocol has no datagrams to the slaves' ESC registers" },
 	{ "reset", "ASYNCCMD_RESET, or WARM_RESET with --warm --force", kResetHelp, cmdReset, true, kOnBoth, {},
 	  cmdSkReset, "SW_RESET: the board restarts in INIT" },
+	{ "scope", "record process data and cycle figures in OP: CSV and an SVG plot", kScopeHelp, cmdScope, true,
+	  kOnBoth, {}, nullptr, "record feedback slots and FIFO figures in OP: CSV and an SVG plot" },
 	{ "sii_read", "a slave's SII EEPROM: hex dump, binary or identity", kSiiReadHelp, cmdSiiRead, true, kOnXf,
 	  kNoSii },
 	{ "sii_write", "write an SII image file into a slave's EEPROM", kSiiWriteHelp, cmdSiiWrite, true, kOnXf,

@@ -75,5 +75,9 @@
 #include <ecmxf/sk/slot_link.hpp>
 #include <ecmxf/sk/uri.hpp>
 
+// the scope: the recorder, its CSV and SVG writers
+#include <ecmxf/scope/plot.hpp>
+#include <ecmxf/scope/recorder.hpp>
+
 // the verbs both masters have: MasterVerbs over a Device or an sk::Board
 #include <ecmxf/verbs.hpp>

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include <time.h>
@@ -16,6 +17,15 @@ namespace ecmxf::detail {
 
 /// Throws ecmxf::Error("<what>: <strerror(err)>", err).
 [[noreturn]] void throwErrno(const std::string &what, int err);
+
+/// Writes @p data as the file @p path, whole or not at all: into a
+/// temporary file beside it (same folder), flushed, then renamed over
+/// @p path, so a reader never sees half a file and a failure leaves what
+/// was there. A @p path that exists and is not a regular file (a device,
+/// /dev/full, a FIFO) is written in place. Throws ecmxf::Error naming
+/// @p path and the errno (EACCES, ENOSPC, ENOENT...); the temporary file
+/// is removed on a failure.
+void writeFileWhole(const std::string &path, std::string_view data);
 
 /// An open file descriptor, closed with the object.
 class FileDescriptor
@@ -36,6 +46,8 @@ public:
 
 	[[nodiscard]] int get() const noexcept { return fd_; }
 	[[nodiscard]] bool valid() const noexcept { return fd_ >= 0; }
+	/// Gives the descriptor up without closing it (the caller closed it).
+	int release() noexcept { return std::exchange(fd_, -1); }
 	/// Closes the descriptor held (if any) and holds @p fd.
 	void reset(int fd = -1) noexcept;
 

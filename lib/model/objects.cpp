@@ -42,6 +42,7 @@ constexpr StandardObject kObjects[] = {
 	{ 0x60B8, 0, "Touch probe function", T::Uint16, {} },
 	{ 0x60B9, 0, "Touch probe status", T::Uint16, {} },
 	{ 0x60BA, 0, "Touch probe 1 positive edge", T::Int32, kPos },
+	{ 0x60F4, 0, "Following error actual value", T::Int32, kPos },
 	{ 0x60FD, 0, "Digital inputs", T::Uint32, {} },
 	{ 0x60FF, 0, "Target velocity", T::Int32, kVel },
 };

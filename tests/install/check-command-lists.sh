@@ -13,7 +13,7 @@ util=$1 man=$2 comp=$3 strict=${4:-}
 
 # the CLI contract's commands (Documentation/ecmxf-util.rst)
 full="adc cia402 commands cstruct dac data decode download eeprom emergency foe_read foe_write gpio info
-master monitor pdos qei raw reg_read reg_write reset sii_read sii_write slaves states upload version xml"
+master monitor pdos qei raw reg_read reg_write reset scope sii_read sii_write slaves states upload version xml"
 sorted() { tr ' \n' '\n\n' | sed '/^$/d' | sort -u | paste -sd' '; }
 full=$(echo "$full" | sorted)
 

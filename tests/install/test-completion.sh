@@ -52,10 +52,10 @@ comp()
 }
 
 all="adc cia402 commands cstruct dac data decode download eeprom emergency foe_read foe_write gpio info
-master monitor pdos qei raw reg_read reg_write reset sii_read sii_write slaves states upload version xml"
+master monitor pdos qei raw reg_read reg_write reset scope sii_read sii_write slaves states upload version xml"
 # shellcheck disable=SC2086
 comp "ecmxf-util " $all help
-comp "ecmxf-util s" sii_read sii_write slaves states
+comp "ecmxf-util s" scope sii_read sii_write slaves states
 comp "ecmxf-util foe" foe_read foe_write
 comp "ecmxf-util -" -d --device --json --trace -q --quiet --progress -h --help -V --version
 comp "ecmxf-util --j" --json
@@ -80,7 +80,11 @@ comp "ecmxf-util up -" -h --help -p --position -t --type -v --json
 comp "ecmxf-util slaves -" -h --help -p --position -v --verbose --json
 comp "ecmxf-util cia402 -p 0 " status enable disable fault-reset quick-stop move home
 comp "ecmxf-util cia402 -p 0 move --" --help --position --pp --pv --csp --velocity --accel \
-	--relative --time
+	--relative --time --plot --csv
+comp "ecmxf-util cia402 -p 0 move --csp 100 --plot $tmp/files/a." "$tmp/files/a.bin" "$tmp/files/a.trace"
+comp "ecmxf-util scope --" --help --cycles --time --trigger --pre --timeout --buffer --csv --svg --title --json
+comp "ecmxf-util scope 0:wkc --svg $tmp/files/b" "$tmp/files/b.net"
+comp "ecmxf-util scope wkc --cycles "
 comp "ecmxf-util cia402 -p 0 home --" --help --position --method
 comp "ecmxf-util gpio " get set config
 comp "ecmxf-util gpio config 3 " in out

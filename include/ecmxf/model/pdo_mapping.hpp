@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ecmxf {
@@ -37,5 +38,11 @@ struct SlavePdos {
 	std::uint32_t outputBytes = 0;      ///< the slave's output bytes (SLV_INFO)
 	std::uint32_t inputBytes = 0;       ///< the slave's input bytes (SLV_INFO)
 };
+
+/// Does the entry name @p name match what a user typed, @p text? Case,
+/// spaces, '_' and '-' are ignored ("TargetPosition", "target_position"
+/// and "Target position" are one name); an empty @p name matches nothing.
+/// What `ecmxf-util data --set` and the scope's signals (Recorder) use.
+[[nodiscard]] ECMXF_EXPORT bool entryNameMatches(std::string_view name, std::string_view text);
 
 } // namespace ecmxf
