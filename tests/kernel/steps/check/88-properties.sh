@@ -27,7 +27,8 @@ ecmxf_load
 attr_is data_size 256 "nextw,data-size = 256"
 attr_is check_type crc8 "nextw,check-type = \"crc8\""
 attr_is variant ECM-XF "modalias ecm-xf"
-/bin/ecmxf-guest-test /dev/ecmxf0 || fail "ecmxf-guest-test with the format from the properties"
+# the probe read the firmware version again in the new format
+attr_is fw_version 48 "FW_VERSION_GET answered in the properties' format"
 ecmxf_unload
 # the module parameter is a default: the property still wins
 vspi_reload data_size_prop=256
