@@ -84,8 +84,11 @@ def test_board_setup_and_status(sk):
     assert st.state == ecmxf.State.PREOP and st.crc_errors == 0
     assert b.detect_axes() == [ecmxf.SkSlaveType.DRIVE, ecmxf.SkSlaveType.STEP, ecmxf.SkSlaveType.IO]
     assert b.set_axes([ecmxf.SkSlaveType.DRIVE, ecmxf.SkSlaveType.STEP, ecmxf.SkSlaveType.IO]) == 3
-    with pytest.raises(ecmxf.Error, match=r"slave 1 \(STEP\)"):
+    # slave 0 is the drive: the first type that does not match is named
+    with pytest.raises(ecmxf.Error, match=r"slave 0 \(STEP\) is not of that type"):
         b.set_axes([ecmxf.SkSlaveType.STEP, ecmxf.SkSlaveType.STEP, ecmxf.SkSlaveType.IO])
+    with pytest.raises(ecmxf.Error, match=r"slave 2 \(STEP\) is not of that type"):
+        b.set_axes([ecmxf.SkSlaveType.DRIVE, ecmxf.SkSlaveType.STEP, ecmxf.SkSlaveType.STEP])
     with pytest.raises(ecmxf.InvalidArgument):
         b.set_cycle_time(750)                                # not 250 * 2^n us
     with pytest.raises(ValueError, match="cycle time -1"):
@@ -100,7 +103,7 @@ def test_board_drives_local_io_and_homing():
     with ecmxf.open("sk-sim:?lio=33") as d:
         b = d.board
         d.bring_up()                                         # OP, the drives in CSP
-        assert b.status().state == ecmxf.State.OP and b.status().fifo_remaining == 256
+        assert b.status().state == ecmxf.State.OP and b.status().fifo_remaining == 160   # the simulated board's FIFO, empty
         assert b.read_local() == 33
         b.write_local(0x12)
         d.drive_enable(0)
