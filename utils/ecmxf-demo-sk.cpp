@@ -5,12 +5,17 @@
  * frame, bring-up by SET_AXIS (types found by the board), SET_DC, DRIVE_MODE,
  * SDO through the SDO slot with a real abort, SV_ON, a CSP move of both
  * axes through the cyclic FIFO with live positions, IO and the ECM IC's
- * own I/O, homing, and a summary.
+ * own I/O, homing, and a summary. With --plot DIR the move of each axis
+ * (staged target, position, their difference, statusword) is recorded
+ * and written as DIR/axisN.csv and DIR/axisN.svg (ecmxf-demo-plot.cpp).
  */
 #include "ecmxf-demo-sk.hpp"
 
+#include <array>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -21,6 +26,9 @@
 #include <ecmxf/sim/slaves.hpp>
 #include <ecmxf/sk/board.hpp>
 #include <ecmxf/sim/sk_board.hpp>
+#include <ecmxf/scope/recorder.hpp>
+
+#include "ecmxf-demo-plot.hpp"
 
 namespace {
 
@@ -35,7 +43,7 @@ void heading(int n, const char *title)
 
 } // namespace
 
-int ecmxfDemoSk(bool fast)
+int ecmxfDemoSk(bool fast, const std::string &plotDir)
 {
 	std::vector<std::string> failures;
 	auto fail = [&](const std::string &what) {
@@ -84,15 +92,42 @@ int ecmxfDemoSk(bool fast)
 	b->states().status();
 	const auto p1 = b->drives().axis(1).position, p2 = b->drives().axis(2).position;
 	unsigned dropped = 0, held = 0;
+	// --plot: per axis (slot 1 and 2: bus positions 0 and 1) the target
+	// staged last, the feedback position, their difference, the statusword
+	std::array<std::int64_t, 2> staged{ p1, p2 }, lag{ 0, 0 };
+	std::array<std::unique_ptr<ecmxf::Recorder>, 2> recs;
+	if (!plotDir.empty())
+		for (std::size_t i = 0; i < 2; i++) {
+			const std::string n = std::to_string(i) + ":";
+			recs[i] = std::make_unique<ecmxf::Recorder>(2000);
+			(void)recs[i]->addValue(n + "target", "inc", &staged[i]);
+			(void)recs[i]->add(*b, b->maxSlaves(), n + "position");
+			(void)recs[i]->addValue(n + "following_error", "inc", &lag[i]);
+			(void)recs[i]->add(*b, b->maxSlaves(), n + "statusword");
+			recs[i]->arm();
+		}
+	const auto sample = [&](const CycleResult &r) {
+		for (std::size_t i = 0; i < 2; i++)
+			if (recs[i]) {
+				lag[i] = staged[i] - b->drives().axis(static_cast<unsigned>(i + 1)).position;
+				(void)recs[i]->sample(b->channel().now(), r);
+			}
+	};
 	for (int i = 1; i <= 1000; i++) {
 		const double x = static_cast<double>(i) / 1000.0;
 		const double s = x * x * (3 - 2 * x); // smooth start and stop
-		if (!b->cyclic().stage(1, Mode::Csp, p1 + static_cast<std::int32_t>(20000 * s)))
+		const std::int32_t t1 = p1 + static_cast<std::int32_t>(20000 * s), t2 = p2 + static_cast<std::int32_t>(50000 * s);
+		if (b->cyclic().stage(1, Mode::Csp, t1))
+			staged[0] = t1;
+		else
 			held++;
-		if (!b->cyclic().stage(2, Mode::Csp, p2 + static_cast<std::int32_t>(50000 * s)))
+		if (b->cyclic().stage(2, Mode::Csp, t2))
+			staged[1] = t2;
+		else
 			held++;
 		const auto r = b->cyclic().cycle();
 		dropped += r.dropped;
+		sample(r);
 		b->channel().sleepFor(1ms - sim.wireTime()); // one frame per 1 ms cycle
 		if (!fast)
 			std::this_thread::sleep_for(1ms);
@@ -101,9 +136,12 @@ int ecmxfDemoSk(bool fast)
 				    b->drives().axis(2).position, r.fifoRemaining);
 	}
 	for (int i = 0; i < 20; i++) {
-		b->cyclic().cycle();
+		sample(b->cyclic().cycle());
 		b->channel().sleepFor(1ms);
 	}
+	for (auto &r : recs)
+		if (r)
+			r->finish();
 	std::printf("   end: drive %d (target %d), step %d (target %d); %u dropped, %u held back\n",
 		    b->drives().axis(1).position, p1 + 20000, b->drives().axis(2).position, p2 + 50000, dropped, held);
 	if (b->drives().axis(1).position != p1 + 20000 || b->drives().axis(2).position != p2 + 50000)
@@ -125,6 +163,19 @@ int ecmxfDemoSk(bool fast)
 		    b->drives().axis(2).position);
 	if (b->drives().axis(2).position != 0)
 		fail("not at the home offset");
+
+	if (!plotDir.empty()) {
+		const std::vector<DemoAxisPlot> plots{
+			{ recs[0].get(), "ecmxf-demo --board ecm-sk: CSP move of slave 0 (Drive), " + std::to_string(p1) +
+						 " to " + std::to_string(p1 + 20000) },
+			{ recs[1].get(), "ecmxf-demo --board ecm-sk: CSP move of slave 1 (STEP), " + std::to_string(p2) +
+						 " to " + std::to_string(p2 + 50000) },
+		};
+		std::printf("   plots:");
+		for (const std::string &f : writeDemoPlots(plotDir, plots))
+			std::printf(" %s", f.c_str());
+		std::printf("\n");
+	}
 
 	heading(7, "summary");
 	std::printf("   %s\n", failures.empty() ? "all steps worked" : "some steps FAILED");

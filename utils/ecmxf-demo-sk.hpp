@@ -2,5 +2,9 @@
 // ecmxf-demo --board ecm-sk (utils/ecmxf-demo-sk.cpp).
 #pragma once
 
-/// The ECM-SK tour; @p fast: do not pace in real time. Exit code.
-int ecmxfDemoSk(bool fast);
+#include <string>
+
+/// The ECM-SK tour; @p fast: do not pace in real time; @p plotDir not
+/// empty: the CSP move of both axes written there (ecmxf-demo-plot.hpp).
+/// Exit code.
+int ecmxfDemoSk(bool fast, const std::string &plotDir);

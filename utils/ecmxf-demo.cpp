@@ -12,7 +12,9 @@
  *   6. a summary; exit code 1 if anything failed
  *
  * Paced in real time so a person can watch (~2 s); --fast runs at the
- * simulator's speed.
+ * simulator's speed. --plot DIR records the move of each axis
+ * (ecmxf::Recorder) and writes DIR/axisN.csv and DIR/axisN.svg
+ * (ecmxf-demo-plot.cpp).
  */
 #include <algorithm>
 #include <array>
@@ -42,7 +44,9 @@
 #include <ecmxf/sim/slaves.hpp>
 #include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/model/types_bus.hpp>
+#include <ecmxf/scope/recorder.hpp>
 
+#include "ecmxf-demo-plot.hpp"
 #include "ecmxf-demo-sk.hpp"
 
 namespace {
@@ -50,7 +54,7 @@ namespace {
 using namespace std::chrono_literals;
 using std::chrono::nanoseconds;
 
-const char *const kHelp = "Usage: ecmxf-demo [--fast] [--board ecm-xf|ecm-sk] [--help]\n"
+const char *const kHelp = "Usage: ecmxf-demo [--fast] [--board ecm-xf|ecm-sk] [--plot DIR] [--help]\n"
 			  "\n"
 			  "A tour of the ecmxf stack on the in-process ECM-XF simulator (2 x EST-584\n"
 			  "stepper drive + digital I/O): bring-up to OP, the slaves, SDO access with a\n"
@@ -59,6 +63,10 @@ const char *const kHelp = "Usage: ecmxf-demo [--fast] [--board ecm-xf|ecm-sk] [-
 			  "\n"
 			  "  --fast   do not pace the move in real time\n"
 			  "  --board ecm-sk  the tour on the simulated ECM-SK starter kit\n"
+			  "  --plot DIR  record the CSP move of each axis and write DIR/axis0.csv,\n"
+			  "           DIR/axis0.svg, DIR/axis1.csv, DIR/axis1.svg (target position,\n"
+			  "           position actual value, following error, statusword); DIR\n"
+			  "           is made when missing (its parent must exist)\n"
 			  "  --help   show this help\n";
 
 constexpr std::uint32_t kEst584Vendor = 0x00000E5C;
@@ -93,6 +101,7 @@ std::string lights(std::uint8_t v)
 struct Demo {
 	bool fast = false;
 	bool sk = false; // --board ecm-sk
+	std::string plotDir; // --plot DIR; empty: no plots
 	ecmxf::SimChannel *sim = nullptr;
 	std::unique_ptr<ecmxf::Device> dev;
 	unsigned sdoCount = 0;
@@ -243,6 +252,16 @@ int run(Demo &d)
 	std::printf("   %8s %10s %10s %10s %10s %9s  %s\n", "t [ms]", "target 0", "actual 0", "target 1", "actual 1",
 		    "max |fe|", "I/O outputs");
 	auto &dio = dynamic_cast<ecmxf::sim::DioModel &>(d.sim->chip().network().at(2));
+	// --plot: each axis's target, actual position, following error and
+	// statusword, every cycle of the move and the settling (~1100)
+	std::array<std::unique_ptr<ecmxf::Recorder>, 2> recs;
+	if (!d.plotDir.empty())
+		for (std::size_t i = 0; i < 2; i++) {
+			recs[i] = std::make_unique<ecmxf::Recorder>(4000);
+			for (const char *e : { ":0x607A:0", ":0x6064:0", ":0x60F4:0", ":0x6041:0" })
+				(void)recs[i]->add(image, std::to_string(i) + e);
+			recs[i]->arm();
+		}
 	const nanoseconds m0 = d.sim->now();
 	const auto wallMove = std::chrono::steady_clock::now();
 	std::int32_t maxFe = 0;
@@ -255,6 +274,9 @@ int run(Demo &d)
 			const nanoseconds t = d.sim->now() - m0;
 			if (cyc.lastResult().rxFifoCount == 0)
 				rxEmpty++;
+			for (auto &r : recs) // the targets this cycle sent, the inputs it brought
+				if (r)
+					(void)r->sample(d.sim->now(), cyc.lastResult());
 			for (auto *a : axes)
 				maxFe = std::max(maxFe, std::abs(a->followingError().value_or(0)));
 			traj.apply(axes, t + 1ms); // the targets of the next cycle
@@ -273,6 +295,9 @@ int run(Demo &d)
 		},
 		runFor + 1s, "the CSP move");
 	lamp.set(0);
+	for (auto &r : recs)
+		if (r)
+			r->finish();
 
 	// ---------------------------------------------------------------- 6
 	heading(6, "Summary");
@@ -311,6 +336,16 @@ int run(Demo &d)
 		d.fail(std::to_string(st.wkcMismatches) + " WKC errors");
 	if (st.rxRefusals || st.txOverflows)
 		d.fail("FIFO overruns");
+	if (!d.plotDir.empty()) {
+		std::vector<DemoAxisPlot> plots;
+		for (std::size_t i = 0; i < 2; i++)
+			plots.push_back({ recs[i].get(), "ecmxf-demo: CSP move of slave " + std::to_string(i) + " (EST-584), " +
+								 std::to_string(from[i]) + " to " + std::to_string(to[i]) });
+		std::printf("   plots:");
+		for (const std::string &f : writeDemoPlots(d.plotDir, plots))
+			std::printf(" %s", f.c_str());
+		std::printf("\n");
+	}
 	if (!d.failures.empty()) {
 		std::printf("\necmxf-demo: %zu check(s) FAILED\n", d.failures.size());
 		return 1;
@@ -335,6 +370,16 @@ int main(int argc, char **argv)
 				return 2;
 			}
 			d.sk = board == "ecm-sk";
+		} else if (a == "--plot" || a.starts_with("--plot=")) {
+			if (a == "--plot" && i + 1 >= argc) {
+				std::fprintf(stderr, "ecmxf-demo: --plot needs a directory\n");
+				return 2;
+			}
+			d.plotDir = a == "--plot" ? argv[++i] : std::string(a.substr(7));
+			if (d.plotDir.empty()) {
+				std::fprintf(stderr, "ecmxf-demo: --plot: an empty directory name\n");
+				return 2;
+			}
 		} else if (a == "-h" || a == "--help") {
 			std::fputs(kHelp, stdout);
 			return 0;
@@ -344,8 +389,10 @@ int main(int argc, char **argv)
 		}
 	}
 	try {
+		if (!d.plotDir.empty())
+			demoPlotDir(d.plotDir); // before the tour: a bad DIR wastes none of it
 		if (d.sk) // utils/ecmxf-demo-sk.cpp
-			return ecmxfDemoSk(d.fast);
+			return ecmxfDemoSk(d.fast, d.plotDir);
 		return run(d);
 	} catch (const std::exception &e) {
 		std::fflush(stdout);

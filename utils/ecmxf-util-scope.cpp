@@ -3,10 +3,15 @@
  * ecmxf-util scope - record process data and cycle figures while the bus
  * runs in OP (ecmxf::Recorder), then write them as CSV and an SVG plot
  * (ecmxf::writeCsv, ecmxf::writeSvg); on the ECM-XF (sim:, unix:, spidev,
- * /dev/ecmxfN) and on the ECM-SK (its feedback slots). Also the plot files
- * of `cia402 move --plot` (takePlotFiles, writePlotFiles).
+ * /dev/ecmxfN) and on the ECM-SK (its feedback slots), with a live view
+ * in the terminal while it records (ecmxf::terminalText, LiveView). Also
+ * the plot files of `cia402 move --plot` (takePlotFiles, writePlotFiles).
  */
 #include "ecmxf-util-scope.hpp"
+
+#include <sys/ioctl.h>
+#include <termios.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -16,6 +21,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <ecmxf/bus/master.hpp>
@@ -27,6 +33,7 @@
 #include <ecmxf/pdo/process_image.hpp>
 #include <ecmxf/scope/plot.hpp>
 #include <ecmxf/scope/recorder.hpp>
+#include <ecmxf/scope/terminal.hpp>
 #include <ecmxf/sk/board.hpp>
 #include <ecmxf/sk/board_views.hpp>
 
@@ -38,7 +45,7 @@ const char *const kScopeHelp =
 	"Usage: ecmxf-util [global options] scope SIGNAL... [--cycles N | --time MS]\n"
 	"                  [--trigger 'SIGNAL>LEVEL' | --trigger 'SIGNAL<LEVEL'] [--pre N]\n"
 	"                  [--timeout MS] [--buffer N] [--csv FILE] [--svg FILE]\n"
-	"                  [--title TEXT] [--json]\n"
+	"                  [--title TEXT] [--live | --no-live] [--json]\n"
 	"\n"
 	"Record SIGNALs every cycle (1 ms) while the bus runs in OP, then write\n"
 	"them as CSV (time in us, one column per signal, its unit in the header)\n"
@@ -71,6 +78,12 @@ const char *const kScopeHelp =
 	"  --csv FILE        write the samples as CSV\n"
 	"  --svg FILE        write the SVG plot\n"
 	"  --title TEXT      the plot's title (default: the device and signals)\n"
+	"  --live            draw the signals in the terminal while recording\n"
+	"                    (braille dots, 10 times a second; q or Ctrl-C stops\n"
+	"                    the recording, the files are written, exit 0).\n"
+	"                    Default: on when stdout is a terminal, without --json\n"
+	"                    and -q\n"
+	"  --no-live         no live view\n"
 	"  --json            the summary as a JSON object\n"
 	"  -h, --help        show this help\n"
 	"\n"
@@ -92,11 +105,13 @@ struct ScopeOptions {
 	std::optional<std::uint64_t> buffer;
 	PlotFiles files;
 	std::optional<std::string> title;
+	bool live = false;
 };
 
 ScopeOptions parseScope(const Args &args, Globals &g, bool &help)
 {
 	std::optional<std::string> cycles, timeMs, trigger, pre, timeout, buffer, csv, svg, title;
+	bool live = false, noLive = false;
 	const auto pos = parseArgs("scope", args, g, kScopeHelp,
 				   { { "", "--cycles", nullptr, &cycles },
 				     { "", "--time", nullptr, &timeMs },
@@ -106,7 +121,9 @@ ScopeOptions parseScope(const Args &args, Globals &g, bool &help)
 				     { "", "--buffer", nullptr, &buffer },
 				     { "", "--csv", nullptr, &csv },
 				     { "", "--svg", nullptr, &svg },
-				     { "", "--title", nullptr, &title } });
+				     { "", "--title", nullptr, &title },
+				     { "", "--live", &live, nullptr },
+				     { "", "--no-live", &noLive, nullptr } });
 	ScopeOptions o;
 	if (!pos) {
 		help = true;
@@ -146,8 +163,99 @@ ScopeOptions parseScope(const Args &args, Globals &g, bool &help)
 	if (svg)
 		o.files.svg = *svg;
 	o.title = title;
+	if (live && noLive)
+		throw UsageError("scope: --live or --no-live, not both");
+	if (live && g.json)
+		throw UsageError("scope: --live draws on stdout, where --json writes: not both");
+	o.live = live || (!noLive && !g.json && !g.quiet && ::isatty(STDOUT_FILENO) == 1);
 	return o;
 }
+
+/// The live view (--live): the recorder's signals drawn on stdout about
+/// 10 times a second (ecmxf::terminalText), between cycles, never inside
+/// cycle() and sample(); 'q' read from stdin when it is a terminal. The
+/// terminal is put in non-canonical mode without echo (a key counts at
+/// once; ISIG kept, so Ctrl-C is still SIGINT, which StopSignals turns
+/// into the end of the recording) and the cursor hidden; the destructor
+/// restores both, on every way out of record(): a return, an exception,
+/// a stop signal.
+class LiveView
+{
+public:
+	explicit LiveView(std::string title) : title_(std::move(title))
+	{
+		if (::isatty(STDIN_FILENO) == 1 && ::tcgetattr(STDIN_FILENO, &saved_) == 0) {
+			termios raw = saved_;
+			raw.c_lflag &= ~static_cast<tcflag_t>(ICANON | ECHO);
+			raw.c_cc[VMIN] = 0;
+			raw.c_cc[VTIME] = 0;
+			keys_ = ::tcsetattr(STDIN_FILENO, TCSANOW, &raw) == 0;
+		}
+		std::fputs("\x1b[?25l\x1b[2J", stdout); // cursor hidden, screen cleared
+		std::fflush(stdout);
+	}
+	~LiveView()
+	{
+		if (keys_)
+			(void)::tcsetattr(STDIN_FILENO, TCSANOW, &saved_);
+		std::fputs("\x1b[?25h\n", stdout);
+		std::fflush(stdout);
+	}
+	LiveView(const LiveView &) = delete;
+	LiveView &operator=(const LiveView &) = delete;
+
+	/// A new frame when 100 ms have passed since the last one; true when
+	/// 'q' was pressed.
+	bool tick(const ecmxf::Recorder &rec)
+	{
+		const auto now = std::chrono::steady_clock::now();
+		if (now < next_)
+			return false;
+		next_ = now + std::chrono::milliseconds(100);
+		draw(rec);
+		char key[16];
+		const ssize_t n = keys_ ? ::read(STDIN_FILENO, key, sizeof key) : 0;
+		return n > 0 && std::find_if(key, key + n, [](char c) { return c == 'q' || c == 'Q'; }) != key + n;
+	}
+
+	/// The last frame, whatever the time (the recording ended).
+	void draw(const ecmxf::Recorder &rec)
+	{
+		winsize ws{};
+		const bool sized = ::ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0 && ws.ws_row > 0;
+		const unsigned cols = sized ? unsigned{ ws.ws_col } : 80u, rows = sized ? unsigned{ ws.ws_row } : 24u;
+		const auto &sig = rec.signals();
+		// a header line, then per signal a label line and its rows
+		const unsigned each = sig.empty() ? 1 : std::max(2u, (rows - 2) / static_cast<unsigned>(sig.size()));
+		const unsigned height = std::clamp(each - 1, 1u, 8u);
+		const unsigned width = std::clamp(cols > 1 ? cols - 1 : 1u, 1u, 1000u);
+		const char *state = rec.done() ? "done" : rec.triggered() ? "recording" : "waiting for the trigger";
+		// the title cut to leave the rest of the header on one line
+		const std::size_t room = cols > 70 ? cols - 70 : 10;
+		std::string out = "\x1b[H" + (title_.size() > room ? title_.substr(0, room) + "..." : title_) + ": " +
+				  std::to_string(rec.size()) + " samples, " + state +
+				  "; q or Ctrl-C stops and writes\x1b[K\n";
+		for (std::size_t k = 0; k < sig.size() && 1 + (k + 1) * (height + 1) < rows; k++) {
+			ecmxf::TerminalRange r;
+			const auto text = ecmxf::terminalText(rec, k, width, height, &r);
+			const double last = rec.size() ? rec.value(rec.size() - 1, k) : NAN;
+			out += sig[k].label + (sig[k].unit.empty() ? "" : " [" + sig[k].unit + "]") + "  min " +
+			       shortNumber(r.min) + "  max " + shortNumber(r.max) + "  last " + shortNumber(last) +
+			       "\x1b[K\n";
+			for (const std::string &line : text)
+				out += line + "\x1b[K\n";
+		}
+		out += "\x1b[J";
+		std::fputs(out.c_str(), stdout);
+		std::fflush(stdout);
+	}
+
+private:
+	std::string title_;
+	termios saved_{};
+	bool keys_ = false;
+	std::chrono::steady_clock::time_point next_{};
+};
 
 /// The samples the stop needs, the pre-trigger ones added (1 ms cycles).
 std::size_t bufferFor(const ScopeOptions &o)
@@ -176,15 +284,18 @@ std::string defaultTitle(const Globals &g, const ScopeOptions &o)
 }
 
 /// Runs @p cycle (one exchange and its sample) until the recorder is done,
-/// a stop signal comes (the recording ends there), or the trigger has not
-/// come within the timeout (bus time on @p now).
+/// a stop signal or the live view's 'q' comes (the recording ends there),
+/// or the trigger has not come within the timeout (bus time on @p now).
 template <class Cycle, class Now>
-void record(ecmxf::Recorder &rec, const ScopeOptions &o, Cycle &&cycle, Now &&now)
+void record(ecmxf::Recorder &rec, const ScopeOptions &o, const std::string &title, Cycle &&cycle, Now &&now)
 {
 	const StopSignals signals;
+	std::optional<LiveView> live;
+	if (o.live)
+		live.emplace(title);
 	const auto t0 = now();
 	while (!rec.done()) {
-		if (StopSignals::pending()) {
+		if (StopSignals::pending() || (live && live->tick(rec))) {
 			rec.finish();
 			break;
 		}
@@ -196,6 +307,8 @@ void record(ecmxf::Recorder &rec, const ScopeOptions &o, Cycle &&cycle, Now &&no
 						   std::to_string(o.timeoutMs) + " ms (--timeout): nothing written",
 					   ETIMEDOUT);
 	}
+	if (live)
+		live->draw(rec); // the last frame: "done"
 }
 
 /// Signal @p k's minimum, maximum and last value (NaN: none sampled).
@@ -255,8 +368,9 @@ int scopeXf(Globals &g, const ScopeOptions &o)
 	ecmxf::Cyclic cyc(*bus.dev, image, ecmxf::CyclicConfig::motion(1ms));
 	cyc.start();
 	ecmxf::Link &link = bus.dev->link();
+	const std::string title = o.title.value_or(defaultTitle(g, o));
 	record(
-		rec, o,
+		rec, o, title,
 		[&] {
 			const ecmxf::CycleResult &r = cyc.cycle();
 			(void)rec.sample(link.now(), r);
@@ -265,7 +379,7 @@ int scopeXf(Globals &g, const ScopeOptions &o)
 		},
 		[&] { return link.now(); });
 	cyc.stop();
-	writePlotFiles(rec, o.files, o.title.value_or(defaultTitle(g, o)));
+	writePlotFiles(rec, o.files, title);
 	return summary(g, rec);
 }
 
@@ -283,8 +397,9 @@ int scopeSk(Globals &g, const ScopeOptions &o)
 	for (const auto &s : o.signals)
 		rec.add(b, slaves, s);
 	rec.arm(o.trigger, stopOf(o));
+	const std::string title = o.title.value_or(defaultTitle(g, o));
 	record(
-		rec, o,
+		rec, o, title,
 		[&] {
 			const auto r = b.cyclic().cycle();
 			if (r.status == ecmxf::sk::CycleStatus::Link)
@@ -293,7 +408,7 @@ int scopeSk(Globals &g, const ScopeOptions &o)
 			b.channel().sleepFor(1ms);
 		},
 		[&] { return b.channel().now(); });
-	writePlotFiles(rec, o.files, o.title.value_or(defaultTitle(g, o)));
+	writePlotFiles(rec, o.files, title);
 	return summary(g, rec);
 }
 

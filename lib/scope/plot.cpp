@@ -115,15 +115,21 @@ struct Axis {
 std::string csvText(const Recorder &rec)
 {
 	const auto &sig = rec.signals();
+	// the comma appended on its own: "," + std::string&& makes GCC 12's
+	// -Wrestrict fail a Release (-O3) build with a false positive
 	std::string out = "time_us";
-	for (const RecordedSignal &s : sig)
-		out += "," + csvField(s.unit.empty() ? s.name : s.name + " [" + s.unit + "]");
-	out += "\n";
+	for (const RecordedSignal &s : sig) {
+		out += ',';
+		out += csvField(s.unit.empty() ? s.name : s.name + " [" + s.unit + "]");
+	}
+	out += '\n';
 	for (std::size_t i = 0; i < rec.size(); i++) {
 		out += fixed(usOf(rec.time(i)));
-		for (std::size_t k = 0; k < sig.size(); k++)
-			out += "," + number(rec.value(i, k));
-		out += "\n";
+		for (std::size_t k = 0; k < sig.size(); k++) {
+			out += ',';
+			out += number(rec.value(i, k));
+		}
+		out += '\n';
 	}
 	return out;
 }

@@ -13,6 +13,14 @@
 // (global operator new is counted in this program), and failed cycles /
 // WKC mismatches so that a broken run cannot look fast. The CPU time
 // includes the simulated chip and slave models that answer the exchanges.
+//
+// Then the scope's cost (ecmxf::Recorder, Documentation/scope.rst) at 128
+// slaves: 8 signals (target position, position actual value and statusword
+// of the first and the last EST-584, the WKC and the RxFIFO level) sampled
+// once per cycle, printed beside the cyclic path's CPU time per cycle: the
+// cyclic loop alone, the same loop with Recorder::sample() after each
+// cycle(), and sample() alone (many calls on the live image, the ring
+// wrapping), with its allocations. The target is 2 % of the cyclic path.
 
 #include <atomic>
 #include <chrono>
@@ -32,6 +40,7 @@
 #include <ecmxf/pdo/process_image.hpp>
 #include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/link/link.hpp>
+#include <ecmxf/scope/recorder.hpp>
 
 #include "../common/alloc_counter.hpp"
 
@@ -81,6 +90,39 @@ void bringUp(ecmxf::Device &d)
 
 /// One SlavePdos per slave with its byte counts (ECAT_SLV_INFO_GET 8/9);
 /// the bench touches the frames only as bytes.
+std::vector<ecmxf::SlavePdos> sizes(ecmxf::Device &d);
+
+/// The EST-584's default mapping (lib/sim/slaves/est584.cpp: 0x1600 and
+/// 0x1A00) as entries, on each slave of its byte counts (12 / 17): what
+/// the recorder's N:INDEX:SUB signals find.
+void est584Entries(std::vector<ecmxf::SlavePdos> &pdos)
+{
+	struct E {
+		std::uint16_t index;
+		std::uint8_t bits;
+	};
+	static constexpr E kOut[] = { { 0x6040, 16 }, { 0x607A, 32 }, { 0x60B0, 32 }, { 0x60B8, 16 } };
+	static constexpr E kIn[] = { { 0x6041, 16 }, { 0x6061, 8 },  { 0x6064, 32 },
+				     { 0x60B9, 16 }, { 0x60BA, 32 }, { 0x60FD, 32 } };
+	const auto fill = [](std::vector<ecmxf::PdoEntryInfo> &v, std::uint16_t pdo, const auto &table) {
+		std::uint32_t bit = 0;
+		for (const E &e : table) {
+			ecmxf::PdoEntryInfo i;
+			i.pdo = pdo;
+			i.index = e.index;
+			i.bitLength = e.bits;
+			i.bitOffset = bit;
+			bit += e.bits;
+			v.push_back(i);
+		}
+	};
+	for (ecmxf::SlavePdos &p : pdos)
+		if (p.outputBytes == 12 && p.inputBytes == 17) {
+			fill(p.outputs, 0x1600, kOut);
+			fill(p.inputs, 0x1A00, kIn);
+		}
+}
+
 std::vector<ecmxf::SlavePdos> sizes(ecmxf::Device &d)
 {
 	const unsigned n = cmd(d, 16).ret; // ECAT_SLV_CNT_GET
@@ -161,6 +203,75 @@ Row run(const std::string &network, const Mode &mode)
 	return r;
 }
 
+/// The recorder beside the cyclic path (file comment).
+struct ScopeRow {
+	std::size_t slaves = 0, signals = 0;
+	double cyclicUs = 0, withSampleUs = 0, sampleUs = 0;
+	std::uint64_t sampleAllocs = 0, failed = 0;
+};
+
+ScopeRow runScope(const std::string &network)
+{
+	constexpr int kWarmup = 200;
+	constexpr int kCycles = 2000;
+	constexpr int kSamples = 200'000;
+	ecmxf::sim::ChipConfig chip;
+	chip.spiClockHz = 96'000'000;
+	auto t = std::make_unique<ecmxf::SimChannel>(network, chip);
+	ecmxf::Device dev(std::move(t));
+	dev.link().setPipelining(true);
+	bringUp(dev);
+	std::vector<ecmxf::SlavePdos> pdos = sizes(dev);
+	est584Entries(pdos);
+	ecmxf::ProcessImage image(pdos);
+	ecmxf::CyclicConfig cfg;
+	cfg.period = 1ms;
+	cfg.busCycle = 1ms;
+	ecmxf::Cyclic cyc(dev, image, cfg);
+	ecmxf::Recorder rec(1000); // the ring wraps: the recorder's steady state
+	for (const char *s : { "0:0x607A:0", "0:0x6064:0", "0:0x6041:0", "63:0x607A:0", "63:0x6064:0", "63:0x6041:0",
+			       "wkc", "rx_fifo" })
+		(void)rec.add(image, s);
+	ecmxf::RecorderTrigger never; // a rising edge that never comes: armed, the ring wrapping
+	never.edge = ecmxf::TriggerEdge::Rising;
+	never.signal = "0:0x6064:0";
+	never.level = 1e12;
+	never.preSamples = 999;
+	rec.arm(never);
+	cyc.start();
+	for (int i = 0; i < kWarmup; i++) {
+		(void)rec.sample(dev.link().now(), cyc.cycle());
+		(void)cyc.waitNextCycle();
+	}
+	const auto failed0 = cyc.stats().failedCycles;
+	ScopeRow r;
+	r.slaves = image.slaveCount();
+	r.signals = rec.signals().size();
+	double cpu0 = threadCpuSeconds();
+	for (int i = 0; i < kCycles; i++) {
+		(void)cyc.cycle();
+		(void)cyc.waitNextCycle();
+	}
+	r.cyclicUs = (threadCpuSeconds() - cpu0) / kCycles * 1e6;
+	cpu0 = threadCpuSeconds();
+	for (int i = 0; i < kCycles; i++) {
+		(void)rec.sample(dev.link().now(), cyc.cycle());
+		(void)cyc.waitNextCycle();
+	}
+	r.withSampleUs = (threadCpuSeconds() - cpu0) / kCycles * 1e6;
+	const ecmxf::CycleResult last = cyc.lastResult();
+	const auto now = dev.link().now();
+	const auto allocs0 = ecmxf_test::allocations();
+	cpu0 = threadCpuSeconds();
+	for (int i = 0; i < kSamples; i++)
+		(void)rec.sample(now + std::chrono::microseconds(i), last);
+	r.sampleUs = (threadCpuSeconds() - cpu0) / kSamples * 1e6;
+	r.sampleAllocs = ecmxf_test::allocations() - allocs0;
+	r.failed = cyc.stats().failedCycles - failed0 + (rec.state() != ecmxf::RecorderState::Armed);
+	cyc.stop();
+	return r;
+}
+
 } // namespace
 
 int main()
@@ -204,5 +315,26 @@ int main()
 				rc = 1;
 			}
 		}
+	std::printf("\nscope: ecmxf::Recorder::sample() once per cycle, pipelined, WKC every cycle; 'cyclic' =\n"
+		    "cycle() + waitNextCycle() alone, '+sample' = the same with sample() after each cycle(),\n"
+		    "'sample' = sample() alone (%d calls, the 1000-sample ring wrapping); share = sample / cyclic\n"
+		    "(target: at most 2 %%)\n\n",
+		    200'000);
+	std::printf("%7s %8s %11s %11s %11s %8s %11s %7s\n", "slaves", "signals", "cyclic us", "+sample us",
+		    "sample us", "share", "allocs", "failed");
+	try {
+		const ScopeRow s = runScope(bundled + "/slaves128.net");
+		const double share = s.sampleUs / s.cyclicUs * 100;
+		std::printf("%7zu %8zu %11.2f %11.2f %11.4f %7.2f%% %11llu %7llu\n", s.slaves, s.signals, s.cyclicUs,
+			    s.withSampleUs, s.sampleUs, share, static_cast<unsigned long long>(s.sampleAllocs),
+			    static_cast<unsigned long long>(s.failed));
+		if (s.sampleAllocs || s.failed || s.signals != 8)
+			rc = 1;
+		if (share > 2.0)
+			std::printf("scope: the recorder costs more than 2 %% of the cyclic path\n");
+	} catch (const std::exception &e) {
+		std::fprintf(stderr, "bench-cyclic: scope: %s\n", e.what());
+		rc = 1;
+	}
 	return rc;
 }

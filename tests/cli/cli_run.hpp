@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Runs ecmxf-util (ECMXF_UTIL_PATH) as a separate program and collects its
-// exit code, stdout and stderr.
+// Runs ecmxf-util (ECMXF_UTIL_PATH), or another program, as a separate
+// process and collects its exit code, stdout and stderr.
 #pragma once
 
 #include <catch2/catch.hpp>
@@ -22,14 +22,14 @@ struct Result {
 	std::string out, err;
 };
 
-/// ecmxf-util with @p args (passed through /bin/sh: no metacharacters).
-inline Result run(const std::string &args)
+/// @p program with @p args (passed through /bin/sh: no metacharacters).
+inline Result runProgram(const std::string &program, const std::string &args)
 {
 	static int serial = 0;
 	const auto errFile = std::filesystem::temp_directory_path() /
 			     ("ecmxf-test-cli-tools-" + std::to_string(getpid()) + "-" +
 			      std::to_string(serial++) + ".err");
-	const std::string cmd = std::string(ECMXF_UTIL_PATH) + " " + args + " 2>" + errFile.string();
+	const std::string cmd = program + " " + args + " 2>" + errFile.string();
 	Result r;
 	std::FILE *p = popen(cmd.c_str(), "r");
 	REQUIRE(p != nullptr);
@@ -46,6 +46,12 @@ inline Result run(const std::string &args)
 	r.err = ss.str();
 	std::filesystem::remove(errFile);
 	return r;
+}
+
+/// ecmxf-util with @p args (passed through /bin/sh: no metacharacters).
+inline Result run(const std::string &args)
+{
+	return runProgram(ECMXF_UTIL_PATH, args);
 }
 
 inline std::vector<std::string> lines(const std::string &s)

@@ -26,9 +26,11 @@
 #include <ecmxf/scope/recorder.hpp>
 
 #include "../common/thrown.hpp"
+#include "svg_traces.hpp"
 
 using namespace std::chrono_literals;
 using ecmxftest::thrown;
+using scopetest::svgAttr;
 
 namespace {
 
@@ -85,14 +87,6 @@ std::vector<std::string> split(const std::string &line)
 	return r;
 }
 
-std::string attr(const std::string &tag, const std::string &name)
-{
-	const auto at = tag.find(" " + name + "=\"");
-	REQUIRE(at != std::string::npos);
-	const auto from = at + name.size() + 3;
-	return tag.substr(from, tag.find('"', from) - from);
-}
-
 std::string tmpDir()
 {
 	const auto d = std::filesystem::temp_directory_path() / ("ecmxf-scope-" + std::to_string(::getpid()));
@@ -135,42 +129,26 @@ TEST_CASE("scope svg: each trace's points are the recorded values on its unit's 
 	const std::string svg = ecmxf::svgText(r.rec, { 1000, 560, "a <test> & more" });
 	CHECK(svg.find("a &lt;test&gt; &amp; more") != std::string::npos);
 	const std::string root = svg.substr(svg.find("<svg "), svg.find('>', svg.find("<svg ")) - svg.find("<svg "));
-	std::istringstream plot(attr(root, "data-plot"));
-	double px, py, pw, ph;
-	plot >> px >> py >> pw >> ph;
-	const double tmin = std::stod(attr(root, "data-tmin")), tmax = std::stod(attr(root, "data-tmax"));
-	CHECK(tmin == -20000);
-	CHECK(tmax == 379000);
+	CHECK(std::stod(svgAttr(root, "data-tmin")) == -20000);
+	CHECK(std::stod(svgAttr(root, "data-tmax")) == 379000);
 	// two y-axes: inc and none
 	CHECK(std::count(svg.begin(), svg.end(), '\n') > 10);
 	std::size_t axes = 0;
 	for (auto at = svg.find("class=\"y-axis\""); at != std::string::npos; at = svg.find("class=\"y-axis\"", at + 1))
 		axes++;
 	CHECK(axes == 2);
-	std::size_t traces = 0;
-	for (auto at = svg.find("<polyline class=\"trace\""); at != std::string::npos;
-	     at = svg.find("<polyline class=\"trace\"", at + 1)) {
-		const std::string tag = svg.substr(at, svg.find("/>", at) - at);
-		const double vmin = std::stod(attr(tag, "data-vmin")), vmax = std::stod(attr(tag, "data-vmax"));
-		std::istringstream pts(attr(tag, "points"));
-		std::string xy;
-		std::size_t i = 0;
-		const std::size_t k = traces;
-		while (pts >> xy) {
-			const auto comma = xy.find(',');
-			const double x = std::stod(xy.substr(0, comma)), y = std::stod(xy.substr(comma + 1));
-			REQUIRE(i < r.rec.size());
-			const double t = tmin + (x - px) / pw * (tmax - tmin);
-			const double v = vmin + (py + ph - y) / ph * (vmax - vmin);
+	const auto traces = scopetest::svgTraces(svg);
+	REQUIRE(traces.size() == 3);
+	for (std::size_t k = 0; k < traces.size(); k++) {
+		const auto &tr = traces[k];
+		REQUIRE(tr.points.size() == r.rec.size());
+		for (std::size_t i = 0; i < tr.points.size(); i++) {
 			// the points have 3 decimals of a pixel
-			CHECK(std::fabs(t - static_cast<double>(r.rec.time(i).count()) / 1000) <= (tmax - tmin) / pw * 0.001);
-			CHECK(std::fabs(v - r.rec.value(i, k)) <= (vmax - vmin) / ph * 0.001);
-			i++;
+			CHECK(std::fabs(tr.points[i].first - static_cast<double>(r.rec.time(i).count()) / 1000) <=
+			      tr.timeTolerance);
+			CHECK(std::fabs(tr.points[i].second - r.rec.value(i, k)) <= tr.valueTolerance);
 		}
-		CHECK(i == r.rec.size());
-		traces++;
 	}
-	CHECK(traces == 3);
 	// the minimum and maximum of each signal, marked and written
 	CHECK(svg.find("<g class=\"max\" data-signal=\"0:target\">") != std::string::npos);
 	double top = r.rec.value(0, 0);

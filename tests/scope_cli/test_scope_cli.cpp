@@ -2,10 +2,14 @@
 // ecmxf-util scope and cia402 move --plot, run as programs: the files they
 // write read back (CSV) and checked (SVG: xmllint, rsvg-convert), on sim:,
 // unix: and sk-sim:; bad signals, triggers and output files give a clear
-// error, a non-zero exit and no file.
+// error, a non-zero exit and no file. Also ecmxf-demo --plot DIR (both
+// boards): the CSV read back, the SVG checked and its points read back
+// equal to the CSV's values, a bad DIR refused.
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +19,7 @@
 
 #include "cli/cli_run.hpp"
 #include "common/sim_server.hpp"
+#include "scope/svg_traces.hpp"
 
 using Catch::Matchers::Contains;
 using clitest::run;
@@ -236,3 +241,154 @@ TEST_CASE("scope cli: cia402 move --plot on the ECM-SK records the move")
 	CHECK(u.status == 2);
 	CHECK_THAT(u.err, Contains("cia402: --plot and --csv are for move"));
 }
+
+#ifdef ECMXF_DEMO_PATH
+namespace {
+
+/// The demo's files in @p dir: exactly axis0/1 .csv/.svg (nothing left
+/// over from writing them).
+std::vector<std::string> filesIn(const std::string &dir)
+{
+	std::vector<std::string> v;
+	for (const auto &e : std::filesystem::directory_iterator(dir))
+		v.push_back(e.path().filename().string());
+	std::sort(v.begin(), v.end());
+	return v;
+}
+
+std::string slurp(const std::string &file)
+{
+	std::ifstream in(file);
+	REQUIRE(in.good());
+	std::stringstream ss;
+	ss << in.rdbuf();
+	return ss.str();
+}
+
+/// The SVG's traces are the CSV's columns: each point the row's time and
+/// value (to the SVG's 3 decimals of a pixel), one point per row.
+void svgIsCsv(const std::string &svgFile, const std::vector<std::vector<std::string>> &rows)
+{
+	const auto traces = scopetest::svgTraces(slurp(svgFile));
+	REQUIRE(traces.size() + 1 == rows[0].size());
+	for (std::size_t k = 0; k < traces.size(); k++) {
+		INFO(svgFile << " trace " << traces[k].signal);
+		CHECK_THAT(rows[0][k + 1], Catch::Matchers::StartsWith(traces[k].signal));
+		REQUIRE(traces[k].points.size() + 1 == rows.size());
+		std::size_t bad = 0;
+		for (std::size_t i = 0; i < traces[k].points.size(); i++) {
+			const auto [t, v] = traces[k].points[i];
+			bad += std::fabs(t - std::stod(rows[i + 1][0])) > traces[k].timeTolerance ||
+			       std::fabs(v - std::stod(rows[i + 1][k + 1])) > traces[k].valueTolerance;
+		}
+		CHECK(bad == 0u);
+	}
+}
+
+clitest::Result demo(const std::string &args)
+{
+	return clitest::runProgram(ECMXF_DEMO_PATH, args);
+}
+
+} // namespace
+
+TEST_CASE("scope cli: ecmxf-demo --plot DIR writes both axes' CSP move as CSV and SVG")
+{
+	TempDir d;
+	const std::string dir = d.path + "/plots"; // made by the demo
+	const auto r = demo("--fast --plot " + dir);
+	INFO(r.out << r.err);
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("plots: " + dir + "/axis0.csv " + dir + "/axis0.svg " + dir + "/axis1.csv " + dir +
+				   "/axis1.svg"));
+	CHECK_THAT(r.out, Contains("ecmxf-demo: all steps OK"));
+	CHECK(filesIn(dir) == std::vector<std::string>{ "axis0.csv", "axis0.svg", "axis1.csv", "axis1.svg" });
+	const long to[2] = { 200000, -75000 };
+	for (int a = 0; a < 2; a++) {
+		const std::string n = std::to_string(a);
+		INFO("axis " << n);
+		const auto rows = csv(dir + "/axis" + n + ".csv");
+		REQUIRE(rows.size() > 1000); // 1 s move + 100 ms settling at 1 ms
+		CHECK(rows[0] == std::vector<std::string>{ "time_us", n + ":0x607A:0 [inc]", n + ":0x6064:0 [inc]",
+							   n + ":0x60F4:0 [inc]", n + ":0x6041:0" });
+		CHECK(std::stol(rows.back()[1]) == to[a]);
+		CHECK(std::stol(rows.back()[2]) == to[a]);
+		bool enabled = true, moved = false;
+		for (std::size_t i = 1; i < rows.size(); i++) {
+			enabled = enabled && (std::stoi(rows[i][4]) & 0x6F) == 0x27; // OPERATION ENABLED
+			moved = moved || std::stol(rows[i][1]) != std::stol(rows[1][1]);
+		}
+		CHECK(enabled);
+		CHECK(moved);
+		CHECK(svgOk(dir + "/axis" + n + ".svg", 4));
+		svgIsCsv(dir + "/axis" + n + ".svg", rows);
+	}
+	// a second run replaces the files
+	const auto again = demo("--fast --plot=" + dir);
+	CHECK(again.status == 0);
+	CHECK(filesIn(dir).size() == 4u);
+}
+
+TEST_CASE("scope cli: ecmxf-demo --board ecm-sk --plot DIR writes both axes' move")
+{
+	TempDir d;
+	const auto r = demo("--board ecm-sk --fast --plot " + d.path);
+	INFO(r.out << r.err);
+	REQUIRE(r.status == 0);
+	CHECK_THAT(r.out, Contains("plots: " + d.path + "/axis0.csv"));
+	CHECK(filesIn(d.path) == std::vector<std::string>{ "axis0.csv", "axis0.svg", "axis1.csv", "axis1.svg" });
+	const long to[2] = { 20000, 50000 };
+	for (int a = 0; a < 2; a++) {
+		const std::string n = std::to_string(a);
+		INFO("axis " << n);
+		const auto rows = csv(d.path + "/axis" + n + ".csv");
+		REQUIRE(rows.size() > 1000);
+		CHECK(rows[0] == std::vector<std::string>{ "time_us", n + ":target [inc]", n + ":position [inc]",
+							   n + ":following_error [inc]", n + ":statusword" });
+		CHECK(std::stol(rows.back()[1]) == to[a]);
+		CHECK(std::stol(rows.back()[2]) == to[a]);
+		for (std::size_t i = 1; i < rows.size(); i++)
+			CHECK(std::stol(rows[i][3]) == std::stol(rows[i][1]) - std::stol(rows[i][2]));
+		CHECK(svgOk(d.path + "/axis" + n + ".svg", 3));
+		svgIsCsv(d.path + "/axis" + n + ".svg", rows);
+	}
+}
+
+TEST_CASE("scope cli: ecmxf-demo --plot with a bad DIR fails before the tour, naming it")
+{
+	TempDir d;
+	const std::string file = d.path + "/file";
+	std::ofstream(file) << "keep\n";
+	for (const char *board : { "", "--board ecm-sk " }) {
+		INFO(board);
+		auto r = demo(std::string(board) + "--fast --plot " + file);
+		CHECK(r.status == 1);
+		CHECK_THAT(r.err, Contains("ecmxf-demo: --plot " + file + ": Not a directory"));
+		CHECK_THAT(r.out, !Contains("== ")); // nothing of the tour ran
+		CHECK(slurp(file) == "keep\n");
+		r = demo(std::string(board) + "--fast --plot " + d.path + "/no/such");
+		CHECK(r.status == 1);
+		CHECK_THAT(r.err, Contains("ecmxf-demo: --plot " + d.path +
+					   "/no/such: cannot make the directory: No such file or directory"));
+		CHECK(!std::filesystem::exists(d.path + "/no"));
+	}
+	if (::geteuid() != 0) { // root writes anywhere
+		const std::string ro = d.path + "/ro";
+		std::filesystem::create_directory(ro);
+		std::filesystem::permissions(ro, std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+		const auto r = demo("--fast --plot " + ro);
+		CHECK(r.status == 1);
+		CHECK_THAT(r.err, Contains("ecmxf-demo: --plot " + ro + ": Permission denied"));
+		CHECK(filesIn(ro).empty());
+	} else {
+		WARN("running as root: the unwritable directory case is not checked");
+	}
+	auto u = demo("--plot");
+	CHECK(u.status == 2);
+	CHECK_THAT(u.err, Contains("ecmxf-demo: --plot needs a directory"));
+	u = demo("--plot=");
+	CHECK(u.status == 2);
+	CHECK_THAT(u.err, Contains("ecmxf-demo: --plot: an empty directory name"));
+	CHECK(filesIn(d.path) == std::vector<std::string>{ "file" });
+}
+#endif
