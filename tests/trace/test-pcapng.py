@@ -109,13 +109,15 @@ def main():
             if rows and rows[-1]["ecmxf.check.type"] != want_type:
                 fail(f"{label}: last packet's check type {rows[-1]['ecmxf.check.type']!r}, expected {want_type!r}")
 
-        # a corrupted packet: of the CRC-32 trace one data byte of the
-        # third packet flipped; of the fixed one the check word (the fixed
-        # word covers nothing)
+        # a corrupted packet, the last one (the CRC-32 trace starts with
+        # the fixed word until CRC_TYPE_SET): of the CRC-32 trace one data
+        # byte flipped; of the fixed one the check word (the fixed word
+        # covers nothing)
         for name, word in (("crc32", 10), ("fixed", -2)):
             text = os.path.join(tmp, name + ".trace")
             lines = open(text).read().splitlines()
-            pkt = [i for i, l in enumerate(lines) if " > " in l or " < " in l][2]
+            pkts = [i for i, l in enumerate(lines) if " > " in l or " < " in l]
+            pkt, k = pkts[-1], len(pkts) - 1
             words = lines[pkt].split(" ")
             words[word] = "%08x" % (int(words[word], 16) ^ 0x01)
             lines[pkt] = " ".join(words)
@@ -123,12 +125,12 @@ def main():
             open(bad, "w").write("\n".join(lines) + "\n")
             run(UTIL, "decode", "--pcapng", conv, bad)
             records = decode_json(bad)
-            if records[2]["check"] == "ok":
+            if records[k]["check"] == "ok":
                 fail(name + ": the corrupted packet decodes ok")
             rows = tshark(conv)
             compare("corrupted " + name, rows, records)
-            if rows[2]["ecmxf.check.status"] != "bad":
-                fail(name + ": tshark shows the corrupted packet's check word " + rows[2]["ecmxf.check.status"])
+            if rows[k]["ecmxf.check.status"] != "bad":
+                fail(name + ": tshark shows the corrupted packet's check word " + rows[k]["ecmxf.check.status"])
 
         # bad input: the line named, no output file
         out = os.path.join(tmp, "never.pcapng")
