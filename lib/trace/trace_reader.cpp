@@ -92,6 +92,22 @@ void parseHex(std::size_t line, std::string_view s, std::vector<std::uint8_t> &o
 	const auto *e = p + s.size();
 	int hi = -1;
 	while (p < e) {
+		// the writer's groups: 8 digits, 4 bytes at once
+		if (hi < 0 && e - p >= 8) {
+			const std::uint16_t v0 = pairs[static_cast<std::size_t>(p[0]) << 8 | p[1]];
+			const std::uint16_t v1 = pairs[static_cast<std::size_t>(p[2]) << 8 | p[3]];
+			const std::uint16_t v2 = pairs[static_cast<std::size_t>(p[4]) << 8 | p[5]];
+			const std::uint16_t v3 = pairs[static_cast<std::size_t>(p[6]) << 8 | p[7]];
+			if ((v0 | v1 | v2 | v3) < 0x100) {
+				o[0] = static_cast<std::uint8_t>(v0);
+				o[1] = static_cast<std::uint8_t>(v1);
+				o[2] = static_cast<std::uint8_t>(v2);
+				o[3] = static_cast<std::uint8_t>(v3);
+				o += 4;
+				p += 8;
+				continue;
+			}
+		}
 		if (hi < 0 && e - p >= 2) {
 			const std::uint16_t v = pairs[static_cast<std::size_t>(p[0]) << 8 | p[1]];
 			if (v < 0x100) {
