@@ -118,6 +118,7 @@ bench:
 	$(BENCH_BUILD)/tests/bench/bench-sdo
 	$(BENCH_BUILD)/tests/bench/bench-cyclic
 	$(BENCH_BUILD)/tests/bench/bench-sk
+	$(BENCH_BUILD)/tests/bench/bench-trace
 	python3 tests/bench/bench-python.py $(BENCH_BUILD)
 	BUILD=$(BENCH_BUILD) tests/kernel/run-qemu.sh --bench $(KBENCH_FLAVOURS)
 

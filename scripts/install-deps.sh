@@ -33,8 +33,10 @@ set -eu
 
 # the Python binding (lib/python, tests/python): pybind11, the headers,
 # pytest and numpy (the buffer-protocol tests); the scope's SVG checked by
-# xmllint (libxml2-utils) and rendered by rsvg-convert (librsvg2-bin)
-pkgs="build-essential cmake pkg-config catch2 libgpiod-dev libmnl-dev python3-docutils pybind11-dev python3-dev python3-pytest python3-numpy libxml2-utils librsvg2-bin"
+# xmllint (libxml2-utils) and rendered by rsvg-convert (librsvg2-bin); the
+# pcapng traces read by tshark with the generated Lua dissector
+# (tests/trace, Documentation/trace.rst)
+pkgs="build-essential cmake pkg-config catch2 libgpiod-dev libmnl-dev python3-docutils pybind11-dev python3-dev python3-pytest python3-numpy libxml2-utils librsvg2-bin tshark"
 arm64=""
 for arg in "$@"; do
 	case "$arg" in
@@ -78,6 +80,9 @@ if [ -n "$arm64" ] && ! dpkg --print-foreign-architectures | grep -qx arm64; the
 	echo "install-deps.sh: dpkg --add-architecture arm64"
 	dpkg --add-architecture arm64
 fi
+# tshark's wireshark-common asks whether non-root users may capture
+# (a setuid dumpcap): no, and no question
+echo "wireshark-common wireshark-common/install-setuid boolean false" | debconf-set-selections
 apt-get update -qq
 # shellcheck disable=SC2086
 apt-get install -y -qq --no-install-recommends $missing

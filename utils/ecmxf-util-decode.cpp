@@ -21,7 +21,7 @@
 namespace ecmxf_util {
 
 const char *const kDecodeHelp =
-	"Usage: ecmxf-util [global options] decode TRACEFILE [--json]\n"
+	"Usage: ecmxf-util [global options] decode TRACEFILE [--json | --pcapng OUT]\n"
 	"\n"
 	"Decode a packet trace written with the global option --trace FILE (or the\n"
 	"device URI option trace=FILE) like a protocol analyzer: per packet the time,\n"
@@ -32,19 +32,28 @@ const char *const kDecodeHelp =
 	"\n"
 	"Options:\n"
 	"  --json      a JSON array of packet objects instead of the log\n"
+	"  --pcapng OUT  convert the trace to the pcapng file OUT (for Wireshark\n"
+	"              with ecmxf.lua, Documentation/trace.rst); OUT appears only\n"
+	"              when the whole trace converted\n"
 	"  -h, --help  show this help\n";
 
 int cmdDecode(Globals &g, const Args &args)
 {
 	std::string file;
+	std::string pcapng;
 	bool haveFile = false;
-	for (const std::string_view a : args) {
+	for (std::size_t i = 0; i < args.size(); i++) {
+		const std::string_view a = args[i];
 		if (a == "-h" || a == "--help") {
 			std::fputs(kDecodeHelp, stdout);
 			return 0;
 		}
 		if (a == "--json") {
 			g.json = true;
+		} else if (a == "--pcapng") {
+			if (i + 1 >= args.size() || args[i + 1].empty())
+				throw UsageError("decode: option '--pcapng' needs an output file name");
+			pcapng = std::string(args[++i]);
 		} else if (a.size() > 1 && a.starts_with("-")) {
 			throw UsageError("decode: unknown argument '" + std::string(a) +
 					 "' (try 'ecmxf-util decode --help')");
@@ -57,6 +66,8 @@ int cmdDecode(Globals &g, const Args &args)
 	}
 	if (!haveFile)
 		throw UsageError("decode: which trace file? (ecmxf-util decode TRACEFILE)");
+	if (!pcapng.empty() && g.json)
+		throw UsageError("decode: --json and --pcapng exclude each other");
 
 	ecmxf::TraceDecodeOptions o;
 	o.json = g.json;
@@ -70,6 +81,12 @@ int cmdDecode(Globals &g, const Args &args)
 		if (!f)
 			throw std::runtime_error("cannot open the trace file \"" + file + "\": " + std::strerror(errno));
 		in = &f;
+	}
+	if (!pcapng.empty()) {
+		const ecmxf::TraceSummary s = ecmxf::traceToPcapng(*in, pcapng);
+		std::cerr << "decode: " << s.packets << " packets (" << s.commands << " to the chip, " << s.responses
+			  << " from it) written to " << pcapng << '\n';
+		return 0;
 	}
 	// decoded in full before anything is printed: a bad line gives an
 	// error, not half a log

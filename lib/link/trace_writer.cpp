@@ -41,6 +41,10 @@ const char *checkKeyword(unsigned check) noexcept
 
 TraceWriter::TraceWriter(std::string_view path) : path_(path)
 {
+	if (path_.ends_with(".pcapng")) {
+		pcap_ = std::make_unique<PcapngWriter>(path_);
+		return;
+	}
 	f_ = std::fopen(path_.c_str(), "w");
 	if (!f_) {
 		const int err = errno;
@@ -69,6 +73,8 @@ void TraceWriter::put(const char *s, std::size_t n) noexcept
 
 void TraceWriter::format(unsigned dataSize, unsigned check) noexcept
 {
+	if (pcap_)
+		return; // pcapng: each packet carries its own check word
 	char buf[64];
 	const int n = std::snprintf(buf, sizeof(buf), "format %u %s\n", dataSize, checkKeyword(check));
 	if (n > 0)
@@ -77,6 +83,8 @@ void TraceWriter::format(unsigned dataSize, unsigned check) noexcept
 
 void TraceWriter::comment(std::string_view text) noexcept
 {
+	if (pcap_)
+		return;
 	put("# ", 2);
 	put(text.data(), text.size());
 	put("\n", 1);
@@ -107,6 +115,11 @@ void TraceWriter::line(std::uint64_t ns, const char *tag, std::span<const std::u
 
 void TraceWriter::packet(std::uint64_t ns, char dir, std::span<const std::uint8_t> bytes) noexcept
 {
+	if (pcap_) {
+		pcap_->packet(PcapngWriter::Link::Spi, ns, dir == '>' ? PcapngWriter::kOutbound : PcapngWriter::kInbound,
+			      bytes);
+		return;
+	}
 	line(ns, dir == '>' ? ">" : "<", bytes, {});
 }
 
@@ -129,7 +142,7 @@ void TraceWriter::request(std::uint64_t ns, const RawRequest &req) noexcept
 	h[17] = req.gpioIntClear[1];
 	h[18] = req.gpioOut[0];
 	h[19] = req.gpioOut[1];
-	line(ns, "C", h, req.tx);
+	kernelRecord(ns, h, 0, false, req.tx);
 }
 
 void TraceWriter::response(std::uint64_t ns, const RawResult &res, std::span<const std::uint8_t> rx) noexcept
@@ -154,13 +167,36 @@ void TraceWriter::response(std::uint64_t ns, const RawResult &res, std::span<con
 	h[17] = r.gpioIntFlag[1];
 	h[18] = r.gpioIn[0];
 	h[19] = r.gpioIn[1];
+	kernelRecord(ns, h, res.status, true, rx);
+}
+
+void TraceWriter::kernelRecord(std::uint64_t ns, const std::array<std::uint8_t, 20> &h, int status, bool response,
+			       std::span<const std::uint8_t> data) noexcept
+{
+	if (pcap_) {
+		// Documentation/trace.rst, "pcapng": the status as int32 LE first
+		std::uint8_t st[4];
+		const auto u = static_cast<std::uint32_t>(status);
+		for (unsigned i = 0; i < 4; i++)
+			st[i] = static_cast<std::uint8_t>(u >> (8 * i));
+		pcap_->packet(PcapngWriter::Link::Kernel, ns,
+			      response ? PcapngWriter::kInbound : PcapngWriter::kOutbound, st, h, data);
+		return;
+	}
 	char tag[24];
-	std::snprintf(tag, sizeof(tag), "R %d", res.status);
-	line(ns, tag, h, rx);
+	if (response)
+		std::snprintf(tag, sizeof(tag), "R %d", status);
+	else
+		std::snprintf(tag, sizeof(tag), "C");
+	line(ns, tag, h, data);
 }
 
 void TraceWriter::close()
 {
+	if (pcap_) {
+		pcap_->close();
+		return;
+	}
 	if (!f_)
 		return;
 	std::FILE *f = std::exchange(f_, nullptr);

@@ -3,6 +3,7 @@
 // the links; a Device owns the one it records to (Device::startTrace()).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -12,6 +13,8 @@
 #include <string_view>
 
 #include <ecmxf/link/link.hpp>
+
+#include "link/pcapng_writer.hpp"
 
 namespace ecmxf {
 
@@ -23,7 +26,9 @@ namespace detail {
 class TraceWriter
 {
 public:
-	/// Creates or truncates @p path and writes the magic line. Throws
+	/// Creates or truncates @p path and writes the magic line, or, for a
+	/// name ending in ".pcapng", a pcapng file (PcapngWriter: the packets
+	/// and kernel records, no format or comment lines). Throws
 	/// ecmxf::Error with the path and the system's reason.
 	explicit TraceWriter(std::string_view path);
 	~TraceWriter();
@@ -49,8 +54,12 @@ private:
 	void line(std::uint64_t ns, const char *tag, std::span<const std::uint8_t> a,
 		  std::span<const std::uint8_t> b) noexcept;
 	void put(const char *s, std::size_t n) noexcept;
+	void kernelRecord(std::uint64_t ns, const std::array<std::uint8_t, 20> &h, int status, bool response,
+			  std::span<const std::uint8_t> data) noexcept;
 
 	std::string path_;
+	/// the pcapng writer (a .pcapng trace), or null (text)
+	std::unique_ptr<PcapngWriter> pcap_;
 	std::FILE *f_ = nullptr;
 	int err_ = 0; ///< first write error (errno), 0: none
 };

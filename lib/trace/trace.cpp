@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "ecmxf-proto.h"
+#include "trace/trace_reader.hpp"
 
 namespace ecmxf {
 
@@ -186,65 +187,7 @@ std::string jsonHex(const std::uint8_t *p, std::size_t n)
 	return s + "\"";
 }
 
-/// One record of the trace file.
-struct Record {
-	std::size_t line = 0;
-	std::uint64_t ns = 0;
-	char kind = 0; // '>', '<', 'C', 'R'
-	int status = 0;
-	std::vector<std::uint8_t> bytes;
-};
-
-[[noreturn]] void badLine(std::size_t line, const std::string &what)
-{
-	throw Error("trace line " + std::to_string(line) + ": " + what, EINVAL);
-}
-
-std::uint64_t parseTime(std::size_t line, const std::string &t)
-{
-	const auto dot = t.find('.');
-	const std::string sec = t.substr(0, dot);
-	const std::string frac = dot == std::string::npos ? std::string() : t.substr(dot + 1);
-	auto digits = [](const std::string &s) {
-		return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
-	};
-	if (!digits(sec) || sec.size() > 10 || (dot != std::string::npos && (!digits(frac) || frac.size() > 9)))
-		badLine(line, "bad time \"" + t + "\" (expected seconds with up to 9 decimals, e.g. 0.000150000)");
-	std::uint64_t ns = std::stoull(sec) * 1'000'000'000u;
-	std::uint64_t f = 0;
-	for (std::size_t i = 0; i < 9; i++)
-		f = f * 10 + (i < frac.size() ? static_cast<std::uint64_t>(frac[i] - '0') : 0u);
-	return ns + f;
-}
-
-std::vector<std::uint8_t> parseHex(std::size_t line, const std::string &s, std::size_t from)
-{
-	std::vector<std::uint8_t> out;
-	int hi = -1;
-	for (std::size_t i = from; i < s.size(); i++) {
-		const char c = s[i];
-		if (c == ' ' || c == '\t' || c == '\r')
-			continue;
-		int v;
-		if (c >= '0' && c <= '9')
-			v = c - '0';
-		else if (c >= 'a' && c <= 'f')
-			v = c - 'a' + 10;
-		else if (c >= 'A' && c <= 'F')
-			v = c - 'A' + 10;
-		else
-			badLine(line, std::string("'") + c + "' is not a hex digit");
-		if (hi < 0) {
-			hi = v;
-		} else {
-			out.push_back(static_cast<std::uint8_t>(hi << 4 | v));
-			hi = -1;
-		}
-	}
-	if (hi >= 0)
-		badLine(line, "odd number of hex digits");
-	return out;
-}
+using Record = detail::TraceRecord;
 
 /// The decoder's view of the link, followed across the format commands.
 class Decoder
@@ -660,69 +603,14 @@ void Decoder::record(const Record &r)
 TraceSummary decodeTrace(std::istream &in, std::ostream &out, const TraceDecodeOptions &options)
 {
 	Decoder d(out, options);
-	std::string s;
-	std::size_t line = 0;
-	bool magic = false;
-	while (std::getline(in, s)) {
-		line++;
-		if (!s.empty() && s.back() == '\r')
-			s.pop_back();
-		if (s.empty() || s[0] == '#')
-			continue;
-		if (!magic) {
-			if (s != kTraceMagic)
-				badLine(line, "not an ecmxf trace (the first line must be \"" + std::string(kTraceMagic) + "\")");
-			magic = true;
-			continue;
-		}
-		if (s.starts_with("format ")) {
-			char check[16] = {};
-			unsigned size = 0;
-			char extra = 0;
-			if (std::sscanf(s.c_str(), "format %u %15s %c", &size, check, &extra) != 2 ||
-			    !ecmxf_data_size_valid(size))
-				badLine(line, "bad format line \"" + s + "\" (expected format <32..1408> fixed|crc8|ccitt|crc32)");
-			const std::string c = check;
-			const unsigned type = c == "fixed" ? 0u : c == "crc8" ? 1u : c == "ccitt" ? 2u : c == "crc32" ? 3u : 99u;
-			if (type == 99u)
-				badLine(line, "unknown check type \"" + c + "\" (fixed, crc8, ccitt, crc32)");
-			d.format(size, type);
-			continue;
-		}
-		Record r;
-		r.line = line;
-		const auto sp = s.find(' ');
-		if (sp == std::string::npos || sp + 2 > s.size() || (sp + 2 < s.size() && s[sp + 2] != ' '))
-			badLine(line, "expected <time> <record> ..., record one of > < C R");
-		r.ns = parseTime(line, s.substr(0, sp));
-		r.kind = s[sp + 1];
-		std::size_t from = sp + 2;
-		if (r.kind == 'R') {
-			const auto sp2 = s.find(' ', from + 1);
-			const std::string st = s.substr(from, sp2 == std::string::npos ? std::string::npos : sp2 - from);
-			char *end = nullptr;
-			const long v = std::strtol(st.c_str(), &end, 10);
-			const std::string_view trimmed(st);
-			if (trimmed.find_first_not_of(' ') == std::string_view::npos || !end || *end || v < -4095 || v > 0)
-				badLine(line, "bad status in R record (expected 0 or a negative errno)");
-			r.status = static_cast<int>(v);
-			from = sp2 == std::string::npos ? s.size() : sp2;
-		} else if (r.kind != '>' && r.kind != '<' && r.kind != 'C') {
-			badLine(line, std::string("unknown record '") + r.kind + "' (expected > < C R)");
-		}
-		r.bytes = parseHex(line, s, from);
-		if (r.kind == '>' || r.kind == '<') {
-			if (r.bytes.size() < ECMXF_PKT_SIZE(ECMXF_DATA_MIN) || r.bytes.size() > ECMXF_PKT_MAX)
-				badLine(line, "a packet of " + std::to_string(r.bytes.size()) +
-						      " bytes (packets are 64..1440 bytes)");
-		} else if (r.bytes.size() < 20) {
-			badLine(line, "a kernel record needs the 20 header bytes 0x04..0x17, found " +
-					      std::to_string(r.bytes.size()));
-		}
-		d.record(r);
+	detail::TraceReader reader(in);
+	Record r;
+	while (reader.next(r)) {
+		if (r.kind == 'F')
+			d.format(r.dataSize, r.check);
+		else
+			d.record(r);
 	}
-	if (!magic)
-		badLine(line, "not an ecmxf trace (empty, or no \"" + std::string(kTraceMagic) + "\" line)");
 	d.finish();
 	return d.summary;
 }

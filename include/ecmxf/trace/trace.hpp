@@ -56,4 +56,18 @@ struct TraceSummary {
 /// outside 64..1440 bytes).
 ECMXF_EXPORT TraceSummary decodeTrace(std::istream &in, std::ostream &out, const TraceDecodeOptions &options = {});
 
+/// Converts the text trace read from @p in to a pcapng file at @p path
+/// (Documentation/trace.rst, "pcapng"): one Enhanced Packet Block per
+/// record (MOSI and MISO packets on LINKTYPE_USER0, kernel records on
+/// USER1), with its time and direction. The file appears only when the
+/// whole trace converted: a regular file (or a new one) is written under
+/// a temporary name beside it and renamed at the end; any other file
+/// (/dev/stdout, a pipe) is written in place. Throws ecmxf::Error naming
+/// the line for a bad trace (as decodeTrace()), or with the path and the
+/// system's reason when the file cannot be written; then no file is left
+/// under @p path's name that was not there before. Returns the counts
+/// (packets, commands, responses; bad is not counted: the packets are
+/// not verified).
+ECMXF_EXPORT TraceSummary traceToPcapng(std::istream &in, std::string_view path);
+
 } // namespace ecmxf

@@ -1,0 +1,249 @@
+// SPDX-License-Identifier: MIT
+// The text trace reader (lib/trace/trace_reader.hpp).
+
+#include <ecmxf/error.hpp>
+#include <ecmxf/protocol.hpp>
+
+#include <array>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <istream>
+#include <string>
+
+#include "ecmxf-proto.h"
+#include "trace/trace_reader.hpp"
+
+namespace ecmxf::detail {
+
+namespace {
+
+constexpr std::size_t kBlock = 1u << 16;
+
+/// Per character: 0..15 a hex digit, kSep a separator, kBad anything else.
+constexpr std::uint8_t kSep = 0x40, kBad = 0x80;
+constexpr std::array<std::uint8_t, 256> kNibble = [] {
+	std::array<std::uint8_t, 256> t{};
+	for (auto &v : t)
+		v = kBad;
+	for (int c = '0'; c <= '9'; c++)
+		t[static_cast<std::size_t>(c)] = static_cast<std::uint8_t>(c - '0');
+	for (int c = 'a'; c <= 'f'; c++)
+		t[static_cast<std::size_t>(c)] = static_cast<std::uint8_t>(c - 'a' + 10);
+	for (int c = 'A'; c <= 'F'; c++)
+		t[static_cast<std::size_t>(c)] = static_cast<std::uint8_t>(c - 'A' + 10);
+	t[' '] = t['\t'] = t['\r'] = kSep;
+	return t;
+}();
+
+/// Two characters (first in the high byte) to their byte, or 0x100 and
+/// up when either is not a hex digit.
+const std::array<std::uint16_t, 65536> &pairTable()
+{
+	static const auto t = [] {
+		std::array<std::uint16_t, 65536> p{};
+		for (std::size_t i = 0; i < p.size(); i++) {
+			const std::uint8_t hi = kNibble[i >> 8], lo = kNibble[i & 0xFF];
+			p[i] = (hi | lo) & (kSep | kBad) ? 0x100 : static_cast<std::uint16_t>(hi << 4 | lo);
+		}
+		return p;
+	}();
+	return t;
+}
+
+[[noreturn]] void badLine(std::size_t line, const std::string &what)
+{
+	throw Error("trace line " + std::to_string(line) + ": " + what, EINVAL);
+}
+
+std::uint64_t parseTime(std::size_t line, std::string_view t)
+{
+	const auto dot = t.find('.');
+	const std::string_view sec = t.substr(0, dot);
+	const std::string_view frac = dot == std::string_view::npos ? std::string_view() : t.substr(dot + 1);
+	auto digits = [](std::string_view s) {
+		if (s.empty())
+			return false;
+		for (const char c : s)
+			if (c < '0' || c > '9')
+				return false;
+		return true;
+	};
+	if (!digits(sec) || sec.size() > 10 || (dot != std::string_view::npos && (!digits(frac) || frac.size() > 9)))
+		badLine(line, "bad time \"" + std::string(t) +
+				      "\" (expected seconds with up to 9 decimals, e.g. 0.000150000)");
+	std::uint64_t s = 0;
+	for (const char c : sec)
+		s = s * 10 + static_cast<std::uint64_t>(c - '0');
+	std::uint64_t f = 0;
+	for (std::size_t i = 0; i < 9; i++)
+		f = f * 10 + (i < frac.size() ? static_cast<std::uint64_t>(frac[i] - '0') : 0u);
+	return s * 1'000'000'000u + f;
+}
+
+/// The hex of @p s into @p out: digit pairs through the pair table, one
+/// nibble at a time where a separator splits a pair.
+void parseHex(std::size_t line, std::string_view s, std::vector<std::uint8_t> &out)
+{
+	const auto &pairs = pairTable();
+	out.resize(s.size() / 2 + 1);
+	std::uint8_t *o = out.data();
+	const auto *p = reinterpret_cast<const unsigned char *>(s.data());
+	const auto *e = p + s.size();
+	int hi = -1;
+	while (p < e) {
+		// the writer's groups: 8 digits, 4 bytes at once
+		if (hi < 0 && e - p >= 8) {
+			const std::uint16_t v0 = pairs[static_cast<std::size_t>(p[0]) << 8 | p[1]];
+			const std::uint16_t v1 = pairs[static_cast<std::size_t>(p[2]) << 8 | p[3]];
+			const std::uint16_t v2 = pairs[static_cast<std::size_t>(p[4]) << 8 | p[5]];
+			const std::uint16_t v3 = pairs[static_cast<std::size_t>(p[6]) << 8 | p[7]];
+			if ((v0 | v1 | v2 | v3) < 0x100) {
+				o[0] = static_cast<std::uint8_t>(v0);
+				o[1] = static_cast<std::uint8_t>(v1);
+				o[2] = static_cast<std::uint8_t>(v2);
+				o[3] = static_cast<std::uint8_t>(v3);
+				o += 4;
+				p += 8;
+				continue;
+			}
+		}
+		if (hi < 0 && e - p >= 2) {
+			const std::uint16_t v = pairs[static_cast<std::size_t>(p[0]) << 8 | p[1]];
+			if (v < 0x100) {
+				*o++ = static_cast<std::uint8_t>(v);
+				p += 2;
+				continue;
+			}
+		}
+		const std::uint8_t n = kNibble[*p];
+		if (n == kSep) {
+			p++;
+			continue;
+		}
+		if (n == kBad)
+			badLine(line, std::string("'") + static_cast<char>(*p) + "' is not a hex digit");
+		if (hi < 0) {
+			hi = n;
+		} else {
+			*o++ = static_cast<std::uint8_t>(hi << 4 | n);
+			hi = -1;
+		}
+		p++;
+	}
+	if (hi >= 0)
+		badLine(line, "odd number of hex digits");
+	out.resize(static_cast<std::size_t>(o - out.data()));
+}
+
+} // namespace
+
+TraceReader::TraceReader(std::istream &in) : in_(in), buf_(kBlock) {}
+
+bool TraceReader::nextLine(std::string_view &line)
+{
+	for (;;) {
+		const char *b = buf_.data();
+		if (const void *nl = std::memchr(b + pos_, '\n', end_ - pos_)) {
+			const std::size_t at = static_cast<std::size_t>(static_cast<const char *>(nl) - b);
+			line = std::string_view(b + pos_, at - pos_);
+			pos_ = at + 1;
+			return true;
+		}
+		if (eof_) {
+			if (pos_ == end_)
+				return false;
+			line = std::string_view(b + pos_, end_ - pos_); // the last line, without its newline
+			pos_ = end_;
+			return true;
+		}
+		// move the partial line to the front, grow for a long one, read on
+		if (pos_ > 0) {
+			std::memmove(buf_.data(), buf_.data() + pos_, end_ - pos_);
+			end_ -= pos_;
+			pos_ = 0;
+		}
+		if (end_ == buf_.size())
+			buf_.resize(buf_.size() * 2);
+		in_.read(buf_.data() + end_, static_cast<std::streamsize>(buf_.size() - end_));
+		const std::streamsize got = in_.gcount();
+		end_ += static_cast<std::size_t>(got);
+		if (!in_)
+			eof_ = true;
+	}
+}
+
+bool TraceReader::next(TraceRecord &r)
+{
+	std::string_view s;
+	while (nextLine(s)) {
+		line_++;
+		if (!s.empty() && s.back() == '\r')
+			s.remove_suffix(1);
+		if (s.empty() || s[0] == '#')
+			continue;
+		if (parse(s, r))
+			return true;
+	}
+	if (!magic_)
+		badLine(line_, "not an ecmxf trace (empty, or no \"" + std::string(kTraceMagic) + "\" line)");
+	return false;
+}
+
+bool TraceReader::parse(std::string_view s, TraceRecord &r)
+{
+	if (!magic_) {
+		if (s != kTraceMagic)
+			badLine(line_, "not an ecmxf trace (the first line must be \"" + std::string(kTraceMagic) + "\")");
+		magic_ = true;
+		return false;
+	}
+	r.line = line_;
+	r.status = 0;
+	if (s.starts_with("format ")) {
+		const std::string l(s);
+		char check[16] = {};
+		unsigned size = 0;
+		char extra = 0;
+		if (std::sscanf(l.c_str(), "format %u %15s %c", &size, check, &extra) != 2 || !ecmxf_data_size_valid(size))
+			badLine(line_, "bad format line \"" + l + "\" (expected format <32..1408> fixed|crc8|ccitt|crc32)");
+		const std::string c = check;
+		const unsigned type = c == "fixed" ? 0u : c == "crc8" ? 1u : c == "ccitt" ? 2u : c == "crc32" ? 3u : 99u;
+		if (type == 99u)
+			badLine(line_, "unknown check type \"" + c + "\" (fixed, crc8, ccitt, crc32)");
+		r.kind = 'F';
+		r.dataSize = size;
+		r.check = type;
+		r.bytes.clear();
+		return true;
+	}
+	const auto sp = s.find(' ');
+	if (sp == std::string_view::npos || sp + 2 > s.size() || (sp + 2 < s.size() && s[sp + 2] != ' '))
+		badLine(line_, "expected <time> <record> ..., record one of > < C R");
+	r.ns = parseTime(line_, s.substr(0, sp));
+	r.kind = s[sp + 1];
+	std::size_t from = sp + 2;
+	if (r.kind == 'R') {
+		const auto sp2 = s.find(' ', from + 1);
+		const std::string st(s.substr(from, sp2 == std::string_view::npos ? std::string_view::npos : sp2 - from));
+		char *end = nullptr;
+		const long v = std::strtol(st.c_str(), &end, 10);
+		if (st.find_first_not_of(' ') == std::string::npos || !end || *end || v < -4095 || v > 0)
+			badLine(line_, "bad status in R record (expected 0 or a negative errno)");
+		r.status = static_cast<int>(v);
+		from = sp2 == std::string_view::npos ? s.size() : sp2;
+	} else if (r.kind != '>' && r.kind != '<' && r.kind != 'C') {
+		badLine(line_, std::string("unknown record '") + r.kind + "' (expected > < C R)");
+	}
+	parseHex(line_, s.substr(from), r.bytes);
+	if (r.kind == '>' || r.kind == '<') {
+		if (r.bytes.size() < ECMXF_PKT_SIZE(ECMXF_DATA_MIN) || r.bytes.size() > ECMXF_PKT_MAX)
+			badLine(line_, "a packet of " + std::to_string(r.bytes.size()) + " bytes (packets are 64..1440 bytes)");
+	} else if (r.bytes.size() < 20) {
+		badLine(line_, "a kernel record needs the 20 header bytes 0x04..0x17, found " +
+				       std::to_string(r.bytes.size()));
+	}
+	return true;
+}
+
+} // namespace ecmxf::detail

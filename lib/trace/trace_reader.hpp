@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+// Internal: the one reader of text traces (Documentation/trace.rst, "File
+// format"), shared by decodeTrace() and traceToPcapng(). It reads its
+// stream in blocks and decodes the hex through a table of digit pairs
+// (make bench: tests/bench, trace_pcapng).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <iosfwd>
+#include <string_view>
+#include <vector>
+
+namespace ecmxf::detail {
+
+/// One record of a trace file.
+struct TraceRecord {
+	std::size_t line = 0;
+	std::uint64_t ns = 0;
+	/// '>' (MOSI), '<' (MISO), 'C', 'R' (kernel), 'F' (a format line:
+	/// dataSize and check)
+	char kind = 0;
+	int status = 0; ///< R: the command's status
+	unsigned dataSize = 0, check = 0; ///< F
+	std::vector<std::uint8_t> bytes;  ///< the packet / header and data
+};
+
+/// Reads the records of a text trace; throws ecmxf::Error (EINVAL) naming
+/// the line for input that is not a trace.
+class TraceReader
+{
+public:
+	explicit TraceReader(std::istream &in);
+	/// The next record into @p r (its buffer reused); false at the end
+	/// of the input (which throws when there was no magic line).
+	bool next(TraceRecord &r);
+
+private:
+	bool nextLine(std::string_view &line);
+	bool parse(std::string_view s, TraceRecord &r);
+
+	std::istream &in_;
+	std::vector<char> buf_;
+	std::size_t pos_ = 0, end_ = 0;
+	bool eof_ = false;
+	std::size_t line_ = 0;
+	bool magic_ = false;
+};
+
+} // namespace ecmxf::detail
