@@ -438,7 +438,7 @@ TEST_CASE("decode --help and the command list mention decode and --trace", "[cli
 	CHECK_THAT(r.out, Contains("--trace FILE"));
 	r = run("decode --help");
 	CHECK(r.status == 0);
-	CHECK_THAT(r.out, StartsWith("Usage: ecmxf-util [global options] decode TRACEFILE [--json]"));
+	CHECK_THAT(r.out, StartsWith("Usage: ecmxf-util [global options] decode TRACEFILE [--json | --pcapng OUT]"));
 }
 
 TEST_CASE("commands --json is an array with one object per command code", "[cli][commands][json]")

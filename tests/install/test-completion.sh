@@ -82,7 +82,7 @@ comp "ecmxf-util cia402 -p 0 " status enable disable fault-reset quick-stop move
 comp "ecmxf-util cia402 -p 0 move --" --help --position --pp --pv --csp --velocity --accel \
 	--relative --time --plot --csv
 comp "ecmxf-util cia402 -p 0 move --csp 100 --plot $tmp/files/a." "$tmp/files/a.bin" "$tmp/files/a.trace"
-comp "ecmxf-util scope --" --help --cycles --time --trigger --pre --timeout --buffer --csv --svg --title --json
+comp "ecmxf-util scope --" --help --cycles --time --trigger --pre --timeout --buffer --csv --svg --title --json --live --no-live
 comp "ecmxf-util scope 0:wkc --svg $tmp/files/b" "$tmp/files/b.net"
 comp "ecmxf-util scope wkc --cycles "
 comp "ecmxf-util cia402 -p 0 home --" --help --position --method

@@ -73,7 +73,7 @@ TEST_CASE("scope terminal: two rows, the minimum at the bottom of the lower, the
 	CHECK(ecmxf::terminalText(t.rec, 0, 2, 2) == std::vector<std::string>{ "\u2800\u2801", "\u2860\u2800" });
 }
 
-TEST_CASE("scope terminal: a constant draws on the middle dot row; only the latest samples are drawn")
+TEST_CASE("scope terminal: a constant draws on the middle dot row, only the latest samples are drawn")
 {
 	Samples s{ 5, 5 };
 	// 4 dot rows, all equal: row (4 - 1) / 2 = 1 from the bottom = the
@@ -90,7 +90,7 @@ TEST_CASE("scope terminal: a constant draws on the middle dot row; only the late
 	CHECK(r.max == 9);
 }
 
-TEST_CASE("scope terminal: nothing recorded draws blank rows; bad arguments are EINVAL")
+TEST_CASE("scope terminal: nothing recorded draws blank rows, bad arguments are EINVAL")
 {
 	std::int64_t v = 0;
 	ecmxf::Recorder rec(10);

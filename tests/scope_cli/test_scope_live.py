@@ -14,6 +14,7 @@ Usage: test_scope_live.py ECMXF_UTIL
 """
 import fcntl
 import os
+import re
 import select
 import subprocess
 import sys
@@ -53,7 +54,7 @@ def on_pty(args, feed=None, wait_for=BRAILLE, timeout=60):
             except OSError:
                 chunk = b''
             out += chunk
-        if not fed and wait_for in out:
+        if not fed and (wait_for(out) if callable(wait_for) else wait_for in out):
             os.write(master, feed)
             fed = True
         if p.poll() is not None and not r:
@@ -68,6 +69,13 @@ def on_pty(args, feed=None, wait_for=BRAILLE, timeout=60):
     return p.returncode, out, before, after
 
 
+def some_samples(out):
+    """A frame of the live view says it holds at least 10 samples: only then
+    is the key sent, so that the CSV has rows whatever the machine's speed
+    (the first frame is drawn before the first cycle)."""
+    return any(int(n) >= 10 for n in re.findall(rb'(\d+) samples, ', out))
+
+
 def rows(path):
     with open(path) as f:
         return f.read().splitlines()
@@ -79,7 +87,8 @@ with tempfile.TemporaryDirectory() as d:
         csv, svg = os.path.join(d, name + '.csv'), os.path.join(d, name + '.svg')
         rc, out, before, after = on_pty(['-d', 'sim:', 'scope', '0:position_actual_value',
                                          '0:following_error_actual_value', 'wkc', '--cycles', '2000000',
-                                         '--buffer', '2000000', '--csv', csv, '--svg', svg], feed=key)
+                                         '--buffer', '2000000', '--csv', csv, '--svg', svg], feed=key,
+                                        wait_for=some_samples)
         text = out.decode('utf-8', 'replace')
         check(rc == 0, '%s: exit 0 (got %s)' % (name, rc))
         check(b'\x1b[?25l' in out and BRAILLE in out, '%s: the live view drew braille dots' % name)
