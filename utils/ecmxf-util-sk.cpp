@@ -147,7 +147,7 @@ std::optional<std::uint32_t> identityWord(ecmxf::MasterVerbs &v, unsigned positi
 		const std::vector<std::uint8_t> d = v.upload(position, 0x1018, sub);
 		if (d.size() != 4)
 			return std::nullopt;
-		return static_cast<std::uint32_t>(d[0] | d[1] << 8 | d[2] << 16 | static_cast<std::uint32_t>(d[3]) << 24);
+		return std::uint32_t{ d[0] } | std::uint32_t{ d[1] } << 8 | std::uint32_t{ d[2] } << 16 | std::uint32_t{ d[3] } << 24;
 	} catch (const ecmxf::Error &) {
 		return std::nullopt;
 	}
