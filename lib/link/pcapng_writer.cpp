@@ -6,13 +6,11 @@
 // Block, epb_flags); link types 147..149: the tcpdump.org list of link
 // types (LINKTYPE_USER0..2).
 
-#include <ecmxf/error.hpp>
 #include <ecmxf/protocol.hpp>
 
 #include <algorithm>
-#include <cerrno>
+#include <cstdio>
 #include <cstring>
-#include <utility>
 
 #include "base/bytes.hpp"
 #include "link/pcapng_writer.hpp"
@@ -54,15 +52,8 @@ const char *linkName(PcapngWriter::Link l) noexcept
 
 } // namespace
 
-PcapngWriter::PcapngWriter(std::string_view path, std::string_view shownAs) : path_(shownAs.empty() ? path : shownAs)
+PcapngWriter::PcapngWriter(std::string_view path, std::string_view shownAs) : file_(path, shownAs)
 {
-	f_ = std::fopen(std::string(path).c_str(), "wb");
-	if (!f_) {
-		const int err = errno;
-		std::string m = "cannot create the trace file \"";
-		m.append(path_).append("\": ").append(std::strerror(err));
-		throw Error(m, err);
-	}
 	std::uint8_t *b = buf_.data();
 	put32(b, kShb);
 	put32(b + 8, 0x1A2B3C4D); // byte-order magic
@@ -78,21 +69,7 @@ PcapngWriter::PcapngWriter(std::string_view path, std::string_view shownAs) : pa
 	n += option(b + n, kOptEnd, nullptr, 0);
 	put32(b + 4, static_cast<std::uint32_t>(n + 4));
 	put32(b + n, static_cast<std::uint32_t>(n + 4));
-	put(b, n + 4);
-}
-
-PcapngWriter::~PcapngWriter()
-{
-	if (f_)
-		std::fclose(f_);
-}
-
-void PcapngWriter::put(const std::uint8_t *p, std::size_t n) noexcept
-{
-	if (!f_ || err_)
-		return;
-	if (std::fwrite(p, 1, n, f_) != n)
-		err_ = errno ? errno : EIO;
+	file_.put(b, n + 4);
 }
 
 std::uint32_t PcapngWriter::interface(Link link) noexcept
@@ -114,7 +91,7 @@ std::uint32_t PcapngWriter::interface(Link link) noexcept
 	n += option(b + n, kOptEnd, nullptr, 0);
 	put32(b + 4, static_cast<std::uint32_t>(n + 4));
 	put32(b + n, static_cast<std::uint32_t>(n + 4));
-	put(b, n + 4);
+	file_.put(b, n + 4);
 	return static_cast<std::uint32_t>(ids_[k]);
 }
 
@@ -147,22 +124,13 @@ void PcapngWriter::packet(Link link, std::uint64_t ns, std::uint32_t flags, std:
 	n += option(p + n, kOptEnd, nullptr, 0);
 	put32(p + 4, static_cast<std::uint32_t>(n + 4));
 	put32(p + n, static_cast<std::uint32_t>(n + 4));
-	put(p, n + 4);
+	file_.put(p, n + 4);
 	packets_++;
 }
 
 void PcapngWriter::close()
 {
-	if (!f_)
-		return;
-	std::FILE *f = std::exchange(f_, nullptr);
-	if (std::fclose(f) != 0 && !err_)
-		err_ = errno ? errno : EIO;
-	if (err_) {
-		std::string m = "writing the trace file \"";
-		m.append(path_).append("\" failed: ").append(std::strerror(err_));
-		throw Error(m, err_);
-	}
+	file_.close();
 }
 
 } // namespace ecmxf::detail

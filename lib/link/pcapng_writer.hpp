@@ -9,12 +9,12 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
 #include <span>
 #include <string>
 #include <string_view>
 
 #include "ecmxf-proto.h"
+#include "link/trace_file.hpp"
 
 namespace ecmxf::detail {
 
@@ -43,7 +43,6 @@ public:
 	/// Throws ecmxf::Error with the path (or @p shownAs, when given: the
 	/// name a temporary file stands for) and the system's reason.
 	explicit PcapngWriter(std::string_view path, std::string_view shownAs = {});
-	~PcapngWriter();
 	PcapngWriter(const PcapngWriter &) = delete;
 	PcapngWriter &operator=(const PcapngWriter &) = delete;
 
@@ -55,16 +54,13 @@ public:
 
 	/// Flushes and closes; throws ecmxf::Error when any write failed.
 	void close();
-	[[nodiscard]] const std::string &path() const noexcept { return path_; }
+	[[nodiscard]] const std::string &path() const noexcept { return file_.path(); }
 	[[nodiscard]] std::uint64_t packets() const noexcept { return packets_; }
 
 private:
-	void put(const std::uint8_t *p, std::size_t n) noexcept;
 	std::uint32_t interface(Link link) noexcept;
 
-	std::string path_;
-	std::FILE *f_ = nullptr;
-	int err_ = 0; ///< first write error (errno), 0: none
+	TraceFile file_;
 	std::uint64_t packets_ = 0;
 	/// interface id of each link type (index: type - 147), -1: none yet
 	std::array<int, 3> ids_{ -1, -1, -1 };

@@ -5,12 +5,9 @@
 #include <ecmxf/error.hpp>
 #include <ecmxf/protocol.hpp>
 
-#include <cerrno>
 #include <cinttypes>
 #include <cstdio>
-#include <cstring>
 #include <string>
-#include <utility>
 
 #include "ecmxf-proto.h"
 #include "link/trace_writer.hpp"
@@ -45,30 +42,16 @@ TraceWriter::TraceWriter(std::string_view path) : path_(path)
 		pcap_ = std::make_unique<PcapngWriter>(path_);
 		return;
 	}
-	f_ = std::fopen(path_.c_str(), "w");
-	if (!f_) {
-		const int err = errno;
-		std::string m = "cannot create the trace file \"";
-		m.append(path_).append("\": ").append(std::strerror(err));
-		throw Error(m, err);
-	}
+	text_.emplace(path_);
 	const std::string head = std::string(kTraceMagic) + "\n# libecmxf " + std::string(version()) +
 				 " packet trace (Documentation/trace.rst)\n";
 	put(head.data(), head.size());
 }
 
-TraceWriter::~TraceWriter()
-{
-	if (f_)
-		std::fclose(f_);
-}
-
 void TraceWriter::put(const char *s, std::size_t n) noexcept
 {
-	if (!f_ || err_)
-		return;
-	if (std::fwrite(s, 1, n, f_) != n)
-		err_ = errno ? errno : EIO;
+	if (text_)
+		text_->put(s, n);
 }
 
 void TraceWriter::format(unsigned dataSize, unsigned check) noexcept
@@ -193,20 +176,10 @@ void TraceWriter::kernelRecord(std::uint64_t ns, const std::array<std::uint8_t, 
 
 void TraceWriter::close()
 {
-	if (pcap_) {
+	if (pcap_)
 		pcap_->close();
-		return;
-	}
-	if (!f_)
-		return;
-	std::FILE *f = std::exchange(f_, nullptr);
-	if (std::fclose(f) != 0 && !err_)
-		err_ = errno ? errno : EIO;
-	if (err_) {
-		std::string m = "writing the trace file \"";
-		m.append(path_).append("\" failed: ").append(std::strerror(err_));
-		throw Error(m, err_);
-	}
+	else
+		text_->close();
 }
 
 } // namespace detail

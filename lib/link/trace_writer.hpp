@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -31,7 +32,6 @@ public:
 	/// and kernel records, no format or comment lines). Throws
 	/// ecmxf::Error with the path and the system's reason.
 	explicit TraceWriter(std::string_view path);
-	~TraceWriter();
 	TraceWriter(const TraceWriter &) = delete;
 	TraceWriter &operator=(const TraceWriter &) = delete;
 
@@ -60,8 +60,8 @@ private:
 	std::string path_;
 	/// the pcapng writer (a .pcapng trace), or null (text)
 	std::unique_ptr<PcapngWriter> pcap_;
-	std::FILE *f_ = nullptr;
-	int err_ = 0; ///< first write error (errno), 0: none
+	/// the text trace file, or none (a .pcapng trace)
+	std::optional<TraceFile> text_;
 };
 
 } // namespace detail
