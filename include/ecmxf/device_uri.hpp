@@ -31,7 +31,9 @@
  *    [&speed=<Hz>][&mode=0..3][&ex=0..3]": spidev, with the board's Busy
  *    output on a GPIO line read with libgpiod (low = ready).
  * slot= and ex= tell the host what the board's CONFIG2 pin and the SET_EX
- * setting in force are: the host cannot ask the board.
+ * setting in force are: the host cannot ask the board. Each may add
+ * trace=<file> (sk-spidev: "&trace=<file>"), which records every frame
+ * exchanged to <file> (sk::Board::startTrace(), Documentation/trace.rst).
  */
 #pragma once
 
@@ -59,7 +61,8 @@ inline constexpr std::string_view kDeviceUriForms =
 inline constexpr std::string_view kSkUriForms =
 	"\"sk-sim:[<network file>][?slot=12|16&test=0|1&abandon=0|1&ex=0..3&fifo=<n>&busy_us=<us>&spi_hz=<Hz>&lio=0..63&paced=0|1]\", "
 	"\"sk-unix:<socket path>[?slot=12|16&ex=0..3]\", "
-	"\"sk-spidev:/dev/spidevB.C?busy=<chip>:<line>[&slot=12|16][&speed=<Hz>][&mode=0..3][&ex=0..3]\"";
+	"\"sk-spidev:/dev/spidevB.C?busy=<chip>:<line>[&slot=12|16][&speed=<Hz>][&mode=0..3][&ex=0..3]\"; "
+	"each may add \"trace=<file>\" as an option";
 
 /// Highest SCLK of the ECM-SK (quick start 1.6): 24 MHz, the default of
 /// "sk-spidev:".
@@ -83,7 +86,8 @@ struct DeviceUri {
 	/// is the check word Device::open() switches the chip to.
 	std::optional<std::uint16_t> dataSize;
 	std::optional<CheckType> checkType;
-	/// The trace= option: where to record the exchanges; empty: none.
+	/// The trace= option (every kind, the ECM-SK's too): where to record
+	/// the exchanges; empty: none.
 	std::string trace;
 	/// The ECM-SK kinds: what the host assumes of the board, which it
 	/// cannot ask (slot=: CONFIG2, 12 or 16; ex=: the SET_EX setting in

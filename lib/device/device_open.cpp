@@ -120,11 +120,11 @@ void skOption(std::string_view uri, DeviceUri &u, std::string_view key, std::str
 			return;
 		}
 		if (!skHostOption(uri, u, key, value))
-			bad(uri, "unknown option " + quoted(key) + " (sk-spidev: takes busy, slot, speed, mode, ex)");
+			bad(uri, "unknown option " + quoted(key) + " (sk-spidev: takes busy, slot, speed, mode, ex, trace)");
 		return;
 	default:
 		if (!skHostOption(uri, u, key, value))
-			bad(uri, "unknown option " + quoted(key) + " (sk-unix: takes slot and ex)");
+			bad(uri, "unknown option " + quoted(key) + " (sk-unix: takes slot, ex and trace)");
 		return;
 	}
 }
@@ -216,12 +216,12 @@ DeviceUri parseDeviceUri(std::string_view uri)
 
 		const bool spidevKey = key == "int0" || key == "int1" || key == "speed" || key == "mode" ||
 				       key == "ready" || key == "size" || (key == "check" && kernel);
-		if (sk) {
-			skOption(uri, u, key, value);
-		} else if (key == "trace") {
+		if (key == "trace") {
 			if (value.empty())
 				bad(uri, "option \"trace\" needs a file name (trace=<file>)");
 			u.trace = std::string(value);
+		} else if (sk) {
+			skOption(uri, u, key, value);
 		} else if (spidevKey && !spidev) {
 			bad(uri, "option " + quoted(key) + " applies to spidev: URIs only (" +
 					 (u.kind == DeviceUri::Kind::Sim    ? "sim: takes check=<type> and trace=<file>"

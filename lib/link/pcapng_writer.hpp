@@ -35,6 +35,9 @@ public:
 	/// epb_flags bits 0-1 (the direction).
 	static constexpr std::uint32_t kInbound = 1;  ///< chip to host (MISO, response)
 	static constexpr std::uint32_t kOutbound = 2; ///< host to chip (MOSI, request)
+	/// epb_flags bits 5-8 (FCS length) = 1: an ECM-SK frame whose CRC-8
+	/// (byte 3) is in force; 0: not checked (Documentation/trace.rst).
+	static constexpr std::uint32_t kFcsLen1 = 1u << 5;
 	/// The largest packet kept whole; longer ones are cut (captured
 	/// length < original length).
 	static constexpr std::size_t kSnapLen = 4096;

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <string>
 
+#include "ecmsk-proto.h"
 #include "ecmxf-proto.h"
 #include "link/trace_writer.hpp"
 
@@ -36,6 +37,20 @@ const char *checkKeyword(unsigned check) noexcept
 
 } // namespace
 
+const char *skCrcKeyword(std::uint32_t crcBits) noexcept
+{
+	switch (crcBits & (ECMSK_EX_CMD_CRC | ECMSK_EX_RSP_CRC)) {
+	case ECMSK_EX_CMD_CRC:
+		return "cmdcrc";
+	case ECMSK_EX_RSP_CRC:
+		return "rspcrc";
+	case ECMSK_EX_CMD_CRC | ECMSK_EX_RSP_CRC:
+		return "crc";
+	default:
+		return "nocrc";
+	}
+}
+
 TraceWriter::TraceWriter(std::string_view path) : path_(path)
 {
 	if (path_.ends_with(".pcapng")) {
@@ -60,6 +75,17 @@ void TraceWriter::format(unsigned dataSize, unsigned check) noexcept
 		return; // pcapng: each packet carries its own check word
 	char buf[64];
 	const int n = std::snprintf(buf, sizeof(buf), "format %u %s\n", dataSize, checkKeyword(check));
+	if (n > 0)
+		put(buf, static_cast<std::size_t>(n));
+}
+
+void TraceWriter::skFormat(unsigned slotSize, std::uint32_t crcBits) noexcept
+{
+	skCrc_ = crcBits & (ECMSK_EX_CMD_CRC | ECMSK_EX_RSP_CRC);
+	if (pcap_)
+		return;
+	char buf[64];
+	const int n = std::snprintf(buf, sizeof(buf), "format ecm-sk %u %s\n", slotSize, skCrcKeyword(skCrc_));
 	if (n > 0)
 		put(buf, static_cast<std::size_t>(n));
 }
@@ -104,6 +130,20 @@ void TraceWriter::packet(std::uint64_t ns, char dir, std::span<const std::uint8_
 		return;
 	}
 	line(ns, dir == '>' ? ">" : "<", bytes, {});
+}
+
+void TraceWriter::skFrame(std::uint64_t ns, char dir, std::span<const std::uint8_t> frame) noexcept
+{
+	const bool mosi = dir == '>';
+	if (pcap_) {
+		const bool crc = skCrc_ & (mosi ? ECMSK_EX_CMD_CRC : ECMSK_EX_RSP_CRC);
+		pcap_->packet(PcapngWriter::Link::Sk, ns,
+			      (mosi ? PcapngWriter::kOutbound : PcapngWriter::kInbound) |
+				      (crc ? PcapngWriter::kFcsLen1 : 0u),
+			      frame);
+		return;
+	}
+	line(ns, mosi ? ">" : "<", frame, {});
 }
 
 void TraceWriter::request(std::uint64_t ns, const RawRequest &req) noexcept

@@ -21,6 +21,10 @@ namespace ecmxf {
 
 namespace detail {
 
+/// The keyword of a "format ecm-sk" line for the CRC-8 bits in force
+/// (ECMSK_EX_*): "nocrc", "cmdcrc", "rspcrc" or "crc" (both).
+const char *skCrcKeyword(std::uint32_t crcBits) noexcept;
+
 /// Writes one trace file. Every record call is noexcept and allocates
 /// nothing (the exchange loop calls them); a failed write is remembered
 /// and reported by close().
@@ -37,10 +41,19 @@ public:
 
 	/// "format <data size> <check>": the packet format in force.
 	void format(unsigned dataSize, unsigned check) noexcept;
+	/// "format ecm-sk <slot size> <crc>": from here on the records are
+	/// ECM-SK frames of @p slotSize-byte slots; @p crcBits the CRC-8 in
+	/// force (ECMSK_EX_CMD_CRC: host-to-board frames, ECMSK_EX_RSP_CRC:
+	/// board-to-host frames). For pcapng it is remembered: each frame's
+	/// epb_flags FCS length is 1 when its CRC-8 is in force.
+	void skFormat(unsigned slotSize, std::uint32_t crcBits) noexcept;
 	/// "# <text>".
 	void comment(std::string_view text) noexcept;
 	/// One packet: @p dir '>' (MOSI, host to chip) or '<' (MISO).
 	void packet(std::uint64_t ns, char dir, std::span<const std::uint8_t> bytes) noexcept;
+	/// One ECM-SK frame (after skFormat()): @p dir '>' (MOSI, host to
+	/// board) or '<' (MISO); LINKTYPE_USER2 in pcapng.
+	void skFrame(std::uint64_t ns, char dir, std::span<const std::uint8_t> frame) noexcept;
 	/// A kernel request: header bytes 0x04..0x17 (index 0) and tx data.
 	void request(std::uint64_t ns, const RawRequest &req) noexcept;
 	/// A kernel response: status, header bytes 0x04..0x17 and rx data.
@@ -62,6 +75,8 @@ private:
 	std::unique_ptr<PcapngWriter> pcap_;
 	/// the text trace file, or none (a .pcapng trace)
 	std::optional<TraceFile> text_;
+	/// the ECM-SK CRC-8 in force (skFormat())
+	std::uint32_t skCrc_ = 0;
 };
 
 } // namespace detail

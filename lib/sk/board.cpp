@@ -43,9 +43,11 @@ bool Board::isSkUri(std::string_view uri) noexcept
 	return uri.rfind("sk-", 0) == 0;
 }
 
-std::unique_ptr<Board> Board::open(std::string_view uri)
+namespace {
+
+/// The board of the parsed @p u (of @p uri), before its trace.
+std::unique_ptr<Board> openBoard(std::string_view uri, const DeviceUri &u)
 {
-	const DeviceUri u = parseDeviceUri(uri);
 	LinkOptions o;
 	o.slotSize = u.skSlotSize;
 	o.extensions = u.skExtensions;
@@ -72,6 +74,17 @@ std::unique_ptr<Board> Board::open(std::string_view uri)
 			    EINVAL);
 	}
 	return std::make_unique<Board>(std::move(ch), o);
+}
+
+} // namespace
+
+std::unique_ptr<Board> Board::open(std::string_view uri)
+{
+	const DeviceUri u = parseDeviceUri(uri);
+	auto board = openBoard(uri, u);
+	if (!u.trace.empty())
+		board->startTrace(u.trace);
+	return board;
 }
 
 void bringUpToOp(Board &b)

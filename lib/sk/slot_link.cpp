@@ -104,13 +104,41 @@ unsigned SlotLink::maxSlaves() const noexcept { return impl_->l.g.max_slaves; }
 std::size_t SlotLink::frameSize() const noexcept { return impl_->l.g.frame_size; }
 ecmxf::State SlotLink::state() const noexcept { return impl_->state(); }
 
+// ---------------------------------------------------------------------------
+// The packet trace (the writer: lib/link/trace_writer.cpp)
+// ---------------------------------------------------------------------------
+
+void SlotLink::startTrace(std::string_view path)
+{
+	auto w = std::make_unique<detail::TraceWriter>(path);
+	// the SET_EX setting the link works with (fixed until the board's
+	// next power-on): the CRC-8 in force in each direction
+	w->skFormat(impl_->l.g.slot_size, impl_->l.flags & (ECMSK_LINK_TX_CRC | ECMSK_LINK_RX_CRC));
+	auto old = std::exchange(impl_->trace, std::move(w));
+	if (old)
+		old->close();
+}
+
+void SlotLink::stopTrace()
+{
+	auto w = std::exchange(impl_->trace, nullptr);
+	if (w)
+		w->close();
+}
+
+bool SlotLink::tracing() const noexcept
+{
+	return impl_->trace != nullptr;
+}
+
 void SlotLink::Impl::xfer()
 {
 	if (!ch.waitReady(busyTimeout))
 		throw Error(ch.name() + ": the ECM-SK's Busy line stayed high for " +
 				    std::to_string(busyTimeout.count()) + " ms",
 			    ETIMEDOUT);
-	const int pr = ecmsk_link_prepare(&l, mosi.data(), ns(ch.now()), 0);
+	const std::uint64_t sentNs = ns(ch.now());
+	const int pr = ecmsk_link_prepare(&l, mosi.data(), sentNs, 0);
 	if (pr) {
 		std::fill(mosi.begin(), mosi.end(), 0);
 		staged = {};
@@ -120,13 +148,18 @@ void SlotLink::Impl::xfer()
 			    -pr);
 	}
 	ch.exchange(mosi, miso);
+	const std::uint64_t recvNs = ns(ch.now());
+	if (trace) {
+		trace->skFrame(sentNs, '>', mosi);
+		trace->skFrame(recvNs, '<', miso);
+	}
 	std::fill(mosi.begin(), mosi.end(), 0);
 	staged = {};
 	// the response came out while this frame went in: it shows the FIFO
 	// without this frame's cyclic commands
 	inFlight = stagedCount;
 	stagedCount = 0;
-	const int cr = ecmsk_link_complete(&l, miso.data(), ns(ch.now()), &res);
+	const int cr = ecmsk_link_complete(&l, miso.data(), recvNs, &res);
 	if (res.state_done) {
 		stateDone = true;
 		stateErr = res.state_err;

@@ -10,10 +10,12 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "ecmsk-proto.h"
+#include "link/trace_writer.hpp"
 
 namespace ecmxf::sk {
 
@@ -38,6 +40,9 @@ struct SlotLink::Impl {
 	std::uint16_t lastFull = 0;
 	std::uint16_t fifoDepth = 0; // the most FIFO remaining seen in OP: the depth (the FIFO empty)
 	std::string lastError; // of the last CycleStatus::Link
+	/// The packet trace being recorded (SlotLink::startTrace()), or null:
+	/// xfer() records every frame to it.
+	std::unique_ptr<detail::TraceWriter> trace;
 
 	[[nodiscard]] ecmxf::State state() const noexcept { return static_cast<ecmxf::State>(l.state); }
 	[[nodiscard]] SimBoard *simulator() noexcept { return sim; }

@@ -2,7 +2,8 @@
 // Board::stage() and Board::cycle() allocate nothing and throw nothing:
 // 1000 cycles over a channel that answers every frame with a canned OP
 // response (the channel itself allocates nothing), counted by the
-// process-wide operator new of tests/common/alloc_counter.cpp.
+// process-wide operator new of tests/common/alloc_counter.cpp; the same
+// with a packet trace recording (text and pcapng).
 
 #include <catch2/catch.hpp>
 
@@ -10,6 +11,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 
 #include <ecmxf/link/byte_channel.hpp>
@@ -73,4 +75,27 @@ TEST_CASE("sk alloc: stage() and cycle() allocate nothing")
 	CHECK(ok == 40000u); // every target staged, every cycle Ok
 	CHECK(ch->staged == 40u);
 	CHECK(ch->frames == 1001u);
+}
+
+TEST_CASE("sk alloc: recording a trace (text and pcapng) allocates nothing per exchange")
+{
+	for (const char *path : { "/dev/null", "/tmp/ecmxf-test-sk-alloc.pcapng" }) {
+		auto owned = std::make_unique<CannedChannel>();
+		ecmxf::sk::Board b(std::move(owned));
+		b.startTrace(path);
+		b.states().status(); // the first frames: the trace's buffers exist
+		REQUIRE(b.state() == ecmxf::State::Op);
+		const auto before = ecmxf_test::allocations();
+		unsigned ok = 0;
+		for (int i = 0; i < 200; i++) {
+			for (unsigned s = 1; s <= 40; s++)
+				ok += b.cyclic().stage(s, ecmxf::sk::Mode::Csp, i) ? 1u : 0u;
+			ok += b.cyclic().cycle().status == ecmxf::sk::CycleStatus::Ok ? 0u : 1000000u;
+		}
+		const auto after = ecmxf_test::allocations();
+		CHECK(after - before == 0u);
+		CHECK(ok == 8000u);
+		b.stopTrace();
+	}
+	std::remove("/tmp/ecmxf-test-sk-alloc.pcapng");
 }

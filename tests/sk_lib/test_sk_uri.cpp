@@ -77,11 +77,37 @@ TEST_CASE("sk uri: bad schemes, paths, options and values are EINVAL")
 		     "sk-spidev:/dev/spidev0.0?busy=gpiochip0:x", "sk-spidev:/dev/spidev0.0?busy=c:1&speed=24000001",
 		     "sk-spidev:/dev/spidev0.0?busy=c:1&speed=0", "sk-spidev:/dev/spidev0.0?busy=c:1&mode=4",
 		     "sk-spidev:/dev/spidev0.0?busy=c:1&slot=8", "sk-spidev:/dev/spidev0.0?busy=c:1&turbo=1",
-		     "sk-usb:", "sk", "sk-sim:?=1", "sk-unix:/s?trace=/tmp/t", "sk-sim:?trace=/tmp/t",
+		     "sk-usb:", "sk", "sk-sim:?=1", "sk-unix:/s?trace=", "sk-sim:?trace=", "sk-sim:?trace=a&trace=b",
 		     "sk-spidev:/dev/spidev0.0?busy=c:1&int0=c:2", "sk-spidev:/dev/spidev0.0?busy=c:1&busy=c:2",
 		     "sk-unix:/s?slot=12&slot=16", "sk-unix:/s?ex=x", "sk-spidev:?busy=c:1" }) {
 		INFO(bad);
 		CHECK(errnoOf(bad) == EINVAL);
+	}
+}
+
+TEST_CASE("sk uri: every ECM-SK form takes trace=<file>, after the other options too")
+{
+	auto u = parseDeviceUri("sk-sim:?trace=/tmp/t.trace");
+	CHECK(u.kind == Kind::SkSim);
+	CHECK(u.trace == "/tmp/t.trace");
+	u = parseDeviceUri("sk-sim:?ex=3&slot=16&trace=/tmp/t.pcapng");
+	CHECK(u.trace == "/tmp/t.pcapng");
+	CHECK(u.skExtensions == 3u);
+	CHECK(u.skSlotSize == 16);
+	u = parseDeviceUri("sk-unix:/s?trace=x&ex=1");
+	CHECK(u.kind == Kind::SkUnix);
+	CHECK(u.trace == "x");
+	CHECK(u.skExtensions == 1u);
+	u = parseDeviceUri("sk-spidev:/dev/spidev0.0?busy=c:1&trace=y");
+	CHECK(u.kind == Kind::SkSpidev);
+	CHECK(u.trace == "y");
+	CHECK(parseDeviceUri("sk-sim:").trace.empty());
+	try {
+		(void)parseDeviceUri("sk-sim:?ex=3&trace=");
+		FAIL("parsed");
+	} catch (const ecmxf::Error &e) {
+		CHECK(std::string(e.what()).find("option \"trace\" needs a file name (trace=<file>)") != std::string::npos);
+		CHECK(std::string(e.what()).find("each may add \"trace=<file>\"") != std::string::npos);
 	}
 }
 

@@ -57,8 +57,10 @@ public:
 	/// Opens "sk-sim:[file][?settings]", "sk-unix:PATH[?slot=&ex=]" or
 	/// "sk-spidev:/dev/spidevB.C?busy=<chip>:<line>[&slot=12|16][&speed=<Hz>]
 	/// [&ex=0..3]", parsed by ecmxf::parseDeviceUri()
-	/// (<ecmxf/device_uri.hpp>). Throws ecmxf::Error (EINVAL) naming the
-	/// bad part, or for an ECM-XF URI.
+	/// (<ecmxf/device_uri.hpp>); each may add trace=<file>, which starts
+	/// startTrace(<file>). Throws ecmxf::Error (EINVAL) naming the bad
+	/// part, or for an ECM-XF URI; a trace file that cannot be created
+	/// throws as startTrace() does.
 	[[nodiscard]] static std::unique_ptr<Board> open(std::string_view uri);
 	/// Is @p uri one of the ECM-SK forms ("sk-...:")?
 	[[nodiscard]] static bool isSkUri(std::string_view uri) noexcept;
@@ -73,6 +75,19 @@ public:
 	[[nodiscard]] std::size_t frameSize() const noexcept { return link_.frameSize(); }
 	/// The state of the last response (no exchange).
 	[[nodiscard]] ecmxf::State state() const noexcept { return link_.state(); }
+
+	// ---- packet trace (SlotLink::startTrace(), Documentation/trace.rst) ----
+	/// Records every frame exchanged from now on to @p path (text, or
+	/// pcapng for a name ending in ".pcapng"); the URI option
+	/// trace=<file> starts it in open(). Throws ecmxf::Error with the
+	/// path and the system's reason.
+	void startTrace(std::string_view path) { link_.startTrace(path); }
+	/// Closes the trace; throws ecmxf::Error when any write failed
+	/// ("writing the trace file \"/dev/full\" failed: No space left on
+	/// device"). No-op without a trace.
+	void stopTrace() { link_.stopTrace(); }
+	/// Is a trace being recorded?
+	[[nodiscard]] bool tracing() const noexcept { return link_.tracing(); }
 
 	// ---- the views ----
 	[[nodiscard]] BoardStates states() noexcept { return BoardStates(link_); }

@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <string_view>
 #include <utility>
 
 #include <ecmxf/export.hpp>
@@ -54,6 +55,22 @@ public:
 	[[nodiscard]] std::size_t frameSize() const noexcept;
 	/// The state of the last response (no exchange).
 	[[nodiscard]] ecmxf::State state() const noexcept;
+
+	/// Records every exchange from now on to @p path (created or
+	/// truncated): each MOSI frame with the channel's clock just before
+	/// the transfer, each MISO frame with the clock just after it; text
+	/// ("format ecm-sk <slot size> <crc>", then ">"/"<" records) or, for a
+	/// name ending in ".pcapng", pcapng (LINKTYPE_USER2), as
+	/// Documentation/trace.rst describes. Replaces a trace already
+	/// running. Throws ecmxf::Error with the path and the system's reason.
+	/// Recording allocates nothing per exchange.
+	void startTrace(std::string_view path);
+	/// Closes the trace; throws ecmxf::Error ("writing the trace file
+	/// \"<path>\" failed: <reason>") when any write failed. No-op without
+	/// a trace. A link destroyed while tracing closes the file silently.
+	void stopTrace();
+	/// Is a trace being recorded?
+	[[nodiscard]] bool tracing() const noexcept;
 
 	/// The protocol state the view classes work on (lib/sk/slot_link.hpp;
 	/// not for applications).
