@@ -69,6 +69,16 @@ TraceSummary traceToPcapng(std::istream &in, std::string_view path)
 		detail::TraceRecord r;
 		using L = detail::PcapngWriter::Link;
 		while (reader.next(r)) {
+			if (r.sk && r.kind != 'F') {
+				const bool mosi = r.kind == '>';
+				w.packet(L::Sk, r.ns,
+					 (mosi ? detail::PcapngWriter::kOutbound : detail::PcapngWriter::kInbound) |
+						 (r.skCrcChecked() ? detail::PcapngWriter::kFcsLen1 : 0u),
+					 r.bytes);
+				(mosi ? sum.commands : sum.responses)++;
+				sum.packets++;
+				continue;
+			}
 			switch (r.kind) {
 			case '>':
 				w.packet(L::Spi, r.ns, detail::PcapngWriter::kOutbound, r.bytes);

@@ -24,7 +24,9 @@
 #include <utility>
 #include <vector>
 
+#include "ecmsk-proto.h"
 #include "ecmxf-proto.h"
+#include "link/trace_writer.hpp"
 #include "trace/trace_reader.hpp"
 
 namespace ecmxf {
@@ -219,6 +221,7 @@ private:
 	Verdict verify(const std::vector<std::uint8_t> &p, bool command);
 	void mosi(const Record &r);
 	void miso(const Record &r);
+	void skFrame(const Record &r);
 	void kernel(const Record &r);
 	void header(const Record &r, const std::string &title);
 	void dataLines(const std::uint8_t *p, std::size_t n, std::size_t total);
@@ -580,9 +583,127 @@ void Decoder::kernel(const Record &r)
 	rspFields(b.data(), b.data() + 20, n, n);
 }
 
+/// The name of slot 0's or a slave slot's command byte: the core's
+/// (ecmsk_cmd_name(), "?" for an unknown one); in a response's slot 0
+/// ECMSK_RSP_OP is "OP" (the board's byte 0 in OP).
+std::string skCmdName(unsigned cmd, bool answer)
+{
+	if (answer && cmd == ECMSK_RSP_OP)
+		return "OP";
+	return ecmsk_cmd_name(static_cast<std::uint16_t>(cmd));
+}
+
+void Decoder::skFrame(const Record &r)
+{
+	const std::vector<std::uint8_t> &f = r.bytes;
+	const bool cmd = r.kind == '>';
+	if (cmd || !lastWasMosi)
+		exchange_++;
+	(cmd ? summary.commands : summary.responses)++;
+	summary.skFrames++;
+	ecmsk_geom g{};
+	ecmsk_geom_init(&g, r.slotSize);
+	const std::uint8_t crcByte = f[ECMSK_CRC_OFFSET];
+	const std::uint8_t crcWant = ecmsk_crc8(f.data(), f.size());
+	const bool checked = r.skCrcChecked();
+	const bool bad = checked && crcByte != crcWant;
+	if (bad)
+		summary.bad++;
+	const char *crcJson = !checked ? "none" : bad ? "bad" : "ok";
+	std::string crcText = fmt("CRC-8 (byte 3) 0x%02X: ", crcByte);
+	if (!checked)
+		crcText += fmt("not checked (%s)", detail::skCrcKeyword(r.skCrc));
+	else if (bad)
+		crcText += fmt("BAD (expected 0x%02X, got 0x%02X)", crcWant, crcByte);
+	else
+		crcText += "OK";
+
+	// slot 0: a command's Cmd ID is bytes 0-1; an answer's byte 0, then the
+	// CRC error counter and the state
+	const unsigned code = cmd ? le16(f.data()) : f[0];
+	const std::string name = skCmdName(code, !cmd);
+	const std::uint32_t d1 = le32(f.data() + 4), d2 = le32(f.data() + 8);
+	const bool wide = g.slot_size == ECMSK_SLOT16;
+	const std::uint32_t d3 = wide ? le32(f.data() + 12) : 0;
+	const std::uint8_t *sdo = f.data() + static_cast<std::size_t>(g.sdo_slot) * g.slot_size;
+
+	if (o_.json) {
+		jsonBegin(r, cmd ? "mosi" : "miso");
+		jsonField("sk", "true");
+		jsonField("size", std::to_string(f.size()));
+		jsonField("slot_size", std::to_string(g.slot_size));
+		jsonText("crc", crcJson);
+		jsonField("crc_byte", std::to_string(crcByte));
+		jsonField("crc_expected", std::to_string(crcWant));
+		jsonField("cmd", std::to_string(code));
+		jsonText("name", name);
+		if (cmd) {
+			jsonField("param", std::to_string(f[2]));
+		} else {
+			jsonField("crc_errors", std::to_string(f[1]));
+			jsonField("state", std::to_string(f[2]));
+		}
+		jsonField("data1", std::to_string(d1));
+		jsonField("data2", std::to_string(d2));
+		if (wide)
+			jsonField("data3", std::to_string(d3));
+	} else {
+		std::string title = fmt("%s %zu bytes (%u-byte slots): ", cmd ? "host>board" : "board>host", f.size(),
+					g.slot_size);
+		title += cmd ? fmt("%s (0x%04X)", name.c_str(), code)
+			     : fmt("%s (0x%02X), state %s", name.c_str(), code, stateName(f[2]).c_str());
+		if (bad)
+			title += " [BAD]";
+		header(r, title);
+		out_ << "    " << crcText << '\n';
+		out_ << "    slot 0 (ECM): "
+		     << (cmd ? fmt("%s (0x%04X), param 0x%02X", name.c_str(), code, f[2])
+			     : fmt("%s (0x%02X), CRC errors %u, state %s", name.c_str(), code, f[1],
+				   stateName(f[2]).c_str()))
+		     << fmt(", data1 0x%08X, data2 0x%08X", d1, d2) << (wide ? fmt(", data3 0x%08X", d3) : "") << '\n';
+	}
+	// the slave slots that are not all zero
+	std::string slaves;
+	for (unsigned slot = 1; slot <= g.max_slaves; slot++) {
+		const std::uint8_t *p = f.data() + static_cast<std::size_t>(slot) * g.slot_size;
+		if (std::all_of(p, p + g.slot_size, [](std::uint8_t b) { return b == 0; }))
+			continue;
+		const std::string sname = ecmsk_cmd_name(p[0]);
+		const std::uint32_t target = le32(p + 4), value = le32(p + 8);
+		if (o_.json) {
+			slaves += fmt("%s{\"slot\": %u, \"slave\": %u, \"cmd\": %u, \"name\": \"%s\", \"index\": %u, "
+				      "\"target\": %u, \"value\": %u",
+				      slaves.empty() ? "" : ", ", slot, slot - 1, p[0], sname.c_str(), p[1], target, value);
+			if (!cmd)
+				slaves += fmt(", \"statusword\": %u", le16(p + 2));
+			slaves += "}";
+		} else if (cmd) {
+			out_ << fmt("    slot %u (slave %u): %s (0x%02X), index 0x%02X, target 0x%08X, value 0x%08X\n", slot,
+				    slot - 1, sname.c_str(), p[0], p[1], target, value);
+		} else {
+			out_ << fmt("    slot %u (slave %u): %s (0x%02X), index 0x%02X, statusword 0x%04X, position "
+				    "0x%08X, torque 0x%04X, error code 0x%04X\n",
+				    slot, slot - 1, sname.c_str(), p[0], p[1], le16(p + 2), target, le16(p + 8),
+				    le16(p + 10));
+		}
+	}
+	if (o_.json) {
+		jsonField("slaves", "[" + slaves + "]");
+		jsonField("sdo", jsonHex(sdo, g.slot_size));
+		jsonEnd();
+		return;
+	}
+	out_ << fmt("    slot %u (SDO): ", g.sdo_slot) << hexBytes(sdo, g.slot_size) << '\n';
+}
+
 void Decoder::record(const Record &r)
 {
 	summary.packets++;
+	if (r.sk) {
+		skFrame(r);
+		lastWasMosi = r.kind == '>';
+		return;
+	}
 	switch (r.kind) {
 	case '>':
 		mosi(r);
@@ -606,6 +727,8 @@ TraceSummary decodeTrace(std::istream &in, std::ostream &out, const TraceDecodeO
 	detail::TraceReader reader(in);
 	Record r;
 	while (reader.next(r)) {
+		if (r.kind == 'F' && r.sk)
+			continue; // the reader gives each ECM-SK frame its format
 		if (r.kind == 'F')
 			d.format(r.dataSize, r.check);
 		else

@@ -11,6 +11,7 @@
 #include <istream>
 #include <string>
 
+#include "ecmsk-proto.h"
 #include "ecmxf-proto.h"
 #include "trace/trace_reader.hpp"
 
@@ -200,13 +201,48 @@ bool TraceReader::parse(std::string_view s, TraceRecord &r)
 	}
 	r.line = line_;
 	r.status = 0;
+	r.sk = false;
+	r.slotSize = r.skCrc = 0;
+	if (s.starts_with("format ecm-sk") && (s.size() == 13 || s[13] == ' ' || s[13] == '\t')) {
+		// "format ecm-sk <12|16> <crc|nocrc|cmdcrc|rspcrc>"
+		const std::string l(s);
+		char crc[16] = {};
+		unsigned slot = 0;
+		char extra = 0;
+		if (std::sscanf(l.c_str(), "format ecm-sk %u %15s %c", &slot, crc, &extra) != 2 ||
+		    (slot != ECMSK_SLOT12 && slot != ECMSK_SLOT16))
+			badLine(line_, "bad format line \"" + l +
+					       "\" (expected format ecm-sk 12|16 crc|nocrc|cmdcrc|rspcrc: the slot size "
+					       "and the CRC-8 in force)");
+		const std::string c = crc;
+		const unsigned bits = c == "nocrc"    ? 0u
+				      : c == "cmdcrc" ? ECMSK_EX_CMD_CRC
+				      : c == "rspcrc" ? ECMSK_EX_RSP_CRC
+				      : c == "crc"    ? ECMSK_EX_CMD_CRC | ECMSK_EX_RSP_CRC
+						      : 99u;
+		if (bits == 99u)
+			badLine(line_, "unknown ECM-SK CRC setting \"" + c +
+					       "\" (crc: both directions, nocrc, cmdcrc: host to board only, rspcrc: board "
+					       "to host only)");
+		sk_.slot = slot;
+		sk_.crc = bits;
+		sk_.line = line_;
+		r.kind = 'F';
+		r.sk = true;
+		r.slotSize = slot;
+		r.skCrc = bits;
+		r.bytes.clear();
+		return true;
+	}
 	if (s.starts_with("format ")) {
 		const std::string l(s);
 		char check[16] = {};
 		unsigned size = 0;
 		char extra = 0;
 		if (std::sscanf(l.c_str(), "format %u %15s %c", &size, check, &extra) != 2 || !ecmxf_data_size_valid(size))
-			badLine(line_, "bad format line \"" + l + "\" (expected format <32..1408> fixed|crc8|ccitt|crc32)");
+			badLine(line_, "bad format line \"" + l +
+					       "\" (expected format <32..1408> fixed|crc8|ccitt|crc32, or format ecm-sk 12|16 "
+					       "crc|nocrc|cmdcrc|rspcrc)");
 		const std::string c = check;
 		const unsigned type = c == "fixed" ? 0u : c == "crc8" ? 1u : c == "ccitt" ? 2u : c == "crc32" ? 3u : 99u;
 		if (type == 99u)
@@ -215,6 +251,7 @@ bool TraceReader::parse(std::string_view s, TraceRecord &r)
 		r.dataSize = size;
 		r.check = type;
 		r.bytes.clear();
+		sk_.slot = 0; // the ECM-XF's packets again
 		return true;
 	}
 	const auto sp = s.find(' ');
@@ -235,8 +272,21 @@ bool TraceReader::parse(std::string_view s, TraceRecord &r)
 	} else if (r.kind != '>' && r.kind != '<' && r.kind != 'C') {
 		badLine(line_, std::string("unknown record '") + r.kind + "' (expected > < C R)");
 	}
+	if (sk_.slot && (r.kind == 'C' || r.kind == 'R'))
+		badLine(line_, std::string("a kernel record '") + r.kind +
+				       "' in ECM-SK frames (the format ecm-sk line " + std::to_string(sk_.line) +
+				       " is in force; expected > or <)");
 	parseHex(line_, s.substr(from), r.bytes);
-	if (r.kind == '>' || r.kind == '<') {
+	if (sk_.slot) {
+		const std::size_t frame = sk_.slot == ECMSK_SLOT16 ? ECMSK_FRAME16 : ECMSK_FRAME12;
+		if (r.bytes.size() != frame)
+			badLine(line_, "an ECM-SK frame of " + std::to_string(r.bytes.size()) + " bytes (the format ecm-sk " +
+					       std::to_string(sk_.slot) + " line " + std::to_string(sk_.line) + " takes " +
+					       std::to_string(frame) + "-byte frames)");
+		r.sk = true;
+		r.slotSize = sk_.slot;
+		r.skCrc = sk_.crc;
+	} else if (r.kind == '>' || r.kind == '<') {
 		if (r.bytes.size() < ECMXF_PKT_SIZE(ECMXF_DATA_MIN) || r.bytes.size() > ECMXF_PKT_MAX)
 			badLine(line_, "a packet of " + std::to_string(r.bytes.size()) + " bytes (packets are 64..1440 bytes)");
 	} else if (r.bytes.size() < 20) {

@@ -18,11 +18,23 @@ struct TraceRecord {
 	std::size_t line = 0;
 	std::uint64_t ns = 0;
 	/// '>' (MOSI), '<' (MISO), 'C', 'R' (kernel), 'F' (a format line:
-	/// dataSize and check)
+	/// dataSize and check, or for an ECM-SK one slotSize and skCrc)
 	char kind = 0;
 	int status = 0; ///< R: the command's status
 	unsigned dataSize = 0, check = 0; ///< F
+	/// F: a "format ecm-sk" line; '>', '<': an ECM-SK frame (one is in
+	/// force), else an ECM-XF packet
+	bool sk = false;
+	/// sk: the slot size (12 or 16) and the CRC-8 in force (ECMSK_EX_*
+	/// bits: bit 0 host-to-board frames, bit 1 board-to-host frames)
+	unsigned slotSize = 0, skCrc = 0;
 	std::vector<std::uint8_t> bytes;  ///< the packet / header and data
+
+	/// An ECM-SK frame whose CRC-8 (byte 3) is in force in its direction.
+	[[nodiscard]] bool skCrcChecked() const noexcept
+	{
+		return sk && (kind == '>' || kind == '<') && (skCrc & (kind == '>' ? 1u : 2u));
+	}
 };
 
 /// Reads the records of a text trace; throws ecmxf::Error (EINVAL) naming
@@ -45,6 +57,9 @@ private:
 	bool eof_ = false;
 	std::size_t line_ = 0;
 	bool magic_ = false;
+	/// the "format ecm-sk" line in force (its slot size, CRC-8 bits and
+	/// line), slot 0: the ECM-XF's packets
+	struct { unsigned slot = 0, crc = 0; std::size_t line = 0; } sk_;
 };
 
 } // namespace ecmxf::detail

@@ -264,7 +264,7 @@ TEST_CASE("bad trace input is refused naming the line", "[trace][errors]")
 		   Equals("trace line 2: unknown record 'X' (expected > < C R)"));
 	CHECK_THAT(bad("ecmxf-trace 1\nformat 16 fixed\n").what(),
 		   Equals("trace line 2: bad format line \"format 16 fixed\" (expected format <32..1408> "
-			  "fixed|crc8|ccitt|crc32)"));
+			  "fixed|crc8|ccitt|crc32, or format ecm-sk 12|16 crc|nocrc|cmdcrc|rspcrc)"));
 	CHECK_THAT(bad("ecmxf-trace 1\nformat 112 crc16\n").what(),
 		   Equals("trace line 2: unknown check type \"crc16\" (fixed, crc8, ccitt, crc32)"));
 	CHECK_THAT(bad("ecmxf-trace 1\n0.1 C 0000\n").what(),

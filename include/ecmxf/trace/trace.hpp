@@ -16,6 +16,11 @@
  *   1.250000000 C <header bytes 0x04..0x17> <data>   (kernel: request)
  *   1.250400000 R <status> <header 0x04..0x17> <data> (kernel: response)
  *
+ * An ECM-SK trace (sk::Board::startTrace()) has the format line
+ * "format ecm-sk <12|16> <crc|nocrc|cmdcrc|rspcrc>" and then ">" / "<"
+ * records of whole frames (504 or 512 bytes); decodeTrace() shows their
+ * CRC-8, slot 0, the slave slots in use and the SDO slot.
+ *
  * decodeTrace() prints each packet like a protocol analyzer: header fields
  * by name, data bytes, the check word verdict, and for each response the
  * command it answers (one exchange late), following CRC_TYPE_SET,
@@ -48,6 +53,9 @@ struct TraceSummary {
 	std::size_t responses = 0;  ///< MISO packets and kernel responses
 	std::size_t bad = 0;        ///< packets with a check/start/end/length fault (not-ready included)
 	std::size_t notReady = 0;   ///< MISO packets with the "not ready" check word 0x87654321
+	/// ECM-SK frames (counted in packets, commands or responses too; a
+	/// CRC-8 in force that does not match counts as bad)
+	std::size_t skFrames = 0;
 };
 
 /// Reads a trace from @p in and writes the decoded log to @p out. Throws
