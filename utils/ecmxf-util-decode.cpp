@@ -95,7 +95,9 @@ int cmdDecode(Globals &g, const Args &args)
 	std::cout << out.str();
 	if (!g.json)
 		std::cout << s.packets << " packets: " << s.commands << " commands, " << s.responses << " responses, "
-			  << s.bad << " bad (" << s.notReady << " not ready)\n";
+			  << s.bad << " bad (" << s.notReady << " not ready)"
+			  << (s.skFrames ? ", " + std::to_string(s.skFrames) + " of them ECM-SK frames" : std::string())
+			  << '\n';
 	std::cout.flush();
 	return 0;
 }

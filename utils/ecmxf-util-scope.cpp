@@ -385,9 +385,7 @@ int scopeXf(Globals &g, const ScopeOptions &o)
 
 int scopeSk(Globals &g, const ScopeOptions &o)
 {
-	if (!g.trace.empty())
-		throw UsageError("--trace: traces are recorded for ECM-XF packets only");
-	const auto board = ecmxf::sk::Board::open(g.device);
+	const auto board = ecmxf::sk::Board::open(g.device); // the main program added --trace to it
 	ecmxf::sk::Board &b = *board;
 	if (b.states().status().state == ecmxf::State::Init)
 		b.states().set(ecmxf::State::PreOp);

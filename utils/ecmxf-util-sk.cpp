@@ -475,9 +475,7 @@ int onBoard(Globals &g, const Args &rawArgs, const char *name, const SkBody &bod
 	const auto args = parseArgs(name, rawArgs, g, help.c_str(), opts);
 	if (!args)
 		return 0;
-	if (!g.trace.empty())
-		throw UsageError("--trace: traces are recorded for ECM-XF packets only");
-	const auto board = Board::open(g.device);
+	const auto board = Board::open(g.device); // the main program added --trace to it
 	return body(g, *board, *args, posText, typeText);
 }
 
@@ -495,8 +493,6 @@ const char *skHelp() noexcept
 
 std::unique_ptr<ecmxf::MasterVerbs> openMaster(const Globals &g)
 {
-	if (skDevice(g) && !g.trace.empty())
-		throw UsageError("--trace: traces are recorded for ECM-XF packets only");
 	return ecmxf::MasterVerbs::open(g.device);
 }
 

@@ -126,8 +126,7 @@ const CommandDesc kCommands[] = {
 	{ "data", "the process image decoded by entry; --set writes an output entry", kDataHelp, cmdData, true,
 	  kOnXf, "the board exchanges the process data itself; 'cia402' and 'io' show a slave's slot" },
 	{ "dac", "set the chip's analog output", kDacHelp, cmdDac, true, kOnXf, "the ECM-SK has no analog output" },
-	{ "decode", "decode a packet trace (--trace FILE) as a protocol log", kDecodeHelp, cmdDecode, false, kOnXf,
-	  "traces are recorded for ECM-XF packets only" },
+	{ "decode", "decode a packet trace (--trace FILE) as a protocol log", kDecodeHelp, cmdDecode, false, kOnBoth },
 	{ "download", "write an object by SDO download", kDownloadHelp, cmdDownload, true, kOnBoth, {}, nullptr,
 	  "SDO_WR through the SDO slot (-p N -t TYPE INDEX[:SUB] VALUE)" },
 	{ "eeprom", "read or write SII EEPROM words", kEepromHelp, cmdEeprom, true, kOnXf, kNoSii },
@@ -222,7 +221,7 @@ void usage(std::FILE *out, bool sk)
 		     "                    [?int0=<chip>:<line>&int1=<chip>:<line>&speed=<Hz>&mode=0..3]\"\n"
 		     "                    ECM-SK: \"sk-sim:\", \"sk-unix:PATH\", \"sk-spidev:/dev/spidevB.C\n"
 		     "                    ?busy=<chip>:<line>\" (ecmxf-util -d sk-sim: help)\n"
-		     "  --trace FILE      record every exchange with the chip to FILE\n"
+		     "  --trace FILE      record every exchange with the chip (or ECM-SK) to FILE\n"
 		     "                    (ecmxf-util decode FILE shows it)\n"
 		     "  --json            JSON output for scripts\n"
 		     "  -q, --quiet       print nothing but errors and the data asked for\n"
@@ -320,7 +319,7 @@ int run(int argc, char **argv)
 	const CommandDesc &cmd = findCommand(argv[i], sk);
 	const Args args(argv + i + 1, argv + argc);
 	auto *const run = sk && cmd.runSk ? cmd.runSk : cmd.run;
-	if (!g.trace.empty() && !sk)
+	if (!g.trace.empty())
 		g.device.append(g.device.find('?') == std::string::npos ? "?trace=" : "&trace=").append(g.trace);
 	if (!cmd.prefixErrors && runsOn(cmd, sk))
 		return run(g, args);

@@ -166,7 +166,7 @@ TEST_CASE("sk cli: what the ECM-SK cannot do is refused with why, bad URIs are n
 	r = run("-d sk-spidev:/dev/spidev0.0 info");
 	CHECK(r.status == 1);
 	CHECK_THAT(r.err, Contains("busy=<chip>:<line> is required"));
-	r = run("-d sk-sim: --trace /tmp/x info");
+	r = run("-d sk-sim: info --trace"); // --trace records on the ECM-SK too (below); without a file: usage
 	CHECK(r.status == 2);
 	r = run("-d sk-sim: help");
 	CHECK(r.status == 0);
@@ -185,6 +185,37 @@ TEST_CASE("sk cli: the board behind sk-unix: keeps its state between runs")
 	CHECK_THAT(r.out, Contains("\"state\": \"OP\""));
 	r = run("-d sk-unix:" + sock + " lio 5");
 	CHECK(r.status == 0);
+}
+
+TEST_CASE("sk cli: --trace FILE records the frames on sk-sim: and sk-unix:, decode reads them back")
+{
+	ecmxftest::TempDir dir;
+	const std::string t1 = dir.path + "/a.trace", t2 = dir.path + "/b.trace";
+	// a URI with options of its own: --trace is added as &trace=
+	auto r = run("-d 'sk-sim:?ex=3' --trace " + t1 + " states PREOP");
+	REQUIRE(r.status == 0);
+	r = run("decode " + t1);
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("host>board 504 bytes (12-byte slots): SET_STATE (0x0001)\n"
+				   "    CRC-8 (byte 3) 0xE7: OK\n"));
+	CHECK_THAT(r.out, Contains(" 0 bad (0 not ready), "));
+	CHECK_THAT(r.out, Contains(" of them ECM-SK frames\n"));
+	r = run("-d sk-sim: decode --json " + t1); // decode runs with an ECM-SK device too
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("\"sk\": true, \"size\": 504, \"slot_size\": 12, \"crc\": \"ok\""));
+
+	const std::string sock = dir.path + "/sk.sock";
+	ecmxftest::SimServer server(sock, { "--board", "ecm-sk", "--settings", "slot=16" });
+	r = run("-d 'sk-unix:" + sock + "?slot=16' --trace " + t2 + " info");
+	CHECK(r.status == 0);
+	r = run("decode " + t2);
+	CHECK(r.status == 0);
+	CHECK_THAT(r.out, Contains("board>host 512 bytes (16-byte slots): "));
+	CHECK_THAT(r.out, Contains("    CRC-8 (byte 3) 0x00: not checked (nocrc)\n"));
+
+	r = run("-d sk-sim: --trace /nonexistent-dir/x.trace info");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("cannot create the trace file \"/nonexistent-dir/x.trace\": No such file or directory"));
 }
 
 TEST_CASE("sk cli: ecmxf-demo --board ecm-sk --fast runs every step")

@@ -12,7 +12,13 @@ test-pcapng.py UTIL LUA
   shows (direction, code, name, index, param or ret, len) and check word
   good; a packet whose data byte is flipped shows bad;
 - decode --pcapng of bad input names the line, writes nothing; /dev/full
-  and an unwritable directory fail with a message.
+  and an unwritable directory fail with a message;
+- the ECM-SK (sk-sim:, LINKTYPE_USER2): `states OP` and an SDO upload
+  recorded with --trace x.pcapng and with a text trace (ex=3: CRC-8 both
+  ways, ex=0: none, slot=16); decode --pcapng of the text trace is the
+  live pcapng byte for byte; tshark shows for every frame the fields
+  decode --json shows (direction, slot size, CRC-8 status, slot 0, the
+  slave slots); a frame with a flipped byte shows the CRC-8 bad in both.
 
 tshark missing is a failure, not a skip: scripts/install-deps.sh installs
 it. As root, tshark runs Lua scripts because Debian's init.lua sets
@@ -84,6 +90,129 @@ def compare(label, rows, records):
                 fail(f"{label}: packet {i + 1} {k} = {got!r}, expected {v!r}")
 
 
+SK_FIELDS = ["ecmsk.dir", "ecmsk.slot_size", "ecmsk.crc.status", "ecmsk.cmd", "ecmsk.cmd.name",
+             "ecmsk.param", "ecmsk.crc_errors", "ecmsk.state", "ecmsk.data1", "ecmsk.data2", "ecmsk.data3",
+             "ecmsk.slot.index", "ecmsk.slave.cmd", "ecmsk.slave.index", "ecmsk.slave.target",
+             "ecmsk.slave.value", "frame.len"]
+
+
+def tshark_sk(pcap):
+    args = ["tshark", "-n", "-X", "lua_script:" + LUA, "-r", pcap, "-T", "fields",
+            "-E", "separator=|", "-E", "occurrence=a", "-E", "aggregator=,"]
+    for f in SK_FIELDS:
+        args += ["-e", f]
+    p = run(*args)
+    if "Lua" in p.stderr and "rror" in p.stderr:
+        fail("tshark reported a Lua error: " + p.stderr)
+    return [dict(zip(SK_FIELDS, line.split("|"))) for line in p.stdout.splitlines()]
+
+
+def compare_sk(label, rows, records):
+    if len(rows) != len(records):
+        fail(f"{label}: tshark shows {len(rows)} frames, the trace has {len(records)}")
+        return
+    num = lambda v: str(int(v, 0)) if v else ""
+    nums = lambda v: ",".join(num(x) for x in v.split(",")) if v else ""
+    for i, (row, rec) in enumerate(zip(rows, records)):
+        if not rec.get("sk"):
+            fail(f"{label}: record {i + 1} is not an ECM-SK frame")
+            continue
+        mosi = rec["dir"] == "mosi"
+        slaves = rec["slaves"]
+        want = {
+            "ecmsk.dir": "host>board" if mosi else "board>host",
+            "ecmsk.slot_size": str(rec["slot_size"]),
+            "ecmsk.crc.status": {"ok": "good", "bad": "bad", "none": "not checked"}[rec["crc"]],
+            "ecmsk.cmd": str(rec["cmd"]),
+            "ecmsk.cmd.name": rec["name"],
+            "ecmsk.param": str(rec["param"]) if mosi else "",
+            "ecmsk.crc_errors": "" if mosi else str(rec["crc_errors"]),
+            "ecmsk.state": "" if mosi else str(rec["state"]),
+            "ecmsk.data1": str(rec["data1"]),
+            "ecmsk.data2": str(rec["data2"]),
+            "ecmsk.data3": str(rec["data3"]) if "data3" in rec else "",
+            "ecmsk.slot.index": ",".join(str(x["slot"]) for x in slaves),
+            "ecmsk.slave.cmd": ",".join(str(x["cmd"]) for x in slaves),
+            "ecmsk.slave.index": ",".join(str(x["index"]) for x in slaves),
+            "ecmsk.slave.target": ",".join(str(x["target"]) for x in slaves),
+            "ecmsk.slave.value": ",".join(str(x["value"]) for x in slaves),
+            "frame.len": str(rec["size"]),
+        }
+        for k, v in want.items():
+            got = row.get(k, "")
+            if k in ("ecmsk.cmd", "ecmsk.param", "ecmsk.crc_errors", "ecmsk.state", "ecmsk.data1",
+                     "ecmsk.data2", "ecmsk.data3"):
+                got = num(got)
+            elif k.startswith("ecmsk.slave.") or k == "ecmsk.slot.index":
+                got = nums(got)
+            if got != v:
+                fail(f"{label}: frame {i + 1} {k} = {got!r}, expected {v!r}")
+
+
+def check_sk(tmp):
+    """The ECM-SK's frames: live pcapng = converted text trace; tshark = decode --json."""
+    conv = os.path.join(tmp, "skconv.pcapng")
+    runs = (("?ex=3", ["states", "OP"]), ("?ex=3", ["upload", "-p", "0", "0x1018:1"]),
+            ("", ["upload", "-p", "1", "0x1018:2"]), ("?slot=16&ex=1", ["states", "OP"]))
+    seen_slaves = seen_crc = seen_none = False
+    for k, (opts, cmd) in enumerate(runs):
+        label = f"sk-sim:{opts} {' '.join(cmd)}"
+        live = os.path.join(tmp, f"sk{k}.pcapng")
+        text = os.path.join(tmp, f"sk{k}.trace")
+        run(UTIL, "-d", "sk-sim:" + opts, "--trace", live, *cmd)
+        run(UTIL, "-d", "sk-sim:" + opts, "--trace", text, *cmd)
+        want_format = "format ecm-sk %s %s" % ("16" if "slot=16" in opts else "12",
+                                               {"?ex=3": "crc", "": "nocrc", "?slot=16&ex=1": "cmdcrc"}[opts])
+        if want_format not in open(text).read().splitlines():
+            fail(f"{label}: no line {want_format!r} in the text trace")
+        run(UTIL, "decode", "--pcapng", conv, text)
+        with open(live, "rb") as a, open(conv, "rb") as b:
+            if a.read() != b.read():
+                fail(f"{label}: --trace x.pcapng and decode --pcapng of the same run differ")
+        records = decode_json(text)
+        if not records:
+            fail(f"{label}: nothing recorded")
+            continue
+        if any(r["crc"] == "bad" for r in records):
+            fail(f"{label}: a recorded frame decodes with a bad CRC-8")
+        seen_slaves |= any(r["slaves"] for r in records)
+        seen_crc |= any(r["crc"] == "ok" for r in records)
+        seen_none |= any(r["crc"] == "none" for r in records)
+        compare_sk(label, tshark_sk(live), records)
+        summary = run(UTIL, "decode", text).stdout.splitlines()[-1]
+        if f"{len(records)} of them ECM-SK frames" not in summary:
+            fail(f"{label}: decode's summary line {summary!r}")
+    if not (seen_slaves and seen_crc and seen_none):
+        fail(f"sk: slave slots {seen_slaves}, CRC-8 checked {seen_crc}, not checked {seen_none}: expected all")
+
+    # a flipped byte in slot 0's data of a CRC-checked frame
+    text = os.path.join(tmp, "sk0.trace")
+    lines = open(text).read().splitlines()
+    frames = [i for i, l in enumerate(lines) if " > " in l or " < " in l]
+    pkt, k = frames[4], 4
+    words = lines[pkt].split(" ")
+    words[3] = "%08x" % (int(words[3], 16) ^ 0x01000000)  # bytes 4-7: data1's first byte
+    lines[pkt] = " ".join(words)
+    bad = os.path.join(tmp, "skbad.trace")
+    open(bad, "w").write("\n".join(lines) + "\n")
+    run(UTIL, "decode", "--pcapng", conv, bad)
+    records = decode_json(bad)
+    if records[k]["crc"] != "bad":
+        fail("sk: the frame with a flipped byte decodes " + records[k]["crc"])
+    rows = tshark_sk(conv)
+    compare_sk("sk corrupted", rows, records)
+    if len(rows) > k and rows[k]["ecmsk.crc.status"] != "bad":
+        fail("sk: tshark shows the flipped frame's CRC-8 " + rows[k]["ecmsk.crc.status"])
+    text_log = run(UTIL, "decode", bad).stdout
+    if "[BAD]" not in text_log or "BAD (expected 0x" not in text_log:
+        fail("sk: the text log does not show the bad CRC-8")
+
+    # --trace with a URI that has options already, and a bad file
+    p = run(UTIL, "-d", "sk-sim:?ex=3", "--trace", os.path.join(tmp, "no", "x.trace"), "info", ok=False)
+    if p.returncode == 0 or "No such file or directory" not in p.stderr or "no/x.trace" not in p.stderr:
+        fail(f"sk: --trace into a missing directory: exit {p.returncode}, stderr {p.stderr!r}")
+
+
 def main():
     if shutil.which("tshark") is None:
         print("FAIL: tshark is not installed (scripts/install-deps.sh installs it)")
@@ -131,6 +260,8 @@ def main():
             compare("corrupted " + name, rows, records)
             if rows[k]["ecmxf.check.status"] != "bad":
                 fail(name + ": tshark shows the corrupted packet's check word " + rows[k]["ecmxf.check.status"])
+
+        check_sk(tmp)
 
         # bad input: the line named, no output file
         out = os.path.join(tmp, "never.pcapng")

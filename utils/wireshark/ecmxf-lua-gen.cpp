@@ -65,11 +65,11 @@ std::string constants()
 		      "local HDR_SIZE = %u\nlocal TRAILER_SIZE = %u\nlocal START_WORD = 0x%08X\n"
 		      "local END_WORD = 0x%08X\nlocal FIXED_CHECK = 0x%08X\nlocal NOT_READY_WORD = 0x%08X\n"
 		      "local SK_CRC_OFFSET = %u\nlocal SK_CRC_INIT = 0x%02X\n"
-		      "local SK_FRAME12 = %u\nlocal SK_FRAME16 = %u\n"
+		      "local SK_FRAME12 = %u\nlocal SK_FRAME16 = %u\nlocal SK_RSP_OP = 0x%02X\n"
 		      "-- the core's CRCs of \"123456789\": the Lua ones are checked against them at load\n"
 		      "local CHECK_CRC8 = 0x%02X\nlocal CHECK_CCITT = 0x%04X\nlocal CHECK_CRC32 = 0x%08X\n",
 		      ECMXF_HDR_SIZE, ECMXF_TRAILER_SIZE, ECMXF_START_WORD, ECMXF_END_WORD, ECMXF_FIXED_CHECK,
-		      ECMXF_NOT_READY_WORD, ECMSK_CRC_OFFSET, ECMSK_CRC_INIT, ECMSK_FRAME12, ECMSK_FRAME16,
+		      ECMXF_NOT_READY_WORD, ECMSK_CRC_OFFSET, ECMSK_CRC_INIT, ECMSK_FRAME12, ECMSK_FRAME16, ECMSK_RSP_OP,
 		      ecmxf_crc8(check, 9), ecmxf_crc_ccitt(check, 9), ecmxf_crc32(check, 9));
 	return buf;
 }
