@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Internal: the writer of packet traces (Documentation/trace.rst), fed by
-// the links; a Device owns the one it records to (Device::startTrace()).
+// the links; a Device owns the one it records to (Device::startTrace()),
+// an ECM-SK SlotLink its own (SlotLink::startTrace(), lib/sk/slot_link.cpp).
 #pragma once
 
 #include <array>
