@@ -52,7 +52,8 @@ const char *linkName(PcapngWriter::Link l) noexcept
 
 } // namespace
 
-PcapngWriter::PcapngWriter(std::string_view path, std::string_view shownAs) : file_(path, shownAs)
+PcapngWriter::PcapngWriter(std::string_view path, std::string_view shownAs, std::size_t bufferSize)
+	: file_(path, shownAs, bufferSize)
 {
 	std::uint8_t *b = buf_.data();
 	put32(b, kShb);

@@ -45,7 +45,8 @@ public:
 	/// Creates or truncates @p path and writes the Section Header Block.
 	/// Throws ecmxf::Error with the path (or @p shownAs, when given: the
 	/// name a temporary file stands for) and the system's reason.
-	explicit PcapngWriter(std::string_view path, std::string_view shownAs = {});
+	/// @p bufferSize as TraceFile's.
+	explicit PcapngWriter(std::string_view path, std::string_view shownAs = {}, std::size_t bufferSize = 0);
 	PcapngWriter(const PcapngWriter &) = delete;
 	PcapngWriter &operator=(const PcapngWriter &) = delete;
 

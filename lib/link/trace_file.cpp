@@ -7,11 +7,14 @@
 #include <cstring>
 #include <utility>
 
+#include <stdio.h>
+
 #include "link/trace_file.hpp"
 
 namespace ecmxf::detail {
 
-TraceFile::TraceFile(std::string_view path, std::string_view shownAs) : path_(shownAs.empty() ? path : shownAs)
+TraceFile::TraceFile(std::string_view path, std::string_view shownAs, std::size_t bufferSize)
+	: path_(shownAs.empty() ? path : shownAs)
 {
 	f_ = std::fopen(std::string(path).c_str(), "wb");
 	if (!f_) {
@@ -20,6 +23,10 @@ TraceFile::TraceFile(std::string_view path, std::string_view shownAs) : path_(sh
 		m.append(path_).append("\": ").append(std::strerror(err));
 		throw Error(m, err);
 	}
+	// the C library allocates the buffer at the first write; a failure
+	// leaves the default one
+	if (bufferSize)
+		std::setvbuf(f_, nullptr, _IOFBF, bufferSize);
 }
 
 TraceFile::~TraceFile()
@@ -32,7 +39,12 @@ void TraceFile::put(const void *p, std::size_t n) noexcept
 {
 	if (!f_ || err_)
 		return;
+	// one thread writes a trace: the stream's lock is not needed
+#if defined(__GLIBC__)
+	if (::fwrite_unlocked(p, 1, n, f_) != n)
+#else
 	if (std::fwrite(p, 1, n, f_) != n)
+#endif
 		err_ = errno ? errno : EIO;
 }
 

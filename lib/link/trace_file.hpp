@@ -17,8 +17,11 @@ class TraceFile
 public:
 	/// Creates or truncates @p path. Throws ecmxf::Error with @p shownAs
 	/// (the name a temporary file stands for; @p path when empty) and the
-	/// system's reason.
-	explicit TraceFile(std::string_view path, std::string_view shownAs = {});
+	/// system's reason. @p bufferSize: the bytes collected before a
+	/// write(2), 0 the C library's default (a block, 4 KiB: what a live
+	/// trace wants, a short copy in the cycle now and then); a converter
+	/// writing a whole file at once gives more.
+	explicit TraceFile(std::string_view path, std::string_view shownAs = {}, std::size_t bufferSize = 0);
 	~TraceFile();
 	TraceFile(const TraceFile &) = delete;
 	TraceFile &operator=(const TraceFile &) = delete;

@@ -24,6 +24,9 @@ namespace ecmxf {
 
 namespace {
 
+/// The converter's output buffer: a write(2) per MiB, not per 4 KiB
+constexpr std::size_t kOutBuffer = 1u << 20;
+
 /// The temporary file of a conversion: removed unless committed.
 class TempName
 {
@@ -64,7 +67,7 @@ TraceSummary traceToPcapng(std::istream &in, std::string_view path)
 		temp.emplace(out + ".part-" + std::to_string(::getpid()));
 	TraceSummary sum;
 	{
-		detail::PcapngWriter w(inPlace ? out : temp->name(), out);
+		detail::PcapngWriter w(inPlace ? out : temp->name(), out, kOutBuffer);
 		detail::TraceReader reader(in);
 		detail::TraceRecord r;
 		using L = detail::PcapngWriter::Link;

@@ -5,11 +5,16 @@
 #include <ecmxf/protocol.hpp>
 
 #include <array>
+#include <bit>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <istream>
 #include <string>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "ecmsk-proto.h"
 #include "ecmxf-proto.h"
@@ -82,8 +87,86 @@ std::uint64_t parseTime(std::size_t line, std::string_view t)
 	return s * 1'000'000'000u + f;
 }
 
-/// The hex of @p s into @p out: digit pairs through the pair table, one
-/// nibble at a time where a separator splits a pair.
+/// Eight hex digits at @p p to four bytes at @p o; false, nothing
+/// written, when any of them is not a hex digit. Little-endian machines
+/// take the eight characters at once in a 64-bit word (SIMD within a
+/// register): a byte x below 0x80 is >= lo when x + (0x80 - lo) has bit 7
+/// set and <= hi when x + (0x7F - hi) has it clear, and no byte carries
+/// into the next. Others look the four pairs up in @p pairs.
+bool hex8(const unsigned char *p, std::uint8_t *o, const std::array<std::uint16_t, 65536> &pairs) noexcept
+{
+	if constexpr (std::endian::native != std::endian::little) {
+		const std::uint16_t v0 = pairs[static_cast<std::size_t>(p[0]) << 8 | p[1]];
+		const std::uint16_t v1 = pairs[static_cast<std::size_t>(p[2]) << 8 | p[3]];
+		const std::uint16_t v2 = pairs[static_cast<std::size_t>(p[4]) << 8 | p[5]];
+		const std::uint16_t v3 = pairs[static_cast<std::size_t>(p[6]) << 8 | p[7]];
+		if ((v0 | v1 | v2 | v3) >= 0x100)
+			return false;
+		o[0] = static_cast<std::uint8_t>(v0);
+		o[1] = static_cast<std::uint8_t>(v1);
+		o[2] = static_cast<std::uint8_t>(v2);
+		o[3] = static_cast<std::uint8_t>(v3);
+		return true;
+	} else {
+		(void)pairs;
+		constexpr std::uint64_t k1 = 0x0101010101010101u, k80 = 0x80 * k1;
+		std::uint64_t v;
+		std::memcpy(&v, p, 8);
+		if (v & k80)
+			return false;
+		const std::uint64_t lower = v | 0x20 * k1; // 'A'..'F' to 'a'..'f', digits as they are
+		const std::uint64_t digit = (v + (0x80 - '0') * k1) & ~(v + (0x7F - '9') * k1);
+		const std::uint64_t letter = (lower + (0x80 - 'a') * k1) & ~(lower + (0x7F - 'f') * k1);
+		if (((digit | letter) & k80) != k80)
+			return false;
+		// each byte its digit's value: the low nibble, + 9 for a letter (bit 6)
+		const std::uint64_t n = (lower & 0x0F * k1) + ((lower >> 6) & k1) * 9;
+		// byte 2j: digit 2j in the high nibble, digit 2j+1 in the low one;
+		// then bytes 0, 2, 4, 6 packed into 0..3
+		std::uint64_t t = ((n << 4) | (n >> 8)) & 0x00FF00FF00FF00FFu;
+		t = (t | (t >> 8)) & 0x0000FFFF0000FFFFu;
+		t = (t | (t >> 16)) & 0xFFFFFFFFu;
+		const auto w = static_cast<std::uint32_t>(t);
+		std::memcpy(o, &w, 4);
+		return true;
+	}
+}
+
+/// Sixteen hex digits, eight at @p a and eight at @p b (the writer's two
+/// groups around a space, or sixteen in a row), to eight bytes at @p o;
+/// false when any is not a hex digit (bytes at @p o may then be written:
+/// the caller's buffer has room, and does not count them). With SSE2 (every
+/// x86-64) in one 128-bit register, else as two hex8().
+bool hex16(const unsigned char *a, const unsigned char *b, std::uint8_t *o,
+	   const std::array<std::uint16_t, 65536> &pairs) noexcept
+{
+#if defined(__SSE2__)
+	(void)pairs;
+	const __m128i v = _mm_unpacklo_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i *>(a)),
+					     _mm_loadl_epi64(reinterpret_cast<const __m128i *>(b)));
+	const __m128i lower = _mm_or_si128(v, _mm_set1_epi8(0x20));
+	// signed compares: a byte of 0x80 and up is negative, neither range
+	const __m128i digit = _mm_and_si128(_mm_cmpgt_epi8(v, _mm_set1_epi8('0' - 1)),
+					    _mm_cmplt_epi8(v, _mm_set1_epi8('9' + 1)));
+	const __m128i letter = _mm_and_si128(_mm_cmpgt_epi8(lower, _mm_set1_epi8('a' - 1)),
+					     _mm_cmplt_epi8(lower, _mm_set1_epi8('f' + 1)));
+	if (_mm_movemask_epi8(_mm_or_si128(digit, letter)) != 0xFFFF)
+		return false;
+	const __m128i n = _mm_add_epi8(_mm_and_si128(lower, _mm_set1_epi8(0x0F)),
+				       _mm_and_si128(letter, _mm_set1_epi8(9)));
+	// per 16-bit lane (first digit low, second high): first << 4 | second
+	const __m128i t = _mm_and_si128(_mm_or_si128(_mm_slli_epi16(n, 4), _mm_srli_epi16(n, 8)),
+					_mm_set1_epi16(0x00FF));
+	_mm_storel_epi64(reinterpret_cast<__m128i *>(o), _mm_packus_epi16(t, t));
+	return true;
+#else
+	return hex8(a, o, pairs) && hex8(b, o + 4, pairs);
+#endif
+}
+
+/// The hex of @p s into @p out: sixteen digits at once (hex16()), groups
+/// of eight (hex8()), other digit pairs through the pair table, one nibble at a time where a
+/// separator splits a pair.
 void parseHex(std::size_t line, std::string_view s, std::vector<std::uint8_t> &out)
 {
 	const auto &pairs = pairTable();
@@ -93,21 +176,25 @@ void parseHex(std::size_t line, std::string_view s, std::vector<std::uint8_t> &o
 	const auto *e = p + s.size();
 	int hi = -1;
 	while (p < e) {
-		// the writer's groups: 8 digits, 4 bytes at once
-		if (hi < 0 && e - p >= 8) {
-			const std::uint16_t v0 = pairs[static_cast<std::size_t>(p[0]) << 8 | p[1]];
-			const std::uint16_t v1 = pairs[static_cast<std::size_t>(p[2]) << 8 | p[3]];
-			const std::uint16_t v2 = pairs[static_cast<std::size_t>(p[4]) << 8 | p[5]];
-			const std::uint16_t v3 = pairs[static_cast<std::size_t>(p[6]) << 8 | p[7]];
-			if ((v0 | v1 | v2 | v3) < 0x100) {
-				o[0] = static_cast<std::uint8_t>(v0);
-				o[1] = static_cast<std::uint8_t>(v1);
-				o[2] = static_cast<std::uint8_t>(v2);
-				o[3] = static_cast<std::uint8_t>(v3);
-				o += 4;
-				p += 8;
-				continue;
-			}
+		// the writer's separator, then its groups: 8 digits, 4 bytes at once
+		if (hi < 0 && *p == ' ') {
+			p++;
+			continue;
+		}
+		if (hi < 0 && e - p >= 17 && p[8] == ' ' && hex16(p, p + 9, o, pairs)) {
+			o += 8;
+			p += 17;
+			continue;
+		}
+		if (hi < 0 && e - p >= 16 && hex16(p, p + 8, o, pairs)) {
+			o += 8;
+			p += 16;
+			continue;
+		}
+		if (hi < 0 && e - p >= 8 && hex8(p, o, pairs)) {
+			o += 4;
+			p += 8;
+			continue;
 		}
 		if (hi < 0 && e - p >= 2) {
 			const std::uint16_t v = pairs[static_cast<std::size_t>(p[0]) << 8 | p[1]];
