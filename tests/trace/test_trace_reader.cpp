@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -41,16 +42,22 @@ std::string record(const std::vector<std::uint8_t> &bytes, std::mt19937 &rng, bo
 	return s;
 }
 
-std::vector<std::uint8_t> readOne(const std::string &line)
+/// The one record of a trace holding @p line; throws what the reader throws.
+ecmxf::detail::TraceRecord parseOne(const std::string &line)
 {
 	std::istringstream in("ecmxf-trace 1\n" + line + "\n");
 	ecmxf::detail::TraceReader r(in);
-	ecmxf::detail::TraceRecord rec;
-	REQUIRE(r.next(rec));
+	ecmxf::detail::TraceRecord rec, end;
+	if (!r.next(rec) || r.next(end))
+		throw std::logic_error("not one record");
+	return rec;
+}
+
+std::vector<std::uint8_t> readOne(const std::string &line)
+{
+	const ecmxf::detail::TraceRecord rec = parseOne(line);
 	CHECK(rec.kind == '>');
 	CHECK(rec.ns == 1000u);
-	ecmxf::detail::TraceRecord end;
-	CHECK_FALSE(r.next(end));
 	return rec.bytes;
 }
 
@@ -89,7 +96,7 @@ TEST_CASE("a character that is not a hex digit is refused wherever it stands in 
 			std::string line = good;
 			line[at] = static_cast<char>(c);
 			INFO("character 0x" << std::hex << unsigned{ c } << " at " << std::dec << at);
-			const ecmxf::Error e = ecmxftest::thrown([&] { (void)readOne(line); });
+			const ecmxf::Error e = ecmxftest::thrown([&] { (void)parseOne(line); });
 			CHECK(e.what() == "trace line 2: '" + std::string(1, static_cast<char>(c)) + "' is not a hex digit");
 		}
 	}
