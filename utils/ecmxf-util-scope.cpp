@@ -4,23 +4,32 @@
  * runs in OP (ecmxf::Recorder), then write them as CSV and an SVG plot
  * (ecmxf::writeCsv, ecmxf::writeSvg); on the ECM-XF (sim:, unix:, spidev,
  * /dev/ecmxfN) and on the ECM-SK (its feedback slots), with a live view
- * in the terminal while it records (ecmxf::terminalText, LiveView). Also
+ * in the terminal while it records (LiveView: a drawing thread fed copies
+ * of the latest samples, ecmxf::SnapshotExchange, ecmxf::terminalText). Also
  * the plot files of `cia402 move --plot` (takePlotFiles, writePlotFiles).
  */
 #include "ecmxf-util-scope.hpp"
 
+#include <poll.h>
+#include <pthread.h>
 #include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <span>
+#include <stop_token>
 #include <string>
+#include <string_view>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -33,6 +42,7 @@
 #include <ecmxf/pdo/process_image.hpp>
 #include <ecmxf/scope/plot.hpp>
 #include <ecmxf/scope/recorder.hpp>
+#include <ecmxf/scope/snapshot.hpp>
 #include <ecmxf/scope/terminal.hpp>
 #include <ecmxf/sk/board.hpp>
 #include <ecmxf/sk/board_views.hpp>
@@ -171,18 +181,14 @@ ScopeOptions parseScope(const Args &args, Globals &g, bool &help)
 	return o;
 }
 
-/// The live view (--live): the recorder's signals drawn on stdout about
-/// 10 times a second (ecmxf::terminalText), between cycles, never inside
-/// cycle() and sample(); 'q' read from stdin when it is a terminal. The
-/// terminal is put in non-canonical mode without echo (a key counts at
-/// once; ISIG kept, so Ctrl-C is still SIGINT, which StopSignals turns
-/// into the end of the recording) and the cursor hidden; the destructor
-/// restores both, on every way out of record(): a return, an exception,
-/// a stop signal.
-class LiveView
+/// The terminal held by the live view: put in non-canonical mode without
+/// echo when stdin is one (a key counts at once; ISIG kept, so Ctrl-C is
+/// still SIGINT, which StopSignals turns into the end of the recording),
+/// the screen cleared and the cursor hidden; the destructor restores both.
+class LiveTerminal
 {
 public:
-	explicit LiveView(std::string title) : title_(std::move(title))
+	LiveTerminal()
 	{
 		if (::isatty(STDIN_FILENO) == 1 && ::tcgetattr(STDIN_FILENO, &saved_) == 0) {
 			termios raw = saved_;
@@ -192,69 +198,233 @@ public:
 			keys_ = ::tcsetattr(STDIN_FILENO, TCSANOW, &raw) == 0;
 		}
 		std::fputs("\x1b[?25l\x1b[2J", stdout); // cursor hidden, screen cleared
-		std::fflush(stdout);
+		std::fflush(stdout); // before the drawing thread's write()s
 	}
-	~LiveView()
+	~LiveTerminal()
 	{
 		if (keys_)
 			(void)::tcsetattr(STDIN_FILENO, TCSANOW, &saved_);
 		std::fputs("\x1b[?25h\n", stdout);
 		std::fflush(stdout);
 	}
+	LiveTerminal(const LiveTerminal &) = delete;
+	LiveTerminal &operator=(const LiveTerminal &) = delete;
+
+	/// stdin is a terminal in non-canonical mode: keys can be read.
+	[[nodiscard]] bool keys() const noexcept { return keys_; }
+
+private:
+	termios saved_{};
+	bool keys_ = false;
+};
+
+/// The live view (--live): the recorder's signals drawn on stdout about
+/// 10 times a second by a drawing thread of its own, so that neither the
+/// drawing (it allocates) nor the terminal (a write to a slow or stopped
+/// terminal blocks: ssh, a paused tmux pane, Ctrl-S) delays a cycle.
+///
+/// The thread that runs the cycles calls tick() between them: about every
+/// 100 ms (wall time) it copies what a frame needs (the state, the sample
+/// count and, of each signal that fits the terminal, the latest 2 x width
+/// samples; ecmxf::RecorderSnapshot) into the back buffer of a triple
+/// buffer allocated here (ecmxf::SnapshotExchange) and publishes it: no
+/// allocation, no lock, no system call. While the drawing thread has not
+/// taken the frame before (it is busy, its terminal stalled), the copy is
+/// skipped. The drawing thread takes the latest frame, draws it
+/// (ecmxf::terminalText over the copied samples) and write()s it to stdout;
+/// it reads the terminal's size (TIOCGWINSZ), published in atomics for the
+/// next copy's width and signals, and 'q' from stdin when it is a terminal,
+/// published as an atomic that tick() returns.
+///
+/// finish() publishes the last frame ("done"), whether or not the drawer is
+/// busy. The destructor stops the drawing thread (it draws that last frame
+/// first) and joins it, then restores the terminal: on every way out (a
+/// return, an exception, a stop signal), and nothing is written to the
+/// terminal after that restore.
+class LiveView
+{
+public:
+	/// The widest drawing (cells): a frame copies at most 2 x kMaxWidth
+	/// samples a signal.
+	static constexpr unsigned kMaxWidth = 1000;
+
+	LiveView(std::string title, const ecmxf::Recorder &rec)
+		: title_(std::move(title)), frames_(rec.signals().size(), 2 * std::size_t{ kMaxWidth })
+	{
+		for (const auto &sig : rec.signals())
+			labels_.push_back(sig.label + (sig.unit.empty() ? "" : " [" + sig.unit + "]"));
+		publish(layout()); // the first copy's width, before the drawing thread's first frame
+		drawer_ = startDrawer();
+	}
 	LiveView(const LiveView &) = delete;
 	LiveView &operator=(const LiveView &) = delete;
 
-	/// A new frame when 100 ms have passed since the last one; true when
-	/// 'q' was pressed.
-	bool tick(const ecmxf::Recorder &rec)
+	/// The cycling thread's, between cycles: a frame copied and published
+	/// when 100 ms have passed since the last one and the drawing thread
+	/// has taken that one. True once 'q' was pressed. Allocates nothing,
+	/// blocks on nothing.
+	bool tick(const ecmxf::Recorder &rec) noexcept
 	{
 		const auto now = std::chrono::steady_clock::now();
-		if (now < next_)
-			return false;
-		next_ = now + std::chrono::milliseconds(100);
-		draw(rec);
-		char key[16];
-		const ssize_t n = keys_ ? ::read(STDIN_FILENO, key, sizeof key) : 0;
-		return n > 0 && std::find_if(key, key + n, [](char c) { return c == 'q' || c == 'Q'; }) != key + n;
+		if (now >= next_) {
+			next_ = now + std::chrono::milliseconds(100);
+			if (!frames_.pending()) // else the drawer is still busy: this frame is skipped
+				copy(rec);
+		}
+		return quit_.load(std::memory_order_relaxed);
 	}
 
-	/// The last frame, whatever the time (the recording ended).
-	void draw(const ecmxf::Recorder &rec)
-	{
-		winsize ws{};
-		const bool sized = ::ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0 && ws.ws_row > 0;
-		const unsigned cols = sized ? unsigned{ ws.ws_col } : 80u, rows = sized ? unsigned{ ws.ws_row } : 24u;
-		const auto &sig = rec.signals();
-		// a header line, then per signal a label line and its rows
-		const unsigned each = sig.empty() ? 1 : std::max(2u, (rows - 2) / static_cast<unsigned>(sig.size()));
-		const unsigned height = std::clamp(each - 1, 1u, 8u);
-		const unsigned width = std::clamp(cols > 1 ? cols - 1 : 1u, 1u, 1000u);
-		const char *state = rec.done() ? "done" : rec.triggered() ? "recording" : "waiting for the trigger";
-		// the title cut to leave the rest of the header on one line
-		const std::size_t room = cols > 70 ? cols - 70 : 10;
-		std::string out = "\x1b[H" + (title_.size() > room ? title_.substr(0, room) + "..." : title_) + ": " +
-				  std::to_string(rec.size()) + " samples, " + state +
-				  "; q or Ctrl-C stops and writes\x1b[K\n";
-		for (std::size_t k = 0; k < sig.size() && 1 + (k + 1) * (height + 1) < rows; k++) {
-			ecmxf::TerminalRange r;
-			const auto text = ecmxf::terminalText(rec, k, width, height, &r);
-			const double last = rec.size() ? rec.value(rec.size() - 1, k) : NAN;
-			out += sig[k].label + (sig[k].unit.empty() ? "" : " [" + sig[k].unit + "]") + "  min " +
-			       shortNumber(r.min) + "  max " + shortNumber(r.max) + "  last " + shortNumber(last) +
-			       "\x1b[K\n";
-			for (const std::string &line : text)
-				out += line + "\x1b[K\n";
-		}
-		out += "\x1b[J";
-		std::fputs(out.c_str(), stdout);
-		std::fflush(stdout);
-	}
+	/// The last frame (the recording ended), whatever the time and even
+	/// while the drawer is busy: drawn once it is free, before the
+	/// destructor returns.
+	void finish(const ecmxf::Recorder &rec) noexcept { copy(rec); }
 
 private:
+	/// Where a frame goes on a terminal of cols x rows: @c width cells
+	/// and @c height rows a signal, the first @c shown signals.
+	struct Layout {
+		unsigned cols = 80, rows = 24, width = 79, height = 8;
+		std::size_t shown = 0;
+	};
+
+	void copy(const ecmxf::Recorder &rec) noexcept
+	{
+		frames_.back().take(rec, 2 * std::size_t{ width_.load(std::memory_order_relaxed) },
+				    shown_.load(std::memory_order_relaxed));
+		frames_.publish();
+	}
+
+	/// The terminal's size (80 x 24 when it has none: a pipe) and what
+	/// fits: a header line, then per signal a label line and its rows.
+	[[nodiscard]] Layout layout() const noexcept
+	{
+		winsize ws{};
+		Layout l;
+		if (::ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0 && ws.ws_row > 0) {
+			l.cols = ws.ws_col;
+			l.rows = ws.ws_row;
+		}
+		const auto n = static_cast<unsigned>(labels_.size());
+		const unsigned each = n == 0 ? 1 : std::max(2u, (l.rows > 2 ? l.rows - 2 : 0) / n);
+		l.height = std::clamp(each - 1, 1u, 8u);
+		l.width = std::clamp(l.cols > 1 ? l.cols - 1 : 1u, 1u, kMaxWidth);
+		while (l.shown < labels_.size() && 1 + (l.shown + 1) * (l.height + 1) < l.rows)
+			l.shown++;
+		return l;
+	}
+
+	void publish(const Layout &l) noexcept
+	{
+		width_.store(l.width, std::memory_order_relaxed);
+		shown_.store(l.shown, std::memory_order_relaxed);
+	}
+
+	/// The drawing thread, started with the stop signals blocked: their
+	/// handler runs in the cycling thread, and no write() of the drawer is
+	/// interrupted by them.
+	std::jthread startDrawer()
+	{
+		sigset_t stop, old;
+		sigemptyset(&stop);
+		for (const int sig : { SIGINT, SIGTERM, SIGHUP })
+			sigaddset(&stop, sig);
+		(void)::pthread_sigmask(SIG_BLOCK, &stop, &old);
+		struct Restore {
+			sigset_t *old;
+			~Restore() { (void)::pthread_sigmask(SIG_SETMASK, old, nullptr); }
+		} restore{ &old };
+		return std::jthread([this](const std::stop_token &st) { run(st); });
+	}
+
+	/// Until the stop: 'q' looked for every 20 ms, the latest frame drawn
+	/// when there is one; then the frame published last, if not drawn yet.
+	void run(const std::stop_token &st) noexcept
+	{
+		while (!st.stop_requested()) {
+			waitForKeys(20);
+			if (const ecmxf::RecorderSnapshot *s = frames_.take())
+				draw(*s);
+		}
+		if (const ecmxf::RecorderSnapshot *s = frames_.take())
+			draw(*s);
+	}
+
+	/// Up to @p ms for a key on stdin (a terminal: else a sleep); 'q' or
+	/// 'Q' sets the quit.
+	void waitForKeys(int ms) noexcept
+	{
+		if (!term_.keys()) {
+			std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+			return;
+		}
+		pollfd in{ STDIN_FILENO, POLLIN, 0 };
+		if (::poll(&in, 1, ms) <= 0)
+			return;
+		char key[16];
+		const ssize_t n = ::read(STDIN_FILENO, key, sizeof key);
+		if (n > 0 && std::find_if(key, key + n, [](char c) { return c == 'q' || c == 'Q'; }) != key + n)
+			quit_.store(true, std::memory_order_relaxed);
+	}
+
+	/// One frame of @p s, in the drawing thread (it allocates; a frame
+	/// that cannot be made is dropped).
+	void draw(const ecmxf::RecorderSnapshot &s) noexcept
+	{
+		if (broken_)
+			return;
+		try {
+			const Layout l = layout();
+			publish(l);
+			const char *state = s.done() ? "done" : s.triggered() ? "recording" : "waiting for the trigger";
+			// the title cut to leave the rest of the header on one line
+			const std::size_t room = l.cols > 70 ? l.cols - 70 : 10;
+			std::string out = "\x1b[H" + (title_.size() > room ? title_.substr(0, room) + "..." : title_) +
+					  ": " + std::to_string(s.size()) + " samples, " + state +
+					  "; q or Ctrl-C stops and writes\x1b[K\n";
+			// the signals that fit, of those copied (fewer when the
+			// terminal grew since the copy: the next frame has them)
+			for (std::size_t k = 0; k < std::min(l.shown, s.signals()); k++) {
+				const std::span<const double> values = s.values(k);
+				ecmxf::TerminalRange r;
+				const auto text = ecmxf::terminalText(values, l.width, l.height, &r);
+				const double last = values.empty() ? NAN : values.back();
+				out += labels_[k] + "  min " + shortNumber(r.min) + "  max " + shortNumber(r.max) +
+				       "  last " + shortNumber(last) + "\x1b[K\n";
+				for (const std::string &line : text)
+					out += line + "\x1b[K\n";
+			}
+			out += "\x1b[J";
+			broken_ = !writeAll(out);
+		} catch (...) {
+			// no memory for this frame: the next one may have it
+		}
+	}
+
+	/// @p text on stdout, all of it (write(2): not stdio, whose lock the
+	/// cycling thread could meet); false when the terminal fails (gone).
+	static bool writeAll(std::string_view text) noexcept
+	{
+		while (!text.empty()) {
+			const ssize_t n = ::write(STDOUT_FILENO, text.data(), text.size());
+			if (n < 0 && errno == EINTR)
+				continue;
+			if (n <= 0)
+				return false;
+			text.remove_prefix(static_cast<std::size_t>(n));
+		}
+		return true;
+	}
+
+	LiveTerminal term_; // first: restored last, after the drawing thread is joined
 	std::string title_;
-	termios saved_{};
-	bool keys_ = false;
-	std::chrono::steady_clock::time_point next_{};
+	std::vector<std::string> labels_;     // each signal's label and unit
+	ecmxf::SnapshotExchange frames_;      // cycling thread -> drawing thread
+	std::atomic<unsigned> width_{ 1 };    // drawing thread -> cycling thread: cells
+	std::atomic<std::size_t> shown_{ 0 }; // ... and the signals that fit
+	std::atomic<bool> quit_{ false };     // ... and 'q'
+	std::chrono::steady_clock::time_point next_{}; // the cycling thread's
+	bool broken_ = false;                          // the drawing thread's: a write failed
+	std::jthread drawer_; // last: joined first (its destructor), before the rest goes
 };
 
 /// The samples the stop needs, the pre-trigger ones added (1 ms cycles).
@@ -286,13 +456,13 @@ std::string defaultTitle(const Globals &g, const ScopeOptions &o)
 /// Runs @p cycle (one exchange and its sample) until the recorder is done,
 /// a stop signal or the live view's 'q' comes (the recording ends there),
 /// or the trigger has not come within the timeout (bus time on @p now).
+/// The caller holds the StopSignals and the live view (@p live, nullptr:
+/// none): the live view outlives the recording, so that the files are
+/// written while the drawing thread may still be writing to a slow
+/// terminal.
 template <class Cycle, class Now>
-void record(ecmxf::Recorder &rec, const ScopeOptions &o, const std::string &title, Cycle &&cycle, Now &&now)
+void record(ecmxf::Recorder &rec, const ScopeOptions &o, LiveView *live, Cycle &&cycle, Now &&now)
 {
-	const StopSignals signals;
-	std::optional<LiveView> live;
-	if (o.live)
-		live.emplace(title);
 	const auto t0 = now();
 	while (!rec.done()) {
 		if (StopSignals::pending() || (live && live->tick(rec))) {
@@ -308,7 +478,7 @@ void record(ecmxf::Recorder &rec, const ScopeOptions &o, const std::string &titl
 					   ETIMEDOUT);
 	}
 	if (live)
-		live->draw(rec); // the last frame: "done"
+		live->finish(rec); // the last frame: "done"
 }
 
 /// Signal @p k's minimum, maximum and last value (NaN: none sampled).
@@ -366,11 +536,15 @@ int scopeXf(Globals &g, const ScopeOptions &o)
 		rec.add(image, s);
 	rec.arm(o.trigger, stopOf(o));
 	ecmxf::Cyclic cyc(*bus.dev, image, ecmxf::CyclicConfig::motion(1ms));
+	const std::string title = o.title.value_or(defaultTitle(g, o));
+	const StopSignals signals; // first: it outlives the live view
+	std::optional<LiveView> live; // its thread started before the cycles
+	if (o.live)
+		live.emplace(title, rec);
 	cyc.start();
 	ecmxf::Link &link = bus.dev->link();
-	const std::string title = o.title.value_or(defaultTitle(g, o));
 	record(
-		rec, o, title,
+		rec, o, live ? &*live : nullptr,
 		[&] {
 			const ecmxf::CycleResult &r = cyc.cycle();
 			(void)rec.sample(link.now(), r);
@@ -380,6 +554,7 @@ int scopeXf(Globals &g, const ScopeOptions &o)
 		[&] { return link.now(); });
 	cyc.stop();
 	writePlotFiles(rec, o.files, title);
+	live.reset(); // the last frame drawn, the terminal restored: then the summary
 	return summary(g, rec);
 }
 
@@ -396,8 +571,12 @@ int scopeSk(Globals &g, const ScopeOptions &o)
 		rec.add(b, slaves, s);
 	rec.arm(o.trigger, stopOf(o));
 	const std::string title = o.title.value_or(defaultTitle(g, o));
+	const StopSignals signals; // first: it outlives the live view
+	std::optional<LiveView> live;
+	if (o.live)
+		live.emplace(title, rec);
 	record(
-		rec, o, title,
+		rec, o, live ? &*live : nullptr,
 		[&] {
 			const auto r = b.cyclic().cycle();
 			if (r.status == ecmxf::sk::CycleStatus::Link)
@@ -407,6 +586,7 @@ int scopeSk(Globals &g, const ScopeOptions &o)
 		},
 		[&] { return b.channel().now(); });
 	writePlotFiles(rec, o.files, title);
+	live.reset(); // the last frame drawn, the terminal restored: then the summary
 	return summary(g, rec);
 }
 

@@ -75,9 +75,11 @@
 #include <ecmxf/sk/slot_link.hpp>
 #include <ecmxf/sk/uri.hpp>
 
-// the scope: the recorder, its CSV and SVG writers, its terminal text
+// the scope: the recorder, its CSV and SVG writers, its terminal text and
+// the snapshots a drawing thread draws from
 #include <ecmxf/scope/plot.hpp>
 #include <ecmxf/scope/recorder.hpp>
+#include <ecmxf/scope/snapshot.hpp>
 #include <ecmxf/scope/terminal.hpp>
 
 // the verbs both masters have: MasterVerbs over a Device or an sk::Board

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
-// A Recorder's signal as braille text (include/ecmxf/scope/terminal.hpp).
+// A signal's samples as braille text (include/ecmxf/scope/terminal.hpp):
+// one drawing over a span of values; the Recorder overload copies a
+// signal's latest samples out and draws them with it.
 
 #include <ecmxf/scope/terminal.hpp>
 
@@ -29,22 +31,18 @@ void appendBraille(std::string &s, std::uint8_t bits)
 
 } // namespace
 
-std::vector<std::string> terminalText(const Recorder &rec, std::size_t signal, unsigned width, unsigned height,
+std::vector<std::string> terminalText(std::span<const double> values, unsigned width, unsigned height,
 				      TerminalRange *range)
 {
-	if (signal >= rec.signals().size())
-		throw Error("terminalText: signal " + std::to_string(signal) + " does not exist: the recorder has " +
-				    std::to_string(rec.signals().size()),
-			    EINVAL);
 	if (width < 1 || width > 1000)
 		throw Error("terminalText: width " + std::to_string(width) + ": 1..1000 cells", EINVAL);
 	if (height < 1 || height > 100)
 		throw Error("terminalText: height " + std::to_string(height) + ": 1..100 rows", EINVAL);
 	const std::size_t columns = 2 * std::size_t{ width };
-	const std::size_t first = rec.size() > columns ? rec.size() - columns : 0;
+	if (values.size() > columns)
+		values = values.last(columns); // the latest, one per dot column
 	double lo = NAN, hi = NAN;
-	for (std::size_t i = first; i < rec.size(); i++) {
-		const double v = rec.value(i, signal);
+	for (const double v : values) {
 		if (std::isnan(v))
 			continue;
 		lo = std::isnan(lo) ? v : std::min(lo, v);
@@ -54,14 +52,13 @@ std::vector<std::string> terminalText(const Recorder &rec, std::size_t signal, u
 		*range = { lo, hi };
 	const unsigned dotRows = 4 * height;
 	std::vector<std::uint8_t> cells(std::size_t{ width } * height, 0);
-	for (std::size_t i = first; i < rec.size(); i++) {
-		const double v = rec.value(i, signal);
+	for (std::size_t x = 0; x < values.size(); x++) {
+		const double v = values[x];
 		if (std::isnan(v))
 			continue;
 		const unsigned up = hi > lo ? static_cast<unsigned>(std::lround((v - lo) / (hi - lo) * (dotRows - 1)))
 					    : (dotRows - 1) / 2;
 		const unsigned row = dotRows - 1 - std::min(up, dotRows - 1); // from the top
-		const std::size_t x = i - first;
 		cells[row / 4 * width + x / 2] |= kDot[x % 2][row % 4];
 	}
 	std::vector<std::string> rows(height);
@@ -71,6 +68,22 @@ std::vector<std::string> terminalText(const Recorder &rec, std::size_t signal, u
 			appendBraille(rows[r], cells[r * width + c]);
 	}
 	return rows;
+}
+
+std::vector<std::string> terminalText(const Recorder &rec, std::size_t signal, unsigned width, unsigned height,
+				      TerminalRange *range)
+{
+	if (signal >= rec.signals().size())
+		throw Error("terminalText: signal " + std::to_string(signal) + " does not exist: the recorder has " +
+				    std::to_string(rec.signals().size()),
+			    EINVAL);
+	// the latest samples the drawing can show (at most 2 x width: a width
+	// out of range copies little and is refused by the drawing)
+	const std::size_t n = std::min(rec.size(), 2 * std::size_t{ width });
+	std::vector<double> values(n);
+	for (std::size_t i = 0; i < n; i++)
+		values[i] = rec.value(rec.size() - n + i, signal);
+	return terminalText(values, width, height, range);
 }
 
 } // namespace ecmxf

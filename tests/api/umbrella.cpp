@@ -31,6 +31,7 @@ namespace {
 	(void)sizeof(ecmxf::sk::BoardDrives);
 	(void)sizeof(ecmxf::sk::SlotLink);
 	(void)ecmxf::masterKindName(ecmxf::MasterKind::EcmSk);
+	(void)sizeof(ecmxf::SnapshotExchange);
 	(void)sizeof(ecmxf::Error);
 }
 

@@ -3,7 +3,7 @@
 // worked out by hand from the braille dot numbering (dots 1 2 3 7 down a
 // cell's left column are bits 0x01 0x02 0x04 0x40, dots 4 5 6 8 down its
 // right column 0x08 0x10 0x20 0x80; the character is U+2800 + bits), and
-// the bad arguments.
+// the bad arguments; over a Recorder and over a span of values.
 
 #include <catch2/catch.hpp>
 
@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -107,4 +108,58 @@ TEST_CASE("scope terminal: nothing recorded draws blank rows, bad arguments are 
 	CHECK(thrown([&] { (void)ecmxf::terminalText(rec, 0, 10, 0); }).errnoValue() == EINVAL);
 	CHECK_THAT(thrown([&] { (void)ecmxf::terminalText(rec, 0, 10, 101); }).what(),
 		   Catch::Matchers::Contains("height 101: 1..100 rows"));
+}
+
+// The drawing over a span of values (what the live view's drawing thread
+// draws from its copy of the samples): the same rows as over a recorder.
+
+TEST_CASE("scope terminal span: the same rows as the recorder overload, the latest 2 x width values drawn")
+{
+	const std::vector<double> ramp{ 0, 1, 2, 3 };
+	ecmxf::TerminalRange r;
+	CHECK(ecmxf::terminalText(ramp, 2, 1, &r) == std::vector<std::string>{ "\u2860\u280A" });
+	CHECK(r.min == 0);
+	CHECK(r.max == 3);
+	CHECK(ecmxf::terminalText(ramp, 4, 1) == std::vector<std::string>{ "\u2860\u280A\u2800\u2800" });
+	// six values, one cell: the last two (9 then 0), scaled to 0..9 alone
+	const std::vector<double> six{ 100, -100, 7, 7, 9, 0 };
+	CHECK(ecmxf::terminalText(six, 1, 1, &r) == std::vector<std::string>{ "\u2881" });
+	CHECK(r.min == 0);
+	CHECK(r.max == 9);
+	// the recorder overload draws what the span one does of its samples
+	Samples s{ 100, -100, 7, 7, 9, 0 };
+	for (unsigned width = 1; width <= 4; width++)
+		for (unsigned height = 1; height <= 3; height++)
+			CHECK(ecmxf::terminalText(s.rec, 0, width, height) == ecmxf::terminalText(six, width, height));
+}
+
+TEST_CASE("scope terminal span: NaN draws no dot and is out of the range, no value draws blank rows")
+{
+	// 0 NaN 3 in 2 cells, 4 dot rows over 0..3: 0 bottom left of cell 0
+	// (dot 7, 0x40), NaN nothing, 3 top left of cell 1 (dot 1, 0x01)
+	const std::vector<double> gap{ 0, NAN, 3 };
+	ecmxf::TerminalRange r;
+	CHECK(ecmxf::terminalText(gap, 2, 1, &r) == std::vector<std::string>{ "\u2840\u2801" });
+	CHECK(r.min == 0);
+	CHECK(r.max == 3);
+	CHECK(ecmxf::terminalText(std::span<const double>{}, 2, 2, &r) ==
+	      std::vector<std::string>{ "\u2800\u2800", "\u2800\u2800" });
+	CHECK(std::isnan(r.min));
+	CHECK(std::isnan(r.max));
+	const std::vector<double> nans{ NAN, NAN };
+	CHECK(ecmxf::terminalText(nans, 1, 1, &r) == std::vector<std::string>{ "\u2800" });
+	CHECK(std::isnan(r.min));
+}
+
+TEST_CASE("scope terminal span: bad width or height is EINVAL")
+{
+	const std::vector<double> v{ 1, 2 };
+	CHECK(thrown([&] { (void)ecmxf::terminalText(v, 0, 2); }).errnoValue() == EINVAL);
+	CHECK_THAT(thrown([&] { (void)ecmxf::terminalText(v, 1001, 2); }).what(),
+		   Catch::Matchers::Contains("width 1001: 1..1000 cells"));
+	CHECK(thrown([&] { (void)ecmxf::terminalText(v, 10, 0); }).errnoValue() == EINVAL);
+	CHECK_THAT(thrown([&] { (void)ecmxf::terminalText(v, 10, 101); }).what(),
+		   Catch::Matchers::Contains("height 101: 1..100 rows"));
+	// the largest drawing is fine
+	CHECK(ecmxf::terminalText(v, 1000, 100).size() == 100);
 }

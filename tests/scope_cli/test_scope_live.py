@@ -8,7 +8,10 @@ Ctrl-C (the pty's ^C: SIGINT from the terminal) each end the recording with
 the CSV and SVG written and exit 0, the terminal's mode as it was before
 (tcgetattr on the pty) and the cursor shown again. --no-live on the pty
 draws nothing; --live into a pipe draws; the contradictory options are
-refused (exit 2).
+refused (exit 2). A stalled terminal (a pty whose master side is not read,
+its buffer full: the drawing thread's write blocks) does not stall the
+recording: its CSV is written whole, the bus times continuous, while
+nothing is read, and the last frame is drawn once the pty is read again.
 
 Usage: test_scope_live.py ECMXF_UTIL
 """
@@ -16,6 +19,7 @@ import fcntl
 import os
 import re
 import select
+import struct
 import subprocess
 import sys
 import tempfile
@@ -69,6 +73,49 @@ def on_pty(args, feed=None, wait_for=BRAILLE, timeout=60):
     return p.returncode, out, before, after
 
 
+def stalled_terminal(args, csv, rows=100, cols=1001, deadline=300):
+    """Runs ecmxf-util ARGS on a pty of ROWS x COLS whose master side is not
+    read until CSV exists (or DEADLINE seconds passed): a frame of the live
+    view then is larger than the pty's buffer, so the first one already
+    blocks the write that draws it. Returns (CSV seen while unread, still
+    running then, exit code, output, termios before, termios after)."""
+    master, slave = os.openpty()
+    fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack('HHHH', rows, cols, 0, 0))
+    before = termios.tcgetattr(slave)
+
+    def controlling_tty():
+        fcntl.ioctl(0, termios.TIOCSCTTY, 0)
+
+    p = subprocess.Popen([UTIL] + args, stdin=slave, stdout=slave, stderr=slave, start_new_session=True,
+                         preexec_fn=controlling_tty, close_fds=True)
+    # not a wall-clock threshold: the deadline only bounds a failing run;
+    # a run that works writes the CSV after its cycles, whatever the
+    # machine's speed, while nobody reads the terminal
+    end = time.monotonic() + deadline
+    while not os.path.exists(csv) and p.poll() is None and time.monotonic() < end:
+        time.sleep(0.05)
+    seen, running = os.path.exists(csv), p.poll() is None
+    out, end = b'', time.monotonic() + 60
+    while time.monotonic() < end:
+        r, _, _ = select.select([master], [], [], 0.1)
+        if r:
+            try:
+                chunk = os.read(master, 65536)
+            except OSError:
+                chunk = b''
+            out += chunk
+        if p.poll() is not None and not r:
+            break
+    if p.poll() is None:
+        p.kill()
+        p.wait()
+        check(False, 'ecmxf-util %s ended once its terminal was read' % ' '.join(args))
+    after = termios.tcgetattr(slave)
+    os.close(master)
+    os.close(slave)
+    return seen, running, p.returncode, out, before, after
+
+
 def some_samples(out):
     """A frame of the live view says it holds at least 10 samples: only then
     is the key sent, so that the CSV has rows whatever the machine's speed
@@ -101,6 +148,36 @@ with tempfile.TemporaryDirectory() as d:
         check(os.path.exists(csv) and len(rows(csv)) < 2000001, '%s: the recording ended early' % name)
         check(os.path.exists(svg) and '</svg>' in open(svg).read(), '%s: the SVG written' % name)
         check('samples' in text and 'LAST' in text, '%s: the summary printed after it' % name)
+
+    # a stalled terminal: six signals of 8 rows of 1000 braille cells (3
+    # bytes each) make a frame of 144 kB, more than a pty holds unread, so
+    # the first frame's write blocks until the test reads. The cycles must
+    # go on meanwhile: the CSV appears, whole, while the pty is unread (with
+    # the drawing in the cycling thread, the first frame blocked the cycle
+    # loop before its first cycle: no CSV until the terminal was read)
+    csv = os.path.join(d, 'stalled.csv')
+    cycles = 3000
+    seen, running, rc, out, before, after = stalled_terminal(
+        ['-d', 'sim:', 'scope', '0:position_actual_value', '0:following_error_actual_value', '0:statusword',
+         '1:position_actual_value', 'wkc', 'rx_fifo', '--cycles', str(cycles), '--csv', csv], csv)
+    text = out.decode('utf-8', 'replace')
+    check(seen, 'stalled terminal: the CSV written while the terminal was not read')
+    check(running, 'stalled terminal: ecmxf-util still waiting to draw then (the terminal was full)')
+    check(rc == 0, 'stalled terminal: exit 0 (got %s)' % rc)
+    lines = rows(csv) if os.path.exists(csv) else []
+    check(len(lines) == cycles + 1, 'stalled terminal: the CSV has all %d samples (got %d)' % (cycles, len(lines) - 1))
+    # the first sample comes before the first cycle boundary (950 us on
+    # the simulator), every one after it 1 ms after the one before
+    times = [float(line.split(',')[0]) for line in lines[1:]]
+    steps = {round(b - a, 3) for a, b in zip(times[1:], times[2:])}
+    check(len(times) > 2 and steps == {1000.0} and 0 < times[1] - times[0] <= 1000,
+          'stalled terminal: the bus times 1 ms apart, no gap (steps %s)' % sorted(steps)[:5])
+    check(BRAILLE in out and '%d samples, done' % cycles in text,
+          'stalled terminal: the last frame ("done") drawn once the terminal was read')
+    check(out.rfind(b'\x1b[?25h') > out.rfind(b'\x1b[?25l') and out.rfind(b'\x1b[?25h') > out.rfind(b', done'),
+          'stalled terminal: the cursor shown again after the last frame')
+    check(before == after, 'stalled terminal: the terminal mode restored')
+    check('%d samples\r\n' % cycles in text and 'LAST' in text, 'stalled terminal: the summary after it')
 
     # --no-live on a terminal: no drawing, the usual summary
     rc, out, before, after = on_pty(['-d', 'sim:', 'scope', 'wkc', '--cycles', '50', '--no-live'], wait_for=b'\0')
