@@ -46,7 +46,7 @@ int cmdAdc(Globals &g, const Args &args)
 		for (unsigned c = 0; c < 16; c++)
 			channels.push_back(c);
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	dev->peripherals().adcOpen(diff ? ecmxf::AdcInputMode::Differential : ecmxf::AdcInputMode::SingleEnded);
 	std::vector<std::uint16_t> raw;
 	for (const unsigned c : channels) {

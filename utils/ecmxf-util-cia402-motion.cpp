@@ -187,7 +187,7 @@ Options parse(const Args &given, Globals &g)
 
 /// Bus, image, cyclic exchange and the axis.
 struct Rig {
-	std::unique_ptr<ecmxf::Device> dev;
+	DevicePtr dev;
 	std::unique_ptr<ecmxf::Master> master;
 	std::unique_ptr<ecmxf::ProcessImage> image;
 	std::unique_ptr<ecmxf::Cyclic> cyc;
@@ -221,7 +221,7 @@ struct Rig {
 Rig bringUp(const Globals &g, unsigned position, std::int8_t mode)
 {
 	Rig r;
-	r.dev = ecmxf::Device::open(g.device); // the main program added --trace to it
+	r.dev = openDevice(g); // the main program added --trace to it
 	r.master = std::make_unique<ecmxf::Master>(*r.dev);
 	bringUpMotion(*r.master);
 	const auto &slaves = r.master->slaves();

@@ -116,7 +116,7 @@ int cmdCia402(Globals &g, const Args &args)
 	}
 	std::uint8_t position = parsePosition("cia402", posText);
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	ecmxf::Device &d = *dev;
 	// an I/O terminal has no statusword: say what it is not, not only the abort

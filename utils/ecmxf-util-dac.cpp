@@ -36,7 +36,7 @@ int cmdDac(Globals &g, const Args &args)
 		throw UsageError("dac: write needs CH VALUE (try 'ecmxf-util dac --help')");
 	parseUnsigned("dac", "CH (the ECM-XF has one DAC output, channel 0)", (*pos)[1], 0);
 	const auto value = static_cast<std::uint16_t>(parseUnsigned("dac", "VALUE", (*pos)[2], 4095));
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	dev->peripherals().dacOpen(ecmxf::DacTrigger::SetData);
 	dev->peripherals().dacWrite(value);
 	return 0;

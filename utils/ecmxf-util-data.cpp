@@ -200,7 +200,7 @@ int cmdData(Globals &g, const Args &args)
 		throw UsageError("data: --set writes the entry of one slave: -p N, not " + *posText);
 
 	ProcessDataBus bus = openProcessDataBus(g, false);
-	const std::unique_ptr<ecmxf::Device> &dev = bus.dev;
+	const DevicePtr &dev = bus.dev;
 	const auto count = static_cast<unsigned>(bus.pdos.size());
 	if (sel)
 		checkPositions(*sel, count);

@@ -58,7 +58,7 @@ int cmdEeprom(Globals &g, const Args &args)
 					      ? static_cast<std::size_t>(parseUnsigned("eeprom", "WORDS", (*pos)[2],
 										       0x10000u - addr, 1))
 					      : 1;
-		const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+		const DevicePtr dev = openDevice(g);
 		position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 		const std::vector<std::uint16_t> words = dev->slaves().eepromReadWords(position, addr, n);
 		if (g.json) {
@@ -88,7 +88,7 @@ int cmdEeprom(Globals &g, const Args &args)
 	if (!force)
 		throw UsageError("eeprom: write changes the slave's SII EEPROM (its identity and "
 				 "configuration): add --force to do it");
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 	for (std::size_t i = 0; i < values.size(); i++)
 		dev->slaves().eepromWrite(position, static_cast<std::uint16_t>(addr + i), values[i]);

@@ -78,7 +78,7 @@ int cmdEmergency(Globals &g, const Args &args)
 	const int position = posText ? parsePosition("emergency", posText) : -1;
 	const bool one = position >= 0;
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	if (one)
 		checkPosition(static_cast<unsigned>(position), ensureBus(*dev, BusNeed::Scan));
 	std::vector<ecmxf::CoeEmergency> list;

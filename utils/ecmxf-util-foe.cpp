@@ -85,7 +85,7 @@ int cmdFoeRead(Globals &g, const Args &args)
 	std::uint8_t position = parsePosition("foe_read", posText);
 	const ecmxf::FoeOptions opt = foeOptions("foe_read", password);
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	const std::vector<std::uint8_t> data = dev->slaves().foeRead(position, pos->front(), opt);
 	if (out && *out != "-") { // -o -: standard output, as without -o
@@ -142,7 +142,7 @@ int cmdFoeWrite(Globals &g, const Args &args)
 		throw ecmxf::Error("cannot read \"" + file + "\"", EIO);
 	const std::string remote = name ? *name : std::filesystem::path(file).filename().string();
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::PreOp));
 	Progress progress(g, "foe_write: staging " + remote, "bytes");
 	dev->slaves().foeWrite(position, remote, data, opt,

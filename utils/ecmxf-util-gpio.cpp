@@ -61,7 +61,7 @@ int cmdGpio(Globals &g, const Args &args)
 			throw UsageError("gpio: get takes [LINE] (try 'ecmxf-util gpio --help')");
 		const std::optional<unsigned> line =
 			pos->size() == 2 ? std::optional<unsigned>(parseLine((*pos)[1])) : std::nullopt;
-		const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+		const DevicePtr dev = openDevice(g);
 		const std::uint32_t v = dev->peripherals().gpioReadAll();
 		if (line) {
 			const unsigned bit = (v >> *line) & 1u;
@@ -93,7 +93,7 @@ int cmdGpio(Globals &g, const Args &args)
 			throw UsageError("gpio: set needs LINE 0|1 (try 'ecmxf-util gpio --help')");
 		const unsigned line = parseLine((*pos)[1]);
 		const auto value = parseUnsigned("gpio", "VALUE", (*pos)[2], 1);
-		const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+		const DevicePtr dev = openDevice(g);
 		std::uint32_t v = dev->peripherals().gpioReadAll();
 		v = value ? (v | (1u << line)) : (v & ~(1u << line));
 		dev->peripherals().gpioWriteAll(v);
@@ -143,7 +143,7 @@ int cmdGpio(Globals &g, const Args &args)
 			else
 				throw UsageError("gpio: --irq: unknown '" + *irq + "' (none, both, falling, rising)");
 		}
-		const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+		const DevicePtr dev = openDevice(g);
 		dev->peripherals().gpioSetMode(1u << line, mode, p);
 		if (deb)
 			dev->peripherals().gpioSetDebounce(1u << line, *deb);

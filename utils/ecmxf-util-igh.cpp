@@ -131,7 +131,7 @@ void checkRegisterRange(const char *cmd, std::uint16_t address, std::size_t size
 ecmxf::DatagramResult registerDatagram(Globals &g, std::uint8_t &position, ecmxf::DatagramCommand command,
 				       std::uint16_t address, std::vector<std::uint8_t> data)
 {
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 	ecmxf::Datagram d;
 	d.command = command;
@@ -256,7 +256,7 @@ int cmdSiiWrite(Globals &g, const Args &args)
 					   ": not an SII image? (--force writes it anyway)",
 				   EINVAL);
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 	Progress progress(g, "sii_write", "words");
 	for (std::size_t w = 0; w < b.size() / 2; w++) {
@@ -274,7 +274,7 @@ int cmdMaster(Globals &g, const Args &args)
 {
 	if (parseFlags("master", args, g, kMasterHelp, {}))
 		return 0;
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	const unsigned slaves = dev->bus().slaveCount();
 	const ecmxf::ResponseHeader h = dev->lastHeader();
 	const bool link = (h.errStatus & 0x01) != 0;

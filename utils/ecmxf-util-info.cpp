@@ -55,7 +55,7 @@ int cmdInfo(Globals &g, const Args &args)
 	if (parseFlags("info", args, g, kInfoHelp, {}))
 		return 0;
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	const ecmxf::ChipInfo ci = dev->chip().info();
 	const unsigned slaves = dev->bus().slaveCount();
 	const ecmxf::ResponseHeader h = dev->lastHeader();

@@ -669,7 +669,7 @@ int cmdMonitor(Globals &g, const Args &args)
 	if (rxLow)
 		th.rxLow = *rxLow;
 	const auto interval = std::chrono::milliseconds(intervalMs.value_or(10));
-	const std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open(g.device);
+	const DevicePtr dev = openDevice(g);
 	if (!actions.empty() && !dev->link().simulator())
 		throw UsageError("monitor: --sim-at needs a sim: device");
 	ecmxf::Link &tr = dev->link();

@@ -178,7 +178,7 @@ int cmdPdos(Globals &g, const Args &args)
 	const std::optional<Positions> sel = posText ? std::optional(parsePositions("pdos", *posText)) : std::nullopt;
 	const bool one = sel && sel->list.size() == 1; // one slave: one document of its own (--xml)
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	ecmxf::Master m(*dev);
 	if (busDown(*dev)) {
 		ecmxf::MasterConfig mc;

@@ -61,7 +61,7 @@ int cmdQei(Globals &g, const Args &args)
 			throw UsageError("qei: --mode: unknown '" + *modeText + "' (x4, x2, x4-compare, x2-compare)");
 	}
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	if (op == "open") {
 		dev->peripherals().qeiOpen(mode);
 	} else if (op == "start") {

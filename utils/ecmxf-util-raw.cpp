@@ -271,7 +271,7 @@ int runDatagram(Globals &g, const std::vector<std::string_view> &pos)
 	put32(c.payload, 0);
 	c.payload.insert(c.payload.end(), data.begin(), data.end());
 
-	const std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open(g.device);
+	const DevicePtr dev = openDevice(g);
 	dev->command(c);
 	const ecmxf::Response r = dev->command(simpleCommand(kRawEcatFuncGet));
 	if (r.data.size() < 20)
@@ -364,7 +364,7 @@ int cmdRaw(Globals &g, const Args &args)
 		c.payload = *payload;
 	c.len = len;
 
-	const std::unique_ptr<ecmxf::Device> dev = ecmxf::Device::open(g.device);
+	const DevicePtr dev = openDevice(g);
 	// The command error bit is sticky: look at it before, so that only a
 	// refusal of this command counts.
 	const bool cmdErrBefore = c.code != 0 && (dev->command(simpleCommand(0)).header.errStatus & kErrCmd);

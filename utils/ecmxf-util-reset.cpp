@@ -46,7 +46,7 @@ int cmdReset(Globals &g, const Args &args)
 	if (warm && !force)
 		throw UsageError("reset: --warm restarts the chip and stops the EtherCAT bus: add --force to do it");
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	if (warm) {
 		ecmxf::verbsOf(*dev)->reset(); // WARM_RESET (include/ecmxf/verbs.hpp)
 		if (!g.quiet)

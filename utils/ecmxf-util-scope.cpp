@@ -560,7 +560,7 @@ int scopeXf(Globals &g, const ScopeOptions &o)
 
 int scopeSk(Globals &g, const ScopeOptions &o)
 {
-	const auto board = ecmxf::sk::Board::open(g.device); // the main program added --trace to it
+	const auto board = openBoard(g); // the main program added --trace to it
 	ecmxf::sk::Board &b = *board;
 	if (b.states().status().state == ecmxf::State::Init)
 		b.states().set(ecmxf::State::PreOp);

@@ -27,7 +27,7 @@ int cmdScope(Globals &g, const Args &args);
 /// bringUpMotion() does), a bus that is up is rescanned and each slave's
 /// mapping read.
 struct ProcessDataBus {
-	std::unique_ptr<ecmxf::Device> dev;
+	DevicePtr dev;
 	std::unique_ptr<ecmxf::Master> master;
 	std::vector<ecmxf::SlavePdos> pdos;
 };

@@ -105,7 +105,7 @@ int cmdSiiRead(Globals &g, const Args &args)
 	if (lenText)
 		length = static_cast<std::size_t>(parseUnsigned("sii_read", "--length", *lenText, 0x10000u - offset, 1));
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	position = selectSlave(*dev, position, ensureBus(*dev, BusNeed::Scan));
 
 	std::vector<std::uint16_t> identity;

@@ -475,7 +475,7 @@ int onBoard(Globals &g, const Args &rawArgs, const char *name, const SkBody &bod
 	const auto args = parseArgs(name, rawArgs, g, help.c_str(), opts);
 	if (!args)
 		return 0;
-	const auto board = Board::open(g.device); // the main program added --trace to it
+	const auto board = openBoard(g); // the main program added --trace to it
 	return body(g, *board, *args, posText, typeText);
 }
 

@@ -145,7 +145,7 @@ int cmdSlaves(Globals &g, const Args &args)
 	const std::optional<Positions> only =
 		posText ? std::optional(parsePositions("slaves", *posText)) : std::nullopt;
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	unsigned count = dev->command(simpleCommand(kSlvCntGet)).ret;
 	if (count == 0 && dev->lastHeader().ecatState == 0) {
 		if (verbose)

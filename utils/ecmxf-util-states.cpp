@@ -106,7 +106,7 @@ int cmdStates(Globals &g, const Args &args)
 		posText ? std::optional(parsePositions("states", *posText)) : std::nullopt;
 	const bool one = sel.has_value();
 
-	const std::unique_ptr<ecmxf::Device> dev = openDevice(g);
+	const DevicePtr dev = openDevice(g);
 	if (breakClaim) {
 		// this command's file holds the claim from here until it exits
 		const std::optional<std::uint32_t> was = dev->link().breakClaim();

@@ -356,17 +356,26 @@ int checkStdout(int rc)
 	return rc ? rc : 1;
 }
 
+/// A trace that could not be written (CloseTrace) fails the run.
+int checkTrace(int rc)
+{
+	if (!*traceFailure())
+		return rc;
+	std::fprintf(stderr, "ecmxf-util: %s\n", traceFailure());
+	return rc ? rc : 1;
+}
+
 } // namespace
 
 int main(int argc, char **argv)
 {
 	try {
-		return checkStdout(run(argc, argv));
+		return checkStdout(checkTrace(run(argc, argv)));
 	} catch (const UsageError &e) {
 		std::fprintf(stderr, "ecmxf-util: %s\n", e.what());
-		return checkStdout(2);
+		return checkStdout(checkTrace(2));
 	} catch (const std::exception &e) {
 		std::fprintf(stderr, "ecmxf-util: %s\n", e.what());
-		return checkStdout(1);
+		return checkStdout(checkTrace(1));
 	}
 }

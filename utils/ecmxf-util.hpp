@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <ecmxf/device.hpp>
+#include <ecmxf/sk/board.hpp>
 #include <ecmxf/model/objects.hpp>
 
 #include <signal.h>
@@ -177,8 +178,25 @@ Positions parsePositions(std::string_view cmd, std::string_view text);
 /// checkPosition() for the highest of @p p.
 void checkPositions(const Positions &p, unsigned count);
 
-/// Opens g.device.
-std::unique_ptr<ecmxf::Device> openDevice(const Globals &g);
+/// The trace a device or board records (--trace, trace= in the URI) is
+/// stopped when the tool lets the device go, and a write that failed (a
+/// full disk, /dev/full) is kept for the end of the run: main() says it
+/// and exits with 1 (traceFailure()). The library's destructors close a
+/// trace without a word; these deleters do not let that happen.
+struct CloseTrace {
+	void operator()(ecmxf::Device *dev) const noexcept;
+	void operator()(ecmxf::sk::Board *board) const noexcept;
+};
+using DevicePtr = std::unique_ptr<ecmxf::Device, CloseTrace>;
+using BoardPtr = std::unique_ptr<ecmxf::sk::Board, CloseTrace>;
+/// The first trace failure of the run ("writing the trace file ...
+/// failed: ..."), "" when none.
+const char *traceFailure() noexcept;
+
+/// Opens g.device (an ECM-XF).
+DevicePtr openDevice(const Globals &g);
+/// Opens g.device (an ECM-SK).
+BoardPtr openBoard(const Globals &g);
 
 /// How far a command needs the bus.
 enum class BusNeed {

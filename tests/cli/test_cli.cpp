@@ -424,6 +424,12 @@ TEST_CASE("the global option --trace FILE records the exchanges of a command and
 	r = run("--trace=/nonexistent-dir/x.trace info");
 	CHECK(r.status == 1);
 	CHECK_THAT(r.err, Contains("cannot create the trace file \"/nonexistent-dir/x.trace\""));
+	// a trace that cannot be written fails the run (the command's output
+	// stands, the failure is said)
+	r = run("--trace /dev/full info");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.out, Contains("firmware version:"));
+	CHECK_THAT(r.err, Contains("ecmxf-util: writing the trace file \"/dev/full\" failed: No space left on device"));
 	r = run("info --trace");
 	CHECK(r.status == 2);
 	r = run("--trace");

@@ -216,6 +216,10 @@ TEST_CASE("sk cli: --trace FILE records the frames on sk-sim: and sk-unix:, deco
 	r = run("-d sk-sim: --trace /nonexistent-dir/x.trace info");
 	CHECK(r.status == 1);
 	CHECK_THAT(r.err, Contains("cannot create the trace file \"/nonexistent-dir/x.trace\": No such file or directory"));
+	// a trace that cannot be written fails the run
+	r = run("-d sk-sim: --trace /dev/full info");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("ecmxf-util: writing the trace file \"/dev/full\" failed: No space left on device"));
 }
 
 TEST_CASE("sk cli: ecmxf-demo --board ecm-sk --fast runs every step")
