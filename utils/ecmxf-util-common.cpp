@@ -361,52 +361,6 @@ std::uint8_t parsePosition(std::string_view cmd, const std::optional<std::string
 // the device and the bring-up rule
 // ---------------------------------------------------------------------------
 
-namespace {
-
-/// The first trace failure's text (cut to fit; nothing to allocate on
-/// the way out of a failing run).
-char gTraceFailure[512];
-
-template <class T>
-void closeTrace(T *t) noexcept
-{
-	try {
-		if (t->tracing())
-			t->stopTrace();
-	} catch (const std::exception &e) {
-		if (!gTraceFailure[0])
-			std::snprintf(gTraceFailure, sizeof gTraceFailure, "%s", e.what());
-	}
-	delete t;
-}
-
-} // namespace
-
-void CloseTrace::operator()(ecmxf::Device *dev) const noexcept
-{
-	closeTrace(dev);
-}
-
-void CloseTrace::operator()(ecmxf::sk::Board *board) const noexcept
-{
-	closeTrace(board);
-}
-
-const char *traceFailure() noexcept
-{
-	return gTraceFailure;
-}
-
-DevicePtr openDevice(const Globals &g)
-{
-	return DevicePtr(ecmxf::Device::open(g.device).release());
-}
-
-BoardPtr openBoard(const Globals &g)
-{
-	return BoardPtr(ecmxf::sk::Board::open(g.device).release());
-}
-
 bool busDown(ecmxf::Device &dev)
 {
 	return ecmxf::busDown(dev);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdio>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -178,25 +179,47 @@ Positions parsePositions(std::string_view cmd, std::string_view text);
 /// checkPosition() for the highest of @p p.
 void checkPositions(const Positions &p, unsigned count);
 
+/// The first trace failure of the run ("writing the trace file ...
+/// failed: ..."), "" when none: a buffer, so that a failing run need not
+/// allocate on its way out (the text is cut to fit).
+inline char *traceFailure() noexcept
+{
+	static char text[512];
+	return text;
+}
+
 /// The trace a device or board records (--trace, trace= in the URI) is
 /// stopped when the tool lets the device go, and a write that failed (a
-/// full disk, /dev/full) is kept for the end of the run: main() says it
-/// and exits with 1 (traceFailure()). The library's destructors close a
+/// full disk, /dev/full) is kept in traceFailure() for the end of the run:
+/// main() says it and exits with 1. The library's destructors close a
 /// trace without a word; these deleters do not let that happen.
 struct CloseTrace {
-	void operator()(ecmxf::Device *dev) const noexcept;
-	void operator()(ecmxf::sk::Board *board) const noexcept;
+	template <class T>
+	void operator()(T *t) const noexcept
+	{
+		try {
+			if (t->tracing())
+				t->stopTrace();
+		} catch (const std::exception &e) {
+			if (!*traceFailure())
+				std::snprintf(traceFailure(), 512, "%s", e.what());
+		}
+		delete t;
+	}
 };
 using DevicePtr = std::unique_ptr<ecmxf::Device, CloseTrace>;
 using BoardPtr = std::unique_ptr<ecmxf::sk::Board, CloseTrace>;
-/// The first trace failure of the run ("writing the trace file ...
-/// failed: ..."), "" when none.
-const char *traceFailure() noexcept;
 
 /// Opens g.device (an ECM-XF).
-DevicePtr openDevice(const Globals &g);
+inline DevicePtr openDevice(const Globals &g)
+{
+	return DevicePtr(ecmxf::Device::open(g.device).release());
+}
 /// Opens g.device (an ECM-SK).
-BoardPtr openBoard(const Globals &g);
+inline BoardPtr openBoard(const Globals &g)
+{
+	return BoardPtr(ecmxf::sk::Board::open(g.device).release());
+}
 
 /// How far a command needs the bus.
 enum class BusNeed {
