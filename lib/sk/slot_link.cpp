@@ -147,12 +147,14 @@ void SlotLink::Impl::xfer()
 						      : ": a command in the wrong slot"),
 			    -pr);
 	}
+	// the frame sent is recorded before the transfer: a transfer that
+	// fails still shows what was sent
+	if (trace)
+		trace->skFrame(sentNs, '>', mosi);
 	ch.exchange(mosi, miso);
 	const std::uint64_t recvNs = ns(ch.now());
-	if (trace) {
-		trace->skFrame(sentNs, '>', mosi);
+	if (trace)
 		trace->skFrame(recvNs, '<', miso);
-	}
 	std::fill(mosi.begin(), mosi.end(), 0);
 	staged = {};
 	// the response came out while this frame went in: it shows the FIFO

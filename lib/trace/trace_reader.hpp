@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Internal: the one reader of text traces (Documentation/trace.rst, "File
 // format"), shared by decodeTrace() and traceToPcapng(). It reads its
-// stream in blocks and decodes the hex through a table of digit pairs
-// (make bench: tests/bench, trace_pcapng).
+// stream in blocks and decodes the hex sixteen or eight digits at once
+// (Documentation/trace.rst, "Speed"; make bench: bench-trace).
 #pragma once
 
 #include <cstddef>
