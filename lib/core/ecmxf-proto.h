@@ -247,6 +247,43 @@ struct ecmxf_cmd_info {
 	const char *name;
 };
 
+/**
+ * enum ecmxf_bits_field - a header field whose bits have names
+ * @ECMXF_BITS_CONTROL: the command's control byte (0x0A)
+ * @ECMXF_BITS_RESERVED: the command's reserved word (0x08)
+ * @ECMXF_BITS_ERR_STATUS: the response's error status (0x09)
+ * @ECMXF_BITS_ECM_STATUS: the response's ECM status (0x0A; bits 1-0 are
+ *	the check type, not named here)
+ * @ECMXF_BITS_INT: the interrupt word (0x10): clear bits, flags
+ * @ECMXF_BITS_FIELDS: the number of fields
+ */
+enum ecmxf_bits_field {
+	ECMXF_BITS_CONTROL,
+	ECMXF_BITS_RESERVED,
+	ECMXF_BITS_ERR_STATUS,
+	ECMXF_BITS_ECM_STATUS,
+	ECMXF_BITS_INT,
+	ECMXF_BITS_FIELDS,
+};
+
+/**
+ * struct ecmxf_bit_name - the name of one bit of a header field
+ * @bit: the bit number (0 = least significant)
+ * @name: its name as the decoder prints it
+ */
+struct ecmxf_bit_name {
+	u8 bit;
+	const char *name;
+};
+
+/*
+ * ecmxf_bit_names() - the named bits of @field, in bit order, and their
+ * number in @count (NULL and 0 for an unknown field); lib/core/ecmxf-bits.c,
+ * userspace only.
+ */
+const struct ecmxf_bit_name *ecmxf_bit_names(enum ecmxf_bits_field field,
+					     size_t *count);
+
 const struct ecmxf_cmd_info *ecmxf_cmd_lookup(unsigned int code);
 const struct ecmxf_cmd_info *ecmxf_cmd_table(size_t *count);
 bool ecmxf_cmd_is_async(unsigned int code, unsigned int param);

@@ -37,30 +37,6 @@ namespace ecmxf {
 
 namespace {
 
-struct BitName {
-	unsigned bit;
-	const char *name;
-};
-
-constexpr BitName kControlBits[] = {
-	{ 0, "refresh state" },         { 1, "clear CRC count" },     { 3, "clear async error" },
-	{ 4, "clear SPI error" },       { 5, "clear FIFO error" },    { 6, "clear SPI CRC error" },
-	{ 7, "clear command error" },
-};
-constexpr BitName kReservedBits[] = { { 11, "LRW" }, { 12, "bus shift" }, { 15, "GPIO out valid" } };
-constexpr BitName kErrBits[] = {
-	{ 0, "link" },      { 1, "link at INIT_OP" }, { 3, "async error" },  { 4, "SPI error" },
-	{ 5, "FIFO error" }, { 6, "SPI CRC error" },  { 7, "command error" },
-};
-constexpr BitName kEcmBits[] = {
-	{ 2, "DC stable" }, { 3, "Ethernet initialised" }, { 4, "PDO configured" },
-	{ 5, "NOP" },       { 6, "FIFO enabled" },         { 7, "busy" },
-};
-constexpr BitName kIntBits[] = {
-	{ 22, "WKC error" }, { 23, "CRC error" }, { 24, "TxFIFO high" },
-	{ 25, "RxFIFO low" }, { 29, "encoder" },  { 31, "EtherCAT packet" },
-};
-
 std::string fmt(const char *f, ...) __attribute__((format(printf, 1, 2)));
 std::string fmt(const char *f, ...)
 {
@@ -72,10 +48,12 @@ std::string fmt(const char *f, ...)
 	return n < 0 ? std::string() : std::string(buf, std::min<std::size_t>(static_cast<std::size_t>(n), sizeof(buf) - 1));
 }
 
-/// "a, b, bit 9" for the set bits of @p v (bits not in @p table by number).
-template <std::size_t N>
-std::string bitNames(std::uint32_t v, const BitName (&table)[N], std::uint32_t ignore = 0)
+/// "a, b, bit 9" for the set bits of @p v (the core's names of @p field,
+/// lib/core/ecmxf-bits.c; bits without one by number).
+std::string bitNames(std::uint32_t v, ecmxf_bits_field field, std::uint32_t ignore = 0)
 {
+	std::size_t count = 0;
+	const ecmxf_bit_name *table = ecmxf_bit_names(field, &count);
 	std::string out;
 	for (unsigned b = 0; b < 32; b++) {
 		if (!(v & (1u << b)) || (ignore & (1u << b)))
@@ -83,19 +61,18 @@ std::string bitNames(std::uint32_t v, const BitName (&table)[N], std::uint32_t i
 		if (!out.empty())
 			out += ", ";
 		const char *name = nullptr;
-		for (const BitName &n : table)
-			if (n.bit == b)
-				name = n.name;
+		for (std::size_t i = 0; i < count; i++)
+			if (table[i].bit == b)
+				name = table[i].name;
 		out += name ? std::string(name) : "bit " + std::to_string(b);
 	}
 	return out;
 }
 
 /// " (names)" or "" when no bit is set.
-template <std::size_t N>
-std::string withBits(std::uint32_t v, const BitName (&table)[N])
+std::string withBits(std::uint32_t v, ecmxf_bits_field field)
 {
-	const std::string n = bitNames(v, table);
+	const std::string n = bitNames(v, field);
 	return n.empty() ? std::string() : " (" + n + ")";
 }
 
@@ -372,9 +349,9 @@ void Decoder::cmdFields(const std::uint8_t *h, const std::uint8_t *data, std::si
 	}
 	out_ << fmt("    param 0x%02X, len %u, data %02X %02X %02X %02X, reserved 0x%04X", param, len, h[0], h[1],
 		    h[2], h[3], reserved)
-	     << withBits(reserved, kReservedBits) << '\n';
-	out_ << fmt("    control 0x%02X", control) << withBits(control, kControlBits)
-	     << fmt(", int clear 0x%08X", intClear) << withBits(intClear, kIntBits)
+	     << withBits(reserved, ECMXF_BITS_RESERVED) << '\n';
+	out_ << fmt("    control 0x%02X", control) << withBits(control, ECMXF_BITS_CONTROL)
+	     << fmt(", int clear 0x%08X", intClear) << withBits(intClear, ECMXF_BITS_INT)
 	     << fmt(", GPIO int clear 0x%02X 0x%02X, GPIO out 0x%02X 0x%02X", h[16], h[17], h[18], h[19]) << '\n';
 	dataLines(data, shown, n);
 }
@@ -403,14 +380,15 @@ void Decoder::rspFields(const std::uint8_t *h, const std::uint8_t *data, std::si
 		dataLines(data, shown, dataSize);
 		return;
 	}
-	const std::string ecmBits = bitNames(ecm, kEcmBits, ECMXF_STS_CHECK_MASK);
-	out_ << "    ECAT state " << stateName(h[4]) << fmt(", error status 0x%02X", err) << withBits(err, kErrBits)
+	const std::string ecmBits = bitNames(ecm, ECMXF_BITS_ECM_STATUS, ECMXF_STS_CHECK_MASK);
+	out_ << "    ECAT state " << stateName(h[4]) << fmt(", error status 0x%02X", err)
+	     << withBits(err, ECMXF_BITS_ERR_STATUS)
 	     << fmt(", ECM status 0x%02X (check %s", ecm, checkName(ecm & ECMXF_STS_CHECK_MASK))
 	     << (ecmBits.empty() ? "" : ", " + ecmBits) << ")\n";
 	out_ << fmt("    CRC errors %u, WKC errors %u, TxFIFO %u, RxFIFO %u\n", h[0], h[1], h[2], h[3]);
 	out_ << fmt("    index 0x%02X, code 0x%02X %s, ret 0x%02X (%u), len %u\n", h[7], h[8], cmdName(h[8]).c_str(),
 		    h[9], h[9], len);
-	out_ << fmt("    int flags 0x%08X", intFlags) << withBits(intFlags, kIntBits)
+	out_ << fmt("    int flags 0x%08X", intFlags) << withBits(intFlags, ECMXF_BITS_INT)
 	     << fmt(", GPIO int flags 0x%02X 0x%02X, GPIO in 0x%02X 0x%02X\n", h[16], h[17], h[18], h[19]);
 	dataLines(data, shown, dataSize);
 }

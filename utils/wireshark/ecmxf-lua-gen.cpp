@@ -2,13 +2,14 @@
 /*
  * ecmxf-lua-gen - writes the Wireshark Lua dissector ecmxf.lua
  * (Documentation/trace.rst, "Wireshark"). The build runs it: the command
- * codes, names and flags come from the protocol core's tables
- * (lib/core/ecmxf-cmds.c, ecmsk-frame.c) and the CRC check values from its
+ * codes, names and flags and the header's bit names come from the protocol
+ * core's tables (lib/core/ecmxf-cmds.c, ecmxf-bits.c, ecmsk-frame.c) and the CRC check values from its
  * CRC code (lib/core/ecmxf-crc.c), so the dissector cannot drift from the
  * library. The dissector's own logic is ecmxf.lua.in beside this file.
  *
  * Usage: ecmxf-lua-gen TEMPLATE OUT
  */
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -53,6 +54,41 @@ std::string skCommands()
 			      ecmsk_cmd_name(static_cast<u16>(code)),
 			      ecmsk_cmd_is_slave(static_cast<u8>(code)) ? "true" : "false");
 		out += line;
+	}
+	return out;
+}
+
+/// The header's bit names (lib/core/ecmxf-bits.c), per field: the Lua
+/// dissector's bit fields are made from them.
+std::string headerBits()
+{
+	static const struct {
+		ecmxf_bits_field field;
+		const char *key;
+	} fields[] = {
+		{ ECMXF_BITS_CONTROL, "control" },       { ECMXF_BITS_RESERVED, "reserved" },
+		{ ECMXF_BITS_ERR_STATUS, "err_status" }, { ECMXF_BITS_ECM_STATUS, "ecm_status" },
+		{ ECMXF_BITS_INT, "int" },
+	};
+	std::string out;
+	char line[256];
+	for (const auto &f : fields) {
+		std::size_t count = 0;
+		const ecmxf_bit_name *t = ecmxf_bit_names(f.field, &count);
+		out += "  ";
+		out += f.key;
+		out += " = {\n";
+		for (std::size_t i = 0; i < count; i++) {
+			std::string slug;
+			for (const char *c = t[i].name; *c; c++)
+				slug += std::isalnum(static_cast<unsigned char>(*c))
+						? static_cast<char>(std::tolower(static_cast<unsigned char>(*c)))
+						: '_';
+			std::snprintf(line, sizeof(line), "    { bit = %u, name = \"%s\", abbr = \"%s\" },\n", t[i].bit,
+				      t[i].name, slug.c_str());
+			out += line;
+		}
+		out += "  },\n";
 	}
 	return out;
 }
@@ -103,6 +139,7 @@ int main(int argc, char **argv)
 	replace(lua, "@CONSTANTS@", constants());
 	replace(lua, "@XF_COMMANDS@", xfCommands());
 	replace(lua, "@SK_COMMANDS@", skCommands());
+	replace(lua, "@HEADER_BITS@", headerBits());
 	std::ofstream out(argv[2], std::ios::binary | std::ios::trunc);
 	out << lua;
 	out.close();
