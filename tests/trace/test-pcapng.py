@@ -10,7 +10,9 @@ test-pcapng.py UTIL LUA
   --pcapng of the text trace gives the same bytes as the live pcapng;
 - tshark with ecmxf.lua shows for every packet the fields decode --json
   shows (direction, code, name, index, param or ret, len) and check word
-  good; a packet whose data byte is flipped shows bad;
+  good, and the header's named bits equal the bits of decode --json's
+  numbers (masks from the manual); a packet whose data byte is flipped
+  shows bad;
 - decode --pcapng of bad input names the line, writes nothing; /dev/full
   and an unwritable directory fail with a message;
 - the ECM-SK (sk-sim:, LINKTYPE_USER2): `states OP` and an SDO upload
@@ -60,6 +62,52 @@ def tshark(pcap):
     if "Lua" in p.stderr and "rror" in p.stderr:
         fail("tshark reported a Lua error: " + p.stderr)
     return [dict(zip(FIELDS, line.split("|"))) for line in p.stdout.splitlines()]
+
+
+# named header bits (ECM-XF manual ver. 050, the header tables): the
+# dissector's field, the decode --json number it is a bit of, the mask
+BITS = [
+    ("ecmxf.ecm_status.nop", "ecm_status", 0x20),
+    ("ecmxf.ecm_status.fifo_enabled", "ecm_status", 0x40),
+    ("ecmxf.ecm_status.busy", "ecm_status", 0x80),
+    ("ecmxf.ecm_status.dc_stable", "ecm_status", 0x04),
+    ("ecmxf.err_status.link", "err_status", 0x01),
+    ("ecmxf.err_status.command_error", "err_status", 0x80),
+    ("ecmxf.control.refresh_state", "control", 0x01),
+    ("ecmxf.control.clear_crc_count", "control", 0x02),
+    ("ecmxf.reserved.lrw", "reserved", 0x0800),
+    ("ecmxf.reserved.bus_shift", "reserved", 0x1000),
+    ("ecmxf.reserved.gpio_out_valid", "reserved", 0x8000),
+    ("ecmxf.int_clear.wkc_error", "int_clear", 1 << 22),
+    ("ecmxf.int_clear.ethercat_packet", "int_clear", 1 << 31),
+    ("ecmxf.int_flags.wkc_error", "int_flags", 1 << 22),
+    ("ecmxf.int_flags.ethercat_packet", "int_flags", 1 << 31),
+]
+
+
+def compare_bits(label, pcap, records):
+    """Every named bit tshark shows equals the bit of decode --json's number."""
+    args = ["tshark", "-n", "-X", "lua_script:" + LUA, "-r", pcap, "-T", "fields",
+            "-E", "separator=|", "-E", "occurrence=f"]
+    for f, _, _ in BITS:
+        args += ["-e", f]
+    rows = [line.split("|") for line in run(*args).stdout.splitlines()]
+    if len(rows) != len(records):
+        fail(f"{label} bits: tshark shows {len(rows)} packets, the trace has {len(records)}")
+        return
+    shown = 0
+    for i, (row, rec) in enumerate(zip(rows, records)):
+        for (field, key, mask), got in zip(BITS, row):
+            if key not in rec:
+                if got != "":
+                    fail(f"{label}: packet {i + 1} shows {field} = {got!r}, which its kind has not")
+                continue
+            want = "1" if rec[key] & mask else "0"
+            shown += 1
+            if got != want:
+                fail(f"{label}: packet {i + 1} {field} = {got!r}, expected {want!r} ({key} {rec[key]:#x})")
+    if shown == 0:
+        fail(f"{label}: no named header bit compared")
 
 
 def decode_json(trace):
@@ -233,6 +281,7 @@ def main():
             records = decode_json(text)
             rows = tshark(live)
             compare(label, rows, records)
+            compare_bits(label, live, records)
             want_type = {"": "fixed", "?check=crc32": "CRC-32", "?check=crc8": "CRC-8",
                          "?check=ccitt": "CRC-CCITT"}[check]
             if rows and rows[-1]["ecmxf.check.type"] != want_type:
