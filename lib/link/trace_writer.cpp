@@ -21,6 +21,8 @@ namespace {
 
 constexpr char kHex[] = "0123456789abcdef";
 
+} // namespace
+
 const char *checkKeyword(unsigned check) noexcept
 {
 	switch (check) {
@@ -34,8 +36,6 @@ const char *checkKeyword(unsigned check) noexcept
 		return "crc32";
 	}
 }
-
-} // namespace
 
 const char *skCrcKeyword(std::uint32_t crcBits) noexcept
 {

@@ -22,8 +22,14 @@ namespace ecmxf {
 
 namespace detail {
 
+/// The keyword of a "format" line for a check type (ECMXF_CHECK_*):
+/// "fixed", "crc8", "ccitt" or "crc32". The trace reader reads the
+/// keywords back through it.
+const char *checkKeyword(unsigned check) noexcept;
+
 /// The keyword of a "format ecm-sk" line for the CRC-8 bits in force
-/// (ECMSK_EX_*): "nocrc", "cmdcrc", "rspcrc" or "crc" (both).
+/// (ECMSK_EX_*): "nocrc", "cmdcrc", "rspcrc" or "crc" (both). The trace
+/// reader reads the keywords back through it.
 const char *skCrcKeyword(std::uint32_t crcBits) noexcept;
 
 /// Writes one trace file. Every record call is noexcept and allocates

@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <initializer_list>
 #include <istream>
 #include <string>
 
@@ -18,6 +19,7 @@
 
 #include "ecmsk-proto.h"
 #include "ecmxf-proto.h"
+#include "link/trace_writer.hpp"
 #include "trace/trace_reader.hpp"
 
 namespace ecmxf::detail {
@@ -302,11 +304,10 @@ bool TraceReader::parse(std::string_view s, TraceRecord &r)
 					       "\" (expected format ecm-sk 12|16 crc|nocrc|cmdcrc|rspcrc: the slot size "
 					       "and the CRC-8 in force)");
 		const std::string c = crc;
-		const unsigned bits = c == "nocrc"    ? 0u
-				      : c == "cmdcrc" ? ECMSK_EX_CMD_CRC
-				      : c == "rspcrc" ? ECMSK_EX_RSP_CRC
-				      : c == "crc"    ? ECMSK_EX_CMD_CRC | ECMSK_EX_RSP_CRC
-						      : 99u;
+		unsigned bits = 99u;
+		for (const unsigned b : { 0u, ECMSK_EX_CMD_CRC, ECMSK_EX_RSP_CRC, ECMSK_EX_CMD_CRC | ECMSK_EX_RSP_CRC })
+			if (c == skCrcKeyword(b))
+				bits = b;
 		if (bits == 99u)
 			badLine(line_, "unknown ECM-SK CRC setting \"" + c +
 					       "\" (crc: both directions, nocrc, cmdcrc: host to board only, rspcrc: board "
@@ -331,7 +332,11 @@ bool TraceReader::parse(std::string_view s, TraceRecord &r)
 					       "\" (expected format <32..1408> fixed|crc8|ccitt|crc32, or format ecm-sk 12|16 "
 					       "crc|nocrc|cmdcrc|rspcrc)");
 		const std::string c = check;
-		const unsigned type = c == "fixed" ? 0u : c == "crc8" ? 1u : c == "ccitt" ? 2u : c == "crc32" ? 3u : 99u;
+		unsigned type = 99u;
+		for (const unsigned t : std::initializer_list<unsigned>{ ECMXF_CHECK_FIXED, ECMXF_CHECK_CRC8,
+									  ECMXF_CHECK_CCITT, ECMXF_CHECK_CRC32 })
+			if (c == checkKeyword(t))
+				type = t;
 		if (type == 99u)
 			badLine(line_, "unknown check type \"" + c + "\" (fixed, crc8, ccitt, crc32)");
 		r.kind = 'F';
