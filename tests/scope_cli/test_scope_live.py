@@ -37,11 +37,14 @@ def check(ok, what):
         failures.append(what)
 
 
-def on_pty(args, feed=None, wait_for=BRAILLE, timeout=60):
-    """Runs ecmxf-util ARGS on a pty; once WAIT_FOR appeared, writes FEED.
-    Returns (exit code, output, termios before, termios after)."""
+def spawn_on_pty(args, rows=None, cols=None):
+    """Starts ecmxf-util ARGS with a new pty (of ROWS x COLS when given) as
+    its controlling terminal, stdin, stdout and stderr. Returns (master,
+    slave, process, termios before)."""
     master, slave = os.openpty()
     termios.tcsetattr(slave, termios.TCSANOW, termios.tcgetattr(slave))
+    if rows is not None:
+        fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack('HHHH', rows, cols, 0, 0))
     before = termios.tcgetattr(slave)
 
     def controlling_tty():
@@ -49,7 +52,14 @@ def on_pty(args, feed=None, wait_for=BRAILLE, timeout=60):
 
     p = subprocess.Popen([UTIL] + args, stdin=slave, stdout=slave, stderr=slave, start_new_session=True,
                          preexec_fn=controlling_tty, close_fds=True)
-    out, fed, end = b'', feed is None, time.monotonic() + timeout
+    return master, slave, p, before
+
+
+def read_until_exit(master, p, args, timeout, what, on_output=None):
+    """Reads the pty's output until ecmxf-util exited and nothing is left,
+    for at most TIMEOUT seconds (then kills it: WHAT failed); ON_OUTPUT(out)
+    is called after each read. Returns the output."""
+    out, end = b'', time.monotonic() + timeout
     while time.monotonic() < end:
         r, _, _ = select.select([master], [], [], 0.1)
         if r:
@@ -58,19 +68,38 @@ def on_pty(args, feed=None, wait_for=BRAILLE, timeout=60):
             except OSError:
                 chunk = b''
             out += chunk
-        if not fed and (wait_for(out) if callable(wait_for) else wait_for in out):
-            os.write(master, feed)
-            fed = True
+        if on_output:
+            on_output(out)
         if p.poll() is not None and not r:
             break
     if p.poll() is None:
         p.kill()
         p.wait()
-        check(False, 'ecmxf-util %s ended within %d s' % (' '.join(args), timeout))
+        check(False, 'ecmxf-util %s %s' % (' '.join(args), what))
+    return out
+
+
+def close_pty(master, slave):
+    """termios after the run, then both ends closed."""
     after = termios.tcgetattr(slave)
     os.close(master)
     os.close(slave)
-    return p.returncode, out, before, after
+    return after
+
+
+def on_pty(args, feed=None, wait_for=BRAILLE, timeout=60):
+    """Runs ecmxf-util ARGS on a pty; once WAIT_FOR appeared, writes FEED.
+    Returns (exit code, output, termios before, termios after)."""
+    master, slave, p, before = spawn_on_pty(args)
+    fed = [feed is None]
+
+    def feed_when_ready(out):
+        if not fed[0] and (wait_for(out) if callable(wait_for) else wait_for in out):
+            os.write(master, feed)
+            fed[0] = True
+
+    out = read_until_exit(master, p, args, timeout, 'ended within %d s' % timeout, feed_when_ready)
+    return p.returncode, out, before, close_pty(master, slave)
 
 
 def stalled_terminal(args, csv, rows=100, cols=1001, deadline=300):
@@ -79,15 +108,7 @@ def stalled_terminal(args, csv, rows=100, cols=1001, deadline=300):
     view then is larger than the pty's buffer, so the first one already
     blocks the write that draws it. Returns (CSV seen while unread, still
     running then, exit code, output, termios before, termios after)."""
-    master, slave = os.openpty()
-    fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack('HHHH', rows, cols, 0, 0))
-    before = termios.tcgetattr(slave)
-
-    def controlling_tty():
-        fcntl.ioctl(0, termios.TIOCSCTTY, 0)
-
-    p = subprocess.Popen([UTIL] + args, stdin=slave, stdout=slave, stderr=slave, start_new_session=True,
-                         preexec_fn=controlling_tty, close_fds=True)
+    master, slave, p, before = spawn_on_pty(args, rows, cols)
     # not a wall-clock threshold: the deadline only bounds a failing run;
     # a run that works writes the CSV after its cycles, whatever the
     # machine's speed, while nobody reads the terminal
@@ -95,25 +116,8 @@ def stalled_terminal(args, csv, rows=100, cols=1001, deadline=300):
     while not os.path.exists(csv) and p.poll() is None and time.monotonic() < end:
         time.sleep(0.05)
     seen, running = os.path.exists(csv), p.poll() is None
-    out, end = b'', time.monotonic() + 60
-    while time.monotonic() < end:
-        r, _, _ = select.select([master], [], [], 0.1)
-        if r:
-            try:
-                chunk = os.read(master, 65536)
-            except OSError:
-                chunk = b''
-            out += chunk
-        if p.poll() is not None and not r:
-            break
-    if p.poll() is None:
-        p.kill()
-        p.wait()
-        check(False, 'ecmxf-util %s ended once its terminal was read' % ' '.join(args))
-    after = termios.tcgetattr(slave)
-    os.close(master)
-    os.close(slave)
-    return seen, running, p.returncode, out, before, after
+    out = read_until_exit(master, p, args, 60, 'ended once its terminal was read')
+    return seen, running, p.returncode, out, before, close_pty(master, slave)
 
 
 def some_samples(out):

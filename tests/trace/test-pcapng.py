@@ -53,15 +53,18 @@ FIELDS = ["ecmxf.dir", "ecmxf.code", "ecmxf.name", "ecmxf.index", "ecmxf.param",
           "ecmxf.len", "ecmxf.check.status", "ecmxf.check.type", "frame.len"]
 
 
-def tshark(pcap):
+def tshark(pcap, fields=None, occurrence=("-E", "occurrence=f")):
+    """One dict per packet: FIELDS (default FIELDS) as tshark with ecmxf.lua
+    shows them; a Lua error is a failure."""
+    fields = fields or FIELDS
     args = ["tshark", "-n", "-X", "lua_script:" + LUA, "-r", pcap, "-T", "fields",
-            "-E", "separator=|", "-E", "occurrence=f"]
-    for f in FIELDS:
+            "-E", "separator=|", *occurrence]
+    for f in fields:
         args += ["-e", f]
     p = run(*args)
     if "Lua" in p.stderr and "rror" in p.stderr:
         fail("tshark reported a Lua error: " + p.stderr)
-    return [dict(zip(FIELDS, line.split("|"))) for line in p.stdout.splitlines()]
+    return [dict(zip(fields, line.split("|"))) for line in p.stdout.splitlines()]
 
 
 # named header bits (ECM-XF manual ver. 050, the header tables): the
@@ -87,17 +90,14 @@ BITS = [
 
 def compare_bits(label, pcap, records):
     """Every named bit tshark shows equals the bit of decode --json's number."""
-    args = ["tshark", "-n", "-X", "lua_script:" + LUA, "-r", pcap, "-T", "fields",
-            "-E", "separator=|", "-E", "occurrence=f"]
-    for f, _, _ in BITS:
-        args += ["-e", f]
-    rows = [line.split("|") for line in run(*args).stdout.splitlines()]
+    rows = tshark(pcap, [f for f, _, _ in BITS])
     if len(rows) != len(records):
         fail(f"{label} bits: tshark shows {len(rows)} packets, the trace has {len(records)}")
         return
     shown = 0
     for i, (row, rec) in enumerate(zip(rows, records)):
-        for (field, key, mask), got in zip(BITS, row):
+        for field, key, mask in BITS:
+            got = row.get(field, "")
             if key not in rec:
                 if got != "":
                     fail(f"{label}: packet {i + 1} shows {field} = {got!r}, which its kind has not")
@@ -143,16 +143,8 @@ SK_FIELDS = ["ecmsk.dir", "ecmsk.slot_size", "ecmsk.crc.status", "ecmsk.cmd", "e
              "ecmsk.slot.index", "ecmsk.slave.cmd", "ecmsk.slave.index", "ecmsk.slave.target",
              "ecmsk.slave.value", "frame.len"]
 
-
-def tshark_sk(pcap):
-    args = ["tshark", "-n", "-X", "lua_script:" + LUA, "-r", pcap, "-T", "fields",
-            "-E", "separator=|", "-E", "occurrence=a", "-E", "aggregator=,"]
-    for f in SK_FIELDS:
-        args += ["-e", f]
-    p = run(*args)
-    if "Lua" in p.stderr and "rror" in p.stderr:
-        fail("tshark reported a Lua error: " + p.stderr)
-    return [dict(zip(SK_FIELDS, line.split("|"))) for line in p.stdout.splitlines()]
+# every occurrence of the slave-slot fields, comma-separated
+SK_OCCURRENCE = ("-E", "occurrence=a", "-E", "aggregator=,")
 
 
 def compare_sk(label, rows, records):
@@ -226,7 +218,7 @@ def check_sk(tmp):
         seen_slaves |= any(r["slaves"] for r in records)
         seen_crc |= any(r["crc"] == "ok" for r in records)
         seen_none |= any(r["crc"] == "none" for r in records)
-        compare_sk(label, tshark_sk(live), records)
+        compare_sk(label, tshark(live, SK_FIELDS, SK_OCCURRENCE), records)
         summary = run(UTIL, "decode", text).stdout.splitlines()[-1]
         if f"{len(records)} of them ECM-SK frames" not in summary:
             fail(f"{label}: decode's summary line {summary!r}")
@@ -247,7 +239,7 @@ def check_sk(tmp):
     records = decode_json(bad)
     if records[k]["crc"] != "bad":
         fail("sk: the frame with a flipped byte decodes " + records[k]["crc"])
-    rows = tshark_sk(conv)
+    rows = tshark(conv, SK_FIELDS, SK_OCCURRENCE)
     compare_sk("sk corrupted", rows, records)
     if len(rows) > k and rows[k]["ecmsk.crc.status"] != "bad":
         fail("sk: tshark shows the flipped frame's CRC-8 " + rows[k]["ecmsk.crc.status"])
