@@ -12,7 +12,9 @@
 // HZ is the bus rate in the chip's time; the bridge runs the chip's clock
 // K times slower than the guest's (bridge --time-scale K, as the ratio
 // runs of 66-rings.sh), so the application's period is K/HZ of guest
-// time: TCG emulates the guest several times slower than a board runs.
+// time. make bench runs it with K 1 on one vCPU whose clock counts
+// instructions (QEMU -icount shift=1: 2 ns each); on plain TCG, whose
+// guest time is the host's, K 4.
 //
 // The step (tests/kernel/steps/bench/30-load.sh) runs stress-ng in the
 // guest meanwhile (CPU, context switches, pipes, memory). Each path: the
@@ -20,7 +22,7 @@
 // warm-up, then N cycles at K/HZ. The process runs as an RT application
 // would (memory locked, SCHED_FIFO 49, below the kernel worker's 50), the
 // bridge (the chip) at SCHED_FIFO 48; nothing is pinned: the load runs on
-// both vCPUs. Per cycle it records how long after its boundary the
+// every vCPU the guest has. Per cycle it records how long after its boundary the
 // process woke (into a buffer sized up front), whether the cycle was late
 // (the next boundary already past when it was done), and the output
 // frames lost: refused by the RxFIFO, skipped by the pump, or in a failed

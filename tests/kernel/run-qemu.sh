@@ -36,6 +36,14 @@
 #                       CI's documented arm64 subset
 #   ECMXF_KTEST_TIMES   a file each kernel's result line is appended to
 #                       (make check-kernels' table)
+#   ECMXF_KTEST_ICOUNT  QEMU -icount options (e.g. shift=1,sleep=off): the
+#                       guest's clock counts the instructions it runs, so
+#                       the host's scheduling of QEMU no longer shows in
+#                       guest time (make bench's load step, kernel-testing.rst
+#                       "Under load"); QEMU 7.2 then boots no second x86
+#                       vCPU (it hangs at "Booting SMP configuration"):
+#                       give ECMXF_KTEST_SMP=1 with it
+#   ECMXF_KTEST_SMP     the guest's vCPUs (default 2)
 set -eu
 
 top=$(cd "$(dirname "$0")/../.." && pwd)
@@ -65,6 +73,14 @@ done
 
 say() { echo "run-qemu: $*"; }
 die() { echo "run-qemu: $*" >&2; exit 1; }
+case "${ECMXF_KTEST_SMP:-2}" in
+[1-8]) ;;
+*) echo "run-qemu: ECMXF_KTEST_SMP='$ECMXF_KTEST_SMP': give 1 to 8 vCPUs" >&2; exit 2 ;;
+esac
+case "${ECMXF_KTEST_ICOUNT:-shift=0}" in
+shift=*) ;;
+*) echo "run-qemu: ECMXF_KTEST_ICOUNT='$ECMXF_KTEST_ICOUNT': give QEMU's -icount options, shift=N[,...]" >&2; exit 2 ;;
+esac
 
 # ---- packages: QEMU, busybox, cpio, kmod, the 6.1 amd64 headers; for
 # arm64 guests the cross toolchain, arm64 -dev packages, qemu-system-arm
@@ -243,12 +259,13 @@ run_kernel() {
 	ECMXF_GUEST_BUSYBOX=$gbb "$top/tests/kernel/mkinitramfs.sh" "$out/initramfs.cpio.gz" "$top/tests/kernel/guest-init.sh" \
 		"$out/ko" "$top/tests/kernel/steps" "$bin"/ecmxf-* $extra
 
-	log="$out/console-$mode.log"
+	# a narrowed run keeps its own console log (make bench boots twice)
+	log="$out/console-$mode${ECMXF_KTEST_STEPS:+-$(echo "$ECMXF_KTEST_STEPS" | tr , -)}.log"
 	say "$kver: booting under QEMU (TCG, mode $mode), console in $log"
 	append="panic=-1 loglevel=7 ecmxf_ktest=$mode$fuzz_append"
 	# the bench's sizes, when set here: the kernel hands NAME=VALUE words
 	# of its command line to /init as its environment
-	for v in ECMXF_BENCH_N ECMXF_BENCH_BLOCKS ECMXF_BENCH_LATE_N ECMXF_LOAD_N; do
+	for v in ECMXF_BENCH_N ECMXF_BENCH_BLOCKS ECMXF_BENCH_LATE_N ECMXF_LOAD_N ECMXF_LOAD_SCALE; do
 		eval "val=\${$v:-}"
 		# shellcheck disable=SC2154 # val: set by the eval
 		[ -n "$val" ] && append="$append $v=$val"
@@ -263,7 +280,8 @@ run_kernel() {
 	fi
 	rc=0
 	t0=$(date +%s)
-	timeout "$timeout_f" "$@" -smp 2 -nographic -no-reboot -nic none \
+	[ -n "${ECMXF_KTEST_ICOUNT:-}" ] && set -- "$@" -icount "$ECMXF_KTEST_ICOUNT"
+	timeout "$timeout_f" "$@" -smp "${ECMXF_KTEST_SMP:-2}" -nographic -no-reboot -nic none \
 		-kernel "$vmlinuz" -initrd "$out/initramfs.cpio.gz" >"$log" 2>&1 || rc=$?
 	t1=$(date +%s)
 	tr -d '\r' <"$log" >"$log.txt"

@@ -7,7 +7,11 @@
 # cycles (default 10^5) at each bus rate of ECMXF_LOAD_HZ (default
 # 4000,8000), with the chip's clock ECMXF_LOAD_SCALE (default 4) times
 # slower than the guest's (bridge --time-scale: the application's period
-# is K/HZ of guest time, which TCG can hold). It prints the table: late
+# is K/HZ of guest time). make bench boots this step alone on one vCPU
+# whose clock counts instructions (QEMU -icount), with K 1: the chip's own
+# rates, and no host scheduling in guest time; on two plain TCG vCPUs
+# (run-qemu.sh --bench without those settings) K 4 is the default, and
+# the host's stalls of QEMU's threads dominate. It prints the table: late
 # cycles, the wake-up's 99.9th percentile and worst, output frames lost,
 # and the rings' late cycles against spidev's; and per path the chip's
 # RxFIFO underruns (bus cycles that found no new frame). The default
@@ -48,7 +52,7 @@ for hz in $rates; do
 done
 kill "$spid"
 wait "$spid" 2>/dev/null
-echo "bench: load: under stress-ng, $n cycles per path and rate, the chip's clock $k times slower:"
+echo "bench: load: under stress-ng, $n cycles per path and rate, the chip's clock K $k times slower than the guest's (1: its own rates):"
 echo "bench: load:   path     Hz     late  wake p99.9 us  wake max us  frames lost"
 while read -r p hz cyc late p999 worst lost; do
 	printf 'bench: load:   %-7s %5s %8s %14s %12s %12s\n' "$p" "$hz" "$late" "$p999" "$worst" "$lost"
