@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /*
- * ecmxf-util with an ECM-SK device (-d sk-sim:, sk-unix:, sk-spidev:):
+ * ecmxf-util with an ECM-SK device (-d sk-sim:, sk-unix:, sk-spidev:, sk-usb:):
  * the bodies on ecmxf::sk::Board of the commands the starter kit's slot
  * protocol can carry (info, slaves, states, upload, download, cia402, io,
  * lio, reset), their verbs through ecmxf::MasterVerbs. The command table,
@@ -39,8 +39,8 @@ using ecmxf::sk::SlaveType;
 using ecmxf::State;
 
 const char *const kSkHelp =
-	"With an ECM-SK device (-d sk-sim:..., sk-unix:PATH, sk-spidev:...) ecmxf-util\n"
-	"speaks the starter kit's slot protocol. Commands:\n"
+	"With an ECM-SK device (-d sk-sim:..., sk-unix:PATH, sk-spidev:..., sk-usb:...)\n"
+	"ecmxf-util speaks the starter kit's slot protocol. Commands:\n"
 	"\n"
 	"  info                        frame, state, CRC errors, FIFO, slaves\n"
 	"  slaves [-p N] [-v]          the slaves, their types (found by SET_AXIS) and\n"

@@ -29,7 +29,11 @@
  *    `ecmxf-sim --board ecm-sk --socket <path>` server;
  *  - "sk-spidev:/dev/spidevB.C?busy=<chip>:<line>[&slot=12|16]
  *    [&speed=<Hz>][&mode=0..3][&ex=0..3]": spidev, with the board's Busy
- *    output on a GPIO line read with libgpiod (low = ready).
+ *    output on a GPIO line read with libgpiod (low = ready);
+ *  - "sk-usb:[/dev/hidrawN][?path=<USB path>][&slot=12|16][&ex=0..3]": the
+ *    board on USB through hidraw (HidrawChannel,
+ *    <ecmxf/link/hidraw_channel.hpp>); without a node, the one hidraw
+ *    device of USB ID 16C0:05DF (at that USB path, e.g. 1-1.2).
  * slot= and ex= tell the host what the board's CONFIG2 pin and the SET_EX
  * setting in force are: the host cannot ask the board. Each may add
  * trace=<file> (sk-spidev: "&trace=<file>"), which records every frame
@@ -61,7 +65,8 @@ inline constexpr std::string_view kDeviceUriForms =
 inline constexpr std::string_view kSkUriForms =
 	"\"sk-sim:[<network file>][?slot=12|16&test=0|1&abandon=0|1&ex=0..3&fifo=<n>&busy_us=<us>&spi_hz=<Hz>&lio=0..63&paced=0|1]\", "
 	"\"sk-unix:<socket path>[?slot=12|16&ex=0..3]\", "
-	"\"sk-spidev:/dev/spidevB.C?busy=<chip>:<line>[&slot=12|16][&speed=<Hz>][&mode=0..3][&ex=0..3]\"; "
+	"\"sk-spidev:/dev/spidevB.C?busy=<chip>:<line>[&slot=12|16][&speed=<Hz>][&mode=0..3][&ex=0..3]\", "
+	"\"sk-usb:[/dev/hidrawN][?path=<USB path>][&slot=12|16][&ex=0..3]\"; "
 	"each may add \"trace=<file>\" as an option";
 
 /// Highest SCLK of the ECM-SK (quick start 1.6): 24 MHz, the default of
@@ -71,13 +76,16 @@ inline constexpr std::uint32_t kSkMaxSpeedHz = 24'000'000;
 /// A parsed device URI.
 struct DeviceUri {
 	/// Sim, Kernel, Spidev, Unix: an ECM-XF (Device::open()); SkSim,
-	/// SkUnix, SkSpidev: an ECM-SK (sk::Board::open()).
-	enum class Kind { Sim, Kernel, Spidev, Unix, SkSim, SkUnix, SkSpidev };
+	/// SkUnix, SkSpidev, SkUsb: an ECM-SK (sk::Board::open()).
+	enum class Kind { Sim, Kernel, Spidev, Unix, SkSim, SkUnix, SkSpidev, SkUsb };
 	Kind kind = Kind::Sim;
 	/// Sim, SkSim: the network file (empty: the default network);
 	/// Kernel: the device node; Spidev, SkSpidev: the spidev node (also
-	/// in spidev.device); Unix, SkUnix: the socket path.
+	/// in spidev.device); Unix, SkUnix: the socket path; SkUsb: the
+	/// hidraw node (empty: find the board).
 	std::string path;
+	/// SkUsb: path=, the USB path of the board to find (empty: any).
+	std::string skUsbPath;
 	/// Spidev: the options (defaults from the chip manual otherwise);
 	/// SkSpidev: 24 MHz, mode 0 and busy= as the ready line, low = ready.
 	SpidevOptions spidev;
@@ -101,7 +109,7 @@ struct DeviceUri {
 	/// Is it one of the ECM-SK's kinds?
 	[[nodiscard]] bool isSk() const noexcept
 	{
-		return kind == Kind::SkSim || kind == Kind::SkUnix || kind == Kind::SkSpidev;
+		return kind == Kind::SkSim || kind == Kind::SkUnix || kind == Kind::SkSpidev || kind == Kind::SkUsb;
 	}
 };
 

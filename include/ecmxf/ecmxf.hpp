@@ -32,6 +32,7 @@
 #include <ecmxf/link/kernel_link.hpp>
 #include <ecmxf/link/sim_channel.hpp>
 #include <ecmxf/link/spidev_channel.hpp>
+#include <ecmxf/link/hidraw_channel.hpp>
 #include <ecmxf/link/unix_channel.hpp>
 
 // bus: dev.bus(), dev.sdo(), dev.slaves(); Master; status words

@@ -122,6 +122,23 @@ void skOption(std::string_view uri, DeviceUri &u, std::string_view key, std::str
 		if (!skHostOption(uri, u, key, value))
 			bad(uri, "unknown option " + quoted(key) + " (sk-spidev: takes busy, slot, speed, mode, ex, trace)");
 		return;
+	case DeviceUri::Kind::SkUsb:
+		if (key == "path") {
+			// a USB device's sysfs name: bus, then ports ("1-1.2")
+			const bool ok = !value.empty() && value.size() <= 32 &&
+					value.find_first_not_of("0123456789-.") == std::string_view::npos &&
+					value.find('-') != std::string_view::npos;
+			if (!ok)
+				bad(uri, "bad path value " + quoted(value) +
+						 ": expected a USB path such as 1-1.2 (bus, then ports; `lsusb -t`)");
+			if (!u.path.empty())
+				bad(uri, "give the hidraw node or path=, not both");
+			u.skUsbPath = std::string(value);
+			return;
+		}
+		if (!skHostOption(uri, u, key, value))
+			bad(uri, "unknown option " + quoted(key) + " (sk-usb: takes path, slot, ex and trace)");
+		return;
 	default:
 		if (!skHostOption(uri, u, key, value))
 			bad(uri, "unknown option " + quoted(key) + " (sk-unix: takes slot, ex and trace)");
@@ -151,6 +168,7 @@ DeviceUri parseDeviceUri(std::string_view uri)
 		  "no socket path after \"sk-unix:\" (e.g. sk-unix:/tmp/sk.sock, served by "
 		  "`ecmxf-sim --board ecm-sk --socket /tmp/sk.sock`)" },
 		{ "sk-spidev:", K::SkSpidev, "the spidev node must be an absolute path (sk-spidev:/dev/spidevB.C)" },
+		{ "sk-usb:", K::SkUsb, nullptr },
 	};
 
 	if (uri.empty())
@@ -169,6 +187,9 @@ DeviceUri parseDeviceUri(std::string_view uri)
 		u.path = std::string(base.substr(scheme->prefix.size()));
 		if (scheme->noPath && (u.path.empty() || (u.kind == K::SkSpidev && u.path[0] != '/')))
 			bad(uri, scheme->noPath);
+		if (u.kind == K::SkUsb && !u.path.empty() && u.path[0] != '/')
+			bad(uri, "the hidraw node must be an absolute path (sk-usb:/dev/hidrawN), or none: sk-usb: "
+				 "finds the board");
 	} else if (base.starts_with("/")) {
 		u.kind = K::Kernel;
 		u.path = std::string(base);

@@ -90,7 +90,8 @@ std::unique_ptr<Device> Device::open(std::string_view uri)
 		break;
 	case DeviceUri::Kind::SkSim:
 	case DeviceUri::Kind::SkUnix:
-	case DeviceUri::Kind::SkSpidev: {
+	case DeviceUri::Kind::SkSpidev:
+	case DeviceUri::Kind::SkUsb: {
 		std::string m = "cannot open ";
 		m.append(quoted(uri)).append(": an ECM-SK, which ecmxf::sk::Board::open() opens (<ecmxf/sk/board.hpp>)");
 		throw Error(m, EINVAL);

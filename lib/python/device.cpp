@@ -551,7 +551,7 @@ py::class_<DeviceObject> bindDevice(py::module_ &m)
 
 	auto device = py::class_<DeviceObject>(m, "Device",
 				 "One master, ECM-XF or ECM-SK, from a device URI: 'sim:', 'sim:<network>', "
-				 "'unix:PATH', 'spidev:...', '/dev/ecmxfN', 'sk-sim:', 'sk-unix:PATH', 'sk-spidev:...'. "
+				 "'unix:PATH', 'spidev:...', '/dev/ecmxfN', 'sk-sim:', 'sk-unix:PATH', 'sk-spidev:...', 'sk-usb:'. "
 				 "A context manager: closed at the end of the with block.")
 		.def_static("__new__", [](const py::object &, const std::string &uri, bool bringUpBus) {
 			return DeviceObject{ openSession(uri, bringUpBus) };

@@ -10,6 +10,7 @@
 
 #include <ecmxf/device_uri.hpp>
 #include <ecmxf/error.hpp>
+#include <ecmxf/link/hidraw_channel.hpp>
 #include <ecmxf/link/spidev_channel.hpp>
 #include <ecmxf/link/unix_channel.hpp>
 #include <ecmxf/sk/sim_channel.hpp>
@@ -66,6 +67,10 @@ std::unique_ptr<Board> openBoard(std::string_view uri, const DeviceUri &u)
 		break;
 	case DeviceUri::Kind::SkSpidev:
 		ch = std::make_unique<SpidevChannel>(u.spidev);
+		break;
+	case DeviceUri::Kind::SkUsb:
+		ch = std::make_unique<HidrawChannel>(u.path.empty() ? findSkUsb(listHidraw(), u.skUsbPath).node
+								     : u.path);
 		break;
 	default:
 		throw Error("cannot open \"" + std::string(uri) +

@@ -2,7 +2,7 @@
 /*
  * fuzz_uri.cpp - the device URI parser (ecmxf::parseDeviceUri(),
  * include/ecmxf/device_uri.hpp): the ECM-XF's forms and the ECM-SK's
- * (sk-sim:, sk-unix:, sk-spidev:; seeds corpus/uri/sk-*).
+ * (sk-sim:, sk-unix:, sk-spidev:, sk-usb:; seeds corpus/uri/sk-*).
  *
  * Invariants: a URI either parses or throws ecmxf::Error with EINVAL and a
  * message; parsing is deterministic (the same text twice gives the same

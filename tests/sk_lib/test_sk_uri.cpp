@@ -77,7 +77,7 @@ TEST_CASE("sk uri: bad schemes, paths, options and values are EINVAL")
 		     "sk-spidev:/dev/spidev0.0?busy=gpiochip0:x", "sk-spidev:/dev/spidev0.0?busy=c:1&speed=24000001",
 		     "sk-spidev:/dev/spidev0.0?busy=c:1&speed=0", "sk-spidev:/dev/spidev0.0?busy=c:1&mode=4",
 		     "sk-spidev:/dev/spidev0.0?busy=c:1&slot=8", "sk-spidev:/dev/spidev0.0?busy=c:1&turbo=1",
-		     "sk-usb:", "sk", "sk-sim:?=1", "sk-unix:/s?trace=", "sk-sim:?trace=", "sk-sim:?trace=a&trace=b",
+		     "sk-can:", "sk", "sk-sim:?=1", "sk-unix:/s?trace=", "sk-sim:?trace=", "sk-sim:?trace=a&trace=b",
 		     "sk-spidev:/dev/spidev0.0?busy=c:1&int0=c:2", "sk-spidev:/dev/spidev0.0?busy=c:1&busy=c:2",
 		     "sk-unix:/s?slot=12&slot=16", "sk-unix:/s?ex=x", "sk-spidev:?busy=c:1" }) {
 		INFO(bad);
@@ -136,7 +136,7 @@ TEST_CASE("sk uri: errors name the bad part and list the ECM-SK's forms, an ECM-
 	CHECK_THAT(msg("sk-spidev:/dev/spidev0.0"), Catch::Contains("busy=<chip>:<line> is required"));
 	CHECK_THAT(msg("sk-spidev:/dev/spidev0.0?busy=c:1&speed=24000001"), Catch::Contains("24000001"));
 	CHECK_THAT(msg("sk-unix:/s?colour=red"), Catch::Contains("unknown option \"colour\""));
-	CHECK_THAT(msg("sk-usb:"), Catch::Contains("unknown ECM-SK device URI"));
+	CHECK_THAT(msg("sk-can:"), Catch::Contains("unknown ECM-SK device URI"));
 	CHECK(parseDeviceUri("sk-sim:?&slot=16&").skSlotSize == 16); // empty options skipped, as before
 	CHECK(parseDeviceUri("sk-unix:/s").isSk());
 	CHECK_FALSE(parseDeviceUri("unix:/s").isSk());

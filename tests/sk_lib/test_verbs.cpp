@@ -46,7 +46,7 @@ TEST_CASE("verbs: open() picks the master by the URI, a bad URI is EINVAL")
 	CHECK(sk->board() != nullptr);
 	CHECK(sk->device() == nullptr);
 	CHECK(ecmxf::masterKindName(MasterKind::EcmSk) == "ECM-SK");
-	for (const char *bad : { "", "bogus:", "sk-usb:", "sk-sim:?slot=14", "sim:?check=md5" }) {
+	for (const char *bad : { "", "bogus:", "sk-can:", "sk-sim:?slot=14", "sim:?check=md5" }) {
 		INFO(bad);
 		CHECK(errorOf([&] { (void)MasterVerbs::open(bad); }).errnoValue() == EINVAL);
 	}

@@ -12,7 +12,9 @@
  * Link::simulator()). Implementations:
  *  - SimChannel (sim_channel.hpp): the in-process simulated chip, virtual time;
  *  - UnixChannel (unix_channel.hpp): an `ecmxf-sim --socket` server;
- *  - SpidevChannel (spidev_channel.hpp): /dev/spidevB.C + libgpiod INT0/INT1.
+ *  - SpidevChannel (spidev_channel.hpp): /dev/spidevB.C + libgpiod INT0/INT1;
+ *  - HidrawChannel (hidraw_channel.hpp): the ECM-SK on USB, one HID report
+ *    each way per frame.
  * Documentation/architecture.rst, "How to add a channel".
  *
  * Thread safety: a channel is not thread-safe; its one owner (an
