@@ -166,6 +166,16 @@ TEST_CASE("sk cli: what the ECM-SK cannot do is refused with why, bad URIs are n
 	r = run("-d sk-spidev:/dev/spidev0.0 info");
 	CHECK(r.status == 1);
 	CHECK_THAT(r.err, Contains("busy=<chip>:<line> is required"));
+	// sk-usb: with no board at that USB path says so (whatever this machine has)
+	r = run("-d sk-usb:?path=9-9.9 info");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("no ECM-SK (USB ID 16C0:05DF at USB path 9-9.9)"));
+	r = run("-d sk-usb:/dev/null info");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("sk-usb:/dev/null: not a hidraw node"));
+	r = run("-d sk-usb:?path=x info");
+	CHECK(r.status == 1);
+	CHECK_THAT(r.err, Contains("bad path value \"x\""));
 	r = run("-d sk-sim: info --trace"); // --trace records on the ECM-SK too (below); without a file: usage
 	CHECK(r.status == 2);
 	r = run("-d sk-sim: help");
